@@ -1,0 +1,40 @@
+// Test and benchmark shapes: the paper's Table 1 solids and seeded random polytopes.
+#pragma once
+
+#include <minksum/model.hpp>
+
+#include <string>
+#include <vector>
+
+namespace minksum::tools {
+
+/// Vertices of the cube [-1, 1]^3.
+std::vector<Eigen::Vector3d> cube_points();
+/// Vertices of the regular icosahedron (0, +-1, +-phi) and cyclic permutations.
+std::vector<Eigen::Vector3d> icosahedron_points();
+/// Vertices of the regular dodecahedron (+-1, +-1, +-1), (0, +-1/phi, +-phi) and permutations.
+std::vector<Eigen::Vector3d> dodecahedron_points();
+
+/// The generic rotation applied to B in every Table 1 pair: 0.7 rad about (1, 2, 3)/sqrt(14).
+Eigen::Matrix3d table1_rotation();
+
+/// One row of the paper's Table 1: operand names and point sets (B already rotated).
+struct Table1Pair {
+  std::string name;                       ///< e.g. "cube_rotcube"
+  std::vector<Eigen::Vector3d> a, b;      ///< vertex sets
+};
+
+/// The six pairs of Table 1, in the paper's order.
+std::vector<Table1Pair> table1_pairs();
+
+/// Applies R to every point.
+std::vector<Eigen::Vector3d> rotated(const std::vector<Eigen::Vector3d>& pts,
+                                     const Eigen::Matrix3d& R);
+
+/// n points uniformly on the unit sphere, from a seeded generator.
+std::vector<Eigen::Vector3d> sphere_points(int n, unsigned seed);
+
+/// A rotation about a unit axis by an angle (radians).
+Eigen::Matrix3d axis_angle(const Eigen::Vector3d& axis, double angle);
+
+}  // namespace minksum::tools

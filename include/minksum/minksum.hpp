@@ -1,0 +1,5 @@
+// minksum: object-space Minkowski sums of simple convex 3D objects. Umbrella header.
+#pragma once
+
+#include <minksum/model.hpp>
+#include <minksum/sum.hpp>

@@ -1,0 +1,79 @@
+// minksum: value types of the model (boxes, triangles, convex polytopes) and the status codes.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <vector>
+
+namespace minksum {
+
+/// Outcome of every fallible call; the library never throws.
+enum class Status {
+  Ok = 0,
+  NonFinite,         ///< an input coordinate is NaN or Inf
+  TooFewPoints,      ///< fewer than 3 distinct points
+  Collinear,         ///< all points lie on one line (a segment is not a polytope)
+  InvalidMesh,       ///< bad index, face with < 3 vertices, open or non-manifold explicit mesh
+  NotConvex,         ///< an explicit mesh is not convex (or a face is not planar)
+  InvalidBox,        ///< a box half extent is <= 0 or its rotation is not a rotation
+  DegenerateResult,  ///< the sum is flat (two coplanar flat operands): not a solid
+  HullFailed,        ///< Qhull reported an error on input that passed validation
+};
+
+/// Human-readable one-line description of a status.
+const char* to_string(Status s);
+
+/// Oriented box: the points center + rotation * (s .* half_extents) for s in [-1, 1]^3.
+struct Box {
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();             ///< world position of the centre
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();       ///< columns are the box axes
+  Eigen::Vector3d half_extents = Eigen::Vector3d::Constant(1);  ///< half side lengths (> 0)
+};
+
+/// Triangle with vertices a, b, c.
+struct Triangle {
+  Eigen::Vector3d a, b, c;  ///< the three corners
+};
+
+/// One polygonal face: a vertex loop counter-clockwise seen from outside, and its plane.
+struct Face {
+  std::vector<int> loop;    ///< vertex indices, counter-clockwise seen from outside
+  Eigen::Vector3d normal;   ///< outward unit normal
+  double offset = 0;        ///< plane: normal . x = offset
+};
+
+/// One undirected edge with its two adjacent faces; `left` walks v0 -> v1 in its loop.
+struct Edge {
+  int v0 = -1, v1 = -1;      ///< endpoint vertex indices
+  int left = -1, right = -1; ///< face whose loop has v0 -> v1, and face whose loop has v1 -> v0
+};
+
+/// Convex polytope: vertices, polygonal faces (coplanar triangles merged) and unique edges.
+/// A flat polytope (a triangle, a polygon) has exactly two faces, its two sides.
+struct ConvexPolytope {
+  std::vector<Eigen::Vector3d> vertices;  ///< extreme points only
+  std::vector<Face> faces;                ///< polygonal faces
+  std::vector<Edge> edges;                ///< each edge once
+  std::vector<int> input_index;           ///< vertices[k] was input point input_index[k]
+  bool flat = false;                      ///< true for a polygon (two faces, zero volume)
+};
+
+/// Convex hull of a point set (Qhull, coplanar facets merged). Duplicates are dropped;
+/// coplanar points give a flat polytope; < 3 distinct or collinear points are rejected.
+Status polytope_from_points(const std::vector<Eigen::Vector3d>& points, ConvexPolytope& out);
+
+/// A convex polytope from an explicit mesh (faces as vertex loops, any orientation).
+/// Validated: closed 2-manifold, planar convex faces, every vertex below every face plane.
+Status polytope_from_mesh(const std::vector<Eigen::Vector3d>& vertices,
+                          const std::vector<std::vector<int>>& faces, ConvexPolytope& out);
+
+/// The box as a polytope; vertex k is the corner with bit a of k set iff its axis-a sign is +.
+Status polytope_from_box(const Box& box, ConvexPolytope& out);
+
+/// The triangle as a flat polytope with vertices a, b, c (indices 0, 1, 2).
+Status polytope_from_triangle(const Triangle& t, ConvexPolytope& out);
+
+/// Support function h(n) = max over vertices of n . v, with the index of a maximiser.
+double support(const ConvexPolytope& p, const Eigen::Vector3d& n, int* argmax = nullptr);
+
+}  // namespace minksum

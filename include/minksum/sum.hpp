@@ -1,0 +1,47 @@
+// minksum: the Minkowski sum A (+) B and difference A (-) B = A (+) (-B) of convex polytopes.
+#pragma once
+
+#include <minksum/model.hpp>
+
+namespace minksum {
+
+/// Which algorithm computes the sum.
+enum class Method {
+  Fast,       ///< separable supports + Gauss-map arc test with exact predicates (default)
+  Reference,  ///< the paper as written: push candidate planes over all pairwise sums
+  Hull,       ///< the convex hull method: Qhull on all pairwise sums (the paper's comparator)
+};
+
+/// A vertex of the sum: the pair (i in A, j in B) and its coordinates a_i + b_j (or a_i - b_j).
+struct SumVertex {
+  int i = -1, j = -1;     ///< support index pair (the paper's index tracking)
+  Eigen::Vector3d point;  ///< coordinates
+};
+
+/// A facet plane n . x <= offset, with one support pair (i, j) lying on it.
+struct SumPlane {
+  Eigen::Vector3d normal;  ///< outward unit normal
+  double offset = 0;       ///< n . x = offset on the facet
+  int i = -1, j = -1;      ///< a vertex pair of this facet (its loop's first vertex)
+};
+
+/// The Minkowski sum as an H-representation with index tracking and full topology.
+struct MinkowskiSum {
+  std::vector<SumPlane> planes;           ///< one per facet, same order as `facets`
+  std::vector<std::vector<int>> facets;   ///< loops of indices into `vertices`, CCW from outside
+  std::vector<SumVertex> vertices;        ///< sorted by (i, j)
+  int V = 0, E = 0, F = 0;                ///< counts of vertices, edges and facets
+  bool euler_ok = false;                  ///< V - E + F == 2 and every edge has two facets
+  bool corrected = false;                 ///< the Section 3 hull corrector rebuilt the result
+  Method method = Method::Fast;           ///< the path that produced it
+};
+
+/// A (+) B. Facets of coplanar support features are merged into one polygon.
+Status minkowski_sum(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out,
+                     Method method = Method::Fast);
+
+/// A (-) B = A (+) (-B), the configuration-space obstacle; index j refers to B's vertex j.
+Status minkowski_difference(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out,
+                            Method method = Method::Fast);
+
+}  // namespace minksum

@@ -1,0 +1,61 @@
+#include "predicates.hpp"
+
+#include <gmpxx.h>
+
+#include <cmath>
+
+namespace minksum::detail {
+
+namespace {
+
+int exact_orient(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& r) {
+  // Every double is a dyadic rational, so mpq_class holds it exactly.
+  auto m = [](double x) { return mpq_class(x); };
+  const mpq_class det = m(p.x()) * (m(q.y()) * m(r.z()) - m(q.z()) * m(r.y())) -
+                        m(p.y()) * (m(q.x()) * m(r.z()) - m(q.z()) * m(r.x())) +
+                        m(p.z()) * (m(q.x()) * m(r.y()) - m(q.y()) * m(r.x()));
+  return sgn(det);
+}
+
+}  // namespace
+
+Eigen::Vector3d exact_newell(const std::vector<Eigen::Vector3d>& points,
+                             const std::vector<int>& loop) {
+  mpq_class n[3];
+  for (size_t k = 0; k < loop.size(); ++k) {
+    const Eigen::Vector3d& a = points[loop[k]];
+    const Eigen::Vector3d& b = points[loop[(k + 1) % loop.size()]];
+    for (int d = 0; d < 3; ++d) {
+      const int e = (d + 1) % 3, f = (d + 2) % 3;
+      n[d] += mpq_class(a[e]) * mpq_class(b[f]) - mpq_class(a[f]) * mpq_class(b[e]);
+    }
+  }
+  // get_d truncates towards zero, which is symmetric under negation as required.
+  return Eigen::Vector3d(n[0].get_d(), n[1].get_d(), n[2].get_d());
+}
+
+Cross make_cross(const Eigen::Vector3d& q, const Eigen::Vector3d& r) {
+  Cross c{q, r, q.cross(r), {}};
+  c.bound = Eigen::Vector3d(std::abs(q.y() * r.z()) + std::abs(q.z() * r.y()),
+                            std::abs(q.z() * r.x()) + std::abs(q.x() * r.z()),
+                            std::abs(q.x() * r.y()) + std::abs(q.y() * r.x()));
+  return c;
+}
+
+int orient(const Eigen::Vector3d& p, const Cross& c) {
+  const double det = p.dot(c.value);
+  // The permanent bounds every rounding error of the six products and their sums.
+  const double perm = p.cwiseAbs().dot(c.bound);
+  if (perm == 0.0) return 0;  // every product is exactly zero
+  // Shewchuk's o3derrboundA is (7 + 56 eps) eps ~ 7.8e-16; 1e-15 is a safe round-up.
+  // Products that may have underflowed (perm < 1e-290) go to the exact path as well.
+  if (perm > 1e-290 && std::abs(det) > 1e-15 * perm) return det > 0 ? 1 : -1;
+  return exact_orient(p, c.q, c.r);
+}
+
+int orient(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& r) {
+  if (p == q || q == r || p == r) return 0;  // a repeated row; the filter cannot see it
+  return orient(p, make_cross(q, r));
+}
+
+}  // namespace minksum::detail

@@ -1,0 +1,142 @@
+// The public Minkowski sum and difference, the shared assembly of a result, and the corrector.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+
+#include "hull.hpp"
+#include "sum_internal.hpp"
+
+namespace minksum {
+
+using Eigen::Vector3d;
+
+namespace detail {
+
+void assemble(const ConvexPolytope& a, const ConvexPolytope& b, std::vector<FacetLoop>& facets,
+              MinkowskiSum& out) {
+  const Method method = out.method;
+  out = MinkowskiSum{};
+  out.method = method;
+  // Consecutive repeats come from zero-length arcs of flat operands; drop them, then drop
+  // facets that collapse to fewer than three pairs (they have zero area).
+  std::map<std::pair<int, int>, int> index;
+  std::vector<FacetLoop> kept;
+  for (auto& f : facets) {
+    auto& l = f.loop;
+    l.erase(std::unique(l.begin(), l.end()), l.end());
+    while (l.size() > 1 && l.front() == l.back()) l.pop_back();
+    if (l.size() < 3) continue;
+    // Start each loop at its smallest pair so that the plane's pair does not depend on the path.
+    std::rotate(l.begin(), std::min_element(l.begin(), l.end()), l.end());
+    for (const auto& p : l) index.emplace(p, 0);
+    kept.push_back(std::move(f));
+  }
+  for (auto& [pair, id] : index) {
+    id = int(out.vertices.size());
+    out.vertices.push_back(
+        SumVertex{pair.first, pair.second, a.vertices[pair.first] + b.vertices[pair.second]});
+  }
+  std::map<std::pair<int, int>, int> directed;  // directed edge -> count
+  for (const auto& f : kept) {
+    std::vector<int> loop;
+    SumPlane plane{f.normal.normalized(), -std::numeric_limits<double>::infinity(),
+                   f.loop[0].first, f.loop[0].second};
+    for (const auto& p : f.loop) {
+      loop.push_back(index[p]);
+      // The offset is the largest over the facet's vertices, so no vertex is ever cut off.
+      plane.offset = std::max(plane.offset, plane.normal.dot(out.vertices[loop.back()].point));
+    }
+    for (size_t k = 0; k < loop.size(); ++k) ++directed[{loop[k], loop[(k + 1) % loop.size()]}];
+    out.planes.push_back(plane);
+    out.facets.push_back(std::move(loop));
+  }
+  bool manifold = true;
+  for (const auto& [e, count] : directed) {
+    auto twin = directed.find({e.second, e.first});
+    manifold = manifold && count == 1 && twin != directed.end() && twin->second == 1;
+  }
+  out.V = int(out.vertices.size());
+  out.E = int(directed.size() / 2);
+  out.F = int(out.facets.size());
+  out.euler_ok = manifold && out.F >= 4 && out.V - out.E + out.F == 2;
+}
+
+Status hull_corrector(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out) {
+  const int nb = int(b.vertices.size());
+  std::vector<Vector3d> sums;
+  for (const auto& va : a.vertices)
+    for (const auto& vb : b.vertices) sums.push_back(va + vb);
+  std::vector<HullFacet> hull;
+  if (!qhull_facets(sums, hull)) return Status::HullFailed;
+  std::vector<FacetLoop> facets;
+  for (const auto& h : hull) {
+    FacetLoop f{h.normal, {}};
+    for (int k : h.loop) f.loop.emplace_back(k / nb, k % nb);
+    facets.push_back(std::move(f));
+  }
+  assemble(a, b, facets, out);
+  out.corrected = true;
+  return Status::Ok;
+}
+
+}  // namespace detail
+
+namespace {
+
+bool usable(const ConvexPolytope& p) {
+  return p.vertices.size() >= 3 && p.faces.size() >= 2 && !p.edges.empty();
+}
+
+Status sum_dispatch(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out,
+                    Method method) {
+  out = MinkowskiSum{};
+  out.method = method;
+  if (!usable(a) || !usable(b)) return Status::TooFewPoints;
+  // Two coplanar flat operands have a flat sum; the result type describes solids only.
+  if (a.flat && b.flat && a.faces[0].normal.cross(b.faces[0].normal).norm() <= 1e-12)
+    return Status::DegenerateResult;
+  if (method == Method::Hull) {
+    const Status s = detail::hull_corrector(a, b, out);
+    out.corrected = false;  // the hull is the method here, not a correction
+    return s;
+  }
+  bool ok = true;
+  if (method == Method::Fast)
+    ok = detail::sum_fast(a, b, out);
+  else
+    detail::sum_reference(a, b, out);
+  // Section 3 of the paper: an inconsistent result (Euler fails) is rebuilt from the hull.
+  if (!ok || !out.euler_ok) {
+    const Status s = detail::hull_corrector(a, b, out);
+    out.method = method;
+    return s;
+  }
+  return Status::Ok;
+}
+
+// -B: vertices and normals negated; loops reversed so they stay counter-clockwise from outside.
+ConvexPolytope negated(const ConvexPolytope& p) {
+  ConvexPolytope n = p;
+  for (auto& v : n.vertices) v = -v;
+  for (auto& f : n.faces) {
+    f.normal = -f.normal;
+    std::reverse(f.loop.begin(), f.loop.end());
+  }
+  for (auto& e : n.edges) std::swap(e.left, e.right);
+  return n;
+}
+
+}  // namespace
+
+Status minkowski_sum(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out,
+                     Method method) {
+  return sum_dispatch(a, b, out, method);
+}
+
+Status minkowski_difference(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out,
+                            Method method) {
+  return sum_dispatch(a, negated(b), out, method);
+}
+
+}  // namespace minksum

@@ -1,0 +1,32 @@
+// Shared internals of the two Minkowski-sum paths.
+#pragma once
+
+#include <minksum/sum.hpp>
+
+#include <utility>
+#include <vector>
+
+namespace minksum::detail {
+
+/// A facet as its normal and its loop of support pairs (i in A, j in B), CCW from outside.
+struct FacetLoop {
+  Eigen::Vector3d normal;
+  std::vector<std::pair<int, int>> loop;
+};
+
+/// Builds `out` from facet loops over A (+) B: drops repeated pairs and facets with fewer
+/// than three distinct pairs, numbers the vertices, computes offsets, V, E, F and Euler.
+void assemble(const ConvexPolytope& a, const ConvexPolytope& b, std::vector<FacetLoop>& facets,
+              MinkowskiSum& out);
+
+/// The paper's Section 3 corrector: rebuilds A (+) B from the hull of all pairwise sums.
+Status hull_corrector(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out);
+
+/// The reference path (the paper as written) on A (+) B.
+void sum_reference(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out);
+
+/// The fast path (separable supports, Gauss-map arc test) on A (+) B; false if its Gauss-map
+/// location failed, which only an invalid polytope can cause.
+bool sum_fast(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out);
+
+}  // namespace minksum::detail

@@ -1,0 +1,30 @@
+// Independent checks of a Minkowski sum against its inputs (brute force), shared by the tests.
+#pragma once
+
+#include <gtest/gtest.h>
+#include <minksum/minksum.hpp>
+
+#include <vector>
+
+namespace minksum::test {
+
+/// Every pairwise sum a + s b of the input points (s = +1 sum, -1 difference).
+std::vector<Eigen::Vector3d> pairwise(const std::vector<Eigen::Vector3d>& a,
+                                      const std::vector<Eigen::Vector3d>& b, double s);
+
+/// Checks `m` = A (+) sB against the raw input points, by brute force:
+/// each vertex (i, j) equals a_i + s b_j; every pairwise sum is inside every plane (within
+/// tol * size); the loops are outward, planar and on their planes; Euler holds; and the support
+/// function of m's vertices equals h_A + h_B in `directions` random directions (relative
+/// error <= support_tol).
+testing::AssertionResult valid_sum(const std::vector<Eigen::Vector3d>& a_pts,
+                                   const std::vector<Eigen::Vector3d>& b_pts, double s,
+                                   const ConvexPolytope& A, const ConvexPolytope& B,
+                                   const MinkowskiSum& m, double tol, double support_tol,
+                                   int directions = 1000, unsigned seed = 1);
+
+/// The same polytope: same V, E, F and, facet by facet, the same plane (normals within
+/// `tol`, offsets within tol * size) and the same vertex pairs.
+testing::AssertionResult same_sum(const MinkowskiSum& x, const MinkowskiSum& y, double tol);
+
+}  // namespace minksum::test

@@ -1,0 +1,184 @@
+// Building polytopes: from points (Qhull), explicit meshes, boxes and triangles; bad input.
+#include <gtest/gtest.h>
+#include <minksum/minksum.hpp>
+
+#include "tools/shapes.hpp"
+
+namespace minksum {
+namespace {
+
+using Eigen::Vector3d;
+
+// Structural invariants every polytope must satisfy, checked from the raw arrays.
+void expect_valid(const ConvexPolytope& p) {
+  const int V = int(p.vertices.size()), E = int(p.edges.size()), F = int(p.faces.size());
+  if (!p.flat) EXPECT_EQ(V - E + F, 2);
+  for (const auto& f : p.faces) {
+    EXPECT_NEAR(f.normal.norm(), 1.0, 1e-12);
+    Vector3d newell = Vector3d::Zero();
+    for (size_t k = 0; k < f.loop.size(); ++k) {
+      const Vector3d& a = p.vertices[f.loop[k]];
+      newell += a.cross(p.vertices[f.loop[(k + 1) % f.loop.size()]]);
+      EXPECT_NEAR(f.normal.dot(a), f.offset, 1e-9);
+    }
+    EXPECT_GT(newell.dot(f.normal), 0) << "loop not counter-clockwise from outside";
+    for (const auto& v : p.vertices) EXPECT_LE(f.normal.dot(v), f.offset + 1e-9);
+  }
+  for (const auto& e : p.edges) {
+    auto has = [&](int face, int a, int b) {
+      const auto& l = p.faces[face].loop;
+      for (size_t k = 0; k < l.size(); ++k)
+        if (l[k] == a && l[(k + 1) % l.size()] == b) return true;
+      return false;
+    };
+    EXPECT_TRUE(has(e.left, e.v0, e.v1));
+    EXPECT_TRUE(has(e.right, e.v1, e.v0));
+  }
+}
+
+TEST(Polytope, CubeFromPointsHasSixQuadFaces) {
+  ConvexPolytope p;
+  ASSERT_EQ(polytope_from_points(tools::cube_points(), p), Status::Ok);
+  EXPECT_EQ(p.vertices.size(), 8u);
+  EXPECT_EQ(p.faces.size(), 6u);  // coplanar triangles merged into quads
+  EXPECT_EQ(p.edges.size(), 12u);
+  for (const auto& f : p.faces) EXPECT_EQ(f.loop.size(), 4u);
+  expect_valid(p);
+}
+
+TEST(Polytope, PlatonicSolidsHaveTheirKnownCounts) {
+  ConvexPolytope p;
+  ASSERT_EQ(polytope_from_points(tools::icosahedron_points(), p), Status::Ok);
+  EXPECT_EQ(p.faces.size(), 20u);
+  EXPECT_EQ(p.edges.size(), 30u);
+  expect_valid(p);
+  ASSERT_EQ(polytope_from_points(tools::dodecahedron_points(), p), Status::Ok);
+  EXPECT_EQ(p.faces.size(), 12u);
+  EXPECT_EQ(p.vertices.size(), 20u);
+  expect_valid(p);
+}
+
+TEST(Polytope, InteriorAndDuplicatePointsAreDroppedAndIndicesKept) {
+  auto pts = tools::cube_points();
+  pts.insert(pts.begin(), Vector3d(0.1, 0.2, 0.3));  // interior
+  pts.push_back(pts[5]);                              // duplicate of input point 5
+  ConvexPolytope p;
+  ASSERT_EQ(polytope_from_points(pts, p), Status::Ok);
+  EXPECT_EQ(p.vertices.size(), 8u);
+  for (size_t k = 0; k < p.vertices.size(); ++k) {
+    EXPECT_EQ(p.vertices[k], pts[p.input_index[k]]);
+    EXPECT_NE(p.input_index[k], 0);
+    EXPECT_NE(p.input_index[k], 9) << "the first of two duplicates is kept";
+  }
+}
+
+TEST(Polytope, CoplanarPointsGiveAFlatPolytopeWithTwoSides) {
+  const std::vector<Vector3d> pts = {{0, 0, 1}, {2, 0, 1}, {2, 1, 1}, {0, 1, 1}, {1, 0.5, 1}, {1, 0, 1}};
+  ConvexPolytope p;
+  ASSERT_EQ(polytope_from_points(pts, p), Status::Ok);
+  EXPECT_TRUE(p.flat);
+  EXPECT_EQ(p.vertices.size(), 4u);  // interior point and the point on an edge are dropped
+  ASSERT_EQ(p.faces.size(), 2u);
+  EXPECT_NEAR(std::abs(p.faces[0].normal.z()), 1.0, 1e-15);
+  EXPECT_EQ(p.faces[0].normal, -p.faces[1].normal);
+  EXPECT_EQ(p.edges.size(), 4u);
+  expect_valid(p);
+}
+
+TEST(Polytope, TooFewOrCollinearPointsAreRejected) {
+  ConvexPolytope p;
+  EXPECT_EQ(polytope_from_points({}, p), Status::TooFewPoints);
+  EXPECT_EQ(polytope_from_points({{1, 2, 3}, {1, 2, 3}, {1, 2, 3}}, p), Status::TooFewPoints);
+  EXPECT_EQ(polytope_from_points({{0, 0, 0}, {1, 1, 1}, {2, 2, 2}, {3, 3, 3}}, p),
+            Status::Collinear);
+  EXPECT_EQ(polytope_from_triangle({{0, 0, 0}, {1, 1, 1}, {2, 2, 2}}, p), Status::Collinear);
+  EXPECT_EQ(polytope_from_triangle({{0, 0, 0}, {0, 0, 0}, {2, 2, 2}}, p), Status::TooFewPoints);
+}
+
+TEST(Polytope, BoxCornerCodesFollowTheAxisSigns) {
+  Box b;
+  b.center = Vector3d(1, 2, 3);
+  b.rotation = tools::table1_rotation();
+  b.half_extents = Vector3d(0.5, 1, 2);
+  ConvexPolytope p;
+  ASSERT_EQ(polytope_from_box(b, p), Status::Ok);
+  ASSERT_EQ(p.vertices.size(), 8u);
+  for (int k = 0; k < 8; ++k) {
+    const Vector3d local = b.rotation.transpose() * (p.vertices[k] - b.center);
+    for (int a = 0; a < 3; ++a)
+      EXPECT_NEAR(local[a], ((k >> a) & 1 ? 1 : -1) * b.half_extents[a], 1e-12);
+  }
+  expect_valid(p);
+}
+
+TEST(Polytope, InvalidBoxesAreRejected) {
+  ConvexPolytope p;
+  Box b;
+  b.half_extents.y() = 0;
+  EXPECT_EQ(polytope_from_box(b, p), Status::InvalidBox);
+  b = Box{};
+  b.rotation(0, 0) = -1;  // a reflection, not a rotation
+  EXPECT_EQ(polytope_from_box(b, p), Status::InvalidBox);
+  b = Box{};
+  b.rotation *= 2;
+  EXPECT_EQ(polytope_from_box(b, p), Status::InvalidBox);
+}
+
+TEST(Polytope, TriangleKeepsItsVertexOrder) {
+  const Triangle t{{0, 0, 0}, {0, 1, 0}, {1, 0, 0}};
+  ConvexPolytope p;
+  ASSERT_EQ(polytope_from_triangle(t, p), Status::Ok);
+  EXPECT_TRUE(p.flat);
+  EXPECT_EQ(p.vertices[0], t.a);
+  EXPECT_EQ(p.vertices[1], t.b);
+  EXPECT_EQ(p.vertices[2], t.c);
+  expect_valid(p);
+}
+
+// A cube as 12 triangles with mixed orientations.
+std::vector<std::vector<int>> cube_triangles() {
+  return {{0, 1, 3}, {0, 3, 2}, {4, 7, 5}, {4, 6, 7}, {0, 5, 1}, {0, 4, 5},
+          {2, 3, 7}, {2, 7, 6}, {0, 2, 6}, {0, 6, 4}, {1, 7, 3}, {1, 5, 7}};
+}
+
+TEST(Polytope, ExplicitConvexMeshIsAcceptedAndMerged) {
+  ConvexPolytope p;
+  ASSERT_EQ(polytope_from_mesh(tools::cube_points(), cube_triangles(), p), Status::Ok);
+  EXPECT_EQ(p.faces.size(), 6u);
+  expect_valid(p);
+}
+
+TEST(Polytope, BadExplicitMeshesAreRejected) {
+  ConvexPolytope p;
+  auto faces = cube_triangles();
+  faces[3][1] = 8;  // out of range
+  EXPECT_EQ(polytope_from_mesh(tools::cube_points(), faces, p), Status::InvalidMesh);
+  faces = cube_triangles();
+  faces.pop_back();  // open
+  EXPECT_EQ(polytope_from_mesh(tools::cube_points(), faces, p), Status::InvalidMesh);
+  faces = cube_triangles();
+  faces[0] = {0, 1};  // too short
+  EXPECT_EQ(polytope_from_mesh(tools::cube_points(), faces, p), Status::InvalidMesh);
+  auto dented = tools::cube_points();
+  dented[7] = Vector3d(0.5, 0.5, 0.5);  // pushes a corner inwards: not convex
+  EXPECT_EQ(polytope_from_mesh(dented, cube_triangles(), p), Status::NotConvex);
+  auto bad = tools::cube_points();
+  bad[2].z() = std::nan("");
+  EXPECT_EQ(polytope_from_mesh(bad, cube_triangles(), p), Status::NonFinite);
+}
+
+TEST(Polytope, SupportFunctionPicksTheExtremeVertex) {
+  ConvexPolytope p;
+  ASSERT_EQ(polytope_from_points(tools::cube_points(), p), Status::Ok);
+  int arg = -1;
+  EXPECT_DOUBLE_EQ(support(p, Vector3d(1, 2, 3), &arg), 6.0);
+  EXPECT_EQ(p.vertices[arg], Vector3d(1, 1, 1));
+}
+
+TEST(Status, EveryStatusHasAMessage) {
+  for (int s = 0; s <= int(Status::HullFailed); ++s)
+    EXPECT_STRNE(to_string(Status(s)), "unknown status");
+}
+
+}  // namespace
+}  // namespace minksum

@@ -1,0 +1,271 @@
+// The Minkowski sum paths (fast, reference, hull) against brute force and against each other.
+#include <gtest/gtest.h>
+#include <minksum/minksum.hpp>
+
+#include <random>
+
+#include "checks.hpp"
+#include "tools/shapes.hpp"
+
+namespace minksum {
+namespace {
+
+using Eigen::Vector3d;
+using test::same_sum;
+using test::valid_sum;
+
+constexpr Method kMethods[] = {Method::Fast, Method::Reference, Method::Hull};
+
+struct Operands {
+  std::vector<Vector3d> a, b;
+  ConvexPolytope A, B;
+};
+
+Operands make(std::vector<Vector3d> a, std::vector<Vector3d> b) {
+  Operands o{std::move(a), std::move(b), {}, {}};
+  EXPECT_EQ(polytope_from_points(o.a, o.A), Status::Ok);
+  EXPECT_EQ(polytope_from_points(o.b, o.B), Status::Ok);
+  return o;
+}
+
+// Every method, sum and difference: each result valid; fast == reference when `same`
+// (the structure is well defined), fast == hull as well when `hull_too` (Qhull merges
+// facets with its own tolerance, so it is compared only where nothing is near-degenerate).
+void check_all(const Operands& o, double tol, bool same, MinkowskiSum* fast_sum = nullptr,
+               bool hull_too = false) {
+  for (double s : {1.0, -1.0}) {
+    MinkowskiSum m[3];
+    for (int k = 0; k < 3; ++k) {
+      const Status st = s > 0 ? minkowski_sum(o.A, o.B, m[k], kMethods[k])
+                              : minkowski_difference(o.A, o.B, m[k], kMethods[k]);
+      ASSERT_EQ(st, Status::Ok) << to_string(st);
+      EXPECT_TRUE(valid_sum(o.a, o.b, s, o.A, o.B, m[k], tol, 1e-12, 300))
+          << "method " << k << " sign " << s;
+    }
+    EXPECT_FALSE(m[0].corrected) << "the fast path needed the corrector";
+    if (same) {
+      EXPECT_TRUE(same_sum(m[0], m[1], 1e-9)) << "fast vs reference, sign " << s;
+      if (hull_too) EXPECT_TRUE(same_sum(m[0], m[2], 1e-9)) << "fast vs hull, sign " << s;
+    }
+    if (fast_sum && s > 0) *fast_sum = m[0];
+  }
+}
+
+TEST(Table1, AllPathsAgreeWithTheHullOfThePairwiseSums) {
+  for (const auto& pair : tools::table1_pairs()) {
+    SCOPED_TRACE(pair.name);
+    check_all(make(pair.a, pair.b), 1e-12, true, nullptr, true);
+  }
+}
+
+TEST(Table1, CubeRotatedCubeHasAllThirtyCandidatePlanes) {
+  // Generic rotation: 6 + 6 face planes and all 9 edge pairs on both sides, 30 facets.
+  const auto pair = tools::table1_pairs()[0];
+  MinkowskiSum m;
+  check_all(make(pair.a, pair.b), 1e-12, true, &m);
+  EXPECT_EQ(m.F, 30);
+}
+
+// Seeded random convex polytopes: 4-64 points in a random ellipsoid, rotated and moved.
+std::vector<Vector3d> random_points(std::mt19937_64& rng) {
+  std::uniform_int_distribution<int> count(4, 64);
+  std::uniform_real_distribution<double> u(-1, 1), scale(0.1, 3);
+  const int n = count(rng);
+  const Vector3d axes(scale(rng), scale(rng), scale(rng)), shift(3 * u(rng), 3 * u(rng), 3 * u(rng));
+  const Eigen::Matrix3d R = tools::axis_angle(Vector3d(u(rng), u(rng), u(rng)), 3.2 * u(rng));
+  std::vector<Vector3d> pts;
+  for (const auto& p : tools::sphere_points(n, unsigned(rng())))
+    pts.push_back(R * p.cwiseProduct(axes) + shift);
+  return pts;
+}
+
+class RandomPairs : public testing::TestWithParam<int> {};
+
+TEST_P(RandomPairs, FastEqualsReferenceAndBruteForce) {
+  std::mt19937_64 rng(1000 + GetParam());
+  for (int k = 0; k < 1000; ++k) {  // 10 shards x 1000 pairs, each as sum and difference
+    SCOPED_TRACE("shard " + std::to_string(GetParam()) + " pair " + std::to_string(k));
+    const Operands o = make(random_points(rng), random_points(rng));
+    for (double s : {1.0, -1.0}) {
+      MinkowskiSum fast, ref;
+      ASSERT_EQ(s > 0 ? minkowski_sum(o.A, o.B, fast) : minkowski_difference(o.A, o.B, fast),
+                Status::Ok);
+      ASSERT_EQ(s > 0 ? minkowski_sum(o.A, o.B, ref, Method::Reference)
+                      : minkowski_difference(o.A, o.B, ref, Method::Reference),
+                Status::Ok);
+      ASSERT_TRUE(valid_sum(o.a, o.b, s, o.A, o.B, fast, 1e-9, 1e-12, 1000, unsigned(k)));
+      ASSERT_FALSE(fast.corrected);
+      ASSERT_TRUE(same_sum(fast, ref, 1e-9));
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Shards, RandomPairs, testing::Range(0, 10));
+
+// --- The hard cases of GUIDE.md section 3 -------------------------------------------------
+
+std::vector<Vector3d> box_points(const Vector3d& h, const Eigen::Matrix3d& R = Eigen::Matrix3d::Identity(),
+                                 const Vector3d& c = Vector3d::Zero()) {
+  std::vector<Vector3d> p;
+  for (const auto& q : tools::cube_points()) p.push_back(c + R * q.cwiseProduct(h));
+  return p;
+}
+
+const Vector3d kGeneric = Vector3d(0.3, -0.5, 0.81).normalized();
+
+TEST(HardCases, AlignedBoxes) {
+  MinkowskiSum m;
+  check_all(make(box_points({1, 2, 3}), box_points({0.5, 0.25, 4})), 1e-12, true, &m);
+  EXPECT_EQ(m.F, 6);  // every edge cross vanishes: the sum is again a box
+  EXPECT_EQ(m.V, 8);
+}
+
+TEST(HardCases, TinyRotations) {
+  for (double angle : {1e-3, 1e-5, 1e-7, 1e-9, 1e-11, 1e-13, 1e-15}) {
+    SCOPED_TRACE(angle);
+    // The structure is near-degenerate, so paths may merge differently; all must be valid.
+    check_all(make(box_points({1, 1, 1}), box_points({1, 1, 1}, tools::axis_angle(kGeneric, angle))),
+              1e-8, angle >= 1e-3);
+  }
+}
+
+TEST(HardCases, FortyFiveDegreesAboutAnAxis) {
+  // About z the merged facets are exact in doubles: 8 side facets, top and bottom merged.
+  MinkowskiSum m;
+  check_all(make(box_points({1, 1, 1}), box_points({1, 1, 1}, tools::axis_angle({0, 0, 1}, M_PI / 4))),
+            1e-12, true, &m);
+  EXPECT_EQ(m.F, 10);
+  check_all(make(box_points({1, 1, 1}), box_points({1, 1, 1}, tools::axis_angle(kGeneric, M_PI / 4))),
+            1e-12, true);
+}
+
+TEST(HardCases, PaperFigure6NearParallelEdges) {
+  // Two cubes whose edges are almost but not quite parallel (the paper's Fig. 6 failure):
+  // a 90-degree turn about z followed by a 1e-9 tilt.
+  const Eigen::Matrix3d R = tools::axis_angle(kGeneric, 1e-9) * tools::axis_angle({0, 0, 1}, M_PI / 2);
+  check_all(make(box_points({2, 2, 2}), box_points({1, 1, 1}, R)), 1e-8, false);
+}
+
+TEST(HardCases, CoordinatesOffsetByAMillion) {
+  const Vector3d far(1e6, -1e6, 1e6);
+  check_all(make(box_points({1, 2, 3}, Eigen::Matrix3d::Identity(), far),
+                 box_points({1, 1, 1}, tools::table1_rotation(), far)),
+            1e-12, true);
+}
+
+TEST(HardCases, ScaleRatioOneInAMillion) {
+  check_all(make(tools::icosahedron_points(),
+                 box_points({1e-6, 1e-6, 1e-6}, tools::table1_rotation())),
+            1e-12, false);
+}
+
+TEST(HardCases, BoxWithHalfExtentTenToTheMinusSeven) {
+  check_all(make(box_points({1, 1, 1e-7}), box_points({1, 1, 1}, tools::table1_rotation())), 1e-12,
+            true);
+}
+
+TEST(HardCases, TriangleCoplanarWithABoxFace) {
+  const std::vector<Vector3d> tri = {{-0.5, -0.5, 1}, {0.7, -0.2, 1}, {0.1, 0.6, 1}};
+  MinkowskiSum m;
+  check_all(make(box_points({1, 1, 1}), tri), 1e-12, true, &m);
+  // The box's faces (the triangle's sides merge into top and bottom) and one vertical
+  // parallelogram per triangle edge; the CGAL oracle test checks the same count exactly.
+  EXPECT_EQ(m.F, 6 + 3);
+}
+
+TEST(HardCases, BoxPlusGenericTriangleIsASolid) {
+  const std::vector<Vector3d> tri = {{0.1, 0.2, 0.3}, {1.1, -0.4, 0.5}, {0.3, 0.9, -0.7}};
+  check_all(make(box_points({1, 2, 0.5}, tools::table1_rotation()), tri), 1e-12, true);
+}
+
+TEST(HardCases, TrianglePlusTriangle) {
+  const std::vector<Vector3d> t1 = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  const std::vector<Vector3d> t2 = {{0.2, 0.1, -0.5}, {0.3, 0.2, 0.7}, {-0.4, 0.8, 0.1}};
+  check_all(make(t1, t2), 1e-12, true);
+}
+
+TEST(HardCases, CoplanarTrianglesGiveAFlatSum) {
+  const Operands o = make({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{2, 0, 0}, {3, 1, 0}, {2, 2, 0}});
+  for (Method method : kMethods) {
+    MinkowskiSum m;
+    EXPECT_EQ(minkowski_sum(o.A, o.B, m, method), Status::DegenerateResult);
+  }
+}
+
+TEST(HardCases, IdenticalAndMirroredPolytopes) {
+  const auto d = tools::rotated(tools::dodecahedron_points(), tools::table1_rotation());
+  MinkowskiSum m;
+  check_all(make(d, d), 1e-12, true, &m);
+  EXPECT_EQ(m.F, 12);  // A (+) A = 2A
+  std::vector<Vector3d> mirrored;
+  for (const auto& p : d) mirrored.push_back(Vector3d(-p.x(), p.y(), p.z()));
+  check_all(make(d, mirrored), 1e-12, false);
+}
+
+TEST(HardCases, DuplicatedAndNearDuplicatedVertices) {
+  auto a = tools::icosahedron_points();
+  const auto copy = a;
+  a.insert(a.end(), copy.begin(), copy.end());
+  for (const auto& p : copy) a.push_back(p * (1 + 1e-15));
+  check_all(make(a, tools::rotated(tools::cube_points(), tools::table1_rotation())), 1e-12, false);
+}
+
+TEST(HardCases, NonFiniteInputIsRejected) {
+  for (double bad : {std::nan(""), std::numeric_limits<double>::infinity()}) {
+    auto pts = tools::cube_points();
+    pts[3].y() = bad;
+    ConvexPolytope p;
+    EXPECT_EQ(polytope_from_points(pts, p), Status::NonFinite);
+    Box b;
+    b.center.x() = bad;
+    EXPECT_EQ(polytope_from_box(b, p), Status::NonFinite);
+    EXPECT_EQ(polytope_from_triangle({{0, 0, 0}, {1, bad, 0}, {0, 1, 0}}, p), Status::NonFinite);
+  }
+}
+
+TEST(Sum, EmptyOperandIsAnError) {
+  ConvexPolytope empty, cube;
+  ASSERT_EQ(polytope_from_points(tools::cube_points(), cube), Status::Ok);
+  MinkowskiSum m;
+  EXPECT_EQ(minkowski_sum(empty, cube, m), Status::TooFewPoints);
+  EXPECT_EQ(minkowski_difference(cube, empty, m), Status::TooFewPoints);
+}
+
+TEST(Sum, DifferenceContainsTheOriginExactlyWhenBoxesOverlap) {
+  // A (-) B is the configuration-space obstacle. Oracle: the separating axis theorem on the 15
+  // axes of two boxes, evaluated on the raw vertices.
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int overlaps = 0;
+  for (int k = 0; k < 500; ++k) {
+    const Eigen::Matrix3d Ra = tools::axis_angle(Vector3d(u(rng), u(rng), u(rng)), 3 * u(rng));
+    const Eigen::Matrix3d Rb = tools::axis_angle(Vector3d(u(rng), u(rng), u(rng)), 3 * u(rng));
+    const auto a = box_points(Vector3d(1, 0.5, 0.3), Ra);
+    const auto b = box_points(Vector3d(0.4, 0.9, 0.6), Rb, 2.2 * Vector3d(u(rng), u(rng), u(rng)));
+    const Operands o = make(a, b);
+    MinkowskiSum m;
+    ASSERT_EQ(minkowski_difference(o.A, o.B, m), Status::Ok);
+    bool inside = true;
+    for (const auto& p : m.planes) inside = inside && p.offset > 0;
+    std::vector<Vector3d> axes;
+    for (int i = 0; i < 3; ++i) {
+      axes.push_back(Ra.col(i));
+      axes.push_back(Rb.col(i));
+      for (int j = 0; j < 3; ++j) axes.push_back(Ra.col(i).cross(Rb.col(j)));
+    }
+    bool separated = false;
+    for (const auto& n : axes) {
+      double amin = 1e300, amax = -1e300, bmin = 1e300, bmax = -1e300;
+      for (const auto& p : a) amin = std::min(amin, n.dot(p)), amax = std::max(amax, n.dot(p));
+      for (const auto& p : b) bmin = std::min(bmin, n.dot(p)), bmax = std::max(bmax, n.dot(p));
+      separated = separated || amax < bmin || bmax < amin;
+    }
+    EXPECT_EQ(inside, !separated) << "pose " << k;
+    overlaps += !separated;
+  }
+  EXPECT_GT(overlaps, 50);  // both outcomes are exercised
+  EXPECT_LT(overlaps, 450);
+}
+
+}  // namespace
+}  // namespace minksum
