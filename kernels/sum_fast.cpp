@@ -186,10 +186,17 @@ bool crossing_facet(const GaussMap& ga, int ea, const GaussMap& gb, int eb, Face
   if (s1 * s2 >= 0) return false;
   const int s3 = orient(a1, gb.great[eb]), s4 = orient(a2, gb.great[eb]);
   if (s3 * s4 >= 0 || s1 * s4 <= 0) return false;
-  // The crossing point as a positive combination of a1 and a2, so it always lies on A's arc.
+  // The facet is the parallelogram e_A (+) e_B, so its normal is +-(d_A x d_B). The crossing
+  // point p = |a2.g_B| a1 + |a1.g_B| a2 always lies on A's arc and fixes the sign; it is the
+  // normal itself only when the edges are too close to parallel for the cross product.
   const Vector3d& gB = gb.great[eb].value;
   const Vector3d p = std::abs(a2.dot(gB)) * a1 + std::abs(a1.dot(gB)) * a2;
-  f.normal = p.norm() > 0 ? p.normalized() : Vector3d((a1 + a2).normalized());
+  const Vector3d dA = ga.point[A.v] - ga.point[A.u], dB = gb.point[B.v] - gb.point[B.u];
+  const Vector3d c = dA.cross(dB);
+  if (c.norm() > 1e-12 * dA.norm() * dB.norm())
+    f.normal = c.dot(p) >= 0 ? c.normalized() : Vector3d(-c.normalized());
+  else
+    f.normal = p.norm() > 0 ? p.normalized() : Vector3d((a1 + a2).normalized());
   // s2 > 0: b2 is on the v side of A's circle, so B's direction towards b2 follows A's
   // direction towards a2 counter-clockwise; the four cells follow from that order.
   const int uA = ga.vertex[A.u], vA = ga.vertex[A.v], uB = gb.vertex[B.u], vB = gb.vertex[B.v];

@@ -8,7 +8,8 @@
 // V = {a_i + b_j} alone, which is the definition (1) of the sum.
 #include <algorithm>
 #include <cmath>
-#include <set>
+#include <limits>
+#include <map>
 
 #include "hull.hpp"
 #include "sum_internal.hpp"
@@ -65,7 +66,7 @@ void sum_reference(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSu
   // n . v_k for v_k = a_i + b_j is evaluated as n . a_i + n . b_j: the same numbers as the
   // paper's loop over V, but the extreme pairs can then only come from near-extreme a_i and b_j,
   // which keeps the test suite's thousands of random pairs affordable.
-  std::set<std::vector<int>> seen;
+  std::map<std::vector<int>, std::pair<size_t, double>> seen;  // corners -> facet, spread
   std::vector<FacetLoop> facets;
   std::vector<double> da(a.vertices.size()), db(b.vertices.size());
   for (const auto& n : normals) {
@@ -82,9 +83,16 @@ void sum_reference(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSu
     if (extreme.size() < 3) continue;
     std::vector<int> corners = planar_hull(V, extreme, n, kLineTol * extent * extent);
     if (corners.size() < 3) continue;
+    // Several candidates can find the same facet; keep the plane that fits its corners best.
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (int k : corners) lo = std::min(lo, n.dot(V[k])), hi = std::max(hi, n.dot(V[k]));
     std::vector<int> key = corners;
     std::sort(key.begin(), key.end());
-    if (!seen.insert(key).second) continue;
+    auto [it, fresh] = seen.emplace(key, std::make_pair(facets.size(), hi - lo));
+    if (!fresh) {
+      if (hi - lo < it->second.second) facets[it->second.first].normal = n, it->second.second = hi - lo;
+      continue;
+    }
     FacetLoop f{n, {}};
     for (int k : corners) f.loop.emplace_back(k / nb, k % nb);
     facets.push_back(std::move(f));

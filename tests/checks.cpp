@@ -1,6 +1,7 @@
 #include "checks.hpp"
 
 #include <algorithm>
+#include <map>
 #include <random>
 #include <set>
 
@@ -94,15 +95,36 @@ testing::AssertionResult same_sum(const MinkowskiSum& x, const MinkowskiSum& y, 
     for (int k : m.facets[f]) s.insert({m.vertices[k].i, m.vertices[k].j});
     return s;
   };
+  // Facets match when they have the same vertex pairs and each one's vertices lie on the other's
+  // plane within tol * size. (The normal of a sliver spanned by nearly parallel edges is
+  // ill-conditioned; its plane through the vertices is not.)
+  auto off_plane = [&](const MinkowskiSum& m, size_t f, const SumPlane& p) {
+    double worst = 0;
+    for (int k : m.facets[f])
+      worst = std::max(worst, std::abs(p.normal.dot(m.vertices[k].point) - p.offset));
+    return worst;
+  };
+  std::map<std::set<std::pair<int, int>>, size_t> by_pairs;
+  for (size_t g = 0; g < y.planes.size(); ++g) by_pairs.emplace(pairs(y, g), g);
   for (size_t f = 0; f < x.planes.size(); ++f) {
-    bool found = false;
-    for (size_t g = 0; g < y.planes.size() && !found; ++g)
-      found = (x.planes[f].normal - y.planes[g].normal).norm() <= tol &&
-              std::abs(x.planes[f].offset - y.planes[g].offset) <= tol * std::max(size, 1.0) &&
-              pairs(x, f) == pairs(y, g);
-    if (!found)
+    auto it = by_pairs.find(pairs(x, f));
+    if (it == by_pairs.end()) {
+      auto r = testing::AssertionFailure();
+      r << "facet " << f << " (n = " << x.planes[f].normal.transpose()
+        << ") has no facet with the same vertex pairs:";
+      for (const auto& p : pairs(x, f)) r << " (" << p.first << "," << p.second << ")";
+      for (size_t g = 0; g < y.planes.size(); ++g)
+        if ((y.planes[g].normal - x.planes[f].normal).norm() < 1e-6) {
+          r << "; the other has n = " << y.planes[g].normal.transpose() << " with";
+          for (const auto& p : pairs(y, g)) r << " (" << p.first << "," << p.second << ")";
+        }
+      return r;
+    }
+    const size_t g = it->second;
+    const double d = std::max(off_plane(x, f, y.planes[g]), off_plane(y, g, x.planes[f]));
+    if (d > tol * std::max(size, 1.0))
       return testing::AssertionFailure() << "facet " << f << " (n = " << x.planes[f].normal.transpose()
-                                         << ") has no twin";
+                                         << "): the planes differ by " << d << " at its vertices";
   }
   return testing::AssertionSuccess();
 }

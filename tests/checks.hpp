@@ -23,8 +23,8 @@ testing::AssertionResult valid_sum(const std::vector<Eigen::Vector3d>& a_pts,
                                    const MinkowskiSum& m, double tol, double support_tol,
                                    int directions = 1000, unsigned seed = 1);
 
-/// The same polytope: same V, E, F and, facet by facet, the same plane (normals within
-/// `tol`, offsets within tol * size) and the same vertex pairs.
+/// The same polytope: same V, E, F and, facet by facet, the same vertex pairs, and planes
+/// that agree at those vertices within tol * size.
 testing::AssertionResult same_sum(const MinkowskiSum& x, const MinkowskiSum& y, double tol);
 
 }  // namespace minksum::test

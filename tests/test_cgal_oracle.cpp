@@ -1,0 +1,168 @@
+// The exact oracle: CGAL's exact kernel (Epeck) builds the hull of the pairwise sums and merges
+// exactly coplanar triangles; its V, E, F must equal the fast path's. This is the only
+// translation unit that includes CGAL (it is slow to compile).
+#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+#include <CGAL/Polyhedron_3.h>
+#include <CGAL/convex_hull_3.h>
+#include <gtest/gtest.h>
+#include <minksum/minksum.hpp>
+
+#include <map>
+#include <numeric>
+#include <set>
+
+#include "tools/shapes.hpp"
+
+namespace minksum {
+namespace {
+
+using Eigen::Vector3d;
+using K = CGAL::Exact_predicates_exact_constructions_kernel;
+using Polyhedron = CGAL::Polyhedron_3<K>;
+
+struct Counts {
+  int V, E, F;
+};
+
+// V, E, F of the exact hull of the pairwise sums a + s b, computed exactly (not rounded to
+// double first), with coplanar triangles merged (union-find over facets).
+Counts exact_counts(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, double s) {
+  std::vector<K::Point_3> p;
+  for (const auto& u : a)
+    for (const auto& v : b)
+      p.emplace_back(K::FT(u.x()) + K::FT(s) * K::FT(v.x()), K::FT(u.y()) + K::FT(s) * K::FT(v.y()),
+                     K::FT(u.z()) + K::FT(s) * K::FT(v.z()));
+  Polyhedron hull;
+  CGAL::convex_hull_3(p.begin(), p.end(), hull);
+  std::map<Polyhedron::Facet_const_handle, int> id;
+  for (auto f = hull.facets_begin(); f != hull.facets_end(); ++f) id.emplace(f, int(id.size()));
+  std::vector<int> parent(id.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (auto h = hull.halfedges_begin(); h != hull.halfedges_end(); ++h) {
+    const auto& a = h->vertex()->point();
+    const auto& b = h->opposite()->vertex()->point();
+    const auto& c = h->next()->vertex()->point();
+    const auto& d = h->opposite()->next()->vertex()->point();
+    if (CGAL::coplanar(a, b, c, d)) parent[find(id[h->facet()])] = find(id[h->opposite()->facet()]);
+  }
+  std::set<int> classes;
+  std::set<std::pair<int, int>> adjacent;
+  for (auto h = hull.halfedges_begin(); h != hull.halfedges_end(); ++h) {
+    const int x = find(id[h->facet()]), y = find(id[h->opposite()->facet()]);
+    classes.insert(x);
+    if (x != y) adjacent.insert({std::min(x, y), std::max(x, y)});
+  }
+  int V = 0;  // a true vertex touches at least three merged facets
+  for (auto v = hull.vertices_begin(); v != hull.vertices_end(); ++v) {
+    std::set<int> around;
+    auto h = v->vertex_begin();
+    do around.insert(find(id[h->facet()])); while (++h != v->vertex_begin());
+    V += around.size() >= 3;
+  }
+  return {V, int(adjacent.size()), int(classes.size())};
+}
+
+// The paper's Table 1 solids with exactly representable, exactly planar faces: integer
+// coordinates, an icosahedron with phi ~ 89/55, a pyritohedron with h = 21/34 (combinatorially
+// the dodecahedron; its pentagons stay exactly planar), and the rotation of the unit
+// quaternion (4, 1, 2, 3)/sqrt(30), whose matrix is an integer matrix / 30.
+std::vector<Vector3d> exact_rotated(const std::vector<Vector3d>& pts) {
+  const double w = 4, x = 1, y = 2, z = 3;
+  Eigen::Matrix3d M;
+  M << w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y),
+      2 * (x * y + w * z), w * w - x * x + y * y - z * z, 2 * (y * z - w * x),
+      2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z;
+  std::vector<Vector3d> out;
+  for (const auto& p : pts) out.push_back(M * p);  // inputs are multiples of 30: exact
+  return out;
+}
+
+std::vector<Vector3d> scaled(std::vector<Vector3d> pts, double s) {
+  for (auto& p : pts) p *= s;
+  return pts;
+}
+
+std::vector<Vector3d> integer_icosahedron() {
+  std::vector<Vector3d> p;
+  for (int s = 0; s < 4; ++s) {
+    const double a = (s & 1) ? -55 : 55, b = (s & 2) ? -89 : 89;
+    p.insert(p.end(), {{0, a, b}, {a, b, 0}, {b, 0, a}});
+  }
+  return p;
+}
+
+std::vector<Vector3d> pyritohedron() {
+  std::vector<Vector3d> p = scaled(tools::cube_points(), 1156);
+  for (int s = 0; s < 4; ++s) {
+    const double a = (s & 1) ? -1870 : 1870, b = (s & 2) ? -715 : 715;
+    p.insert(p.end(), {{0, a, b}, {a, b, 0}, {b, 0, a}});
+  }
+  return p;
+}
+
+void expect_matches_oracle(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b,
+                           int expected_F = -1) {
+  ConvexPolytope A, B;
+  ASSERT_EQ(polytope_from_points(a, A), Status::Ok);
+  ASSERT_EQ(polytope_from_points(b, B), Status::Ok);
+  for (double s : {1.0, -1.0}) {
+    MinkowskiSum m;
+    ASSERT_EQ(s > 0 ? minkowski_sum(A, B, m) : minkowski_difference(A, B, m), Status::Ok);
+    const Counts exact = exact_counts(a, b, s);
+    EXPECT_EQ(m.F, exact.F) << "sign " << s;
+    EXPECT_EQ(m.E, exact.E) << "sign " << s;
+    EXPECT_EQ(m.V, exact.V) << "sign " << s;
+    EXPECT_FALSE(m.corrected);
+    if (expected_F >= 0) EXPECT_EQ(exact.F, expected_F) << "the oracle itself, sign " << s;
+  }
+}
+
+TEST(ExactOracle, Table1PairsWithExactCoordinates) {
+  const auto cube = scaled(tools::cube_points(), 30 * 7), ico = scaled(integer_icosahedron(), 30);
+  const auto dod = scaled(pyritohedron(), 30);
+  SCOPED_TRACE("cube_rotcube");
+  expect_matches_oracle(cube, exact_rotated(cube), 30);
+  expect_matches_oracle(cube, exact_rotated(ico));
+  expect_matches_oracle(ico, exact_rotated(ico));
+  expect_matches_oracle(cube, exact_rotated(dod));
+  expect_matches_oracle(dod, exact_rotated(dod));
+  expect_matches_oracle(ico, exact_rotated(dod));
+}
+
+std::vector<Vector3d> box(const Vector3d& h, const Eigen::Matrix3d& R = Eigen::Matrix3d::Identity()) {
+  std::vector<Vector3d> p;
+  for (const auto& q : tools::cube_points()) p.push_back(R * q.cwiseProduct(h));
+  return p;
+}
+
+TEST(ExactOracle, AlignedBoxes) { expect_matches_oracle(box({1, 2, 3}), box({0.5, 0.25, 4}), 6); }
+
+TEST(ExactOracle, FortyFiveDegreesAboutZ) {
+  expect_matches_oracle(box({1, 1, 1}), box({1, 1, 1}, tools::axis_angle({0, 0, 1}, M_PI / 4)), 10);
+}
+
+TEST(ExactOracle, TriangleCoplanarWithABoxFace) {
+  expect_matches_oracle(box({1, 1, 1}), {{-0.5, -0.5, 1}, {0.75, -0.25, 1}, {0.125, 0.5, 1}}, 9);
+}
+
+TEST(ExactOracle, TrianglePlusTriangle) {
+  expect_matches_oracle({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}},
+                        {{0.25, 0.125, -0.5}, {0.375, 0.25, 0.75}, {-0.5, 0.75, 0.125}});
+}
+
+TEST(ExactOracle, IdenticalAndMirroredPolytopes) {
+  const auto d = exact_rotated(scaled(pyritohedron(), 30));
+  expect_matches_oracle(d, d, 12);
+  std::vector<Vector3d> mirrored;
+  for (const auto& p : d) mirrored.push_back(Vector3d(-p.x(), p.y(), p.z()));
+  expect_matches_oracle(d, mirrored);
+}
+
+TEST(ExactOracle, ThinBox) { expect_matches_oracle(box({1, 1, 1e-7}), exact_rotated(scaled(tools::cube_points(), 30))); }
+
+}  // namespace
+}  // namespace minksum
