@@ -1,0 +1,192 @@
+// The minksum command-line program, run as a user would: JSON output against Qhull on the
+// pairwise sums, the file formats, and bad input (exit code 2, one line with file:line).
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <algorithm>
+#include <regex>
+#include <unistd.h>
+#include <sstream>
+#include <sys/wait.h>
+
+#include "hull.hpp"
+#include "tools/io.hpp"
+#include "tools/shapes.hpp"
+
+namespace minksum {
+namespace {
+
+using Eigen::Vector3d;
+namespace fs = std::filesystem;
+
+struct CliRun {
+  int code;
+  std::string out, err;
+};
+
+fs::path scratch() {
+  const fs::path dir = fs::temp_directory_path() / ("minksum_cli_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+CliRun run(const std::string& args) {
+  const fs::path dir = scratch();
+  const std::string cmd = std::string(MINKSUM_CLI) + " " + args + " > " + (dir / "out").string() +
+                          " 2> " + (dir / "err").string();
+  const int status = std::system(cmd.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir / "out"), slurp(dir / "err")};
+}
+
+std::string write(const std::string& name, const std::string& text) {
+  const fs::path p = scratch() / name;
+  std::ofstream(p) << text;
+  return p.string();
+}
+
+// The same points in each of the four formats the CLI reads.
+std::string write_points(const std::string& name, const std::vector<Vector3d>& pts, int format) {
+  std::ostringstream s;
+  s.precision(17);
+  const char* ext[] = {".txt", ".off", ".obj", ".ply"};
+  if (format == 1) s << "OFF\n" << pts.size() << " 0 0\n";
+  if (format == 3)
+    s << "ply\nformat ascii 1.0\nelement vertex " << pts.size()
+      << "\nproperty float confidence\nproperty double x\nproperty double y\nproperty double z\n"
+         "end_header\n";
+  if (format == 0) s << "# plain text, one point per line\n";
+  for (const auto& p : pts)
+    s << (format == 2 ? "v " : format == 3 ? "0.5 " : "") << p.x() << ' ' << p.y() << ' ' << p.z()
+      << '\n';
+  return write(name + ext[format], s.str());
+}
+
+struct JsonPlane {
+  Vector3d n;
+  double d;
+  int i, j;
+};
+
+std::vector<JsonPlane> parse_planes(const std::string& json) {
+  std::vector<JsonPlane> out;
+  const std::regex plane(R"(\[([-+0-9.eE]+), ([-+0-9.eE]+), ([-+0-9.eE]+), ([-+0-9.eE]+), (\d+), (\d+)\])");
+  for (std::sregex_iterator it(json.begin(), json.end(), plane), end; it != end; ++it)
+    out.push_back({Vector3d(std::stod((*it)[1]), std::stod((*it)[2]), std::stod((*it)[3])),
+                   std::stod((*it)[4]), std::stoi((*it)[5]), std::stoi((*it)[6])});
+  return out;
+}
+
+TEST(Cli, SumJsonAgreesWithQhullOnTheTable1Pairs) {
+  int format = 0;
+  for (const auto& pair : tools::table1_pairs()) {
+    SCOPED_TRACE(pair.name);
+    for (const char* diff : {"", " --diff"}) {
+      const double s = *diff ? -1 : 1;
+      const std::string a = write_points(pair.name + "_a", pair.a, format++ % 4);
+      const std::string b = write_points(pair.name + "_b", pair.b, format++ % 4);
+      const CliRun r = run("sum " + a + " " + b + " --json" + diff);
+      ASSERT_EQ(r.code, 0) << r.err;
+      EXPECT_EQ(r.err, "");
+      EXPECT_NE(r.out.find("\"euler_ok\": true"), std::string::npos) << r.out;
+      const auto planes = parse_planes(r.out);
+      std::vector<Vector3d> sums;
+      for (const auto& p : pair.a)
+        for (const auto& q : pair.b) sums.push_back(p + s * q);
+      std::vector<detail::HullFacet> hull;
+      ASSERT_TRUE(detail::qhull_facets(sums, hull));
+      EXPECT_EQ(planes.size(), hull.size());
+      EXPECT_NE(r.out.find("\"facets\": " + std::to_string(hull.size())), std::string::npos);
+      for (const auto& p : planes) {
+        bool twin = false;
+        for (const auto& h : hull)
+          twin = twin || ((p.n - h.normal).norm() < 1e-9 &&
+                          std::abs(p.d - h.normal.dot(sums[h.loop[0]])) < 1e-9);
+        EXPECT_TRUE(twin) << "plane " << p.n.transpose() << " is not a Qhull facet";
+        // (i, j) index the files' points and lie on the plane.
+        ASSERT_LT(p.i, int(pair.a.size()));
+        ASSERT_LT(p.j, int(pair.b.size()));
+        EXPECT_NEAR(p.n.dot(pair.a[p.i] + s * pair.b[p.j]), p.d, 1e-12);
+      }
+    }
+  }
+}
+
+TEST(Cli, WritesTheSumAsAMesh) {
+  const auto pair = tools::table1_pairs()[0];
+  const std::string a = write_points("ma", pair.a, 0), b = write_points("mb", pair.b, 0);
+  for (const char* ext : {"off", "obj", "ply"}) {
+    const std::string out = (scratch() / (std::string("m.") + ext)).string();
+    const CliRun r = run("sum " + a + " " + b + " --out " + out);
+    ASSERT_EQ(r.code, 0) << r.err;
+    std::vector<Vector3d> pts;
+    std::string error;
+    ASSERT_TRUE(tools::read_points(out, pts, error)) << error;
+    EXPECT_EQ(pts.size(), 32u) << ext;
+  }
+}
+
+// One bad input: exit code 2, nothing on stdout, exactly one line on stderr containing `what`.
+void expect_rejected(const std::string& args, const std::string& what) {
+  const CliRun r = run(args);
+  EXPECT_EQ(r.code, 2) << args;
+  EXPECT_EQ(r.out, "") << args;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_NE(r.err.find(what), std::string::npos) << "stderr: " << r.err;
+}
+
+TEST(Cli, BadInputGetsExitCodeTwoAndOneLine) {
+  const std::string cube = write_points("cube", tools::cube_points(), 0);
+  const std::string nan = write("nan.txt", "0 0 0\n1 0 0\nnan 1 0\n0 0 1\n");
+  expect_rejected("sum " + nan + " " + cube, "nan.txt:3:");
+  const std::string inf = write("inf.off", "OFF\n4 0 0\n0 0 0\n1 0 0\n0 1e999 0\n0 0 1\n");
+  expect_rejected("sum " + cube + " " + inf, "inf.off:5:");
+  const std::string shortoff = write("short.off", "OFF\n8 0 0\n0 0 0\n1 0 0\n");
+  expect_rejected("sum " + shortoff + " " + cube, "short.off:4: file ends");
+  const std::string junk = write("junk.txt", "0 0 0\n1 0 zero\n");
+  expect_rejected("sum " + junk + " " + cube, "junk.txt:2:");
+  const std::string ply = write("bad.ply", "ply\nformat ascii 1.0\nelement vertex 2\nend_header\n");
+  expect_rejected("sum " + ply + " " + cube, "bad.ply");
+  const std::string segment = write("segment.txt", "0 0 0\n1 1 1\n2 2 2\n");
+  expect_rejected("sum " + segment + " " + cube, "collinear");
+  const std::string dup = write("dup.txt", "1 2 3\n1 2 3\n1 2 3\n");
+  expect_rejected("sum " + dup + " " + cube, "fewer than 3 distinct points");
+  const std::string empty = write("empty.txt", "# nothing\n");
+  expect_rejected("sum " + empty + " " + cube, "no vertices");
+  expect_rejected("sum " + cube + " /nonexistent/file.off", "cannot open");
+  const std::string t1 = write("t1.txt", "0 0 0\n1 0 0\n0 1 0\n");
+  const std::string t2 = write("t2.txt", "2 0 0\n3 1 0\n2 2 0\n");
+  expect_rejected("sum " + t1 + " " + t2, "flat");
+  expect_rejected("sum " + cube, "two vertex files");
+  expect_rejected("sum " + cube + " " + cube + " --method magic", "unknown method");
+  expect_rejected("sum " + cube + " " + cube + " --frobnicate", "unknown option");
+  expect_rejected("frobnicate", "unknown command");
+  expect_rejected("sum " + cube + " " + cube + " --out " + (scratch() / "m.stl").string(), "extension");
+}
+
+TEST(Cli, HelpListsTheCommands) {
+  const CliRun r = run("--help");
+  EXPECT_EQ(r.code, 0);
+  EXPECT_NE(r.out.find("sum A B"), std::string::npos);
+  EXPECT_NE(r.out.find("demo"), std::string::npos);
+}
+
+TEST(Cli, FlatOperandGivesASolidSum) {
+  const std::string tri = write("tri.txt", "0.1 0.2 0.3\n1.1 -0.4 0.5\n0.3 0.9 -0.7\n");
+  const std::string cube = write_points("cube2", tools::cube_points(), 1);
+  const CliRun r = run("sum " + cube + " " + tri + " --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"euler_ok\": true"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace minksum
