@@ -2,7 +2,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
 
 #include "hull.hpp"
 #include "sum_internal.hpp"
@@ -18,44 +17,49 @@ void assemble(const ConvexPolytope& a, const ConvexPolytope& b, std::vector<Face
   const Method method = out.method;
   out = MinkowskiSum{};
   out.method = method;
-  // Consecutive repeats come from zero-length arcs of flat operands; drop them, then drop
-  // facets that collapse to fewer than three pairs (they have zero area).
-  std::map<std::pair<int, int>, int> index;
-  std::vector<FacetLoop> kept;
+  // Vertex numbers by pair code i * |B| + j: a dense table, since |A| |B| is small.
+  const int nb = int(b.vertices.size());
+  std::vector<int> index(a.vertices.size() * b.vertices.size(), -1);
+  size_t kept = 0;
   for (auto& f : facets) {
+    // Consecutive repeats come from zero-length arcs of flat operands; drop them, then drop
+    // facets that collapse to fewer than three pairs (they have zero area).
     auto& l = f.loop;
     l.erase(std::unique(l.begin(), l.end()), l.end());
     while (l.size() > 1 && l.front() == l.back()) l.pop_back();
     if (l.size() < 3) continue;
     // Start each loop at its smallest pair so that the plane's pair does not depend on the path.
     std::rotate(l.begin(), std::min_element(l.begin(), l.end()), l.end());
-    for (const auto& p : l) index.emplace(p, 0);
-    kept.push_back(std::move(f));
+    for (const auto& p : l) index[p.first * nb + p.second] = 0;
+    if (&facets[kept] != &f) facets[kept] = std::move(f);
+    ++kept;
   }
-  for (auto& [pair, id] : index) {
-    id = int(out.vertices.size());
-    out.vertices.push_back(
-        SumVertex{pair.first, pair.second, a.vertices[pair.first] + b.vertices[pair.second]});
+  facets.resize(kept);
+  for (int code = 0; code < int(index.size()); ++code) {  // numbered in (i, j) order
+    if (index[code] < 0) continue;
+    index[code] = int(out.vertices.size());
+    const int i = code / nb, j = code % nb;
+    out.vertices.push_back(SumVertex{i, j, a.vertices[i] + b.vertices[j]});
   }
-  std::map<std::pair<int, int>, int> directed;  // directed edge -> count
-  for (const auto& f : kept) {
+  std::vector<std::pair<int, int>> directed;
+  for (const auto& f : facets) {
     std::vector<int> loop;
     SumPlane plane{f.normal.normalized(), -std::numeric_limits<double>::infinity(),
                    f.loop[0].first, f.loop[0].second};
     for (const auto& p : f.loop) {
-      loop.push_back(index[p]);
+      loop.push_back(index[p.first * nb + p.second]);
       // The offset is the largest over the facet's vertices, so no vertex is ever cut off.
       plane.offset = std::max(plane.offset, plane.normal.dot(out.vertices[loop.back()].point));
     }
-    for (size_t k = 0; k < loop.size(); ++k) ++directed[{loop[k], loop[(k + 1) % loop.size()]}];
+    for (size_t k = 0; k < loop.size(); ++k) directed.emplace_back(loop[k], loop[(k + 1) % loop.size()]);
     out.planes.push_back(plane);
     out.facets.push_back(std::move(loop));
   }
-  bool manifold = true;
-  for (const auto& [e, count] : directed) {
-    auto twin = directed.find({e.second, e.first});
-    manifold = manifold && count == 1 && twin != directed.end() && twin->second == 1;
-  }
+  // A closed 2-manifold: every directed edge once, and its reverse once.
+  std::sort(directed.begin(), directed.end());
+  bool manifold = std::adjacent_find(directed.begin(), directed.end()) == directed.end();
+  for (const auto& [u, v] : directed)
+    manifold = manifold && std::binary_search(directed.begin(), directed.end(), std::make_pair(v, u));
   out.V = int(out.vertices.size());
   out.E = int(directed.size() / 2);
   out.F = int(out.facets.size());

@@ -20,6 +20,22 @@ using Eigen::Vector3d;
 
 namespace {
 
+// Compressed incidence lists (arcs of each face, arcs of each cell): two flat arrays.
+struct Incidence {
+  std::vector<int> start, list;
+  // Builds the lists of n owners from (owner, arc) pairs.
+  void build(int n, const std::vector<std::pair<int, int>>& pairs) {
+    start.assign(n + 1, 0);
+    for (const auto& p : pairs) ++start[p.first + 1];
+    for (int k = 0; k < n; ++k) start[k + 1] += start[k];
+    list.resize(pairs.size());
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (const auto& p : pairs) list[fill[p.first]++] = p.second;
+  }
+  const int* begin(int k) const { return list.data() + start[k]; }
+  const int* end(int k) const { return list.data() + start[k + 1]; }
+};
+
 // The Gauss map of a polytope: face normals (points on the sphere), edge arcs between the
 // normals of their two faces, and vertex cells bounded by arcs. A flat polygon is treated as
 // the limit of a thin prism: each side gets a virtual face normal o_k in the polygon's plane and
@@ -30,11 +46,11 @@ struct GaussMap {
     int L, R;  // faces at the ends: L's loop walks u -> v
   };
   std::vector<Vector3d> normal;             // per face
-  std::vector<std::vector<int>> face_arcs;  // per face
+  Incidence face_arcs;                      // per face
   std::vector<Arc> arcs;
   std::vector<Cross> great;                 // per arc: N[L] x N[R], the arc's great circle
   std::vector<int> vertex;                  // cell -> polytope vertex
-  std::vector<std::vector<int>> cell_arcs;  // per cell
+  Incidence cell_arcs;                      // per cell
   std::vector<Vector3d> point;              // per cell
 };
 
@@ -63,16 +79,15 @@ GaussMap gauss_map(const ConvexPolytope& p) {
     }
     for (int c = 0; c < 2 * K; ++c) g.vertex.push_back(top[c % K]);
   }
-  g.face_arcs.resize(g.normal.size());
-  g.cell_arcs.resize(g.vertex.size());
+  std::vector<std::pair<int, int>> by_face, by_cell;
   for (int e = 0; e < int(g.arcs.size()); ++e) {
     const auto& a = g.arcs[e];
-    g.face_arcs[a.L].push_back(e);
-    g.face_arcs[a.R].push_back(e);
-    g.cell_arcs[a.u].push_back(e);
-    g.cell_arcs[a.v].push_back(e);
+    by_face.insert(by_face.end(), {{a.L, e}, {a.R, e}});
+    by_cell.insert(by_cell.end(), {{a.u, e}, {a.v, e}});
     g.great.push_back(make_cross(g.normal[a.L], g.normal[a.R]));
   }
+  g.face_arcs.build(int(g.normal.size()), by_face);
+  g.cell_arcs.build(int(g.vertex.size()), by_cell);
   for (int v : g.vertex) g.point.push_back(p.vertices[v]);
   return g;
 }
@@ -87,7 +102,8 @@ struct Feature {
 // an arc across which n lies (the walk continues there).
 bool classify(const GaussMap& g, const Vector3d& n, int c, Feature& f, int& exit_arc) {
   int zeros[2] = {-1, -1}, nzero = 0;
-  for (int e : g.cell_arcs[c]) {
+  for (const int* e_it = g.cell_arcs.begin(c); e_it != g.cell_arcs.end(c); ++e_it) {
+    const int e = *e_it;
     // orient(n, N_L, N_R) > 0 puts n on the v side of the arc's great circle.
     const int s = orient(n, g.great[e]) * (g.arcs[e].v == c ? 1 : -1);
     if (s < 0) return exit_arc = e, false;
@@ -135,7 +151,8 @@ void directions(const GaussMap& g, const Feature& f, bool from_a, std::vector<Di
     out.push_back(towards_R ? Dir{g.normal[a.R], a.v, from_a} : Dir{g.normal[a.L], a.u, from_a});
   };
   if (f.kind == Feature::Face)
-    for (int e : g.face_arcs[f.id]) add(e, g.arcs[e].L == f.id);
+    for (const int* e = g.face_arcs.begin(f.id); e != g.face_arcs.end(f.id); ++e)
+      add(*e, g.arcs[*e].L == f.id);
   if (f.kind == Feature::Arc) add(f.id, true), add(f.id, false);
 }
 
