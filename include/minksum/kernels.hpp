@@ -1,0 +1,218 @@
+// minksum: fixed-size structure-of-arrays kernels (box-box, box-triangle, support push) with
+// runtime ISA dispatch, and topology tables (the paper's Section 4 index tracking).
+// No SIMD types appear here: the kernels live in kernels/, one translation unit per ISA.
+#pragma once
+
+#include <minksum/sum.hpp>
+
+#include <cstdint>
+#include <type_traits>
+#include <vector>
+
+namespace minksum {
+
+/// Instruction sets the kernels are compiled for (all of them on x86-64).
+enum class Isa { Scalar = 0, Sse4_2 = 1, Avx2 = 2, Avx512 = 3 };
+
+/// "scalar", "sse4_2", "avx2" or "avx512".
+const char* to_string(Isa isa);
+
+/// The ISA the kernels use: the best one this CPU supports, chosen once at start-up, unless
+/// the environment variable MINKSUM_ISA=scalar|sse4_2|avx2|avx512 forces one.
+Isa active_isa();
+
+/// True if this CPU can run the kernels compiled for `isa`.
+bool isa_supported(Isa isa);
+
+/// Switches the kernels to `isa` (tests and benchmarks); false if the CPU lacks it. Not
+/// thread-safe with concurrent kernel calls: call it before using the kernels.
+bool force_isa(Isa isa);
+
+/// Lanes per batch are a multiple of this (the widest SIMD register holds 16 floats).
+constexpr int kLaneMultiple = 16;
+
+/// Integer type of support codes and masks: as wide as the kernel's float type.
+template <class T>
+using CodeOf = std::conditional_t<std::is_same_v<T, float>, std::int32_t, std::int64_t>;
+
+/// |e_A x e_B| below this (edges as unit vectors) marks an edge-cross axis invalid: nearly
+/// parallel edges give no reliable direction. Dropping that plane keeps the planes a superset
+/// of the sum's facets' half-spaces, i.e. the H-representation stays conservative.
+template <class T>
+constexpr T kParallelThreshold = std::is_same_v<T, float> ? T(3e-4) : T(1e-8);
+
+/// N boxes, structure of arrays, 64-byte aligned; caller-owned, fixed capacity N.
+template <class T, int N>
+struct alignas(64) BoxBatch {
+  static_assert(N % kLaneMultiple == 0, "capacity must be a multiple of 16");
+  alignas(64) T c[3][N];     ///< centre, component d of lane k at c[d][k]
+  alignas(64) T u[3][3][N];  ///< axis a (column a of the rotation), component d at u[a][d][k]
+  alignas(64) T h[3][N];     ///< half extents
+  int count = 0;             ///< lanes in use; the rest are padded with valid boxes
+  /// Stores box b in lane k (0 <= k < N).
+  void set(int k, const Box& b) {
+    for (int d = 0; d < 3; ++d) {
+      c[d][k] = T(b.center[d]);
+      h[d][k] = T(b.half_extents[d]);
+      for (int a = 0; a < 3; ++a) u[a][d][k] = T(b.rotation(d, a));
+    }
+  }
+  /// Fills lanes [count, N) with the unit box, so whole SIMD registers hold valid input.
+  void pad() {
+    for (int k = count; k < N; ++k) set(k, Box{});
+  }
+};
+
+/// N triangles in structure of arrays: vertex i, component d of lane k at v[i][d][k].
+template <class T, int N>
+struct alignas(64) TriangleBatch {
+  static_assert(N % kLaneMultiple == 0, "capacity must be a multiple of 16");
+  alignas(64) T v[3][3][N];  ///< vertices
+  int count = 0;             ///< lanes in use
+  /// Stores triangle t in lane k.
+  void set(int k, const Triangle& t) {
+    const Eigen::Vector3d* p[3] = {&t.a, &t.b, &t.c};
+    for (int i = 0; i < 3; ++i)
+      for (int d = 0; d < 3; ++d) v[i][d][k] = T((*p[i])[d]);
+  }
+  /// Fills lanes [count, N) with a valid unit triangle.
+  void pad() {
+    for (int k = count; k < N; ++k) set(k, Triangle{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+  }
+};
+
+/// The 30 planes of each box-box sum A (+) B or difference A (-) B, from 15 axes: 3 of A,
+/// 3 of B, then the 9 crosses u_A[i] x u_B[j] (axis 6 + 3 i + j). Plane p < 15 is
+/// n_p . x <= offset[p]; plane p + 15 is -n_p . x <= offset[p + 15] (central symmetry).
+/// code[p] = corner of A | corner of B << 3 for plane p (corner bit a set: +u_a side); plane
+/// p + 15 has both 3-bit corner codes complemented. For the difference, B's corner is the one
+/// whose negation is the support. Bit p of valid is clear for an invalid (parallel) axis,
+/// whose normal and offsets are written as 0.
+template <class T, int N>
+struct alignas(64) BoxBoxPlanes {
+  alignas(64) T n[15][3][N];   ///< axis p, component d of lane k at n[p][d][k]
+  alignas(64) T offset[30][N];  ///< plane offsets
+  alignas(64) CodeOf<T> code[15][N];  ///< support corner codes of the + plane of each axis
+  alignas(64) CodeOf<T> valid[N];     ///< bit p: axis p is valid
+};
+
+/// The up to 26 planes of each box-triangle sum: 13 axes (3 box axes, the triangle normal,
+/// then the 9 crosses u[i] x e_j with e_j = v[(j+1)%3] - v[j], axis 4 + 3 i + j), plane p
+/// and p + 13 on opposite sides. code[p] = box corner | triangle vertex << 3 per plane
+/// (ties between triangle vertices go to the lowest index). valid bit p: axis p is valid;
+/// bit 30: the triangle is degenerate (the whole lane is invalid).
+template <class T, int N>
+struct alignas(64) BoxTrianglePlanes {
+  alignas(64) T n[13][3][N];    ///< axis p, component d of lane k
+  alignas(64) T offset[26][N];   ///< plane offsets
+  alignas(64) CodeOf<T> code[26][N];  ///< per plane: box corner | triangle vertex << 3
+  alignas(64) CodeOf<T> valid[N];     ///< bit p: axis p valid; bit 30: degenerate triangle
+};
+
+namespace detail {
+/// Component arrays of a box batch (lane stride N), as the ISA kernels read them.
+template <class T>
+struct BoxLanes {
+  const T* c;  ///< c[d * N + k]
+  const T* u;  ///< u[(a * 3 + d) * N + k]
+  const T* h;  ///< h[d * N + k]
+};
+/// Output arrays of a plane kernel (lane stride N).
+template <class T>
+struct PlaneLanes {
+  T* n;               ///< n[(p * 3 + d) * N + k]
+  T* offset;          ///< offset[p * N + k]
+  CodeOf<T>* code;    ///< code[p * N + k]
+  CodeOf<T>* valid;   ///< valid[k]
+};
+template <class T, int N>
+BoxLanes<T> lanes(const BoxBatch<T, N>& b) {
+  return {&b.c[0][0], &b.u[0][0][0], &b.h[0][0]};
+}
+template <class T, int N, class P>
+PlaneLanes<T> lanes(P& p) {
+  return {&p.n[0][0][0], &p.offset[0][0], &p.code[0][0], &p.valid[0]};
+}
+// Type-erased entry points behind the templates below; they dispatch on the active ISA.
+void box_box(BoxLanes<float> a, BoxLanes<float> b, int count, int stride, bool difference,
+             PlaneLanes<float> out);
+void box_box(BoxLanes<double> a, BoxLanes<double> b, int count, int stride, bool difference,
+             PlaneLanes<double> out);
+void box_triangle(BoxLanes<float> box, const float* tri, int count, int stride, bool difference,
+                  PlaneLanes<float> out);
+void box_triangle(BoxLanes<double> box, const double* tri, int count, int stride,
+                  bool difference, PlaneLanes<double> out);
+}  // namespace detail
+
+/// The 30 planes of A[k] (+) B[k] (or A[k] (-) B[k]) for every lane k < a.count; a and b
+/// must have the same count and be padded (pad()). No allocation, no exception, no lock.
+template <class T, int N>
+void box_box_planes(const BoxBatch<T, N>& a, const BoxBatch<T, N>& b, bool difference,
+                    BoxBoxPlanes<T, N>& out) {
+  detail::box_box(detail::lanes(a), detail::lanes(b), a.count, N, difference,
+                  detail::lanes<T, N>(out));
+}
+
+/// The planes of box[k] (+) tri[k] (or box[k] (-) tri[k]) for every lane k < box.count.
+template <class T, int N>
+void box_triangle_planes(const BoxBatch<T, N>& box, const TriangleBatch<T, N>& tri,
+                         bool difference, BoxTrianglePlanes<T, N>& out) {
+  detail::box_triangle(detail::lanes(box), &tri.v[0][0][0], box.count, N, difference,
+                       detail::lanes<T, N>(out));
+}
+
+/// One plane of a kernel result, for callers with one pair.
+struct KernelPlane {
+  Eigen::Vector3d normal;  ///< unit normal (zero when invalid)
+  double offset = 0;       ///< n . x <= offset
+  int i = -1, j = -1;      ///< support pair: box corner code, and B's corner or triangle vertex
+  bool valid = false;      ///< false for an axis of parallel edges (or a degenerate triangle)
+};
+
+/// The 30 planes of one box-box pair in double, through the same kernels (scalar lane).
+void box_box_planes(const Box& a, const Box& b, bool difference, KernelPlane (&out)[30]);
+
+/// The 26 planes of one box-triangle pair in double, through the same kernels.
+void box_triangle_planes(const Box& box, const Triangle& tri, bool difference,
+                         KernelPlane (&out)[26]);
+
+/// Support push: for each of k directions (dx, dy, dz), the maximum of d . v over the n
+/// vertices (x, y, z) and the index of the first vertex that attains it. n >= 1.
+void support_push(const float* x, const float* y, const float* z, int n, const float* dx,
+                  const float* dy, const float* dz, int k, float* max_out, int* arg_out);
+/// The same in double.
+void support_push(const double* x, const double* y, const double* z, int n, const double* dx,
+                  const double* dy, const double* dz, int k, double* max_out, int* arg_out);
+
+/// Index tracking (the paper's Section 4): the facet normals of a prototype sum and, per facet,
+/// n . a_i and n . b_j of its support pair in the operands' own frames. Any copy of the sum with
+/// A scaled by sA > 0 and moved by tA (and B by sB, tB) has offsets
+/// sA (n . a_i) + sB (n . b_j) + n . (tA + tB): O(facets), no search.
+struct TopologyTable {
+  std::vector<double> nx, ny, nz;  ///< facet normals
+  std::vector<double> pa, pb;      ///< n . a_i and n . b_j of the prototype's support pair
+  std::vector<int> i, j;           ///< the support pair (index tracking)
+  double sign_b = 1;               ///< -1 for a difference: B's translation enters negated
+};
+
+/// The table of a general sum or difference `m` of the operands a and b.
+TopologyTable topology_table(const MinkowskiSum& m, const ConvexPolytope& a,
+                             const ConvexPolytope& b, bool difference);
+
+/// The table of one box-box lane: boxes are taken relative to their centres, so that tA and tB
+/// are the copies' centres; invalid axes are left out.
+template <class T, int N>
+TopologyTable topology_table(const BoxBoxPlanes<T, N>& planes, int lane, const Box& a, const Box& b,
+                             bool difference);
+
+/// The table of one box-triangle lane (box relative to its centre, triangle as given).
+template <class T, int N>
+TopologyTable topology_table(const BoxTrianglePlanes<T, N>& planes, int lane, const Box& box,
+                             const Triangle& tri, bool difference);
+
+/// Offsets of the copy with scales sA, sB > 0 and translations tA, tB: offset_k =
+/// sA pa_k + sB pb_k + n_k . (tA + sign_b tB) (offsets: capacity >= facets). No allocation.
+void instantiate(const TopologyTable& t, double sA, const Eigen::Vector3d& tA, double sB,
+                 const Eigen::Vector3d& tB, double* offsets);
+
+}  // namespace minksum

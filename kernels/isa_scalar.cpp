@@ -1,0 +1,8 @@
+// The kernels compiled for scalar (this file's compiler flags are set in CMakeLists.txt).
+#include "kernel_bodies.hpp"
+
+namespace minksum::detail {
+
+KernelTable table_scalar() { return make_table<ScalarArch>(); }
+
+}  // namespace minksum::detail

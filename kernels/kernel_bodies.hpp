@@ -1,0 +1,197 @@
+// The kernel bodies, templated on the float type T and the ISA (internal). Each per-ISA
+// translation unit includes this file with its own compiler flags and instantiates
+// make_table<Arch>(); the bodies use only the Simd<T, Arch> operations.
+#pragma once
+
+#include <limits>
+
+#include "simd.hpp"
+
+namespace minksum::detail {
+
+template <class T, class Arch>
+struct Kernels {
+  using S = Simd<T, Arch>;
+  using B = typename S::B;
+
+  struct V3 {
+    B x, y, z;
+  };
+  static B dot(const V3& a, const V3& b) { return S::fma(a.x, b.x, S::fma(a.y, b.y, a.z * b.z)); }
+  static V3 cross(const V3& a, const V3& b) {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+  }
+  static V3 scaled(const V3& a, const B& s) { return {a.x * s, a.y * s, a.z * s}; }
+  static V3 load3(const T* p, int stride, int k) {
+    return {S::load(p + k), S::load(p + stride + k), S::load(p + 2 * stride + k)};
+  }
+  static void store3(T* p, int stride, int k, const V3& v) {
+    S::store(p + k, v.x);
+    S::store(p + stride + k, v.y);
+    S::store(p + 2 * stride + k, v.z);
+  }
+  // Unit axis of a cross product, or the zero vector (and valid = false) when |c| <= tau * scale.
+  static V3 unit_or_zero(const V3& c, const B& scale, B& valid_bit, T bit) {
+    const B len = S::sqrt(dot(c, c));
+    const auto ok = len > B(kParallelThreshold<T>) * scale;
+    valid_bit = valid_bit + S::select(ok, B(bit), B(0));
+    const B inv = S::select(ok, B(1) / S::select(ok, len, B(1)), B(0));
+    return scaled(c, inv);
+  }
+  // Support of a box in direction n: sum_k h_k |n . u_k|, and the corner code (bit k: n.u_k > 0).
+  static void box_support(const V3& n, const V3 (&u)[3], const B (&h)[3], B& s, B& code) {
+    s = B(0);
+    code = B(0);
+    for (int k = 0; k < 3; ++k) {
+      const B d = dot(n, u[k]);
+      s = S::fma(h[k], S::abs(d), s);
+      code = code + S::select(d > B(0), B(T(1 << k)), B(0));
+    }
+  }
+
+  // Box-box: 15 axes, 30 planes (see BoxBoxPlanes).
+  static void box_box(BoxLanes<T> a, BoxLanes<T> b, int count, int N, bool difference,
+                      PlaneLanes<T> out) {
+    const B sign(difference ? T(-1) : T(1));
+    for (int k = 0; k < count; k += S::size) {
+      V3 ua[3], ub[3];
+      B ha[3], hb[3];
+      for (int i = 0; i < 3; ++i) {
+        ua[i] = load3(a.u + 3 * i * N, N, k);
+        ub[i] = load3(b.u + 3 * i * N, N, k);
+        ha[i] = S::load(a.h + i * N + k);
+        hb[i] = S::load(b.h + i * N + k);
+      }
+      const V3 ca = load3(a.c, N, k), cb = load3(b.c, N, k);
+      // The sum's reference point: c_A + c_B (or c_A - c_B for the difference).
+      const V3 c{S::fma(sign, cb.x, ca.x), S::fma(sign, cb.y, ca.y), S::fma(sign, cb.z, ca.z)};
+      B valid(0);
+      for (int p = 0; p < 15; ++p) {
+        V3 n;
+        if (p < 3) {
+          n = ua[p], valid = valid + B(T(1 << p));
+        } else if (p < 6) {
+          n = ub[p - 3], valid = valid + B(T(1 << p));
+        } else {
+          n = unit_or_zero(cross(ua[(p - 6) / 3], ub[(p - 6) % 3]), B(1), valid, T(1 << p));
+        }
+        B sa, codea, sb, codeb;
+        box_support(n, ua, ha, sa, codea);
+        box_support(n, ub, hb, sb, codeb);
+        // For the difference, B's support in n is its corner opposite to the one in +n.
+        if (difference) codeb = B(7) - codeb;
+        const B s = sa + sb, m = dot(n, c);
+        store3(out.n + 3 * p * N, N, k, n);
+        S::store(out.offset + p * N + k, s + m);
+        S::store(out.offset + (p + 15) * N + k, s - m);
+        S::store_code(out.code + p * N + k, S::fma(codeb, B(8), codea));
+      }
+      S::store_code(out.valid + k, valid);
+    }
+  }
+
+  // Box-triangle: 13 axes, 26 planes (see BoxTrianglePlanes).
+  static void box_triangle(BoxLanes<T> box, const T* tri, int count, int N, bool difference,
+                           PlaneLanes<T> out) {
+    for (int k = 0; k < count; k += S::size) {
+      V3 u[3], v[3];
+      B h[3];
+      for (int i = 0; i < 3; ++i) {
+        u[i] = load3(box.u + 3 * i * N, N, k);
+        h[i] = S::load(box.h + i * N + k);
+        v[i] = load3(tri + 3 * i * N, N, k);
+      }
+      const V3 c = load3(box.c, N, k);
+      const V3 e[3] = {{v[1].x - v[0].x, v[1].y - v[0].y, v[1].z - v[0].z},
+                       {v[2].x - v[1].x, v[2].y - v[1].y, v[2].z - v[1].z},
+                       {v[0].x - v[2].x, v[0].y - v[2].y, v[0].z - v[2].z}};
+      const B len0 = S::sqrt(dot(e[0], e[0])), len1 = S::sqrt(dot(e[1], e[1]));
+      const B len2 = S::sqrt(dot(e[2], e[2]));
+      B valid(0), tri_ok(0);
+      const V3 nt = unit_or_zero(cross(e[0], e[1]), len0 * len1, tri_ok, T(1));
+      for (int p = 0; p < 13; ++p) {
+        V3 n;
+        if (p < 3) {
+          n = u[p], valid = valid + B(T(1 << p));
+        } else if (p == 3) {
+          n = nt, valid = valid + tri_ok * B(T(1 << 3));
+        } else {
+          const int j = (p - 4) % 3;
+          const B len = j == 0 ? len0 : j == 1 ? len1 : len2;
+          n = unit_or_zero(cross(u[(p - 4) / 3], e[j]), len, valid, T(1 << p));
+        }
+        B s, code;
+        box_support(n, u, h, s, code);
+        // Triangle vertex extremes in n; ties go to the lowest index.
+        const B d0 = dot(n, v[0]), d1 = dot(n, v[1]), d2 = dot(n, v[2]);
+        B hi = d0, ihi(0), lo = d0, ilo(0);
+        ihi = S::select(d1 > hi, B(1), ihi), hi = S::max(hi, d1);
+        ihi = S::select(d2 > hi, B(2), ihi), hi = S::max(hi, d2);
+        ilo = S::select(d1 < lo, B(1), ilo), lo = S::select(d1 < lo, d1, lo);
+        ilo = S::select(d2 < lo, B(2), ilo), lo = S::select(d2 < lo, d2, lo);
+        // A (+) T: h(n) = box + max d, h(-n) = box' - min d. A (-) T swaps the roles.
+        const B plus = difference ? B(0) - lo : hi, minus = difference ? hi : B(0) - lo;
+        const B iplus = difference ? ilo : ihi, iminus = difference ? ihi : ilo;
+        const B m = dot(n, c);
+        // A degenerate triangle's lane is written as zeros (tri_ok is 0 or 1).
+        store3(out.n + 3 * p * N, N, k, scaled(n, tri_ok));
+        S::store(out.offset + p * N + k, (s + m + plus) * tri_ok);
+        S::store(out.offset + (p + 13) * N + k, (s - m + minus) * tri_ok);
+        S::store_code(out.code + p * N + k, S::fma(iplus, B(8), code));
+        S::store_code(out.code + (p + 13) * N + k, S::fma(iminus, B(8), B(7) - code));
+      }
+      // A degenerate triangle: only bit 30 (the lane is invalid); 2^30 is exact in float and
+      // fits the int32 code.
+      valid = S::select(tri_ok > B(0), valid, B(T(1 << 30)));
+      S::store_code(out.valid + k, valid);
+    }
+  }
+
+  // Support push: per direction, max of d . v over vertices and the first index attaining it.
+  static void support(const T* x, const T* y, const T* z, int n, const T* dx, const T* dy,
+                      const T* dz, int K, T* max_out, int* arg_out) {
+    const int full = n - n % S::size;
+    alignas(64) T lane_idx[S::size];
+    for (int l = 0; l < S::size; ++l) lane_idx[l] = T(l);
+    const B iota = S::load(lane_idx);
+    for (int q = 0; q < K; ++q) {
+      const B bx(dx[q]), by(dy[q]), bz(dz[q]);
+      B best(-std::numeric_limits<T>::infinity()), arg(0);
+      for (int k = 0; k < full; k += S::size) {
+        // Unaligned callers are allowed here: the vertex arrays are the caller's own.
+        const B d = S::fma(bx, load_u(x + k), S::fma(by, load_u(y + k), bz * load_u(z + k)));
+        const auto better = d > best;
+        best = S::select(better, d, best);
+        arg = S::select(better, iota + B(T(k)), arg);
+      }
+      alignas(64) T b[S::size], a[S::size];
+      S::store(b, best);
+      S::store(a, arg);
+      T top = -std::numeric_limits<T>::infinity();
+      int at = 0;
+      for (int l = 0; l < S::size; ++l)  // lanes in index order keep the first maximiser
+        if (b[l] > top || (b[l] == top && int(a[l]) < at)) top = b[l], at = int(a[l]);
+      for (int k = full; k < n; ++k) {
+        const T d = std::fma(dx[q], x[k], std::fma(dy[q], y[k], dz[q] * z[k]));
+        if (d > top) top = d, at = k;
+      }
+      max_out[q] = top;
+      arg_out[q] = at;
+    }
+  }
+  static B load_u(const T* p) {
+    if constexpr (S::size == 1)
+      return *p;
+    else
+      return B::load_unaligned(p);
+  }
+};
+
+template <class Arch>
+KernelTable make_table() {
+  return {&Kernels<float, Arch>::box_box,      &Kernels<double, Arch>::box_box,
+          &Kernels<float, Arch>::box_triangle, &Kernels<double, Arch>::box_triangle,
+          &Kernels<float, Arch>::support,      &Kernels<double, Arch>::support};
+}
+
+}  // namespace minksum::detail

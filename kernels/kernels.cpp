@@ -1,0 +1,250 @@
+// ISA dispatch (chosen once at start-up), the single-pair API and the topology tables.
+#include <minksum/kernels.hpp>
+
+#include <cstdlib>
+#include <cstring>
+#include <xsimd/config/xsimd_cpuid.hpp>
+
+#include "simd.hpp"
+
+namespace minksum {
+
+const char* to_string(Isa isa) {
+  switch (isa) {
+    case Isa::Scalar: return "scalar";
+    case Isa::Sse4_2: return "sse4_2";
+    case Isa::Avx2: return "avx2";
+    case Isa::Avx512: return "avx512";
+  }
+  return "unknown";
+}
+
+bool isa_supported(Isa isa) {
+  const auto cpu = xsimd::available_architectures();
+  switch (isa) {
+    case Isa::Scalar: return true;
+    case Isa::Sse4_2: return cpu.sse4_2;
+    case Isa::Avx2: return cpu.avx2 && cpu.fma3_avx2;
+    case Isa::Avx512: return cpu.avx512f && cpu.avx512cd && cpu.avx512dq && cpu.avx512bw;
+  }
+  return false;
+}
+
+namespace {
+
+struct Dispatch {
+  Isa isa;
+  detail::KernelTable table;
+};
+
+detail::KernelTable table_of(Isa isa) {
+  switch (isa) {
+    case Isa::Sse4_2: return detail::table_sse4_2();
+    case Isa::Avx2: return detail::table_avx2();
+    case Isa::Avx512: return detail::table_avx512();
+    default: return detail::table_scalar();
+  }
+}
+
+Dispatch& dispatch() {
+  // Chosen once, at first use: MINKSUM_ISA if set and supported, else the best supported.
+  static Dispatch d = [] {
+    Isa best = Isa::Scalar;
+    for (Isa isa : {Isa::Sse4_2, Isa::Avx2, Isa::Avx512})
+      if (isa_supported(isa)) best = isa;
+    if (const char* env = std::getenv("MINKSUM_ISA"))
+      for (Isa isa : {Isa::Scalar, Isa::Sse4_2, Isa::Avx2, Isa::Avx512})
+        if (std::strcmp(env, to_string(isa)) == 0 && isa_supported(isa)) best = isa;
+    return Dispatch{best, table_of(best)};
+  }();
+  return d;
+}
+
+}  // namespace
+
+Isa active_isa() { return dispatch().isa; }
+
+bool force_isa(Isa isa) {
+  if (!isa_supported(isa)) return false;
+  dispatch() = Dispatch{isa, table_of(isa)};
+  return true;
+}
+
+namespace detail {
+
+void box_box(BoxLanes<float> a, BoxLanes<float> b, int count, int stride, bool difference,
+             PlaneLanes<float> out) {
+  dispatch().table.box_box_f(a, b, count, stride, difference, out);
+}
+void box_box(BoxLanes<double> a, BoxLanes<double> b, int count, int stride, bool difference,
+             PlaneLanes<double> out) {
+  dispatch().table.box_box_d(a, b, count, stride, difference, out);
+}
+void box_triangle(BoxLanes<float> box, const float* tri, int count, int stride, bool difference,
+                  PlaneLanes<float> out) {
+  dispatch().table.box_tri_f(box, tri, count, stride, difference, out);
+}
+void box_triangle(BoxLanes<double> box, const double* tri, int count, int stride,
+                  bool difference, PlaneLanes<double> out) {
+  dispatch().table.box_tri_d(box, tri, count, stride, difference, out);
+}
+
+}  // namespace detail
+
+void support_push(const float* x, const float* y, const float* z, int n, const float* dx,
+                  const float* dy, const float* dz, int k, float* max_out, int* arg_out) {
+  dispatch().table.support_f(x, y, z, n, dx, dy, dz, k, max_out, arg_out);
+}
+
+void support_push(const double* x, const double* y, const double* z, int n, const double* dx,
+                  const double* dy, const double* dz, int k, double* max_out, int* arg_out) {
+  dispatch().table.support_d(x, y, z, n, dx, dy, dz, k, max_out, arg_out);
+}
+
+namespace {
+
+// One box as a single lane (stride 1) of the kernels' structure of arrays.
+struct OneBox {
+  double c[3], u[9], h[3];
+  explicit OneBox(const Box& b) {
+    for (int d = 0; d < 3; ++d) {
+      c[d] = b.center[d];
+      h[d] = b.half_extents[d];
+      for (int a = 0; a < 3; ++a) u[3 * a + d] = b.rotation(d, a);
+    }
+  }
+  detail::BoxLanes<double> lanes() const { return {c, u, h}; }
+};
+
+// Reads plane p of a single-lane kernel result with `axes` axes (planes p and p + axes share
+// axis p; codes of the opposite plane come from `code_minus`).
+template <int Axes>
+void read_planes(const double* n, const double* offset, const std::int64_t* code_plus,
+                 const std::int64_t* code_minus, std::int64_t valid, KernelPlane* out) {
+  for (int p = 0; p < 2 * Axes; ++p) {
+    const int axis = p % Axes;
+    const double s = p < Axes ? 1 : -1;
+    KernelPlane& k = out[p];
+    k.normal = s * Eigen::Vector3d(n[3 * axis], n[3 * axis + 1], n[3 * axis + 2]);
+    k.offset = offset[p];
+    const std::int64_t code = p < Axes ? code_plus[axis] : code_minus[axis];
+    k.i = int(code & 7);
+    k.j = int(code >> 3);
+    k.valid = ((valid >> axis) & 1) && !(valid >> 30 & 1);
+  }
+}
+
+}  // namespace
+
+void box_box_planes(const Box& a, const Box& b, bool difference, KernelPlane (&out)[30]) {
+  const OneBox la(a), lb(b);
+  double n[45], offset[30];
+  std::int64_t code[15], minus[15], valid;
+  // The scalar instantiation of the same kernel body, on one lane.
+  detail::table_scalar().box_box_d(la.lanes(), lb.lanes(), 1, 1, difference,
+                                   {n, offset, code, &valid});
+  for (int p = 0; p < 15; ++p) minus[p] = 63 - code[p];  // both corner codes complemented
+  read_planes<15>(n, offset, code, minus, valid, out);
+}
+
+void box_triangle_planes(const Box& box, const Triangle& tri, bool difference,
+                         KernelPlane (&out)[26]) {
+  const OneBox lb(box);
+  double v[9], n[39], offset[26];
+  const Eigen::Vector3d* p[3] = {&tri.a, &tri.b, &tri.c};
+  for (int i = 0; i < 3; ++i)
+    for (int d = 0; d < 3; ++d) v[3 * i + d] = (*p[i])[d];
+  std::int64_t code[26], valid;
+  detail::table_scalar().box_tri_d(lb.lanes(), v, 1, 1, difference, {n, offset, code, &valid});
+  read_planes<13>(n, offset, code, code + 13, valid, out);
+}
+
+// --- Topology tables -------------------------------------------------------------------------
+
+namespace {
+
+void add_facet(TopologyTable& t, const Eigen::Vector3d& n, const Eigen::Vector3d& a,
+               const Eigen::Vector3d& b, int i, int j) {
+  t.nx.push_back(n.x()), t.ny.push_back(n.y()), t.nz.push_back(n.z());
+  t.pa.push_back(n.dot(a)), t.pb.push_back(t.sign_b * n.dot(b));
+  t.i.push_back(i), t.j.push_back(j);
+}
+
+// Corner `code` of a box relative to its centre (bit a set: +h_a u_a).
+Eigen::Vector3d corner(const Box& b, int code) {
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  for (int a = 0; a < 3; ++a) p += ((code >> a & 1) ? 1 : -1) * b.half_extents[a] * b.rotation.col(a);
+  return p;
+}
+
+}  // namespace
+
+TopologyTable topology_table(const MinkowskiSum& m, const ConvexPolytope& a,
+                             const ConvexPolytope& b, bool difference) {
+  TopologyTable t;
+  t.sign_b = difference ? -1 : 1;
+  for (const auto& p : m.planes) add_facet(t, p.normal, a.vertices[p.i], b.vertices[p.j], p.i, p.j);
+  return t;
+}
+
+template <class T, int N>
+TopologyTable topology_table(const BoxBoxPlanes<T, N>& planes, int lane, const Box& a,
+                             const Box& b, bool difference) {
+  TopologyTable t;
+  t.sign_b = difference ? -1 : 1;
+  for (int p = 0; p < 30; ++p) {
+    const int axis = p % 15;
+    if (!(planes.valid[lane] >> axis & 1)) continue;
+    const double s = p < 15 ? 1 : -1;
+    const Eigen::Vector3d n = s * Eigen::Vector3d(planes.n[axis][0][lane], planes.n[axis][1][lane],
+                                                  planes.n[axis][2][lane]);
+    const int code = int(p < 15 ? planes.code[axis][lane] : 63 - planes.code[axis][lane]);
+    add_facet(t, n, corner(a, code & 7), corner(b, code >> 3), code & 7, code >> 3);
+  }
+  return t;
+}
+
+template <class T, int N>
+TopologyTable topology_table(const BoxTrianglePlanes<T, N>& planes, int lane, const Box& box,
+                             const Triangle& tri, bool difference) {
+  TopologyTable t;
+  t.sign_b = difference ? -1 : 1;
+  if (planes.valid[lane] >> 30 & 1) return t;
+  const Eigen::Vector3d* v[3] = {&tri.a, &tri.b, &tri.c};
+  for (int p = 0; p < 26; ++p) {
+    const int axis = p % 13;
+    if (!(planes.valid[lane] >> axis & 1)) continue;
+    const double s = p < 13 ? 1 : -1;
+    const Eigen::Vector3d n = s * Eigen::Vector3d(planes.n[axis][0][lane], planes.n[axis][1][lane],
+                                                  planes.n[axis][2][lane]);
+    const int code = int(planes.code[p][lane]);
+    add_facet(t, n, corner(box, code & 7), *v[code >> 3], code & 7, code >> 3);
+  }
+  return t;
+}
+
+void instantiate(const TopologyTable& t, double sA, const Eigen::Vector3d& tA, double sB,
+                 const Eigen::Vector3d& tB, double* offsets) {
+  const Eigen::Vector3d c = tA + t.sign_b * tB;
+  const size_t n = t.nx.size();
+  const double *nx = t.nx.data(), *ny = t.ny.data(), *nz = t.nz.data();
+  const double *pa = t.pa.data(), *pb = t.pb.data();
+  for (size_t k = 0; k < n; ++k)  // five multiply-adds per facet; the compiler vectorises it
+    offsets[k] = sA * pa[k] + sB * pb[k] + nx[k] * c.x() + ny[k] * c.y() + nz[k] * c.z();
+}
+
+// The batch capacities the library instantiates its table factories for.
+#define MINKSUM_TABLES(T, N)                                                                     \
+  template TopologyTable topology_table(const BoxBoxPlanes<T, N>&, int, const Box&, const Box&, \
+                                        bool);                                                   \
+  template TopologyTable topology_table(const BoxTrianglePlanes<T, N>&, int, const Box&,        \
+                                        const Triangle&, bool);
+MINKSUM_TABLES(float, 16)
+MINKSUM_TABLES(double, 16)
+MINKSUM_TABLES(float, 64)
+MINKSUM_TABLES(double, 64)
+MINKSUM_TABLES(float, 1024)
+MINKSUM_TABLES(double, 1024)
+#undef MINKSUM_TABLES
+
+}  // namespace minksum

@@ -1,0 +1,67 @@
+// A thin layer over xsimd so that one kernel body serves every ISA and the scalar path
+// (internal; included only by the per-ISA translation units).
+#pragma once
+
+#include <minksum/kernels.hpp>
+#include <xsimd/xsimd.hpp>
+
+#include <cmath>
+
+namespace minksum::detail {
+
+/// Tag of the plain C++ path (one lane, no intrinsics).
+struct ScalarArch {};
+
+/// Lanes of T on Arch, with the handful of operations the kernels use.
+template <class T, class Arch>
+struct Simd {
+  using B = xsimd::batch<T, Arch>;
+  static constexpr int size = int(B::size);
+  static B load(const T* p) { return B::load_aligned(p); }
+  static void store(T* p, const B& v) { v.store_aligned(p); }
+  static B fma(const B& a, const B& b, const B& c) { return xsimd::fma(a, b, c); }
+  static B abs(const B& a) { return xsimd::abs(a); }
+  static B sqrt(const B& a) { return xsimd::sqrt(a); }
+  static B max(const B& a, const B& b) { return xsimd::max(a, b); }
+  template <class M>
+  static B select(const M& m, const B& a, const B& b) { return xsimd::select(m, a, b); }
+  /// Stores small non-negative integers held exactly in T as integer codes.
+  static void store_code(CodeOf<T>* p, const B& v) {
+    alignas(64) T tmp[size];
+    v.store_aligned(tmp);
+    for (int k = 0; k < size; ++k) p[k] = CodeOf<T>(tmp[k]);
+  }
+};
+
+template <class T>
+struct Simd<T, ScalarArch> {
+  using B = T;
+  static constexpr int size = 1;
+  static B load(const T* p) { return *p; }
+  static void store(T* p, B v) { *p = v; }
+  static B fma(B a, B b, B c) { return std::fma(a, b, c); }
+  static B abs(B a) { return std::abs(a); }
+  static B sqrt(B a) { return std::sqrt(a); }
+  static B max(B a, B b) { return a > b ? a : b; }
+  static B select(bool m, B a, B b) { return m ? a : b; }
+  static void store_code(CodeOf<T>* p, B v) { *p = CodeOf<T>(v); }
+};
+
+/// The kernels of one ISA, as plain function pointers (one table per ISA translation unit).
+struct KernelTable {
+  void (*box_box_f)(BoxLanes<float>, BoxLanes<float>, int, int, bool, PlaneLanes<float>);
+  void (*box_box_d)(BoxLanes<double>, BoxLanes<double>, int, int, bool, PlaneLanes<double>);
+  void (*box_tri_f)(BoxLanes<float>, const float*, int, int, bool, PlaneLanes<float>);
+  void (*box_tri_d)(BoxLanes<double>, const double*, int, int, bool, PlaneLanes<double>);
+  void (*support_f)(const float*, const float*, const float*, int, const float*, const float*,
+                    const float*, int, float*, int*);
+  void (*support_d)(const double*, const double*, const double*, int, const double*,
+                    const double*, const double*, int, double*, int*);
+};
+
+KernelTable table_scalar();
+KernelTable table_sse4_2();
+KernelTable table_avx2();
+KernelTable table_avx512();
+
+}  // namespace minksum::detail

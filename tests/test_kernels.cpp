@@ -1,0 +1,446 @@
+// Every kernel, on every compiled and supported ISA, against its scalar double reference twin
+// (brute force over corners and vertices), plus the topology tables and the ISA dispatch.
+#include <gtest/gtest.h>
+#include <minksum/kernels.hpp>
+
+#include <memory>
+#include <random>
+
+#include "kernel_reference.hpp"
+#include "tools/shapes.hpp"
+
+namespace minksum {
+namespace {
+
+using Eigen::Vector3d;
+constexpr Isa kIsas[] = {Isa::Scalar, Isa::Sse4_2, Isa::Avx2, Isa::Avx512};
+constexpr int kN = 1024;
+
+Eigen::Matrix3d random_rotation(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  return tools::axis_angle(Vector3d(u(rng), u(rng), u(rng)), 3.2 * u(rng));
+}
+
+Box random_box(std::mt19937_64& rng, double spread) {
+  std::uniform_real_distribution<double> u(-1, 1), h(0.05, 2);
+  Box b;
+  b.center = spread * Vector3d(u(rng), u(rng), u(rng));
+  b.rotation = random_rotation(rng);
+  b.half_extents = Vector3d(h(rng), h(rng), h(rng));
+  return b;
+}
+
+// The box (triangle) as the float kernel sees it: every input rounded to T.
+template <class T>
+Box rounded(const Box& b) {
+  Box r;
+  for (int d = 0; d < 3; ++d) {
+    r.center[d] = T(b.center[d]);
+    r.half_extents[d] = T(b.half_extents[d]);
+    for (int a = 0; a < 3; ++a) r.rotation(d, a) = T(b.rotation(d, a));
+  }
+  return r;
+}
+template <class T>
+Triangle rounded(const Triangle& t) {
+  return {t.a.cast<T>().template cast<double>(), t.b.cast<T>().template cast<double>(),
+          t.c.cast<T>().template cast<double>()};
+}
+
+// Brute-force support of the operand pair at the kernel's own normal n, and its scale
+// (the sum of the absolute terms, which bounds the rounding error).
+struct Expected {
+  double h, scale;
+};
+
+// Compares one kernel plane with the reference plane. Offsets are compared with the exact
+// support at the kernel's own normal; corner codes except where n . u_k is a tie.
+template <class T>
+void compare(const KernelPlane& got, const KernelPlane& ref, const Expected& e,
+             double ulps, double cross_len, const char* what, int p) {
+  const double eps = std::numeric_limits<T>::epsilon();
+  // Near the parallel threshold either decision is right (documented tie).
+  if (std::abs(cross_len - double(kParallelThreshold<T>)) < 0.01 * kParallelThreshold<T>) return;
+  ASSERT_EQ(got.valid, ref.valid) << what << " plane " << p;
+  if (!got.valid) {
+    EXPECT_EQ(got.normal, Vector3d::Zero()) << what << " plane " << p;
+    return;
+  }
+  EXPECT_NEAR(got.normal.norm(), 1, 8 * eps) << what << " plane " << p;
+  EXPECT_LE((got.normal - ref.normal).norm(), 16 * eps / cross_len) << what << " plane " << p;
+  EXPECT_LE(std::abs(got.offset - e.h), ulps * eps * e.scale)
+      << what << " plane " << p << " offset " << got.offset << " vs " << e.h;
+}
+
+template <class T>
+void check_box_box(Isa isa, const std::vector<std::pair<Box, Box>>& pairs, bool difference) {
+  ASSERT_TRUE(force_isa(isa));
+  auto A = std::make_unique<BoxBatch<T, kN>>(), B = std::make_unique<BoxBatch<T, kN>>();
+  auto out = std::make_unique<BoxBoxPlanes<T, kN>>();
+  const double eps = std::numeric_limits<T>::epsilon();
+  const double ulps = std::is_same_v<T, float> ? 8 : 1e-12 / eps;  // float 8 ulp; double 1e-12
+  for (size_t base = 0; base < pairs.size(); base += kN) {
+    A->count = B->count = int(std::min<size_t>(kN, pairs.size() - base));
+    for (int k = 0; k < A->count; ++k) A->set(k, pairs[base + k].first), B->set(k, pairs[base + k].second);
+    A->pad(), B->pad();
+    box_box_planes(*A, *B, difference, *out);
+    for (int k = 0; k < A->count; ++k) {
+      const Box a = rounded<T>(pairs[base + k].first), b = rounded<T>(pairs[base + k].second);
+      KernelPlane ref[30];
+      detail::box_box_reference(a, b, difference, kParallelThreshold<T>, ref);
+      for (int p = 0; p < 30; ++p) {
+        const int axis = p % 15;
+        KernelPlane got;
+        got.normal = (p < 15 ? 1.0 : -1.0) *
+                     Vector3d(out->n[axis][0][k], out->n[axis][1][k], out->n[axis][2][k]);
+        got.offset = out->offset[p][k];
+        got.valid = out->valid[k] >> axis & 1;
+        const double cross_len =
+            axis < 6 ? 1 : a.rotation.col((axis - 6) / 3).cross(b.rotation.col((axis - 6) % 3)).norm();
+        // Exact support of A (+) sB at the kernel's normal, and the scale of its terms.
+        int ca, cb;
+        const double s = difference ? -1 : 1;
+        Expected e{detail::box_support_brute(a, got.normal, &ca) +
+                       detail::box_support_brute(b, s * got.normal, &cb),
+                   std::abs(got.normal.dot(a.center)) + std::abs(got.normal.dot(b.center))};
+        for (int d = 0; d < 3; ++d)
+          e.scale += a.half_extents[d] * std::abs(got.normal.dot(a.rotation.col(d))) +
+                     b.half_extents[d] * std::abs(got.normal.dot(b.rotation.col(d)));
+        compare<T>(got, ref[p], e, ulps, cross_len, "box-box", p);
+        if (!got.valid || testing::Test::HasFailure()) continue;
+        // Corner codes from the sign bits, complemented on the opposite side; ties skipped.
+        const int code = int(out->code[axis][k]), c = p < 15 ? code : 63 - code;
+        for (int bit = 0; bit < 3; ++bit) {
+          if (std::abs(got.normal.dot(a.rotation.col(bit))) > 64 * eps)
+            EXPECT_EQ(c >> bit & 1, ca >> bit & 1) << "A corner, plane " << p;
+          if (std::abs(got.normal.dot(b.rotation.col(bit))) > 64 * eps)
+            EXPECT_EQ(c >> (3 + bit) & 1, cb >> bit & 1) << "B corner, plane " << p;
+        }
+      }
+      if (testing::Test::HasFailure()) return;
+    }
+  }
+}
+
+std::vector<std::pair<Box, Box>> random_box_pairs(int n, double spread, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::vector<std::pair<Box, Box>> pairs;
+  for (int k = 0; k < n; ++k) pairs.emplace_back(random_box(rng, spread), random_box(rng, spread));
+  return pairs;
+}
+
+// The hard cases: aligned, tiny rotations down to 1e-12, 45 degrees, thin, far away.
+std::vector<std::pair<Box, Box>> hard_box_pairs() {
+  std::vector<std::pair<Box, Box>> pairs;
+  const Vector3d axis = Vector3d(0.3, -0.5, 0.81).normalized();
+  Box a, b;
+  a.half_extents = Vector3d(1, 2, 3);
+  pairs.emplace_back(a, b);  // aligned
+  for (double angle : {1e-1, 1e-3, 1e-5, 1e-7, 1e-9, 1e-12}) {
+    b.rotation = tools::axis_angle(axis, angle);
+    pairs.emplace_back(a, b);
+  }
+  b.rotation = tools::axis_angle({0, 0, 1}, M_PI / 4);
+  pairs.emplace_back(a, b);
+  b.rotation = tools::axis_angle(axis, M_PI / 4);
+  pairs.emplace_back(a, b);
+  Box thin;
+  thin.half_extents = Vector3d(1, 1, 1e-7);
+  thin.rotation = tools::table1_rotation();
+  pairs.emplace_back(a, thin);
+  Box far = b;
+  far.center = Vector3d(1e6, -1e6, 1e6);
+  pairs.emplace_back(far, thin);
+  return pairs;
+}
+
+class Kernels : public testing::TestWithParam<Isa> {
+ protected:
+  void SetUp() override {
+    if (!isa_supported(GetParam())) GTEST_SKIP() << "this CPU lacks " << to_string(GetParam());
+  }
+  void TearDown() override { force_isa(Isa::Scalar), force_isa(best_); }
+  Isa best_ = active_isa();
+};
+
+TEST_P(Kernels, BoxBoxFloatMatchesTheReference) {
+  for (bool diff : {false, true}) {
+    check_box_box<float>(GetParam(), random_box_pairs(50000, 5, 11 + diff), diff);
+    check_box_box<float>(GetParam(), hard_box_pairs(), diff);
+  }
+}
+
+TEST_P(Kernels, BoxBoxDoubleMatchesTheReference) {
+  for (bool diff : {false, true}) {
+    check_box_box<double>(GetParam(), random_box_pairs(50000, 5, 21 + diff), diff);
+    check_box_box<double>(GetParam(), hard_box_pairs(), diff);
+  }
+}
+
+Triangle random_triangle(std::mt19937_64& rng, double spread) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  const Vector3d c = spread * Vector3d(u(rng), u(rng), u(rng));
+  return {c + Vector3d(u(rng), u(rng), u(rng)), c + Vector3d(u(rng), u(rng), u(rng)),
+          c + Vector3d(u(rng), u(rng), u(rng))};
+}
+
+template <class T>
+void check_box_triangle(Isa isa, const std::vector<std::pair<Box, Triangle>>& pairs,
+                        bool difference) {
+  ASSERT_TRUE(force_isa(isa));
+  auto A = std::make_unique<BoxBatch<T, kN>>();
+  auto tri = std::make_unique<TriangleBatch<T, kN>>();
+  auto out = std::make_unique<BoxTrianglePlanes<T, kN>>();
+  const double eps = std::numeric_limits<T>::epsilon();
+  const double ulps = std::is_same_v<T, float> ? 8 : 1e-12 / eps;
+  for (size_t base = 0; base < pairs.size(); base += kN) {
+    A->count = tri->count = int(std::min<size_t>(kN, pairs.size() - base));
+    for (int k = 0; k < A->count; ++k) A->set(k, pairs[base + k].first), tri->set(k, pairs[base + k].second);
+    A->pad(), tri->pad();
+    box_triangle_planes(*A, *tri, difference, *out);
+    for (int k = 0; k < A->count; ++k) {
+      const Box a = rounded<T>(pairs[base + k].first);
+      const Triangle t = rounded<T>(pairs[base + k].second);
+      KernelPlane ref[26];
+      detail::box_triangle_reference(a, t, difference, kParallelThreshold<T>, ref);
+      const bool degenerate = out->valid[k] >> 30 & 1;
+      const Vector3d v[3] = {t.a, t.b, t.c};
+      const Vector3d e[3] = {v[1] - v[0], v[2] - v[1], v[0] - v[2]};
+      const double tri_len = e[0].cross(e[1]).norm() / (e[0].norm() * e[1].norm());
+      for (int p = 0; p < 26; ++p) {
+        const int axis = p % 13;
+        KernelPlane got;
+        got.normal = (p < 13 ? 1.0 : -1.0) *
+                     Vector3d(out->n[axis][0][k], out->n[axis][1][k], out->n[axis][2][k]);
+        got.offset = out->offset[p][k];
+        got.valid = !degenerate && (out->valid[k] >> axis & 1);
+        double cross_len = axis < 3 ? 1 : tri_len;
+        if (axis >= 4) {
+          const Vector3d& ej = e[(axis - 4) % 3];
+          cross_len = std::min(tri_len, a.rotation.col((axis - 4) / 3).cross(ej).norm() / ej.norm());
+        }
+        int ca;
+        const double s = difference ? -1 : 1;
+        double hv = -1e300;
+        int vi = 0;
+        for (int i = 0; i < 3; ++i)
+          if (s * got.normal.dot(v[i]) > hv) hv = s * got.normal.dot(v[i]), vi = i;
+        Expected ex{detail::box_support_brute(a, got.normal, &ca) + hv,
+                    std::abs(got.normal.dot(a.center))};
+        for (int d = 0; d < 3; ++d) {
+          ex.scale += a.half_extents[d] * std::abs(got.normal.dot(a.rotation.col(d)));
+          ex.scale += std::abs(got.normal.dot(v[d]));
+        }
+        compare<T>(got, ref[p], ex, ulps, cross_len, "box-triangle", p);
+        if (!got.valid || testing::Test::HasFailure()) continue;
+        const int code = int(out->code[p][k]);
+        for (int bit = 0; bit < 3; ++bit)
+          if (std::abs(got.normal.dot(a.rotation.col(bit))) > 64 * eps)
+            EXPECT_EQ(code >> bit & 1, ca >> bit & 1) << "box corner, plane " << p;
+        double second = -1e300;  // the runner-up vertex: a near tie makes the index ambiguous
+        for (int i = 0; i < 3; ++i)
+          if (i != vi) second = std::max(second, s * got.normal.dot(v[i]));
+        if (hv - second > 64 * eps * ex.scale) EXPECT_EQ(code >> 3, vi) << "vertex, plane " << p;
+      }
+      if (testing::Test::HasFailure()) return;
+    }
+  }
+}
+
+std::vector<std::pair<Box, Triangle>> box_triangle_pairs(int n, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::vector<std::pair<Box, Triangle>> pairs;
+  for (int k = 0; k < n; ++k) pairs.emplace_back(random_box(rng, 3), random_triangle(rng, 3));
+  // Hard cases: a triangle in a box face's plane, an axis-parallel edge, degenerate triangles.
+  Box unit;
+  pairs.emplace_back(unit, Triangle{{-0.5, -0.5, 1}, {0.7, -0.2, 1}, {0.1, 0.6, 1}});
+  pairs.emplace_back(unit, Triangle{{0, 0, 0}, {1, 0, 0}, {0.3, 0.2, 0.9}});
+  pairs.emplace_back(unit, Triangle{{0, 0, 0}, {1, 1, 1}, {2, 2, 2}});      // collinear
+  pairs.emplace_back(unit, Triangle{{1, 2, 3}, {1, 2, 3}, {1, 2, 3}});      // a point
+  Box far = unit;
+  far.center = Vector3d(1e6, 1e6, -1e6);
+  pairs.emplace_back(far, Triangle{{1e6, 1e6, -1e6}, {1e6 + 1, 1e6, -1e6}, {1e6, 1e6 + 1, -1e6 + 0.5}});
+  return pairs;
+}
+
+TEST_P(Kernels, BoxTriangleMatchesTheReference) {
+  for (bool diff : {false, true}) {
+    check_box_triangle<float>(GetParam(), box_triangle_pairs(50000, 31 + diff), diff);
+    check_box_triangle<double>(GetParam(), box_triangle_pairs(50000, 41 + diff), diff);
+  }
+}
+
+TEST_P(Kernels, DegenerateTrianglesAreFlaggedNotNaN) {
+  ASSERT_TRUE(force_isa(GetParam()));
+  auto A = std::make_unique<BoxBatch<float, 16>>();
+  auto tri = std::make_unique<TriangleBatch<float, 16>>();
+  auto out = std::make_unique<BoxTrianglePlanes<float, 16>>();
+  A->count = tri->count = 2;
+  A->set(0, Box{}), A->set(1, Box{});
+  tri->set(0, Triangle{{0, 0, 0}, {1, 1, 1}, {2, 2, 2}});
+  tri->set(1, Triangle{{5, 5, 5}, {5, 5, 5}, {5, 5, 5}});
+  A->pad(), tri->pad();
+  box_triangle_planes(*A, *tri, false, *out);
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_TRUE(out->valid[k] >> 30 & 1);
+    for (int p = 0; p < 26; ++p) EXPECT_TRUE(std::isfinite(out->offset[p][k]));
+    for (int p = 0; p < 13; ++p)
+      for (int d = 0; d < 3; ++d) EXPECT_TRUE(std::isfinite(out->n[p][d][k]));
+  }
+}
+
+template <class T>
+void check_support(Isa isa) {
+  ASSERT_TRUE(force_isa(isa));
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int n : {1, 3, 16, 17, 100, 1000}) {
+    std::vector<T> x(n), y(n), z(n), dx(50), dy(50), dz(50), best(50);
+    std::vector<int> arg(50);
+    for (int k = 0; k < n; ++k) x[k] = T(u(rng)), y[k] = T(u(rng)), z[k] = T(u(rng));
+    if (n > 10) x[7] = x[n - 1], y[7] = y[n - 1], z[7] = z[n - 1];  // a duplicate: first wins
+    for (int q = 0; q < 50; ++q) dx[q] = T(u(rng)), dy[q] = T(u(rng)), dz[q] = T(u(rng));
+    dx[0] = T(1), dy[0] = dz[0] = T(0);
+    support_push(x.data(), y.data(), z.data(), n, dx.data(), dy.data(), dz.data(), 50, best.data(),
+                 arg.data());
+    for (int q = 0; q < 50; ++q) {
+      double top = -1e300;
+      for (int k = 0; k < n; ++k) top = std::max(top, double(dx[q]) * x[k] + double(dy[q]) * y[k] + double(dz[q]) * z[k]);
+      const double eps = std::numeric_limits<T>::epsilon();
+      EXPECT_NEAR(best[q], top, 8 * eps) << "n " << n;
+      ASSERT_GE(arg[q], 0);
+      ASSERT_LT(arg[q], n);
+      const double at = double(dx[q]) * x[arg[q]] + double(dy[q]) * y[arg[q]] + double(dz[q]) * z[arg[q]];
+      EXPECT_NEAR(at, top, 8 * eps);
+    }
+    if (n > 10) EXPECT_NE(arg[0], n - 1 == 7 ? -1 : (x[7] == x[n - 1] && best[0] == x[7] ? n - 1 : -1));
+  }
+}
+
+TEST_P(Kernels, SupportPushMatchesBruteForce) {
+  check_support<float>(GetParam());
+  check_support<double>(GetParam());
+}
+
+INSTANTIATE_TEST_SUITE_P(Isa, Kernels, testing::ValuesIn(kIsas),
+                         [](const auto& info) { return std::string(to_string(info.param)); });
+
+TEST(Kernels, SinglePairApiMatchesTheReference) {
+  std::mt19937_64 rng(3);
+  for (int k = 0; k < 1000; ++k) {
+    const Box a = random_box(rng, 3), b = random_box(rng, 3);
+    KernelPlane got[30], ref[30];
+    box_box_planes(a, b, k % 2, got);
+    detail::box_box_reference(a, b, k % 2, kParallelThreshold<double>, ref);
+    for (int p = 0; p < 30; ++p) {
+      ASSERT_EQ(got[p].valid, ref[p].valid);
+      EXPECT_LE((got[p].normal - ref[p].normal).norm(), 1e-14);
+      EXPECT_NEAR(got[p].offset, ref[p].offset, 1e-12 * (1 + std::abs(ref[p].offset)));
+      // Corner bits agree wherever n . u_k is not a tie (face axes tie on the other two).
+      for (int bit = 0; bit < 3; ++bit) {
+        if (std::abs(ref[p].normal.dot(a.rotation.col(bit))) > 1e-12)
+          EXPECT_EQ(got[p].i >> bit & 1, ref[p].i >> bit & 1);
+        if (std::abs(ref[p].normal.dot(b.rotation.col(bit))) > 1e-12)
+          EXPECT_EQ(got[p].j >> bit & 1, ref[p].j >> bit & 1);
+      }
+    }
+    const Triangle t = random_triangle(rng, 3);
+    KernelPlane tg[26], tr[26];
+    box_triangle_planes(a, t, k % 2, tg);
+    detail::box_triangle_reference(a, t, k % 2, kParallelThreshold<double>, tr);
+    for (int p = 0; p < 26; ++p) {
+      ASSERT_EQ(tg[p].valid, tr[p].valid);
+      EXPECT_NEAR(tg[p].offset, tr[p].offset, 1e-12 * (1 + std::abs(tr[p].offset)));
+      for (int bit = 0; bit < 3; ++bit)
+        if (std::abs(tr[p].normal.dot(a.rotation.col(bit))) > 1e-12)
+          EXPECT_EQ(tg[p].i >> bit & 1, tr[p].i >> bit & 1);
+      // The triangle normal ties all three vertices, an edge cross ties the edge's two.
+      if (p % 13 < 3) EXPECT_EQ(tg[p].j, tr[p].j);
+    }
+  }
+}
+
+// --- Topology tables: instantiate == a fresh computation for translated, scaled copies. ----
+
+Box scaled_moved(const Box& b, double s, const Vector3d& t) {
+  Box r = b;
+  r.half_extents *= s;
+  r.center = t;
+  return r;
+}
+
+TEST(Topology, BoxBoxInstantiateEqualsFreshPlanes) {
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> u(-10, 10);
+  for (bool diff : {false, true}) {
+    for (int trial = 0; trial < 200; ++trial) {
+      const Box a = random_box(rng, 0), b = random_box(rng, 0);  // prototypes at the origin
+      auto A = std::make_unique<BoxBatch<double, 16>>(), B = std::make_unique<BoxBatch<double, 16>>();
+      auto out = std::make_unique<BoxBoxPlanes<double, 16>>();
+      A->count = B->count = 1;
+      A->set(0, a), B->set(0, b);
+      A->pad(), B->pad();
+      box_box_planes(*A, *B, diff, *out);
+      const TopologyTable t = topology_table(*out, 0, a, b, diff);
+      for (int k = 0; k <= 12; ++k) {
+        const double sa = std::ldexp(1.0, -k), sb = std::ldexp(1.0, -(12 - k));
+        const Vector3d ta(u(rng), u(rng), u(rng)), tb(u(rng), u(rng), u(rng));
+        std::vector<double> offsets(t.nx.size());
+        instantiate(t, sa, ta, sb, tb, offsets.data());
+        KernelPlane fresh[30];
+        detail::box_box_reference(scaled_moved(a, sa, ta), scaled_moved(b, sb, tb), diff,
+                                  kParallelThreshold<double>, fresh);
+        for (size_t f = 0; f < offsets.size(); ++f) {
+          const Vector3d n(t.nx[f], t.ny[f], t.nz[f]);
+          bool found = false;
+          for (const auto& p : fresh)
+            if (p.valid && (p.normal - n).norm() < 1e-12) {
+              found = true;
+              EXPECT_NEAR(offsets[f], p.offset, 1e-12 * (20 + std::abs(p.offset)));
+            }
+          EXPECT_TRUE(found);
+        }
+      }
+    }
+  }
+}
+
+TEST(Topology, GeneralInstantiateEqualsFreshSum) {
+  std::mt19937_64 rng(19);
+  std::uniform_real_distribution<double> u(-10, 10);
+  const auto pair = tools::table1_pairs()[5];  // icosahedron and dodecahedron
+  ConvexPolytope A, B;
+  ASSERT_EQ(polytope_from_points(pair.a, A), Status::Ok);
+  ASSERT_EQ(polytope_from_points(pair.b, B), Status::Ok);
+  for (bool diff : {false, true}) {
+    MinkowskiSum m;
+    ASSERT_EQ(diff ? minkowski_difference(A, B, m) : minkowski_sum(A, B, m), Status::Ok);
+    const TopologyTable t = topology_table(m, A, B, diff);
+    ASSERT_EQ(int(t.nx.size()), m.F);
+    for (int k = 0; k <= 12; ++k) {
+      const double sa = std::ldexp(1.0, -k), sb = 1.5;
+      const Vector3d ta(u(rng), u(rng), u(rng)), tb(u(rng), u(rng), u(rng));
+      std::vector<Vector3d> pa, pb;
+      for (const auto& p : pair.a) pa.push_back(sa * p + ta);
+      for (const auto& p : pair.b) pb.push_back(sb * p + tb);
+      ConvexPolytope A2, B2;
+      ASSERT_EQ(polytope_from_points(pa, A2), Status::Ok);
+      ASSERT_EQ(polytope_from_points(pb, B2), Status::Ok);
+      MinkowskiSum fresh;
+      ASSERT_EQ(diff ? minkowski_difference(A2, B2, fresh) : minkowski_sum(A2, B2, fresh), Status::Ok);
+      std::vector<double> offsets(m.F);
+      instantiate(t, sa, ta, sb, tb, offsets.data());
+      ASSERT_EQ(fresh.F, m.F);
+      for (int f = 0; f < m.F; ++f) {
+        const Vector3d n(t.nx[f], t.ny[f], t.nz[f]);
+        double best = 1e300;
+        for (const auto& p : fresh.planes)
+          if ((p.normal - n).norm() < 1e-9) best = std::min(best, std::abs(p.offset - offsets[f]));
+        EXPECT_LT(best, 1e-12 * 30) << "facet " << f << " scale 2^-" << k;
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace minksum
