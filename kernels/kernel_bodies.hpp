@@ -34,57 +34,77 @@ struct Kernels {
   static V3 unit_or_zero(const V3& c, const B& scale, B& valid_bit, T bit) {
     const B len = S::sqrt(dot(c, c));
     const auto ok = len > B(kParallelThreshold<T>) * scale;
-    valid_bit = valid_bit + S::select(ok, B(bit), B(0));
-    const B inv = S::select(ok, B(1) / S::select(ok, len, B(1)), B(0));
+    valid_bit = valid_bit + S::select(ok, B(bit), B(T(0)));
+    const B inv = S::select(ok, B(T(1)) / S::select(ok, len, B(T(1))), B(T(0)));
     return scaled(c, inv);
   }
   // Support of a box in direction n: sum_k h_k |n . u_k|, and the corner code (bit k: n.u_k > 0).
   static void box_support(const V3& n, const V3 (&u)[3], const B (&h)[3], B& s, B& code) {
-    s = B(0);
-    code = B(0);
+    s = B(T(0));
+    code = B(T(0));
     for (int k = 0; k < 3; ++k) {
       const B d = dot(n, u[k]);
       s = S::fma(h[k], S::abs(d), s);
-      code = code + S::select(d > B(0), B(T(1 << k)), B(0));
+      code = code + S::select(d > B(T(0)), B(T(1 << k)), B(T(0)));
     }
   }
 
-  // Box-box: 15 axes, 30 planes (see BoxBoxPlanes).
+  // Box-box: 15 axes, 30 planes (see BoxBoxPlanes). For the six face axes, the dot products
+  // with the other box's axes are the entries of C = U_A^T U_B (the OBB separating-axis
+  // formulation of Gottschalk, Lin and Manocha, "OBBTree", SIGGRAPH 1996) and those with the own
+  // axes are 0 or 1 (tie bits clear). The nine edge axes take their dot products from the
+  // emitted unit normal itself: going through C would divide C's rounding error by
+  // |u_i x v_j|, which is small for nearly parallel edges.
   static void box_box(BoxLanes<T> a, BoxLanes<T> b, int count, int N, bool difference,
                       PlaneLanes<T> out) {
-    const B sign(difference ? T(-1) : T(1));
+    const B sign(difference ? T(-1) : T(1)), zero(0), one(1);
+    auto bit = [&](const auto& m, int k) { return S::select(m, B(T(1 << k)), zero); };
     for (int k = 0; k < count; k += S::size) {
       V3 ua[3], ub[3];
-      B ha[3], hb[3];
+      B ha[3], hb[3], C[3][3], A[3][3];
       for (int i = 0; i < 3; ++i) {
         ua[i] = load3(a.u + 3 * i * N, N, k);
         ub[i] = load3(b.u + 3 * i * N, N, k);
         ha[i] = S::load(a.h + i * N + k);
         hb[i] = S::load(b.h + i * N + k);
       }
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) C[i][j] = dot(ua[i], ub[j]), A[i][j] = S::abs(C[i][j]);
       const V3 ca = load3(a.c, N, k), cb = load3(b.c, N, k);
       // The sum's reference point: c_A + c_B (or c_A - c_B for the difference).
       const V3 c{S::fma(sign, cb.x, ca.x), S::fma(sign, cb.y, ca.y), S::fma(sign, cb.z, ca.z)};
-      B valid(0);
-      for (int p = 0; p < 15; ++p) {
-        V3 n;
-        if (p < 3) {
-          n = ua[p], valid = valid + B(T(1 << p));
-        } else if (p < 6) {
-          n = ub[p - 3], valid = valid + B(T(1 << p));
-        } else {
-          n = unit_or_zero(cross(ua[(p - 6) / 3], ub[(p - 6) % 3]), B(1), valid, T(1 << p));
-        }
-        B sa, codea, sb, codeb;
-        box_support(n, ua, ha, sa, codea);
-        box_support(n, ub, hb, sb, codeb);
-        // For the difference, B's support in n is its corner opposite to the one in +n.
-        if (difference) codeb = B(7) - codeb;
+      B valid(T(63));  // the six face axes are always valid
+      // Writes axis p: normal n, support radii sa + sb about c, corner codes.
+      // For the difference, B's support in n is its corner opposite to the one in +n: 7 - code.
+      const B flip(difference ? T(-1) : T(1)), bias(difference ? T(7) : T(0));
+      auto emit = [&](int p, const V3& n, const B& sa, const B& sb, const B& codea,
+                      const B& codeb) {
         const B s = sa + sb, m = dot(n, c);
         store3(out.n + 3 * p * N, N, k, n);
         S::store(out.offset + p * N + k, s + m);
         S::store(out.offset + (p + 15) * N + k, s - m);
-        S::store_code(out.code + p * N + k, S::fma(codeb, B(8), codea));
+        S::store_code(out.code + p * N + k, S::fma(S::fma(codeb, flip, bias), B(T(8)), codea));
+      };
+      for (int p = 0; p < 3; ++p) {
+        emit(p, ua[p], ha[p], S::fma(hb[0], A[p][0], S::fma(hb[1], A[p][1], hb[2] * A[p][2])),
+             B(T(1 << p)), bit(C[p][0] > zero, 0) + bit(C[p][1] > zero, 1) + bit(C[p][2] > zero, 2));
+        emit(3 + p, ub[p], S::fma(ha[0], A[0][p], S::fma(ha[1], A[1][p], ha[2] * A[2][p])), hb[p],
+             bit(C[0][p] > zero, 0) + bit(C[1][p] > zero, 1) + bit(C[2][p] > zero, 2), B(T(1 << p)));
+      }
+      for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+          const int p = 6 + 3 * i + j;
+          const V3 x = cross(ua[i], ub[j]);
+          const B len = S::sqrt(dot(x, x));
+          const auto ok = len > B(kParallelThreshold<T>);
+          valid = valid + bit(ok, p);
+          const B inv = S::select(ok, one / S::select(ok, len, one), zero);
+          const V3 n = scaled(x, inv);
+          B sa, codea, sb, codeb;
+          box_support(n, ua, ha, sa, codea);
+          box_support(n, ub, hb, sb, codeb);
+          emit(p, n, sa, sb, codea, codeb);
+        }
       }
       S::store_code(out.valid + k, valid);
     }
@@ -125,24 +145,24 @@ struct Kernels {
         // Triangle vertex extremes in n; ties go to the lowest index.
         const B d0 = dot(n, v[0]), d1 = dot(n, v[1]), d2 = dot(n, v[2]);
         B hi = d0, ihi(0), lo = d0, ilo(0);
-        ihi = S::select(d1 > hi, B(1), ihi), hi = S::max(hi, d1);
-        ihi = S::select(d2 > hi, B(2), ihi), hi = S::max(hi, d2);
-        ilo = S::select(d1 < lo, B(1), ilo), lo = S::select(d1 < lo, d1, lo);
-        ilo = S::select(d2 < lo, B(2), ilo), lo = S::select(d2 < lo, d2, lo);
+        ihi = S::select(d1 > hi, B(T(1)), ihi), hi = S::max(hi, d1);
+        ihi = S::select(d2 > hi, B(T(2)), ihi), hi = S::max(hi, d2);
+        ilo = S::select(d1 < lo, B(T(1)), ilo), lo = S::select(d1 < lo, d1, lo);
+        ilo = S::select(d2 < lo, B(T(2)), ilo), lo = S::select(d2 < lo, d2, lo);
         // A (+) T: h(n) = box + max d, h(-n) = box' - min d. A (-) T swaps the roles.
-        const B plus = difference ? B(0) - lo : hi, minus = difference ? hi : B(0) - lo;
+        const B plus = difference ? B(T(0)) - lo : hi, minus = difference ? hi : B(T(0)) - lo;
         const B iplus = difference ? ilo : ihi, iminus = difference ? ihi : ilo;
         const B m = dot(n, c);
         // A degenerate triangle's lane is written as zeros (tri_ok is 0 or 1).
         store3(out.n + 3 * p * N, N, k, scaled(n, tri_ok));
         S::store(out.offset + p * N + k, (s + m + plus) * tri_ok);
         S::store(out.offset + (p + 13) * N + k, (s - m + minus) * tri_ok);
-        S::store_code(out.code + p * N + k, S::fma(iplus, B(8), code));
-        S::store_code(out.code + (p + 13) * N + k, S::fma(iminus, B(8), B(7) - code));
+        S::store_code(out.code + p * N + k, S::fma(iplus, B(T(8)), code));
+        S::store_code(out.code + (p + 13) * N + k, S::fma(iminus, B(T(8)), B(T(7)) - code));
       }
       // A degenerate triangle: only bit 30 (the lane is invalid); 2^30 is exact in float and
       // fits the int32 code.
-      valid = S::select(tri_ok > B(0), valid, B(T(1 << 30)));
+      valid = S::select(tri_ok > B(T(0)), valid, B(T(1 << 30)));
       S::store_code(out.valid + k, valid);
     }
   }
@@ -172,7 +192,7 @@ struct Kernels {
       for (int l = 0; l < S::size; ++l)  // lanes in index order keep the first maximiser
         if (b[l] > top || (b[l] == top && int(a[l]) < at)) top = b[l], at = int(a[l]);
       for (int k = full; k < n; ++k) {
-        const T d = std::fma(dx[q], x[k], std::fma(dy[q], y[k], dz[q] * z[k]));
+        const T d = dx[q] * x[k] + (dy[q] * y[k] + dz[q] * z[k]);
         if (d > top) top = d, at = k;
       }
       max_out[q] = top;

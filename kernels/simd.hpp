@@ -27,9 +27,7 @@ struct Simd {
   static B select(const M& m, const B& a, const B& b) { return xsimd::select(m, a, b); }
   /// Stores small non-negative integers held exactly in T as integer codes.
   static void store_code(CodeOf<T>* p, const B& v) {
-    alignas(64) T tmp[size];
-    v.store_aligned(tmp);
-    for (int k = 0; k < size; ++k) p[k] = CodeOf<T>(tmp[k]);
+    xsimd::batch_cast<CodeOf<T>>(v).store_aligned(p);
   }
 };
 
@@ -39,7 +37,9 @@ struct Simd<T, ScalarArch> {
   static constexpr int size = 1;
   static B load(const T* p) { return *p; }
   static void store(T* p, B v) { *p = v; }
-  static B fma(B a, B b, B c) { return std::fma(a, b, c); }
+  // Not std::fma: without FMA hardware flags it is a slow library call; the scalar path is the
+  // portable baseline and rounds twice, like SSE.
+  static B fma(B a, B b, B c) { return a * b + c; }
   static B abs(B a) { return std::abs(a); }
   static B sqrt(B a) { return std::sqrt(a); }
   static B max(B a, B b) { return a > b ? a : b; }

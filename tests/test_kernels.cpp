@@ -106,7 +106,7 @@ void check_box_box(Isa isa, const std::vector<std::pair<Box, Box>>& pairs, bool 
         for (int d = 0; d < 3; ++d)
           e.scale += a.half_extents[d] * std::abs(got.normal.dot(a.rotation.col(d))) +
                      b.half_extents[d] * std::abs(got.normal.dot(b.rotation.col(d)));
-        compare<T>(got, ref[p], e, ulps, cross_len, "box-box", p);
+        compare<T>(got, ref[p], e, ulps, cross_len, ("box-box pair " + std::to_string(base + k)).c_str(), p);
         if (!got.valid || testing::Test::HasFailure()) continue;
         // Corner codes from the sign bits, complemented on the opposite side; ties skipped.
         const int code = int(out->code[axis][k]), c = p < 15 ? code : 63 - code;
@@ -114,7 +114,7 @@ void check_box_box(Isa isa, const std::vector<std::pair<Box, Box>>& pairs, bool 
           if (std::abs(got.normal.dot(a.rotation.col(bit))) > 64 * eps)
             EXPECT_EQ(c >> bit & 1, ca >> bit & 1) << "A corner, plane " << p;
           if (std::abs(got.normal.dot(b.rotation.col(bit))) > 64 * eps)
-            EXPECT_EQ(c >> (3 + bit) & 1, cb >> bit & 1) << "B corner, plane " << p;
+            EXPECT_EQ(c >> (3 + bit) & 1, cb >> bit & 1) << "B corner, plane " << p << " pair " << base + k << " of " << pairs.size();
         }
       }
       if (testing::Test::HasFailure()) return;

@@ -31,6 +31,12 @@ bool force_isa(Isa isa);
 /// Lanes per batch are a multiple of this (the widest SIMD register holds 16 floats).
 constexpr int kLaneMultiple = 16;
 
+/// Row length of the structure-of-arrays buffers: large power-of-two capacities get one extra
+/// register of padding per row, so that the rows a kernel touches together do not all map to
+/// the same L1 cache set.
+template <int N>
+constexpr int kRow = N >= 256 ? N + kLaneMultiple : N;
+
 /// Integer type of support codes and masks: as wide as the kernel's float type.
 template <class T>
 using CodeOf = std::conditional_t<std::is_same_v<T, float>, std::int32_t, std::int64_t>;
@@ -45,9 +51,9 @@ constexpr T kParallelThreshold = std::is_same_v<T, float> ? T(3e-4) : T(1e-8);
 template <class T, int N>
 struct alignas(64) BoxBatch {
   static_assert(N % kLaneMultiple == 0, "capacity must be a multiple of 16");
-  alignas(64) T c[3][N];     ///< centre, component d of lane k at c[d][k]
-  alignas(64) T u[3][3][N];  ///< axis a (column a of the rotation), component d at u[a][d][k]
-  alignas(64) T h[3][N];     ///< half extents
+  alignas(64) T c[3][kRow<N>];     ///< centre, component d of lane k at c[d][k]
+  alignas(64) T u[3][3][kRow<N>];  ///< axis a (column a of the rotation), component d at u[a][d][k]
+  alignas(64) T h[3][kRow<N>];     ///< half extents
   int count = 0;             ///< lanes in use; the rest are padded with valid boxes
   /// Stores box b in lane k (0 <= k < N).
   void set(int k, const Box& b) {
@@ -67,7 +73,7 @@ struct alignas(64) BoxBatch {
 template <class T, int N>
 struct alignas(64) TriangleBatch {
   static_assert(N % kLaneMultiple == 0, "capacity must be a multiple of 16");
-  alignas(64) T v[3][3][N];  ///< vertices
+  alignas(64) T v[3][3][kRow<N>];  ///< vertices
   int count = 0;             ///< lanes in use
   /// Stores triangle t in lane k.
   void set(int k, const Triangle& t) {
@@ -90,10 +96,10 @@ struct alignas(64) TriangleBatch {
 /// whose normal and offsets are written as 0.
 template <class T, int N>
 struct alignas(64) BoxBoxPlanes {
-  alignas(64) T n[15][3][N];   ///< axis p, component d of lane k at n[p][d][k]
-  alignas(64) T offset[30][N];  ///< plane offsets
-  alignas(64) CodeOf<T> code[15][N];  ///< support corner codes of the + plane of each axis
-  alignas(64) CodeOf<T> valid[N];     ///< bit p: axis p is valid
+  alignas(64) T n[15][3][kRow<N>];   ///< axis p, component d of lane k at n[p][d][k]
+  alignas(64) T offset[30][kRow<N>];  ///< plane offsets
+  alignas(64) CodeOf<T> code[15][kRow<N>];  ///< support corner codes of the + plane of each axis
+  alignas(64) CodeOf<T> valid[kRow<N>];     ///< bit p: axis p is valid
 };
 
 /// The up to 26 planes of each box-triangle sum: 13 axes (3 box axes, the triangle normal,
@@ -103,21 +109,21 @@ struct alignas(64) BoxBoxPlanes {
 /// bit 30: the triangle is degenerate (the whole lane is invalid).
 template <class T, int N>
 struct alignas(64) BoxTrianglePlanes {
-  alignas(64) T n[13][3][N];    ///< axis p, component d of lane k
-  alignas(64) T offset[26][N];   ///< plane offsets
-  alignas(64) CodeOf<T> code[26][N];  ///< per plane: box corner | triangle vertex << 3
-  alignas(64) CodeOf<T> valid[N];     ///< bit p: axis p valid; bit 30: degenerate triangle
+  alignas(64) T n[13][3][kRow<N>];    ///< axis p, component d of lane k
+  alignas(64) T offset[26][kRow<N>];   ///< plane offsets
+  alignas(64) CodeOf<T> code[26][kRow<N>];  ///< per plane: box corner | triangle vertex << 3
+  alignas(64) CodeOf<T> valid[kRow<N>];     ///< bit p: axis p valid; bit 30: degenerate triangle
 };
 
 namespace detail {
-/// Component arrays of a box batch (lane stride N), as the ISA kernels read them.
+/// Component arrays of a box batch (row stride kRow<N>), as the ISA kernels read them.
 template <class T>
 struct BoxLanes {
   const T* c;  ///< c[d * N + k]
   const T* u;  ///< u[(a * 3 + d) * N + k]
   const T* h;  ///< h[d * N + k]
 };
-/// Output arrays of a plane kernel (lane stride N).
+/// Output arrays of a plane kernel (row stride kRow<N>).
 template <class T>
 struct PlaneLanes {
   T* n;               ///< n[(p * 3 + d) * N + k]
@@ -133,7 +139,8 @@ template <class T, int N, class P>
 PlaneLanes<T> lanes(P& p) {
   return {&p.n[0][0][0], &p.offset[0][0], &p.code[0][0], &p.valid[0]};
 }
-// Type-erased entry points behind the templates below; they dispatch on the active ISA.
+// Type-erased entry points behind the templates below (stride: the row length); they
+// dispatch on the active ISA.
 void box_box(BoxLanes<float> a, BoxLanes<float> b, int count, int stride, bool difference,
              PlaneLanes<float> out);
 void box_box(BoxLanes<double> a, BoxLanes<double> b, int count, int stride, bool difference,
@@ -149,7 +156,7 @@ void box_triangle(BoxLanes<double> box, const double* tri, int count, int stride
 template <class T, int N>
 void box_box_planes(const BoxBatch<T, N>& a, const BoxBatch<T, N>& b, bool difference,
                     BoxBoxPlanes<T, N>& out) {
-  detail::box_box(detail::lanes(a), detail::lanes(b), a.count, N, difference,
+  detail::box_box(detail::lanes(a), detail::lanes(b), a.count, kRow<N>, difference,
                   detail::lanes<T, N>(out));
 }
 
@@ -157,7 +164,7 @@ void box_box_planes(const BoxBatch<T, N>& a, const BoxBatch<T, N>& b, bool diffe
 template <class T, int N>
 void box_triangle_planes(const BoxBatch<T, N>& box, const TriangleBatch<T, N>& tri,
                          bool difference, BoxTrianglePlanes<T, N>& out) {
-  detail::box_triangle(detail::lanes(box), &tri.v[0][0][0], box.count, N, difference,
+  detail::box_triangle(detail::lanes(box), &tri.v[0][0][0], box.count, kRow<N>, difference,
                        detail::lanes<T, N>(out));
 }
 
