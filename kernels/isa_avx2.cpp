@@ -3,6 +3,6 @@
 
 namespace minksum::detail {
 
-KernelTable table_avx2() { return make_table<xsimd::fma3<xsimd::avx2>>(); }
+constexpr KernelTable kTableAvx2 = make_table<xsimd::fma3<xsimd::avx2>>();
 
 }  // namespace minksum::detail

@@ -3,6 +3,6 @@
 
 namespace minksum::detail {
 
-KernelTable table_avx512() { return make_table<xsimd::avx512bw>(); }
+constexpr KernelTable kTableAvx512 = make_table<xsimd::avx512bw>();
 
 }  // namespace minksum::detail

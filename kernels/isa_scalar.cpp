@@ -3,6 +3,6 @@
 
 namespace minksum::detail {
 
-KernelTable table_scalar() { return make_table<ScalarArch>(); }
+constexpr KernelTable kTableScalar = make_table<ScalarArch>();
 
 }  // namespace minksum::detail

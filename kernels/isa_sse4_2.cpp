@@ -3,6 +3,6 @@
 
 namespace minksum::detail {
 
-KernelTable table_sse4_2() { return make_table<xsimd::sse4_2>(); }
+constexpr KernelTable kTableSse4_2 = make_table<xsimd::sse4_2>();
 
 }  // namespace minksum::detail

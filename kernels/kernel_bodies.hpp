@@ -30,22 +30,29 @@ struct Kernels {
     S::store(p + stride + k, v.y);
     S::store(p + 2 * stride + k, v.z);
   }
-  // Unit axis of a cross product, or the zero vector (and valid = false) when |c| <= tau * scale.
-  static V3 unit_or_zero(const V3& c, const B& scale, B& valid_bit, T bit) {
-    const B len = S::sqrt(dot(c, c));
-    const auto ok = len > B(kParallelThreshold<T>) * scale;
+  // 1 / |c| for the cross product c of two edges, or 0 (and the valid bit clear) when
+  // |c|^2 <= tau^2 * scale2: nearly parallel edges give no reliable direction.
+  static B inv_len_or_zero(const V3& c, const B& scale2, B& valid_bit, T bit) {
+    const B len2 = dot(c, c);
+    const auto ok = len2 > B(kParallelThreshold<T> * kParallelThreshold<T>) * scale2;
     valid_bit = valid_bit + S::select(ok, B(bit), B(T(0)));
-    const B inv = S::select(ok, B(T(1)) / S::select(ok, len, B(T(1))), B(T(0)));
-    return scaled(c, inv);
+    return S::select(ok, S::rsqrt(S::select(ok, len2, B(T(1)))), B(T(0)));
   }
-  // Support of a box in direction n: sum_k h_k |n . u_k|, and the corner code (bit k: n.u_k > 0).
+  // The unit axis of c, or the zero vector (see inv_len_or_zero).
+  static V3 unit_or_zero(const V3& c, const B& scale2, B& valid_bit, T bit) {
+    return scaled(c, inv_len_or_zero(c, scale2, valid_bit, bit));
+  }
+  // Support of a box in direction n: sum_k h_k |n . u_k|, and the corner code (bit k:
+  // n . u_k > 0). All three terms are evaluated, even for an edge-cross axis that is
+  // perpendicular to one box axis in exact arithmetic: the rounded normal is not, and its
+  // small term keeps the offset exact to a few ulp for nearly parallel edges too.
   static void box_support(const V3& n, const V3 (&u)[3], const B (&h)[3], B& s, B& code) {
     s = B(T(0));
     code = B(T(0));
     for (int k = 0; k < 3; ++k) {
       const B d = dot(n, u[k]);
       s = S::fma(h[k], S::abs(d), s);
-      code = code + S::select(d > B(T(0)), B(T(1 << k)), B(T(0)));
+      code = S::select(d > B(T(0)), code + B(T(1 << k)), code);  // a masked add
     }
   }
 
@@ -85,21 +92,19 @@ struct Kernels {
         S::store(out.offset + (p + 15) * N + k, s - m);
         S::store_code(out.code + p * N + k, S::fma(S::fma(codeb, flip, bias), B(T(8)), codea));
       };
+#pragma GCC unroll 3
       for (int p = 0; p < 3; ++p) {
         emit(p, ua[p], ha[p], S::fma(hb[0], A[p][0], S::fma(hb[1], A[p][1], hb[2] * A[p][2])),
              B(T(1 << p)), bit(C[p][0] > zero, 0) + bit(C[p][1] > zero, 1) + bit(C[p][2] > zero, 2));
         emit(3 + p, ub[p], S::fma(ha[0], A[0][p], S::fma(ha[1], A[1][p], ha[2] * A[2][p])), hb[p],
              bit(C[0][p] > zero, 0) + bit(C[1][p] > zero, 1) + bit(C[2][p] > zero, 2), B(T(1 << p)));
       }
+#pragma GCC unroll 3
       for (int i = 0; i < 3; ++i) {
+#pragma GCC unroll 3
         for (int j = 0; j < 3; ++j) {
           const int p = 6 + 3 * i + j;
-          const V3 x = cross(ua[i], ub[j]);
-          const B len = S::sqrt(dot(x, x));
-          const auto ok = len > B(kParallelThreshold<T>);
-          valid = valid + bit(ok, p);
-          const B inv = S::select(ok, one / S::select(ok, len, one), zero);
-          const V3 n = scaled(x, inv);
+          const V3 n = unit_or_zero(cross(ua[i], ub[j]), one, valid, T(1 << p));
           B sa, codea, sb, codeb;
           box_support(n, ua, ha, sa, codea);
           box_support(n, ub, hb, sb, codeb);
@@ -107,6 +112,68 @@ struct Kernels {
         }
       }
       S::store_code(out.valid + k, valid);
+    }
+  }
+
+  // One box pair with its 15 axes in the lanes (16 with a padding lane): the single-pair API,
+  // built from the same helpers as box_box. in = c_A, c_B (3 each), the axes u_A0..2, u_B0..2
+  // (3 each), h_A, h_B (3 each). Out, per axis lane q: n[d * 16 + q], off[q] (plane +n),
+  // off[16 + q] (plane -n), code[q] as in BoxBoxPlanes, valid[q] in {0, 1}.
+  static void box_box_axes(const T* in, bool difference, T* n, T* off, CodeOf<T>* code,
+                           CodeOf<T>* valid) {
+    const T* u = in + 6;  // axis k of the six at u[3k..3k+2]
+    // Per lane: the face axis itself (kFace), or the two edge directions whose cross is the axis
+    // (kE of A, kF of B); kFixA/kFixB: the codes a face axis fixes (own bit set, the rest are
+    // ties, left clear; -1: computed). Lane 15 pads.
+    static constexpr int kFace[16] = {0, 1, 2, 3, 4, 5, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+    static constexpr int kE[16] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 2, 2, 2, 0};
+    static constexpr int kF[16] = {4, 4, 4, 4, 4, 4, 3, 4, 5, 3, 4, 5, 3, 4, 5, 4};
+    alignas(64) static constexpr T kIsFace[16] = {1, 1, 1, 1, 1, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+    alignas(64) static constexpr T kFixA[16] = {1, 2, 4, -1, -1, -1, -1, -1,
+                                                -1, -1, -1, -1, -1, -1, -1, -1};
+    alignas(64) static constexpr T kFixB[16] = {-1, -1, -1, 1, 2, 4, -1, -1,
+                                                -1, -1, -1, -1, -1, -1, -1, -1};
+    alignas(64) T face[3][16], e[3][16], f[3][16];
+#pragma GCC unroll 16
+    for (int q = 0; q < 16; ++q)
+      for (int d = 0; d < 3; ++d) {
+        face[d][q] = u[3 * kFace[q] + d];
+        e[d][q] = u[3 * kE[q] + d];
+        f[d][q] = u[3 * kF[q] + d];
+      }
+    auto broadcast = [](const T* p) { return V3{B(p[0]), B(p[1]), B(p[2])}; };
+    const V3 ua[3] = {broadcast(u), broadcast(u + 3), broadcast(u + 6)};
+    const V3 ub[3] = {broadcast(u + 9), broadcast(u + 12), broadcast(u + 15)};
+    const B ha[3] = {B(in[24]), B(in[25]), B(in[26])}, hb[3] = {B(in[27]), B(in[28]), B(in[29])};
+    const T s = difference ? T(-1) : T(1);
+    const V3 c{B(in[0] + s * in[3]), B(in[1] + s * in[4]), B(in[2] + s * in[5])};
+    const B flip(s), bias(difference ? T(7) : T(0)), zero(T(0)), one(T(1));
+    // Unrolled, so that the register batches' dependency chains (cross, rsqrt, dots) overlap.
+#pragma GCC unroll 16
+    for (int q = 0; q < 16; q += S::size) {
+      const auto face_lane = S::load(kIsFace + q) > zero;
+      // v is the face axis or the (unnormalised) edge cross; everything below is linear in v,
+      // so the dot products run while 1/|v| is still being computed, and are scaled after.
+      const V3 x = cross(load3(&e[0][0], 16, q), load3(&f[0][0], 16, q));
+      const V3 fc = load3(&face[0][0], 16, q);
+      const V3 v{S::select(face_lane, fc.x, x.x), S::select(face_lane, fc.y, x.y),
+                 S::select(face_lane, fc.z, x.z)};
+      B ok(T(0));
+      const B inv = S::select(face_lane, one, inv_len_or_zero(x, one, ok, T(1)));
+      B sa, codea, sb, codeb;
+      box_support(v, ua, ha, sa, codea);
+      box_support(v, ub, hb, sb, codeb);
+      const V3 nq = scaled(v, inv);
+      sa = sa * inv, sb = sb * inv;
+      const B fa = S::load(kFixA + q), fb = S::load(kFixB + q);
+      codea = S::select(fa >= zero, fa, codea);
+      codeb = S::select(fb >= zero, fb, codeb);
+      const B r = sa + sb, m = dot(v, c) * inv;
+      store3(n, 16, q, nq);
+      S::store(off + q, r + m);
+      S::store(off + 16 + q, r - m);
+      S::store_code(code + q, S::fma(S::fma(codeb, flip, bias), B(T(8)), codea));
+      S::store_code(valid + q, S::select(face_lane, one, ok));
     }
   }
 
@@ -125,10 +192,10 @@ struct Kernels {
       const V3 e[3] = {{v[1].x - v[0].x, v[1].y - v[0].y, v[1].z - v[0].z},
                        {v[2].x - v[1].x, v[2].y - v[1].y, v[2].z - v[1].z},
                        {v[0].x - v[2].x, v[0].y - v[2].y, v[0].z - v[2].z}};
-      const B len0 = S::sqrt(dot(e[0], e[0])), len1 = S::sqrt(dot(e[1], e[1]));
-      const B len2 = S::sqrt(dot(e[2], e[2]));
+      const B e2[3] = {dot(e[0], e[0]), dot(e[1], e[1]), dot(e[2], e[2])};  // squared lengths
       B valid(0), tri_ok(0);
-      const V3 nt = unit_or_zero(cross(e[0], e[1]), len0 * len1, tri_ok, T(1));
+      const V3 nt = unit_or_zero(cross(e[0], e[1]), e2[0] * e2[1], tri_ok, T(1));
+#pragma GCC unroll 13
       for (int p = 0; p < 13; ++p) {
         V3 n;
         if (p < 3) {
@@ -137,8 +204,7 @@ struct Kernels {
           n = nt, valid = valid + tri_ok * B(T(1 << 3));
         } else {
           const int j = (p - 4) % 3;
-          const B len = j == 0 ? len0 : j == 1 ? len1 : len2;
-          n = unit_or_zero(cross(u[(p - 4) / 3], e[j]), len, valid, T(1 << p));
+          n = unit_or_zero(cross(u[(p - 4) / 3], e[j]), e2[j], valid, T(1 << p));
         }
         B s, code;
         box_support(n, u, h, s, code);
@@ -208,10 +274,11 @@ struct Kernels {
 };
 
 template <class Arch>
-KernelTable make_table() {
+constexpr KernelTable make_table() {
   return {&Kernels<float, Arch>::box_box,      &Kernels<double, Arch>::box_box,
           &Kernels<float, Arch>::box_triangle, &Kernels<double, Arch>::box_triangle,
-          &Kernels<float, Arch>::support,      &Kernels<double, Arch>::support};
+          &Kernels<float, Arch>::support,      &Kernels<double, Arch>::support,
+          &Kernels<double, Arch>::box_box_axes};
 }
 
 }  // namespace minksum::detail

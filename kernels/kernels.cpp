@@ -1,6 +1,7 @@
 // ISA dispatch (chosen once at start-up), the single-pair API and the topology tables.
 #include <minksum/kernels.hpp>
 
+#include <algorithm>
 #include <cstdlib>
 #include <cstring>
 #include <xsimd/config/xsimd_cpuid.hpp>
@@ -32,41 +33,42 @@ bool isa_supported(Isa isa) {
 
 namespace {
 
-struct Dispatch {
-  Isa isa;
-  detail::KernelTable table;
-};
-
-detail::KernelTable table_of(Isa isa) {
+const detail::KernelTable& table_of(Isa isa) {
   switch (isa) {
-    case Isa::Sse4_2: return detail::table_sse4_2();
-    case Isa::Avx2: return detail::table_avx2();
-    case Isa::Avx512: return detail::table_avx512();
-    default: return detail::table_scalar();
+    case Isa::Sse4_2: return detail::kTableSse4_2;
+    case Isa::Avx2: return detail::kTableAvx2;
+    case Isa::Avx512: return detail::kTableAvx512;
+    default: return detail::kTableScalar;
   }
 }
 
-Dispatch& dispatch() {
-  // Chosen once, at first use: MINKSUM_ISA if set and supported, else the best supported.
-  static Dispatch d = [] {
-    Isa best = Isa::Scalar;
-    for (Isa isa : {Isa::Sse4_2, Isa::Avx2, Isa::Avx512})
-      if (isa_supported(isa)) best = isa;
-    if (const char* env = std::getenv("MINKSUM_ISA"))
-      for (Isa isa : {Isa::Scalar, Isa::Sse4_2, Isa::Avx2, Isa::Avx512})
-        if (std::strcmp(env, to_string(isa)) == 0 && isa_supported(isa)) best = isa;
-    return Dispatch{best, table_of(best)};
-  }();
-  return d;
-}
+// The active table: constant-initialised to the scalar one, so it is valid even for callers in
+// other static initialisers, then switched once at start-up to MINKSUM_ISA if set and
+// supported, else to the best ISA this CPU supports. A plain pointer: no guard, no lock.
+Isa g_isa = Isa::Scalar;
+const detail::KernelTable* g_table = &detail::kTableScalar;
+const bool g_selected = [] {
+  Isa best = Isa::Scalar;
+  for (Isa isa : {Isa::Sse4_2, Isa::Avx2, Isa::Avx512})
+    if (isa_supported(isa)) best = isa;
+  if (const char* env = std::getenv("MINKSUM_ISA"))
+    for (Isa isa : {Isa::Scalar, Isa::Sse4_2, Isa::Avx2, Isa::Avx512})
+      if (std::strcmp(env, to_string(isa)) == 0 && isa_supported(isa)) best = isa;
+  g_isa = best;
+  g_table = &table_of(best);
+  return true;
+}();
+
+const detail::KernelTable& dispatch() { return *g_table; }
 
 }  // namespace
 
-Isa active_isa() { return dispatch().isa; }
+Isa active_isa() { return g_isa; }
 
 bool force_isa(Isa isa) {
   if (!isa_supported(isa)) return false;
-  dispatch() = Dispatch{isa, table_of(isa)};
+  g_isa = isa;
+  g_table = &table_of(isa);
   return true;
 }
 
@@ -74,31 +76,31 @@ namespace detail {
 
 void box_box(BoxLanes<float> a, BoxLanes<float> b, int count, int stride, bool difference,
              PlaneLanes<float> out) {
-  dispatch().table.box_box_f(a, b, count, stride, difference, out);
+  dispatch().box_box_f(a, b, count, stride, difference, out);
 }
 void box_box(BoxLanes<double> a, BoxLanes<double> b, int count, int stride, bool difference,
              PlaneLanes<double> out) {
-  dispatch().table.box_box_d(a, b, count, stride, difference, out);
+  dispatch().box_box_d(a, b, count, stride, difference, out);
 }
 void box_triangle(BoxLanes<float> box, const float* tri, int count, int stride, bool difference,
                   PlaneLanes<float> out) {
-  dispatch().table.box_tri_f(box, tri, count, stride, difference, out);
+  dispatch().box_tri_f(box, tri, count, stride, difference, out);
 }
 void box_triangle(BoxLanes<double> box, const double* tri, int count, int stride,
                   bool difference, PlaneLanes<double> out) {
-  dispatch().table.box_tri_d(box, tri, count, stride, difference, out);
+  dispatch().box_tri_d(box, tri, count, stride, difference, out);
 }
 
 }  // namespace detail
 
 void support_push(const float* x, const float* y, const float* z, int n, const float* dx,
                   const float* dy, const float* dz, int k, float* max_out, int* arg_out) {
-  dispatch().table.support_f(x, y, z, n, dx, dy, dz, k, max_out, arg_out);
+  dispatch().support_f(x, y, z, n, dx, dy, dz, k, max_out, arg_out);
 }
 
 void support_push(const double* x, const double* y, const double* z, int n, const double* dx,
                   const double* dy, const double* dz, int k, double* max_out, int* arg_out) {
-  dispatch().table.support_d(x, y, z, n, dx, dy, dz, k, max_out, arg_out);
+  dispatch().support_d(x, y, z, n, dx, dy, dz, k, max_out, arg_out);
 }
 
 namespace {
@@ -136,15 +138,28 @@ void read_planes(const double* n, const double* offset, const std::int64_t* code
 
 }  // namespace
 
-void box_box_planes(const Box& a, const Box& b, bool difference, KernelPlane (&out)[30]) {
-  const OneBox la(a), lb(b);
-  double n[45], offset[30];
-  std::int64_t code[15], minus[15], valid;
-  // The scalar instantiation of the same kernel body, on one lane.
-  detail::table_scalar().box_box_d(la.lanes(), lb.lanes(), 1, 1, difference,
-                                   {n, offset, code, &valid});
-  for (int p = 0; p < 15; ++p) minus[p] = 63 - code[p];  // both corner codes complemented
-  read_planes<15>(n, offset, code, minus, valid, out);
+void box_box_planes(const Box& a, const Box& b, bool difference, BoxBoxPair& out) {
+  double in[30];  // c_A, c_B, the axes of A then of B (Eigen's column-major order), h_A, h_B
+  for (int d = 0; d < 3; ++d) {
+    in[d] = a.center[d], in[3 + d] = b.center[d];
+    in[24 + d] = a.half_extents[d], in[27 + d] = b.half_extents[d];
+  }
+  std::copy(a.rotation.data(), a.rotation.data() + 9, in + 6);
+  std::copy(b.rotation.data(), b.rotation.data() + 9, in + 15);
+  dispatch().box_box_single_d(in, difference, &out.n[0][0], &out.offset[0][0], out.code,
+                                    out.valid);
+}
+
+KernelPlane BoxBoxPair::plane(int p) const {
+  const int q = p % 15, side = p < 15 ? 0 : 1;
+  const std::int64_t c = side ? 63 - code[q] : code[q];  // both corner codes complemented
+  KernelPlane k;
+  k.normal = (side ? -1.0 : 1.0) * Eigen::Vector3d(n[0][q], n[1][q], n[2][q]);
+  k.offset = offset[side][q];
+  k.i = int(c & 7);
+  k.j = int(c >> 3);
+  k.valid = valid[q] != 0;
+  return k;
 }
 
 void box_triangle_planes(const Box& box, const Triangle& tri, bool difference,
@@ -155,7 +170,7 @@ void box_triangle_planes(const Box& box, const Triangle& tri, bool difference,
   for (int i = 0; i < 3; ++i)
     for (int d = 0; d < 3; ++d) v[3 * i + d] = (*p[i])[d];
   std::int64_t code[26], valid;
-  detail::table_scalar().box_tri_d(lb.lanes(), v, 1, 1, difference, {n, offset, code, &valid});
+  detail::kTableScalar.box_tri_d(lb.lanes(), v, 1, 1, difference, {n, offset, code, &valid});
   read_planes<13>(n, offset, code, code + 13, valid, out);
 }
 

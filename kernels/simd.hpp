@@ -6,6 +6,8 @@
 #include <xsimd/xsimd.hpp>
 
 #include <cmath>
+#include <limits>
+#include <type_traits>
 
 namespace minksum::detail {
 
@@ -23,6 +25,26 @@ struct Simd {
   static B abs(const B& a) { return xsimd::abs(a); }
   static B sqrt(const B& a) { return xsimd::sqrt(a); }
   static B max(const B& a, const B& b) { return xsimd::max(a, b); }
+  /// 1 / sqrt(x) to the precision of T, for x in [1e-30, 1e30]: a hardware estimate refined by
+  /// Newton steps y <- y (3/2 - x y^2 / 2), each of which doubles the correct bits. (Not
+  /// xsimd::rsqrt: on AVX-512 it emits AVX-512ER instructions that only Xeon Phi has.)
+  static B rsqrt(const B& x) {
+    B y;
+    int bits;
+    if constexpr (std::is_same_v<Arch, xsimd::avx512bw>) {
+      if constexpr (std::is_same_v<T, float>)
+        y = B(_mm512_rsqrt14_ps(x));
+      else
+        y = B(_mm512_rsqrt14_pd(x));
+      bits = 14;
+    } else {
+      y = xsimd::rsqrt(x);  // _mm_rsqrt_ps, on doubles through float: 12 bits
+      bits = 12;
+    }
+    const B half_x = x * B(T(0.5));
+    for (; bits < std::numeric_limits<T>::digits; bits *= 2) y = y * (B(T(1.5)) - half_x * y * y);
+    return y;
+  }
   template <class M>
   static B select(const M& m, const B& a, const B& b) { return xsimd::select(m, a, b); }
   /// Stores small non-negative integers held exactly in T as integer codes.
@@ -43,6 +65,7 @@ struct Simd<T, ScalarArch> {
   static B abs(B a) { return std::abs(a); }
   static B sqrt(B a) { return std::sqrt(a); }
   static B max(B a, B b) { return a > b ? a : b; }
+  static B rsqrt(B x) { return T(1) / std::sqrt(x); }
   static B select(bool m, B a, B b) { return m ? a : b; }
   static void store_code(CodeOf<T>* p, B v) { *p = CodeOf<T>(v); }
 };
@@ -57,11 +80,11 @@ struct KernelTable {
                     const float*, int, float*, int*);
   void (*support_d)(const double*, const double*, const double*, int, const double*,
                     const double*, const double*, int, double*, int*);
+  void (*box_box_single_d)(const double*, bool, double*, double*, std::int64_t*, std::int64_t*);
 };
 
-KernelTable table_scalar();
-KernelTable table_sse4_2();
-KernelTable table_avx2();
-KernelTable table_avx512();
+// One constant-initialised table per ISA translation unit (no static-initialisation order
+// problem: they exist before any code runs).
+extern const KernelTable kTableScalar, kTableSse4_2, kTableAvx2, kTableAvx512;
 
 }  // namespace minksum::detail

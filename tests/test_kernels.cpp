@@ -329,8 +329,10 @@ TEST(Kernels, SinglePairApiMatchesTheReference) {
   std::mt19937_64 rng(3);
   for (int k = 0; k < 1000; ++k) {
     const Box a = random_box(rng, 3), b = random_box(rng, 3);
+    BoxBoxPair pair;
     KernelPlane got[30], ref[30];
-    box_box_planes(a, b, k % 2, got);
+    box_box_planes(a, b, k % 2, pair);
+    for (int p = 0; p < 30; ++p) got[p] = pair.plane(p);
     detail::box_box_reference(a, b, k % 2, kParallelThreshold<double>, ref);
     for (int p = 0; p < 30; ++p) {
       ASSERT_EQ(got[p].valid, ref[p].valid);

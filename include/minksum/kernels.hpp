@@ -176,8 +176,20 @@ struct KernelPlane {
   bool valid = false;      ///< false for an axis of parallel edges (or a degenerate triangle)
 };
 
-/// The 30 planes of one box-box pair in double, through the same kernels (scalar lane).
-void box_box_planes(const Box& a, const Box& b, bool difference, KernelPlane (&out)[30]);
+/// The planes of one box pair in double (the single-pair API): axis q < 15 (numbered as in
+/// BoxBoxPlanes) in lane q.
+struct alignas(64) BoxBoxPair {
+  alignas(64) double n[3][16];        ///< axis q: (n[0][q], n[1][q], n[2][q]); zero if invalid
+  alignas(64) double offset[2][16];   ///< offset[0][q]: plane +n_q; offset[1][q]: plane -n_q
+  alignas(64) std::int64_t code[16];  ///< corner codes of plane +n_q (plane -n_q: 63 - code)
+  alignas(64) std::int64_t valid[16]; ///< 1 if axis q is valid
+  /// Plane p < 30: p < 15 is +n_p, p >= 15 is -n_(p-15).
+  KernelPlane plane(int p) const;
+};
+
+/// The planes of one box-box pair, through the active ISA's box-box kernel with the pair's 15
+/// axes in its lanes. No allocation.
+void box_box_planes(const Box& a, const Box& b, bool difference, BoxBoxPair& out);
 
 /// The 26 planes of one box-triangle pair in double, through the same kernels.
 void box_triangle_planes(const Box& box, const Triangle& tri, bool difference,
