@@ -167,7 +167,12 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (cmd == "--version") {
-    std::printf("minksum 0.1.0\n");
+    // Every ISA is compiled on x86-64; the active one is chosen once at start-up
+    // (MINKSUM_ISA=scalar|sse4_2|avx2|avx512 forces one the CPU supports).
+    std::printf("minksum 0.1.0\ncompiled ISAs: scalar sse4_2 avx2 avx512\nsupported ISAs:");
+    for (Isa isa : {Isa::Scalar, Isa::Sse4_2, Isa::Avx2, Isa::Avx512})
+      if (isa_supported(isa)) std::printf(" %s", to_string(isa));
+    std::printf("\nactive ISA: %s\n", to_string(active_isa()));
     return 0;
   }
   if (cmd == "sum") return cmd_sum(argc - 2, argv + 2);

@@ -11,6 +11,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <minksum/kernels.hpp>
+
 #include "predicates.hpp"
 #include "sum_internal.hpp"
 
@@ -120,11 +122,25 @@ bool classify(const GaussMap& g, const Vector3d& n, int c, Feature& f, int& exit
   return true;
 }
 
-// Locates n by walking from the cell of the support vertex across the arcs n lies beyond.
-bool locate(const GaussMap& g, const Vector3d& n, Feature& f) {
-  int c = 0;
-  for (int k = 1; k < int(g.point.size()); ++k)
-    if (n.dot(g.point[k]) > n.dot(g.point[c])) c = k;
+// The cell of the support vertex of g in each of the normals `dirs`: the separable support
+// h_(A+B)(n) = h_A(n) + h_B(n) needs |B| dot products per normal of A, done by the SIMD
+// support-push kernel (all normals at once) over g's cell points in structure of arrays.
+std::vector<int> support_cells(const GaussMap& g, const std::vector<Vector3d>& dirs) {
+  const int n = int(g.point.size()), k = int(dirs.size());
+  std::vector<double> soa(3 * n + 3 * k), best(k);
+  for (int c = 0; c < n; ++c)
+    for (int d = 0; d < 3; ++d) soa[d * n + c] = g.point[c][d];
+  double* dir = soa.data() + 3 * n;
+  for (int q = 0; q < k; ++q)
+    for (int d = 0; d < 3; ++d) dir[d * k + q] = dirs[q][d];
+  std::vector<int> cells(k);
+  support_push(soa.data(), soa.data() + n, soa.data() + 2 * n, n, dir, dir + k, dir + 2 * k, k,
+               best.data(), cells.data());
+  return cells;
+}
+
+// Locates n by walking from the support cell c across the arcs n lies beyond.
+bool locate(const GaussMap& g, const Vector3d& n, int c, Feature& f) {
   int exit_arc = -1;
   for (size_t step = 0; step <= g.point.size(); ++step) {
     if (classify(g, n, c, f, exit_arc)) return true;
@@ -230,14 +246,16 @@ bool sum_fast(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& ou
   const GaussMap ga = gauss_map(a), gb = gauss_map(b);
   std::vector<FacetLoop> facets;
   Feature fa, fb;
+  const std::vector<int> start_b = support_cells(gb, ga.normal);
+  const std::vector<int> start_a = support_cells(ga, gb.normal);
   // Face normals of A: F_A(n) is the face, F_B(n) is wherever n lies in B's Gauss map.
   for (int f = 0; f < int(ga.normal.size()); ++f) {
-    if (!locate(gb, ga.normal[f], fb)) return false;
+    if (!locate(gb, ga.normal[f], start_b[f], fb)) return false;
     facets.push_back(sector_loop(ga, {Feature::Face, f}, gb, fb, ga.normal[f]));
   }
   // Face normals of B, except those that coincide with a face normal of A (done above).
   for (int f = 0; f < int(gb.normal.size()); ++f) {
-    if (!locate(ga, gb.normal[f], fa)) return false;
+    if (!locate(ga, gb.normal[f], start_a[f], fa)) return false;
     if (fa.kind != Feature::Face)
       facets.push_back(sector_loop(ga, fa, gb, {Feature::Face, f}, gb.normal[f]));
   }

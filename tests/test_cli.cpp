@@ -12,6 +12,8 @@
 #include <sstream>
 #include <sys/wait.h>
 
+#include <minksum/kernels.hpp>
+
 #include "hull.hpp"
 #include "tools/io.hpp"
 #include "tools/shapes.hpp"
@@ -40,13 +42,16 @@ std::string slurp(const fs::path& p) {
   return ss.str();
 }
 
-CliRun run(const std::string& args) {
+// Runs the CLI with extra environment assignments (e.g. "MINKSUM_ISA=avx2").
+CliRun run_env(const std::string& env, const std::string& args) {
   const fs::path dir = scratch();
-  const std::string cmd = std::string(MINKSUM_CLI) + " " + args + " > " + (dir / "out").string() +
-                          " 2> " + (dir / "err").string();
+  const std::string cmd = "env " + env + " " + std::string(MINKSUM_CLI) + " " + args + " > " +
+                          (dir / "out").string() + " 2> " + (dir / "err").string();
   const int status = std::system(cmd.c_str());
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir / "out"), slurp(dir / "err")};
 }
+
+CliRun run(const std::string& args) { return run_env("", args); }
 
 std::string write(const std::string& name, const std::string& text) {
   const fs::path p = scratch() / name;
@@ -178,6 +183,23 @@ TEST(Cli, HelpListsTheCommands) {
   EXPECT_EQ(r.code, 0);
   EXPECT_NE(r.out.find("sum A B"), std::string::npos);
   EXPECT_NE(r.out.find("demo"), std::string::npos);
+}
+
+TEST(Cli, VersionPrintsTheIsasAndMinksumIsaForcesOne) {
+  const CliRun plain = run("--version");
+  ASSERT_EQ(plain.code, 0);
+  EXPECT_NE(plain.out.find("compiled ISAs: scalar sse4_2 avx2 avx512"), std::string::npos);
+  EXPECT_NE(plain.out.find(std::string("active ISA: ") + to_string(active_isa())), std::string::npos);
+  for (Isa isa : {Isa::Scalar, Isa::Sse4_2, Isa::Avx2, Isa::Avx512}) {
+    if (!isa_supported(isa)) continue;
+    const CliRun forced = run_env(std::string("MINKSUM_ISA=") + to_string(isa), "--version");
+    ASSERT_EQ(forced.code, 0);
+    EXPECT_NE(forced.out.find(std::string("active ISA: ") + to_string(isa) + "\n"), std::string::npos)
+        << forced.out;
+  }
+  // An unknown value is ignored: the best supported ISA stays active.
+  const CliRun bogus = run_env("MINKSUM_ISA=altivec", "--version");
+  EXPECT_NE(bogus.out.find(std::string("active ISA: ") + to_string(active_isa())), std::string::npos);
 }
 
 TEST(Cli, FlatOperandGivesASolidSum) {

@@ -407,6 +407,45 @@ TEST(Topology, BoxBoxInstantiateEqualsFreshPlanes) {
   }
 }
 
+TEST(Topology, BoxTriangleInstantiateEqualsFreshPlanes) {
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> u(-10, 10);
+  for (bool diff : {false, true}) {
+    for (int trial = 0; trial < 200; ++trial) {
+      const Box box = random_box(rng, 0);  // the prototype octree cube, at the origin
+      const Triangle tri = random_triangle(rng, 2);
+      auto A = std::make_unique<BoxBatch<double, 16>>();
+      auto T = std::make_unique<TriangleBatch<double, 16>>();
+      auto out = std::make_unique<BoxTrianglePlanes<double, 16>>();
+      A->count = T->count = 1;
+      A->set(0, box), T->set(0, tri);
+      A->pad(), T->pad();
+      box_triangle_planes(*A, *T, diff, *out);
+      const TopologyTable t = topology_table(*out, 0, box, tri, diff);
+      for (int k = 0; k <= 12; ++k) {  // octree cubes at depth k, anywhere; the triangle moved
+        const double s = std::ldexp(1.0, -k);
+        const Vector3d ta(u(rng), u(rng), u(rng)), tb(u(rng), u(rng), u(rng));
+        std::vector<double> offsets(t.nx.size());
+        instantiate(t, s, ta, 1.0, tb, offsets.data());
+        const Triangle moved{tri.a + tb, tri.b + tb, tri.c + tb};
+        KernelPlane fresh[26];
+        detail::box_triangle_reference(scaled_moved(box, s, ta), moved, diff,
+                                       kParallelThreshold<double>, fresh);
+        for (size_t f = 0; f < offsets.size(); ++f) {
+          const Vector3d n(t.nx[f], t.ny[f], t.nz[f]);
+          bool found = false;
+          for (const auto& p : fresh)
+            if (p.valid && (p.normal - n).norm() < 1e-12) {
+              found = true;
+              EXPECT_NEAR(offsets[f], p.offset, 1e-12 * (20 + std::abs(p.offset)));
+            }
+          EXPECT_TRUE(found);
+        }
+      }
+    }
+  }
+}
+
 TEST(Topology, GeneralInstantiateEqualsFreshSum) {
   std::mt19937_64 rng(19);
   std::uniform_real_distribution<double> u(-10, 10);

@@ -1,5 +1,6 @@
 // minksum: object-space Minkowski sums of simple convex 3D objects. Umbrella header.
 #pragma once
 
+#include <minksum/kernels.hpp>
 #include <minksum/model.hpp>
 #include <minksum/sum.hpp>
