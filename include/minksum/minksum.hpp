@@ -3,4 +3,5 @@
 
 #include <minksum/kernels.hpp>
 #include <minksum/model.hpp>
+#include <minksum/query.hpp>
 #include <minksum/sum.hpp>

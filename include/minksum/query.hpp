@@ -1,0 +1,45 @@
+// minksum: proximity queries on Minkowski differences (the paper's Sections 1 and 5.1): collision,
+// exact minimum distance with closest points, maximum distance, penetration depth.
+#pragma once
+
+#include <minksum/sum.hpp>
+
+namespace minksum {
+
+/// Everything a collision or haptics caller asks of two convex objects A and B.
+struct Proximity {
+  bool intersecting = false;  ///< A and B share a point (touching counts)
+  double distance = 0;        ///< length of the shortest segment between A and B; 0 if intersecting
+  Eigen::Vector3d point_a = Eigen::Vector3d::Zero();  ///< its end on A (separated), or A's deepest point
+  Eigen::Vector3d point_b = Eigen::Vector3d::Zero();  ///< its end on B (separated), or B's deepest point
+  double max_distance = 0;    ///< the farthest pair of points (the paper's Fig. 8, red)
+  Eigen::Vector3d far_a = Eigen::Vector3d::Zero();    ///< that pair's point on A
+  Eigen::Vector3d far_b = Eigen::Vector3d::Zero();    ///< that pair's point on B
+  double penetration_depth = 0;  ///< minimum translation distance when intersecting, else 0
+  /// Unit direction: translating B by penetration_depth * direction makes them touch (zero when
+  /// separated).
+  Eigen::Vector3d penetration_direction = Eigen::Vector3d::Zero();
+};
+
+/// True if p lies in the closed polytope m; stops at the first plane that separates p.
+bool contains(const MinkowskiSum& m, const Eigen::Vector3d& p);
+
+/// The proximity of A and B read off M = A (-) B (from minkowski_difference(a, b, m)): the
+/// origin's Voronoi region of M (facet, edge or vertex) gives the exact distance, and the
+/// support pairs of that feature give the closest points on A and B.
+Proximity proximity(const MinkowskiSum& m, const ConvexPolytope& a, const ConvexPolytope& b);
+
+/// The proximity of two convex polytopes (exact).
+Status proximity(const ConvexPolytope& a, const ConvexPolytope& b, Proximity& out);
+/// The proximity of two boxes.
+Status proximity(const Box& a, const Box& b, Proximity& out);
+/// The proximity of a box and a triangle.
+Status proximity(const Box& a, const Triangle& b, Proximity& out);
+/// The proximity of two triangles (coplanar triangles included).
+Status proximity(const Triangle& a, const Triangle& b, Proximity& out);
+
+/// How far B must move along the unit direction u for A and B to stop overlapping (0 if they
+/// are separated, or already would be after any move along u).
+double penetration_along(const MinkowskiSum& m, const Eigen::Vector3d& u);
+
+}  // namespace minksum

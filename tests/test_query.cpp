@@ -1,0 +1,305 @@
+// Proximity queries against brute force: vertex-face and edge-edge enumeration for the distance,
+// the separating axis theorem over face normals and edge crosses for overlap and penetration,
+// all vertex pairs for the maximum distance.
+#include <gtest/gtest.h>
+#include <minksum/minksum.hpp>
+
+#include <random>
+
+#include "tools/shapes.hpp"
+
+namespace minksum {
+namespace {
+
+using Eigen::Vector3d;
+
+// Closest points of segments [p0, p1] and [q0, q1] (Ericson, Real-Time Collision Detection 5.1.9).
+double segment_distance(const Vector3d& p0, const Vector3d& p1, const Vector3d& q0, const Vector3d& q1) {
+  const Vector3d d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  double s = 0, t = 0;
+  if (a <= 1e-300 && e <= 1e-300) return r.norm();
+  if (a <= 1e-300) {
+    t = std::clamp(f / e, 0.0, 1.0);
+  } else {
+    const double c = d1.dot(r);
+    if (e <= 1e-300) {
+      s = std::clamp(-c / a, 0.0, 1.0);
+    } else {
+      const double b = d1.dot(d2), denom = a * e - b * b;
+      s = denom > 0 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+      t = (b * s + f) / e;
+      if (t < 0) t = 0, s = std::clamp(-c / a, 0.0, 1.0);
+      else if (t > 1) t = 1, s = std::clamp((b - c) / a, 0.0, 1.0);
+    }
+  }
+  return (p0 + s * d1 - (q0 + t * d2)).norm();
+}
+
+// Distance from p to the convex polygon `loop` of `v` with unit normal n.
+double point_polygon(const Vector3d& p, const std::vector<Vector3d>& v, const std::vector<int>& loop,
+                     const Vector3d& n) {
+  const double h = n.dot(p - v[loop[0]]);
+  const Vector3d q = p - h * n;
+  bool inside = true;
+  for (size_t k = 0; k < loop.size(); ++k)
+    inside = inside && (v[loop[(k + 1) % loop.size()]] - v[loop[k]]).cross(q - v[loop[k]]).dot(n) >= 0;
+  if (inside) return std::abs(h);
+  double best = 1e300;
+  for (size_t k = 0; k < loop.size(); ++k)
+    best = std::min(best, segment_distance(p, p, v[loop[k]], v[loop[(k + 1) % loop.size()]]));
+  return best;
+}
+
+struct Oracle {
+  bool overlap;
+  double distance, depth, max_distance;
+};
+
+// Brute force on two polytopes (faces and edges as built from their point sets).
+Oracle brute_force(const ConvexPolytope& A, const ConvexPolytope& B) {
+  Oracle o{false, 1e300, 1e300, 0};
+  // SAT: face normals of both and all edge crosses; the smallest overlap is the exact depth.
+  std::vector<Vector3d> axes;
+  for (const auto* P : {&A, &B})
+    for (const auto& f : P->faces) axes.push_back(f.normal);
+  for (const auto& ea : A.edges)
+    for (const auto& eb : B.edges) {
+      const Vector3d c = (A.vertices[ea.v1] - A.vertices[ea.v0]).cross(B.vertices[eb.v1] - B.vertices[eb.v0]);
+      if (c.norm() > 1e-9) axes.push_back(c.normalized());
+    }
+  double min_overlap = 1e300;
+  for (const auto& n : axes) {
+    double amin = 1e300, amax = -1e300, bmin = 1e300, bmax = -1e300;
+    for (const auto& p : A.vertices) amin = std::min(amin, n.dot(p)), amax = std::max(amax, n.dot(p));
+    for (const auto& p : B.vertices) bmin = std::min(bmin, n.dot(p)), bmax = std::max(bmax, n.dot(p));
+    min_overlap = std::min(min_overlap, std::min(amax - bmin, bmax - amin));
+  }
+  o.overlap = min_overlap >= 0;
+  o.depth = o.overlap ? min_overlap : 0;
+  o.distance = 0;
+  if (!o.overlap) {
+    o.distance = 1e300;
+    for (const auto& p : A.vertices)
+      for (const auto& f : B.faces) o.distance = std::min(o.distance, point_polygon(p, B.vertices, f.loop, f.normal));
+    for (const auto& p : B.vertices)
+      for (const auto& f : A.faces) o.distance = std::min(o.distance, point_polygon(p, A.vertices, f.loop, f.normal));
+    for (const auto& ea : A.edges)
+      for (const auto& eb : B.edges)
+        o.distance = std::min(o.distance, segment_distance(A.vertices[ea.v0], A.vertices[ea.v1],
+                                                           B.vertices[eb.v0], B.vertices[eb.v1]));
+  }
+  for (const auto& p : A.vertices)
+    for (const auto& q : B.vertices) o.max_distance = std::max(o.max_distance, (p - q).norm());
+  return o;
+}
+
+// Largest distance of p outside the polytope's face planes (0 inside).
+double outside(const ConvexPolytope& P, const Vector3d& p) {
+  double worst = 0;
+  for (const auto& f : P.faces) worst = std::max(worst, f.normal.dot(p) - f.offset);
+  return worst;
+}
+
+void expect_agrees(const ConvexPolytope& A, const ConvexPolytope& B, const Proximity& got,
+                   const std::string& what) {
+  const Oracle o = brute_force(A, B);
+  double size = 1;
+  for (const auto* P : {&A, &B})
+    for (const auto& v : P->vertices) size = std::max(size, v.cwiseAbs().maxCoeff());
+  const double tol = 1e-9 * size;
+  // Touching within rounding may be reported either way; a real gap or overlap may not.
+  if (o.distance > tol || o.depth > tol) ASSERT_EQ(got.intersecting, o.overlap) << what;
+  EXPECT_NEAR(got.distance, o.distance, tol) << what;
+  EXPECT_NEAR(got.max_distance, o.max_distance, tol) << what;
+  EXPECT_NEAR(got.penetration_depth, o.depth, tol) << what;
+  // The witnesses lie on A and B, and realise the distance (or the penetration).
+  EXPECT_LE(outside(A, got.point_a), tol) << what;
+  EXPECT_LE(outside(B, got.point_b), tol) << what;
+  if (!got.intersecting) EXPECT_NEAR((got.point_a - got.point_b).norm(), got.distance, tol) << what;
+  else EXPECT_LE((got.point_a - got.point_b - got.penetration_depth * got.penetration_direction).norm(), tol) << what;
+  EXPECT_NEAR((got.far_a - got.far_b).norm(), got.max_distance, tol) << what;
+}
+
+Box random_box(std::mt19937_64& rng, double spread) {
+  std::uniform_real_distribution<double> u(-1, 1), h(0.05, 1.5);
+  Box b;
+  b.center = spread * Vector3d(u(rng), u(rng), u(rng));
+  b.rotation = tools::axis_angle(Vector3d(u(rng), u(rng), u(rng)), 3.2 * u(rng));
+  b.half_extents = Vector3d(h(rng), h(rng), h(rng));
+  return b;
+}
+
+Triangle random_triangle(std::mt19937_64& rng, double spread) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  const Vector3d c = spread * Vector3d(u(rng), u(rng), u(rng));
+  return {c + Vector3d(u(rng), u(rng), u(rng)), c + Vector3d(u(rng), u(rng), u(rng)),
+          c + Vector3d(u(rng), u(rng), u(rng))};
+}
+
+class RandomQueries : public testing::TestWithParam<int> {};
+
+// 100,000 pairs of each kind (10 shards of 10,000), half of them overlapping or close.
+TEST_P(RandomQueries, BoxBoxAgreesWithBruteForce) {
+  std::mt19937_64 rng(100 + GetParam());
+  for (int k = 0; k < 10000; ++k) {
+    const Box a = random_box(rng, 1.5), b = random_box(rng, 1.5);
+    Proximity got;
+    ASSERT_EQ(proximity(a, b, got), Status::Ok);
+    ConvexPolytope A, B;
+    polytope_from_box(a, A), polytope_from_box(b, B);
+    expect_agrees(A, B, got, "box-box pair " + std::to_string(k));
+    if (testing::Test::HasFailure()) return;
+  }
+}
+
+TEST_P(RandomQueries, BoxTriangleAgreesWithBruteForce) {
+  std::mt19937_64 rng(200 + GetParam());
+  for (int k = 0; k < 10000; ++k) {
+    const Box a = random_box(rng, 1.5);
+    const Triangle t = random_triangle(rng, 1.5);
+    Proximity got;
+    ASSERT_EQ(proximity(a, t, got), Status::Ok);
+    ConvexPolytope A, B;
+    polytope_from_box(a, A), polytope_from_triangle(t, B);
+    expect_agrees(A, B, got, "box-triangle pair " + std::to_string(k));
+    if (testing::Test::HasFailure()) return;
+  }
+}
+
+TEST_P(RandomQueries, TriangleTriangleAgreesWithBruteForce) {
+  std::mt19937_64 rng(300 + GetParam());
+  for (int k = 0; k < 10000; ++k) {
+    const Triangle s = random_triangle(rng, 1.2), t = random_triangle(rng, 1.2);
+    Proximity got;
+    ASSERT_EQ(proximity(s, t, got), Status::Ok);
+    ConvexPolytope A, B;
+    polytope_from_triangle(s, A), polytope_from_triangle(t, B);
+    expect_agrees(A, B, got, "triangle-triangle pair " + std::to_string(k));
+    if (testing::Test::HasFailure()) return;
+  }
+}
+
+TEST_P(RandomQueries, PolytopePolytopeAgreesWithBruteForce) {
+  std::mt19937_64 rng(400 + GetParam());
+  std::uniform_int_distribution<int> count(4, 24);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int k = 0; k < 10000; ++k) {
+    ConvexPolytope A, B;
+    for (auto* P : {&A, &B}) {
+      const Vector3d c = 1.5 * Vector3d(u(rng), u(rng), u(rng));
+      std::vector<Vector3d> pts;
+      for (const auto& p : tools::sphere_points(count(rng), unsigned(rng()))) pts.push_back(c + p);
+      ASSERT_EQ(polytope_from_points(pts, *P), Status::Ok);
+    }
+    Proximity got;
+    ASSERT_EQ(proximity(A, B, got), Status::Ok);
+    expect_agrees(A, B, got, "polytope pair " + std::to_string(k));
+    if (testing::Test::HasFailure()) return;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Shards, RandomQueries, testing::Range(0, 10));
+
+// --- Hard cases -----------------------------------------------------------------------------
+
+Box box_at(const Vector3d& c, const Vector3d& h = Vector3d::Ones(),
+           const Eigen::Matrix3d& R = Eigen::Matrix3d::Identity()) {
+  Box b;
+  b.center = c, b.half_extents = h, b.rotation = R;
+  return b;
+}
+
+Proximity query(const Box& a, const Box& b) {
+  Proximity p;
+  EXPECT_EQ(proximity(a, b, p), Status::Ok);
+  return p;
+}
+
+TEST(QueryHardCases, TouchingFacesAreIntersectingAtDistanceZero) {
+  const Proximity p = query(box_at({0, 0, 0}), box_at({2, 0.3, -0.2}));
+  EXPECT_TRUE(p.intersecting);
+  EXPECT_EQ(p.distance, 0);
+  EXPECT_EQ(p.penetration_depth, 0);
+}
+
+TEST(QueryHardCases, TouchingEdges) {
+  const Eigen::Matrix3d R = tools::axis_angle({0, 0, 1}, M_PI / 4);
+  // B's vertical edge at x = 1 + sqrt(2) - sqrt(2) touches A's face x = 1.
+  const Proximity p = query(box_at({0, 0, 0}), box_at({1 + std::sqrt(2.0), 0, 0}, Vector3d::Ones(), R));
+  EXPECT_NEAR(p.distance, 0, 1e-15);
+  EXPECT_NEAR(p.penetration_depth, 0, 1e-15);
+}
+
+TEST(QueryHardCases, ParallelFacesWithAGap) {
+  const Proximity p = query(box_at({0, 0, 0}), box_at({0.5, 0.25, 2.75}));
+  EXPECT_FALSE(p.intersecting);
+  EXPECT_NEAR(p.distance, 0.75, 1e-15);
+  EXPECT_NEAR(p.point_a.z(), 1, 1e-15);
+  EXPECT_NEAR(p.point_b.z(), 1.75, 1e-15);
+}
+
+TEST(QueryHardCases, OneBoxInsideTheOther) {
+  const Proximity p = query(box_at({0, 0, 0}, {3, 3, 3}), box_at({0.5, 0, 0}, {0.5, 0.5, 0.5}));
+  EXPECT_TRUE(p.intersecting);
+  EXPECT_NEAR(p.penetration_depth, 3, 1e-15);  // push B out through A's +x face: 3 - 0.5 + 0.5
+  EXPECT_NEAR(p.penetration_direction.x(), 1, 1e-15);
+}
+
+TEST(QueryHardCases, IdenticalBoxes) {
+  const Box b = box_at({1, 2, 3}, {0.5, 1, 2}, tools::table1_rotation());
+  const Proximity p = query(b, b);
+  EXPECT_TRUE(p.intersecting);
+  EXPECT_NEAR(p.penetration_depth, 1.0, 1e-12);  // twice the smallest half extent
+}
+
+TEST(QueryHardCases, TinyGapsAndPenetrations) {
+  for (double gap : {1e-9, -1e-9}) {
+    const Proximity p = query(box_at({0, 0, 0}), box_at({2 + gap, 0.1, 0.2}));
+    EXPECT_EQ(p.intersecting, gap < 0);
+    EXPECT_NEAR(p.distance, std::max(gap, 0.0), 1e-15);
+    EXPECT_NEAR(p.penetration_depth, std::max(-gap, 0.0), 1e-15);
+  }
+}
+
+TEST(QueryHardCases, CoordinatesAtAMillion) {
+  const Vector3d far(1e6, -1e6, 1e6);
+  const Proximity p = query(box_at(far), box_at(far + Vector3d(2.5, 0.5, 0.25), Vector3d::Ones(),
+                                                tools::axis_angle({0, 0, 1}, 0.0)));
+  EXPECT_NEAR(p.distance, 0.5, 1e-9);
+}
+
+TEST(QueryHardCases, CoplanarTriangles) {
+  Proximity p;
+  ASSERT_EQ(proximity(Triangle{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, Triangle{{2, 0, 0}, {3, 0, 0}, {2, 1, 0}}, p),
+            Status::Ok);
+  EXPECT_FALSE(p.intersecting);
+  EXPECT_NEAR(p.distance, 1, 1e-15);
+  ASSERT_EQ(proximity(Triangle{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, Triangle{{0.2, 0.2, 0}, {3, 0, 0}, {2, 1, 0}}, p),
+            Status::Ok);
+  EXPECT_TRUE(p.intersecting);
+}
+
+TEST(Query, ContainsStopsAtTheFirstSeparatingPlane) {
+  ConvexPolytope A, B;
+  ASSERT_EQ(polytope_from_box(Box{}, A), Status::Ok);
+  ASSERT_EQ(polytope_from_box(Box{}, B), Status::Ok);
+  MinkowskiSum m;
+  ASSERT_EQ(minkowski_difference(A, B, m), Status::Ok);
+  EXPECT_TRUE(contains(m, Vector3d(1.9, -1.9, 2)));
+  EXPECT_FALSE(contains(m, Vector3d(2.1, 0, 0)));
+}
+
+TEST(Query, PenetrationAlongADirection) {
+  ConvexPolytope A, B;
+  ASSERT_EQ(polytope_from_box(box_at({0, 0, 0}), A), Status::Ok);
+  ASSERT_EQ(polytope_from_box(box_at({1.5, 0, 0}), B), Status::Ok);
+  MinkowskiSum m;
+  ASSERT_EQ(minkowski_difference(A, B, m), Status::Ok);
+  EXPECT_NEAR(penetration_along(m, Vector3d(1, 0, 0)), 0.5, 1e-15);   // push B further out
+  EXPECT_NEAR(penetration_along(m, Vector3d(-1, 0, 0)), 3.5, 1e-15);  // push it through A
+  EXPECT_NEAR(penetration_along(m, Vector3d(0, 1, 0)), 2, 1e-15);
+}
+
+}  // namespace
+}  // namespace minksum
