@@ -177,6 +177,131 @@ struct Kernels {
     }
   }
 
+  // Box-box proximity on the zonotope M = A (-) B = c + sum_k t_k g_k, t in [-1, 1]^6, with
+  // c = c_A - c_B and generators g = (h_Ak u_Ak, -h_Bk u_Bk). Each pair (i, j) of generators
+  // spans the facets +-(g_i x g_j); a facet is F0 + a g_i + b g_j (a, b in [-1, 1]) with the
+  // other generators at the sign that is extreme along the normal. Separated: the distance is
+  // the smallest distance from the origin to the facets whose plane separates it, each one a
+  // 2D box-constrained least-squares problem (the unconstrained optimum, else the optimum on an
+  // edge whose line separates it from the square, which the affine map keeps). Overlapping:
+  // the separating axis theorem's smallest overlap over the 15 axes is the exact depth.
+  // A generator of B (nearly) parallel to one of A lies in the same facets: it is merged into
+  // it (same parameter), so no facet loses the extent along their common direction.
+  static void box_box_proximity(BoxLanes<T> a, BoxLanes<T> b, int count, int N,
+                                ProximityLanes<T> out) {
+    const B zero(T(0)), one(T(1)), inf(std::numeric_limits<T>::infinity());
+    const B merge2(kMergeThreshold<T> * kMergeThreshold<T>);
+    auto sgn = [&](const B& v) { return S::select(v < zero, -one, one); };
+    auto clamp1 = [&](const B& v) { return S::max(-one, S::select(v > one, one, v)); };
+    auto axpy = [](const B& s, const V3& x, const V3& y) {
+      return V3{S::fma(s, x.x, y.x), S::fma(s, x.y, y.y), S::fma(s, x.z, y.z)};
+    };
+    for (int k = 0; k < count; k += S::size) {
+      V3 g[6];
+      for (int i = 0; i < 3; ++i) {
+        g[i] = scaled(load3(a.u + 3 * i * N, N, k), S::load(a.h + i * N + k));
+        g[3 + i] = scaled(load3(b.u + 3 * i * N, N, k), B(T(0)) - S::load(b.h + i * N + k));
+      }
+      const V3 ca = load3(a.c, N, k), cb = load3(b.c, N, k);
+      const V3 c{ca.x - cb.x, ca.y - cb.y, ca.z - cb.z};
+      B g2[6];
+      for (int i = 0; i < 6; ++i) g2[i] = dot(g[i], g[i]);
+      // par[i][j]: generator A_i is (nearly) parallel to B_j.
+      decltype(g2[0] > zero) par[3][3];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          const V3 x = cross(g[i], g[3 + j]);
+          par[i][j] = dot(x, x) <= merge2 * g2[i] * g2[3 + j];
+        }
+      auto parallel = [&](int p, int q) {  // for generators of different boxes only
+        if ((p < 3) == (q < 3)) return zero > one;  // all false
+        return p < 3 ? par[p][q - 3] : par[q][p - 3];
+      };
+      B best2 = inf, depth = inf;
+      V3 best_pa{zero, zero, zero}, best_p{zero, zero, zero}, dir{zero, zero, zero};
+#pragma GCC unroll 15
+      for (int pair = 0; pair < 15; ++pair) {
+        // The 15 generator pairs: (0,1) (0,2) (1,2) (3,4) (3,5) (4,5), then (A_i, B_j).
+        static constexpr int kI[15] = {0, 0, 1, 3, 3, 4, 0, 0, 0, 1, 1, 1, 2, 2, 2};
+        static constexpr int kJ[15] = {1, 2, 2, 4, 5, 5, 3, 4, 5, 3, 4, 5, 3, 4, 5};
+        const int i = kI[pair], j = kJ[pair];
+        const V3 x = cross(g[i], g[j]);
+        const B x2 = dot(x, x);
+        const auto valid = x2 > merge2 * g2[i] * g2[j];
+        B r = zero;
+        for (int q = 0; q < 6; ++q) r = S::fma(S::abs(dot(x, g[q])), one, r);
+        const B s = dot(x, c), abs_s = S::abs(s);
+        // Overlap along this axis (the SAT), and the facet side that faces the origin.
+        const B inv = S::select(valid, S::rsqrt(S::select(valid, x2, one)), zero);
+        const B overlap = S::select(valid, (r - abs_s) * inv, inf);
+        const auto deeper = overlap < depth;
+        depth = S::select(deeper, overlap, depth);
+        const B toward = S::select(s < zero, one, -one) * inv;  // +x when s < 0
+        dir = {S::select(deeper, x.x * toward, dir.x), S::select(deeper, x.y * toward, dir.y),
+               S::select(deeper, x.z * toward, dir.z)};
+        const auto visible = valid && (abs_s > r);
+        const B sigma = S::select(s < zero, one, -one);
+        // The facet: F0 plus the merged generators along g_i and g_j. Each other generator sits
+        // at its extreme sign along the facet's outward normal sigma x, unless it is merged.
+        auto extreme = [&](int q) { return sgn(sigma * dot(x, g[q])); };
+        auto merge_sign = [&](int q, int into) { return sgn(dot(g[into], g[q])); };
+        V3 F0 = c, gi = g[i], gj = g[j];
+        for (int q = 0; q < 6; ++q) {
+          if (q == i || q == j) continue;
+          const auto into_i = parallel(q, i), into_j = parallel(q, j);
+          F0 = axpy(S::select(into_i || into_j, zero, extreme(q)), g[q], F0);
+          gi = axpy(S::select(into_i, merge_sign(q, i), zero), g[q], gi);
+          gj = axpy(S::select(into_j, merge_sign(q, j), zero), g[q], gj);
+        }
+        // The 2D least-squares problem over (a, b) in [-1, 1]^2.
+        const B G11 = dot(gi, gi), G22 = dot(gj, gj), G12 = dot(gi, gj);
+        const B r1 = dot(gi, F0), r2 = dot(gj, F0);
+        const V3 xe = cross(gi, gj);
+        const B det = S::max(dot(xe, xe), B(std::numeric_limits<T>::min()));
+        const B as = (G12 * r2 - G22 * r1) / det, bs = (G12 * r1 - G11 * r2) / det;
+        const auto a_out = S::abs(as) > one, b_out = S::abs(bs) > one;
+        // Candidate on a = +-1 (if a* is beyond it) and on b = +-1 (if b* is).
+        const B a1 = clamp1(as), b1 = clamp1(S::select(a_out, (zero - (r2 + a1 * G12)) / G22, bs));
+        const B b2 = clamp1(bs), a2 = clamp1(S::select(b_out, (zero - (r1 + b2 * G12)) / G11, as));
+        const V3 p1 = axpy(b1, gj, axpy(a1, gi, F0)), p2 = axpy(b2, gj, axpy(a2, gi, F0));
+        const B d1 = dot(p1, p1), d2 = S::select(b_out, dot(p2, p2), inf);
+        const auto second = d2 < d1;
+        const B ab = S::select(second, a2, a1), bb = S::select(second, b2, b1);
+        const V3 P{S::select(second, p2.x, p1.x), S::select(second, p2.y, p1.y),
+                   S::select(second, p2.z, p1.z)};
+        const B d = S::select(visible, S::select(second, d2, d1), inf);
+        // The point on A: c_A plus A's generators at their parameters.
+        V3 pa = ca;
+        for (int q = 0; q < 3; ++q) {
+          B tq;
+          if (q == i) {
+            tq = ab;
+          } else if (q == j) {
+            tq = bb;
+          } else {
+            const auto into_i = parallel(q, i), into_j = parallel(q, j);
+            tq = S::select(into_i, merge_sign(q, i) * ab,
+                           S::select(into_j, merge_sign(q, j) * bb, extreme(q)));
+          }
+          pa = axpy(tq, g[q], pa);
+        }
+        const auto better = d < best2;
+        best2 = S::select(better, d, best2);
+        best_pa = {S::select(better, pa.x, best_pa.x), S::select(better, pa.y, best_pa.y),
+                   S::select(better, pa.z, best_pa.z)};
+        best_p = {S::select(better, P.x, best_p.x), S::select(better, P.y, best_p.y),
+                  S::select(better, P.z, best_p.z)};
+      }
+      const auto separated = best2 < inf;
+      S::store(out.distance + k, S::select(separated, S::sqrt(best2), zero));
+      S::store(out.depth + k, S::select(separated, zero, depth));
+      store3(out.direction, N, k, scaled(dir, S::select(separated, zero, one)));
+      store3(out.point_a, N, k, scaled(best_pa, S::select(separated, one, zero)));
+      const V3 pb{best_pa.x - best_p.x, best_pa.y - best_p.y, best_pa.z - best_p.z};
+      store3(out.point_b, N, k, scaled(pb, S::select(separated, one, zero)));
+    }
+  }
+
   // Box-triangle: 13 axes, 26 planes (see BoxTrianglePlanes).
   static void box_triangle(BoxLanes<T> box, const T* tri, int count, int N, bool difference,
                            PlaneLanes<T> out) {
@@ -278,7 +403,8 @@ constexpr KernelTable make_table() {
   return {&Kernels<float, Arch>::box_box,      &Kernels<double, Arch>::box_box,
           &Kernels<float, Arch>::box_triangle, &Kernels<double, Arch>::box_triangle,
           &Kernels<float, Arch>::support,      &Kernels<double, Arch>::support,
-          &Kernels<double, Arch>::box_box_axes};
+          &Kernels<double, Arch>::box_box_axes,
+          &Kernels<float, Arch>::box_box_proximity,  &Kernels<double, Arch>::box_box_proximity};
 }
 
 }  // namespace minksum::detail

@@ -91,6 +91,15 @@ void box_triangle(BoxLanes<double> box, const double* tri, int count, int stride
   dispatch().box_tri_d(box, tri, count, stride, difference, out);
 }
 
+void box_box_proximity(BoxLanes<float> a, BoxLanes<float> b, int count, int stride,
+                       ProximityLanes<float> out) {
+  dispatch().box_box_proximity_f(a, b, count, stride, out);
+}
+void box_box_proximity(BoxLanes<double> a, BoxLanes<double> b, int count, int stride,
+                       ProximityLanes<double> out) {
+  dispatch().box_box_proximity_d(a, b, count, stride, out);
+}
+
 }  // namespace detail
 
 void support_push(const float* x, const float* y, const float* z, int n, const float* dx,

@@ -81,6 +81,8 @@ struct KernelTable {
   void (*support_d)(const double*, const double*, const double*, int, const double*,
                     const double*, const double*, int, double*, int*);
   void (*box_box_single_d)(const double*, bool, double*, double*, std::int64_t*, std::int64_t*);
+  void (*box_box_proximity_f)(BoxLanes<float>, BoxLanes<float>, int, int, ProximityLanes<float>);
+  void (*box_box_proximity_d)(BoxLanes<double>, BoxLanes<double>, int, int, ProximityLanes<double>);
 };
 
 // One constant-initialised table per ISA translation unit (no static-initialisation order

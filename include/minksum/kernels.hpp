@@ -47,6 +47,12 @@ using CodeOf = std::conditional_t<std::is_same_v<T, float>, std::int32_t, std::i
 template <class T>
 constexpr T kParallelThreshold = std::is_same_v<T, float> ? T(3e-4) : T(1e-8);
 
+/// Generators of two boxes closer to parallel than this (|u_A x u_B|) are treated as parallel by
+/// the box-box proximity kernel: merged, they change the distance by at most this fraction of
+/// the shorter one's half extent.
+template <class T>
+constexpr T kMergeThreshold = std::is_same_v<T, float> ? T(1e-5) : T(1e-11);
+
 /// N boxes, structure of arrays, 64-byte aligned; caller-owned, fixed capacity N.
 template <class T, int N>
 struct alignas(64) BoxBatch {
@@ -131,6 +137,15 @@ struct PlaneLanes {
   CodeOf<T>* code;    ///< code[p * N + k]
   CodeOf<T>* valid;   ///< valid[k]
 };
+/// Output arrays of the box-box proximity kernel (row stride kRow<N>).
+template <class T>
+struct ProximityLanes {
+  T* distance;   ///< distance[k]
+  T* depth;      ///< depth[k]
+  T* direction;  ///< direction[d * N + k]
+  T* point_a;    ///< point_a[d * N + k]
+  T* point_b;    ///< point_b[d * N + k]
+};
 template <class T, int N>
 BoxLanes<T> lanes(const BoxBatch<T, N>& b) {
   return {&b.c[0][0], &b.u[0][0][0], &b.h[0][0]};
@@ -149,6 +164,10 @@ void box_triangle(BoxLanes<float> box, const float* tri, int count, int stride, 
                   PlaneLanes<float> out);
 void box_triangle(BoxLanes<double> box, const double* tri, int count, int stride,
                   bool difference, PlaneLanes<double> out);
+void box_box_proximity(BoxLanes<float> a, BoxLanes<float> b, int count, int stride,
+                       ProximityLanes<float> out);
+void box_box_proximity(BoxLanes<double> a, BoxLanes<double> b, int count, int stride,
+                       ProximityLanes<double> out);
 }  // namespace detail
 
 /// The 30 planes of A[k] (+) B[k] (or A[k] (-) B[k]) for every lane k < a.count; a and b
@@ -166,6 +185,26 @@ void box_triangle_planes(const BoxBatch<T, N>& box, const TriangleBatch<T, N>& t
                          bool difference, BoxTrianglePlanes<T, N>& out) {
   detail::box_triangle(detail::lanes(box), &tri.v[0][0][0], box.count, kRow<N>, difference,
                        detail::lanes<T, N>(out));
+}
+
+/// Proximity of N box pairs, one per lane (see box_box_proximity).
+template <class T, int N>
+struct alignas(64) BoxBoxProximity {
+  alignas(64) T distance[kRow<N>];      ///< exact distance; 0 when the boxes intersect
+  alignas(64) T depth[kRow<N>];         ///< penetration depth; 0 when separated
+  alignas(64) T direction[3][kRow<N>];  ///< unit: moving B by depth * direction separates them
+  alignas(64) T point_a[3][kRow<N>];    ///< closest point on A (zero when intersecting)
+  alignas(64) T point_b[3][kRow<N>];    ///< closest point on B (zero when intersecting)
+};
+
+/// Exact distance with closest points, or penetration depth and direction, of every pair
+/// a[k], b[k] (k < a.count; pad() the batches), on the zonotope A (-) B. No allocation.
+template <class T, int N>
+void box_box_proximity(const BoxBatch<T, N>& a, const BoxBatch<T, N>& b,
+                       BoxBoxProximity<T, N>& out) {
+  detail::box_box_proximity(detail::lanes(a), detail::lanes(b), a.count, kRow<N>,
+                            {out.distance, out.depth, &out.direction[0][0], &out.point_a[0][0],
+                             &out.point_b[0][0]});
 }
 
 /// One plane of a kernel result, for callers with one pair.
