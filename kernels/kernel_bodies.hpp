@@ -185,12 +185,13 @@ struct Kernels {
   // 2D box-constrained least-squares problem (the unconstrained optimum, else the optimum on an
   // edge whose line separates it from the square, which the affine map keeps). Overlapping:
   // the separating axis theorem's smallest overlap over the 15 axes is the exact depth.
-  // A generator of B (nearly) parallel to one of A lies in the same facets: it is merged into
-  // it (same parameter), so no facet loses the extent along their common direction.
+  // Exactly parallel generators span no facet, and the facets of the other pairs then cover
+  // the merged ones between them; nearly parallel ones (below kSliverThreshold) span slivers
+  // that are skipped, which moves the distance by at most that fraction of a half extent.
   static void box_box_proximity(BoxLanes<T> a, BoxLanes<T> b, int count, int N,
                                 ProximityLanes<T> out) {
     const B zero(T(0)), one(T(1)), inf(std::numeric_limits<T>::infinity());
-    const B merge2(kMergeThreshold<T> * kMergeThreshold<T>);
+    const B sliver2(kSliverThreshold<T> * kSliverThreshold<T>);
     auto sgn = [&](const B& v) { return S::select(v < zero, -one, one); };
     auto clamp1 = [&](const B& v) { return S::max(-one, S::select(v > one, one, v)); };
     auto axpy = [](const B& s, const V3& x, const V3& y) {
@@ -206,19 +207,10 @@ struct Kernels {
       const V3 c{ca.x - cb.x, ca.y - cb.y, ca.z - cb.z};
       B g2[6];
       for (int i = 0; i < 6; ++i) g2[i] = dot(g[i], g[i]);
-      // par[i][j]: generator A_i is (nearly) parallel to B_j.
-      decltype(g2[0] > zero) par[3][3];
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) {
-          const V3 x = cross(g[i], g[3 + j]);
-          par[i][j] = dot(x, x) <= merge2 * g2[i] * g2[3 + j];
-        }
-      auto parallel = [&](int p, int q) {  // for generators of different boxes only
-        if ((p < 3) == (q < 3)) return zero > one;  // all false
-        return p < 3 ? par[p][q - 3] : par[q][p - 3];
-      };
       B best2 = inf, depth = inf;
       V3 best_pa{zero, zero, zero}, best_p{zero, zero, zero}, dir{zero, zero, zero};
+      V3 deep_pa{zero, zero, zero}, deep_p{zero, zero, zero};  // witnesses of the penetration
+      B deep_err = inf;
 #pragma GCC unroll 15
       for (int pair = 0; pair < 15; ++pair) {
         // The 15 generator pairs: (0,1) (0,2) (1,2) (3,4) (3,5) (4,5), then (A_i, B_j).
@@ -227,37 +219,27 @@ struct Kernels {
         const int i = kI[pair], j = kJ[pair];
         const V3 x = cross(g[i], g[j]);
         const B x2 = dot(x, x);
-        const auto valid = x2 > merge2 * g2[i] * g2[j];
+        const auto valid = x2 > sliver2 * g2[i] * g2[j];
         B r = zero;
         for (int q = 0; q < 6; ++q) r = S::fma(S::abs(dot(x, g[q])), one, r);
         const B s = dot(x, c), abs_s = S::abs(s);
         // Overlap along this axis (the SAT), and the facet side that faces the origin.
         const B inv = S::select(valid, S::rsqrt(S::select(valid, x2, one)), zero);
         const B overlap = S::select(valid, (r - abs_s) * inv, inf);
-        const auto deeper = overlap < depth;
-        depth = S::select(deeper, overlap, depth);
         const B toward = S::select(s < zero, one, -one) * inv;  // +x when s < 0
-        dir = {S::select(deeper, x.x * toward, dir.x), S::select(deeper, x.y * toward, dir.y),
-               S::select(deeper, x.z * toward, dir.z)};
         const auto visible = valid && (abs_s > r);
         const B sigma = S::select(s < zero, one, -one);
-        // The facet: F0 plus the merged generators along g_i and g_j. Each other generator sits
-        // at its extreme sign along the facet's outward normal sigma x, unless it is merged.
+        // The facet: F0 + a g_i + b g_j, the other generators at their extreme sign along the
+        // facet's outward normal sigma x.
         auto extreme = [&](int q) { return sgn(sigma * dot(x, g[q])); };
-        auto merge_sign = [&](int q, int into) { return sgn(dot(g[into], g[q])); };
-        V3 F0 = c, gi = g[i], gj = g[j];
-        for (int q = 0; q < 6; ++q) {
-          if (q == i || q == j) continue;
-          const auto into_i = parallel(q, i), into_j = parallel(q, j);
-          F0 = axpy(S::select(into_i || into_j, zero, extreme(q)), g[q], F0);
-          gi = axpy(S::select(into_i, merge_sign(q, i), zero), g[q], gi);
-          gj = axpy(S::select(into_j, merge_sign(q, j), zero), g[q], gj);
-        }
+        const V3 &gi = g[i], &gj = g[j];
+        V3 F0 = c;
+        for (int q = 0; q < 6; ++q)
+          if (q != i && q != j) F0 = axpy(extreme(q), g[q], F0);
         // The 2D least-squares problem over (a, b) in [-1, 1]^2.
         const B G11 = dot(gi, gi), G22 = dot(gj, gj), G12 = dot(gi, gj);
         const B r1 = dot(gi, F0), r2 = dot(gj, F0);
-        const V3 xe = cross(gi, gj);
-        const B det = S::max(dot(xe, xe), B(std::numeric_limits<T>::min()));
+        const B det = x2;  // = G11 G22 - G12^2, without its cancellation
         const B as = (G12 * r2 - G22 * r1) / det, bs = (G12 * r1 - G11 * r2) / det;
         const auto a_out = S::abs(as) > one, b_out = S::abs(bs) > one;
         // Candidate on a = +-1 (if a* is beyond it) and on b = +-1 (if b* is).
@@ -272,19 +254,24 @@ struct Kernels {
         const B d = S::select(visible, S::select(second, d2, d1), inf);
         // The point on A: c_A plus A's generators at their parameters.
         V3 pa = ca;
-        for (int q = 0; q < 3; ++q) {
-          B tq;
-          if (q == i) {
-            tq = ab;
-          } else if (q == j) {
-            tq = bb;
-          } else {
-            const auto into_i = parallel(q, i), into_j = parallel(q, j);
-            tq = S::select(into_i, merge_sign(q, i) * ab,
-                           S::select(into_j, merge_sign(q, j) * bb, extreme(q)));
-          }
-          pa = axpy(tq, g[q], pa);
-        }
+        for (int q = 0; q < 3; ++q) pa = axpy(q == i ? ab : q == j ? bb : extreme(q), g[q], pa);
+        // Overlapping: the origin's projection onto the nearest facet lies in that facet, so the
+        // same problem gives the deepest points. Equal depths (parallel generators give several
+        // pairs per facet, each covering part of it) go to the pair whose part holds the
+        // projection.
+        const V3 n_out = scaled(x, toward);
+        const V3 miss = axpy(-overlap, n_out, P);
+        const B err = S::select(valid, dot(miss, miss), inf);
+        const B tol = B(T(64) * std::numeric_limits<T>::epsilon()) * r * inv;
+        const auto deeper = (overlap < depth - tol) || ((overlap <= depth + tol) && (err < deep_err));
+        depth = S::select(deeper, overlap, depth);
+        deep_err = S::select(deeper, err, deep_err);
+        dir = {S::select(deeper, n_out.x, dir.x), S::select(deeper, n_out.y, dir.y),
+               S::select(deeper, n_out.z, dir.z)};
+        deep_pa = {S::select(deeper, pa.x, deep_pa.x), S::select(deeper, pa.y, deep_pa.y),
+                   S::select(deeper, pa.z, deep_pa.z)};
+        deep_p = {S::select(deeper, P.x, deep_p.x), S::select(deeper, P.y, deep_p.y),
+                  S::select(deeper, P.z, deep_p.z)};
         const auto better = d < best2;
         best2 = S::select(better, d, best2);
         best_pa = {S::select(better, pa.x, best_pa.x), S::select(better, pa.y, best_pa.y),
@@ -296,9 +283,12 @@ struct Kernels {
       S::store(out.distance + k, S::select(separated, S::sqrt(best2), zero));
       S::store(out.depth + k, S::select(separated, zero, depth));
       store3(out.direction, N, k, scaled(dir, S::select(separated, zero, one)));
-      store3(out.point_a, N, k, scaled(best_pa, S::select(separated, one, zero)));
-      const V3 pb{best_pa.x - best_p.x, best_pa.y - best_p.y, best_pa.z - best_p.z};
-      store3(out.point_b, N, k, scaled(pb, S::select(separated, one, zero)));
+      const V3 pa{S::select(separated, best_pa.x, deep_pa.x), S::select(separated, best_pa.y, deep_pa.y),
+                  S::select(separated, best_pa.z, deep_pa.z)};
+      const V3 p{S::select(separated, best_p.x, deep_p.x), S::select(separated, best_p.y, deep_p.y),
+                 S::select(separated, best_p.z, deep_p.z)};
+      store3(out.point_a, N, k, pa);
+      store3(out.point_b, N, k, V3{pa.x - p.x, pa.y - p.y, pa.z - p.z});
     }
   }
 

@@ -376,6 +376,11 @@ void check_batched_proximity(Isa isa, unsigned seed, double spread) {
     }
     if (ref.penetration_depth > 1e-3) {
       const Vector3d dir(out->direction[0][k], out->direction[1][k], out->direction[2][k]);
+      const Vector3d qa(out->point_a[0][k], out->point_a[1][k], out->point_a[2][k]);
+      const Vector3d qb(out->point_b[0][k], out->point_b[1][k], out->point_b[2][k]);
+      EXPECT_LE((qa - qb - out->depth[k] * dir).norm(), eps * 16) << what;  // deepest points
+      EXPECT_LE(outside(pa, qa), eps * 8) << what;
+      EXPECT_LE(outside(pb, qb), eps * 8) << what;
       EXPECT_NEAR(dir.norm(), 1, eps * 4) << what;
       // Moving B by depth * direction must make them just touch (ties between directions, as
       // for centred boxes, may pick either).

@@ -47,11 +47,11 @@ using CodeOf = std::conditional_t<std::is_same_v<T, float>, std::int32_t, std::i
 template <class T>
 constexpr T kParallelThreshold = std::is_same_v<T, float> ? T(3e-4) : T(1e-8);
 
-/// Generators of two boxes closer to parallel than this (|u_A x u_B|) are treated as parallel by
-/// the box-box proximity kernel: merged, they change the distance by at most this fraction of
-/// the shorter one's half extent.
+/// Edges of two boxes closer to parallel than this (|u_A x u_B|) span a sliver facet of A (-) B
+/// that the box-box proximity kernel skips; that moves the distance by at most this fraction of
+/// the longer edge's half length.
 template <class T>
-constexpr T kMergeThreshold = std::is_same_v<T, float> ? T(1e-5) : T(1e-11);
+constexpr T kSliverThreshold = std::is_same_v<T, float> ? T(1e-5) : T(1e-11);
 
 /// N boxes, structure of arrays, 64-byte aligned; caller-owned, fixed capacity N.
 template <class T, int N>
@@ -193,8 +193,8 @@ struct alignas(64) BoxBoxProximity {
   alignas(64) T distance[kRow<N>];      ///< exact distance; 0 when the boxes intersect
   alignas(64) T depth[kRow<N>];         ///< penetration depth; 0 when separated
   alignas(64) T direction[3][kRow<N>];  ///< unit: moving B by depth * direction separates them
-  alignas(64) T point_a[3][kRow<N>];    ///< closest point on A (zero when intersecting)
-  alignas(64) T point_b[3][kRow<N>];    ///< closest point on B (zero when intersecting)
+  alignas(64) T point_a[3][kRow<N>];    ///< closest point on A, or A's deepest point
+  alignas(64) T point_b[3][kRow<N>];    ///< closest point on B, or B's deepest point
 };
 
 /// Exact distance with closest points, or penetration depth and direction, of every pair
