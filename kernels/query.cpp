@@ -4,6 +4,8 @@
 // vertices, and then sum_k w_k a_(i_k) lies on A and sum_k w_k b_(j_k) on B.
 #include <minksum/query.hpp>
 
+#include "simd.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -13,6 +15,12 @@ namespace minksum {
 using Eigen::Vector3d;
 
 namespace {
+
+Vector3d box_corner(const Box& b, int code) {
+  Vector3d p = b.center;
+  for (int k = 0; k < 3; ++k) p += ((code >> k & 1) ? 1.0 : -1.0) * b.half_extents[k] * b.rotation.col(k);
+  return p;
+}
 
 // A point of M as weights over (i, j) pairs: its preimages on A and B.
 struct Witness {
@@ -175,10 +183,41 @@ Status proximity(const ConvexPolytope& a, const ConvexPolytope& b, Proximity& ou
 }
 
 Status proximity(const Box& a, const Box& b, Proximity& out) {
-  ConvexPolytope pa, pb;
-  Status s = polytope_from_box(a, pa);
-  if (s == Status::Ok) s = polytope_from_box(b, pb);
-  return s == Status::Ok ? proximity(pa, pb, out) : s;
+  out = Proximity{};
+  ConvexPolytope check;  // validates both boxes (finite, positive extents, proper rotations)
+  for (const Box* x : {&a, &b}) {
+    const Status s = polytope_from_box(*x, check);
+    if (s != Status::Ok) return s;
+  }
+  // One lane of the box-box proximity kernel (its scalar instantiation: one pair).
+  double in[2][15];
+  for (int k = 0; k < 2; ++k) {
+    const Box& x = k ? b : a;
+    for (int d = 0; d < 3; ++d) {
+      in[k][d] = x.center[d];
+      in[k][12 + d] = x.half_extents[d];
+      for (int e = 0; e < 3; ++e) in[k][3 + 3 * e + d] = x.rotation(d, e);
+    }
+  }
+  double dist, depth, dir[3], pa[3], pb[3];
+  detail::kTableScalar.box_box_proximity_d({in[0], in[0] + 3, in[0] + 12}, {in[1], in[1] + 3, in[1] + 12},
+                                          1, 1, {&dist, &depth, dir, pa, pb});
+  out.intersecting = !(dist > 0);
+  out.distance = dist;
+  out.penetration_depth = depth;
+  out.penetration_direction = Vector3d(dir[0], dir[1], dir[2]);
+  out.point_a = Vector3d(pa[0], pa[1], pa[2]);
+  out.point_b = Vector3d(pb[0], pb[1], pb[2]);
+  // The farthest pair: the largest of the 64 corner differences.
+  for (int ca = 0; ca < 8; ++ca) {
+    const Vector3d p = box_corner(a, ca);
+    for (int cb = 0; cb < 8; ++cb) {
+      const Vector3d q = box_corner(b, cb);
+      const double d2 = (p - q).squaredNorm();
+      if (d2 > out.max_distance * out.max_distance) out.max_distance = std::sqrt(d2), out.far_a = p, out.far_b = q;
+    }
+  }
+  return Status::Ok;
 }
 
 Status proximity(const Box& a, const Triangle& b, Proximity& out) {
