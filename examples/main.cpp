@@ -1,7 +1,10 @@
 // minksum: command-line front end of the library (sum, demo).
 #include <minksum/minksum.hpp>
 
+#include <Eigen/Geometry>
 #include <chrono>
+#include <cmath>
+#include <sstream>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -21,6 +24,11 @@ const char* kHelp =
     "  sum A B [--diff] [--method fast|reference|hull] [--out M.off|M.obj|M.ply] [--json]\n"
     "      Minkowski sum of the convex hulls of the vertices in files A and B (OFF, OBJ, PLY\n"
     "      or plain text \"x y z\" per line); --diff computes A (-) B = A (+) (-B).\n"
+    "  query A B [--json]\n"
+    "  query --box \"cx cy cz hx hy hz qw qx qy qz\" --box \"...\" [--json]\n"
+    "      Collision, exact distance with closest points, maximum distance and penetration\n"
+    "      depth and direction of two convex objects (vertex files, or boxes given inline:\n"
+    "      centre, half extents, unit quaternion).\n"
     "  demo\n"
     "      The paper's Table 1 pairs: V, E, F and the time of each path.\n"
     "  --version, --help\n"
@@ -55,6 +63,80 @@ bool load(const std::string& path, ConvexPolytope& p) {
     return false;
   }
   return true;
+}
+
+// Parses "cx cy cz hx hy hz qw qx qy qz" into a box; false with a message if malformed.
+bool parse_box(const std::string& text, Box& box, std::string& error) {
+  std::istringstream in(text);
+  double v[10];
+  for (double& x : v)
+    if (!(in >> x)) return error = "--box needs 10 numbers: cx cy cz hx hy hz qw qx qy qz", false;
+  std::string extra;
+  if (in >> extra) return error = "--box has more than 10 numbers", false;
+  for (double x : v)
+    if (!std::isfinite(x)) return error = "--box: a number is NaN or Inf", false;
+  const Eigen::Quaterniond q(v[6], v[7], v[8], v[9]);
+  if (std::abs(q.norm() - 1) > 1e-6) return error = "--box: the quaternion is not of unit length", false;
+  box.center = Eigen::Vector3d(v[0], v[1], v[2]);
+  box.half_extents = Eigen::Vector3d(v[3], v[4], v[5]);
+  box.rotation = q.normalized().toRotationMatrix();
+  return true;
+}
+
+int cmd_query(int argc, char** argv) {
+  std::vector<std::string> files, boxes;
+  bool json = false;
+  for (int k = 0; k < argc; ++k) {
+    const std::string a = argv[k];
+    if (a == "--json") {
+      json = true;
+    } else if (a == "--box") {
+      if (k + 1 >= argc) return usage_error("--box needs a value");
+      boxes.push_back(argv[++k]);
+    } else if (a.rfind("--", 0) == 0) {
+      return usage_error("unknown option '" + a + "'");
+    } else {
+      files.push_back(a);
+    }
+  }
+  Proximity p;
+  Status s;
+  if (boxes.size() == 2 && files.empty()) {
+    Box a, b;
+    std::string error;
+    if (!parse_box(boxes[0], a, error) || !parse_box(boxes[1], b, error)) return usage_error(error);
+    s = proximity(a, b, p);
+  } else if (files.size() == 2 && boxes.empty()) {
+    ConvexPolytope A, B;
+    if (!load(files[0], A) || !load(files[1], B)) return 2;
+    s = proximity(A, B, p);
+  } else {
+    return usage_error("query needs two vertex files or two --box");
+  }
+  if (s != Status::Ok) {
+    std::fprintf(stderr, "minksum: %s\n", to_string(s));
+    return 2;
+  }
+  auto vec = [](const Eigen::Vector3d& v) {
+    char buf[100];
+    std::snprintf(buf, sizeof buf, "[%.17g, %.17g, %.17g]", v.x(), v.y(), v.z());
+    return std::string(buf);
+  };
+  if (json) {
+    std::printf("{\"intersecting\": %s, \"distance\": %.17g, \"closest_points\": [%s, %s], "
+                "\"max_distance\": %.17g, \"penetration_depth\": %.17g, "
+                "\"penetration_direction\": %s}\n",
+                p.intersecting ? "true" : "false", p.distance, vec(p.point_a).c_str(),
+                vec(p.point_b).c_str(), p.max_distance, p.penetration_depth,
+                vec(p.penetration_direction).c_str());
+  } else if (p.intersecting) {
+    std::printf("intersecting: penetration depth %.17g along %s; max distance %.17g\n",
+                p.penetration_depth, vec(p.penetration_direction).c_str(), p.max_distance);
+  } else {
+    std::printf("separated: distance %.17g between %s and %s; max distance %.17g\n", p.distance,
+                vec(p.point_a).c_str(), vec(p.point_b).c_str(), p.max_distance);
+  }
+  return 0;
 }
 
 int cmd_sum(int argc, char** argv) {
@@ -176,6 +258,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (cmd == "sum") return cmd_sum(argc - 2, argv + 2);
+  if (cmd == "query") return cmd_query(argc - 2, argv + 2);
   if (cmd == "demo") return cmd_demo();
   return usage_error("unknown command '" + cmd + "'");
 }

@@ -205,14 +205,20 @@ Status polytope_from_mesh(const std::vector<Vector3d>& vertices,
   return polytope_from_points(vertices, out);
 }
 
-Status polytope_from_box(const Box& box, ConvexPolytope& out) {
-  out = ConvexPolytope{};
+Status check_box(const Box& box) {
   if (!box.center.allFinite() || !box.rotation.allFinite() || !box.half_extents.allFinite())
     return Status::NonFinite;
   const Eigen::Matrix3d& R = box.rotation;
   if ((box.half_extents.array() <= 0).any() ||
       !(R.transpose() * R).isApprox(Eigen::Matrix3d::Identity(), 1e-9) || R.determinant() < 0)
     return Status::InvalidBox;
+  return Status::Ok;
+}
+
+Status polytope_from_box(const Box& box, ConvexPolytope& out) {
+  out = ConvexPolytope{};
+  if (const Status s = check_box(box); s != Status::Ok) return s;
+  const Eigen::Matrix3d& R = box.rotation;
   for (int k = 0; k < 8; ++k) {
     Vector3d s((k & 1) ? 1 : -1, (k & 2) ? 1 : -1, (k & 4) ? 1 : -1);
     out.vertices.push_back(box.center + R * s.cwiseProduct(box.half_extents));

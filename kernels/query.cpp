@@ -184,11 +184,8 @@ Status proximity(const ConvexPolytope& a, const ConvexPolytope& b, Proximity& ou
 
 Status proximity(const Box& a, const Box& b, Proximity& out) {
   out = Proximity{};
-  ConvexPolytope check;  // validates both boxes (finite, positive extents, proper rotations)
-  for (const Box* x : {&a, &b}) {
-    const Status s = polytope_from_box(*x, check);
-    if (s != Status::Ok) return s;
-  }
+  for (const Box* x : {&a, &b})
+    if (const Status s = check_box(*x); s != Status::Ok) return s;
   // One lane of the box-box proximity kernel (its scalar instantiation: one pair).
   double in[2][15];
   for (int k = 0; k < 2; ++k) {
@@ -209,14 +206,15 @@ Status proximity(const Box& a, const Box& b, Proximity& out) {
   out.point_a = Vector3d(pa[0], pa[1], pa[2]);
   out.point_b = Vector3d(pb[0], pb[1], pb[2]);
   // The farthest pair: the largest of the 64 corner differences.
-  for (int ca = 0; ca < 8; ++ca) {
-    const Vector3d p = box_corner(a, ca);
-    for (int cb = 0; cb < 8; ++cb) {
-      const Vector3d q = box_corner(b, cb);
-      const double d2 = (p - q).squaredNorm();
-      if (d2 > out.max_distance * out.max_distance) out.max_distance = std::sqrt(d2), out.far_a = p, out.far_b = q;
-    }
-  }
+  Vector3d ca[8], cb[8];
+  for (int k = 0; k < 8; ++k) ca[k] = box_corner(a, k), cb[k] = box_corner(b, k);
+  int fa = 0, fb = 0;
+  double far2 = -1;
+  for (int i = 0; i < 8; ++i)
+    for (int j = 0; j < 8; ++j)
+      if (const double d2 = (ca[i] - cb[j]).squaredNorm(); d2 > far2) far2 = d2, fa = i, fb = j;
+  out.max_distance = std::sqrt(far2);
+  out.far_a = ca[fa], out.far_b = cb[fb];
   return Status::Ok;
 }
 

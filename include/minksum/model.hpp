@@ -67,6 +67,9 @@ Status polytope_from_points(const std::vector<Eigen::Vector3d>& points, ConvexPo
 Status polytope_from_mesh(const std::vector<Eigen::Vector3d>& vertices,
                           const std::vector<std::vector<int>>& faces, ConvexPolytope& out);
 
+/// Ok for a valid box: finite, half extents > 0, rotation a proper rotation (to 1e-9).
+Status check_box(const Box& box);
+
 /// The box as a polytope; vertex k is the corner with bit a of k set iff its axis-a sign is +.
 Status polytope_from_box(const Box& box, ConvexPolytope& out);
 

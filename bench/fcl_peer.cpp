@@ -1,0 +1,80 @@
+#include "fcl_peer.hpp"
+
+#include <fcl/fcl.h>
+
+namespace minksum::peers {
+
+struct FclPair::Impl {
+  std::shared_ptr<fcl::CollisionGeometryd> ga, gb;
+  std::unique_ptr<fcl::CollisionObjectd> a, b;
+};
+
+namespace {
+fcl::Transform3d pose(const Box& b) {
+  fcl::Transform3d t = fcl::Transform3d::Identity();
+  t.linear() = b.rotation;
+  t.translation() = b.center;
+  return t;
+}
+
+std::shared_ptr<fcl::Convexd> convex(const ConvexPolytope& p) {
+  auto vertices = std::make_shared<std::vector<fcl::Vector3d>>(p.vertices.begin(), p.vertices.end());
+  auto faces = std::make_shared<std::vector<int>>();  // count, then indices, per face
+  for (const auto& f : p.faces) {
+    faces->push_back(int(f.loop.size()));
+    faces->insert(faces->end(), f.loop.begin(), f.loop.end());
+  }
+  return std::make_shared<fcl::Convexd>(vertices, int(p.faces.size()), faces, true);
+}
+
+fcl::GJKSolverType type(FclSolver s) { return s == FclSolver::Gjk ? fcl::GST_INDEP : fcl::GST_LIBCCD; }
+}  // namespace
+
+FclPair::FclPair(const Box& a, const Box& b) : impl_(std::make_unique<Impl>()) {
+  impl_->ga = std::make_shared<fcl::Boxd>(2 * a.half_extents);
+  impl_->gb = std::make_shared<fcl::Boxd>(2 * b.half_extents);
+  impl_->a = std::make_unique<fcl::CollisionObjectd>(impl_->ga, pose(a));
+  impl_->b = std::make_unique<fcl::CollisionObjectd>(impl_->gb, pose(b));
+}
+
+FclPair::FclPair(const ConvexPolytope& a, const ConvexPolytope& b) : impl_(std::make_unique<Impl>()) {
+  impl_->ga = convex(a);
+  impl_->gb = convex(b);
+  impl_->a = std::make_unique<fcl::CollisionObjectd>(impl_->ga);
+  impl_->b = std::make_unique<fcl::CollisionObjectd>(impl_->gb);
+}
+
+FclPair::~FclPair() = default;
+
+void FclPair::set_boxes(const Box& a, const Box& b) {
+  impl_->a->setTransform(pose(a));
+  impl_->b->setTransform(pose(b));
+}
+
+double FclPair::distance(FclSolver solver, FclAnswer* out) {
+  fcl::DistanceRequestd request(out != nullptr);
+  request.gjk_solver_type = type(solver);
+  fcl::DistanceResultd result;
+  fcl::distance(impl_->a.get(), impl_->b.get(), request, result);
+  if (out) {
+    out->distance = result.min_distance;
+    out->point_a = result.nearest_points[0];
+    out->point_b = result.nearest_points[1];
+  }
+  return result.min_distance;
+}
+
+bool FclPair::penetration(FclSolver solver, FclAnswer& out) {
+  fcl::CollisionRequestd request(1, true);
+  request.gjk_solver_type = type(solver);
+  fcl::CollisionResultd result;
+  fcl::collide(impl_->a.get(), impl_->b.get(), request, result);
+  out.collide = result.isCollision();
+  if (out.collide) {
+    out.depth = result.getContact(0).penetration_depth;
+    out.normal = result.getContact(0).normal;
+  }
+  return out.collide;
+}
+
+}  // namespace minksum::peers

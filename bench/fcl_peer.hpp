@@ -1,0 +1,43 @@
+// FCL 0.7 as a peer of the queries (benchmarks) and as an oracle (tests): its GJK (GST_INDEP)
+// and libccd (GST_LIBCCD) solvers on boxes and convex polytopes.
+#pragma once
+
+#include <minksum/model.hpp>
+
+#include <memory>
+
+namespace minksum::peers {
+
+/// FCL's two narrow-phase solvers.
+enum class FclSolver { Gjk, Libccd };
+
+/// What FCL answers for one pair.
+struct FclAnswer {
+  double distance = 0;  ///< FCL's min_distance (negative or 0 when it reports a collision)
+  Eigen::Vector3d point_a, point_b;  ///< its nearest points
+  bool collide = false;              ///< from fcl::collide
+  double depth = 0;                  ///< penetration depth of the first contact
+  Eigen::Vector3d normal;            ///< its contact normal (from A to B)
+};
+
+/// Two FCL objects built once; poses and queries per call, as a real FCL user does.
+class FclPair {
+ public:
+  /// Two boxes (their poses are set here too).
+  FclPair(const Box& a, const Box& b);
+  /// Two convex polytopes (fcl::Convex), at the identity pose.
+  FclPair(const ConvexPolytope& a, const ConvexPolytope& b);
+  ~FclPair();
+  /// Moves both objects (boxes: centre and rotation of each).
+  void set_boxes(const Box& a, const Box& b);
+  /// fcl::distance with the solver; nearest points too.
+  double distance(FclSolver solver, FclAnswer* out = nullptr);
+  /// fcl::collide with one contact: penetration depth and normal.
+  bool penetration(FclSolver solver, FclAnswer& out);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace minksum::peers

@@ -1,0 +1,135 @@
+// Queries against FCL 0.7 on the same seeded poses: BoxBoxDistance/<method>,
+// BoxBoxPenetration/<method>, PolytopeDistance/<pair>/<method>. Distance runs use 256 box pairs,
+// half of them overlapping; penetration runs use overlapping pairs only.
+#include <benchmark/benchmark.h>
+#include <minksum/minksum.hpp>
+
+#include <memory>
+#include <random>
+
+#include "fcl_peer.hpp"
+#include "tools/shapes.hpp"
+
+namespace {
+
+using namespace minksum;
+using Eigen::Vector3d;
+
+// Seeded box pairs; `overlapping` of every 2 overlap (checked with minksum's exact answer).
+std::vector<std::pair<Box, Box>> poses(int n, bool only_overlapping) {
+  std::mt19937_64 rng(42);
+  std::uniform_real_distribution<double> u(-1, 1), h(0.2, 1);
+  std::vector<std::pair<Box, Box>> out;
+  while (int(out.size()) < n) {
+    Box a, b;
+    for (Box* x : {&a, &b}) {
+      x->rotation = tools::axis_angle(Vector3d(u(rng), u(rng), u(rng)), 3 * u(rng));
+      x->half_extents = Vector3d(h(rng), h(rng), h(rng));
+    }
+    b.center = 2.2 * Vector3d(u(rng), u(rng), u(rng));
+    Proximity p;
+    proximity(a, b, p);
+    const bool want_overlap = only_overlapping || out.size() % 2 == 0;
+    if (p.intersecting == want_overlap) out.emplace_back(a, b);
+  }
+  return out;
+}
+
+void BoxDistanceMinksum(benchmark::State& state) {
+  const auto ps = poses(256, false);
+  Proximity p;
+  size_t k = 0;
+  for (auto _ : state) {
+    const auto& [a, b] = ps[k++ & 255];
+    proximity(a, b, p);
+    benchmark::DoNotOptimize(p.distance);
+  }
+}
+
+void BoxDistanceFcl(benchmark::State& state, peers::FclSolver solver) {
+  const auto ps = poses(256, false);
+  peers::FclPair pair(ps[0].first, ps[0].second);
+  size_t k = 0;
+  for (auto _ : state) {
+    const auto& [a, b] = ps[k++ & 255];
+    pair.set_boxes(a, b);
+    benchmark::DoNotOptimize(pair.distance(solver));
+  }
+}
+
+void BoxPenetrationMinksum(benchmark::State& state) {
+  const auto ps = poses(256, true);
+  Proximity p;
+  size_t k = 0;
+  for (auto _ : state) {
+    const auto& [a, b] = ps[k++ & 255];
+    proximity(a, b, p);
+    benchmark::DoNotOptimize(p.penetration_depth);
+  }
+}
+
+void BoxPenetrationFcl(benchmark::State& state) {
+  const auto ps = poses(256, true);
+  peers::FclPair pair(ps[0].first, ps[0].second);
+  peers::FclAnswer answer;
+  size_t k = 0;
+  for (auto _ : state) {
+    const auto& [a, b] = ps[k++ & 255];
+    pair.set_boxes(a, b);
+    pair.penetration(peers::FclSolver::Gjk, answer);
+    benchmark::DoNotOptimize(answer.depth);
+  }
+}
+
+// The batched kernel over the same 256 poses, four times over (1024 lanes): time per pair.
+void BoxDistanceBatch(benchmark::State& state) {
+  const auto ps = poses(256, false);
+  auto A = std::make_unique<BoxBatch<float, 1024>>(), B = std::make_unique<BoxBatch<float, 1024>>();
+  auto out = std::make_unique<BoxBoxProximity<float, 1024>>();
+  for (int k = 0; k < 1024; ++k) A->set(k, ps[k & 255].first), B->set(k, ps[k & 255].second);
+  A->count = B->count = 1024;
+  for (auto _ : state) {
+    box_box_proximity(*A, *B, *out);
+    benchmark::DoNotOptimize(out->distance[1023]);
+  }
+  state.SetItemsProcessed(state.iterations() * 1024);
+}
+
+void PolytopeDistance(benchmark::State& state, int row, bool fcl) {
+  const auto pair = tools::table1_pairs()[row];
+  ConvexPolytope A, B;
+  std::vector<Vector3d> moved;
+  for (const auto& p : pair.b) moved.push_back(p + Vector3d(4.5, 0.3, 0.2));  // separated
+  polytope_from_points(pair.a, A);
+  polytope_from_points(moved, B);
+  if (fcl) {
+    peers::FclPair peer(A, B);
+    for (auto _ : state) benchmark::DoNotOptimize(peer.distance(peers::FclSolver::Gjk));
+  } else {
+    Proximity p;
+    for (auto _ : state) {
+      proximity(A, B, p);
+      benchmark::DoNotOptimize(p.distance);
+    }
+  }
+}
+
+const int kRegistered = [] {
+  benchmark::RegisterBenchmark("BoxBoxDistance/minksum", BoxDistanceMinksum);
+  benchmark::RegisterBenchmark("BoxBoxDistance/fcl_gjk", BoxDistanceFcl, peers::FclSolver::Gjk);
+  benchmark::RegisterBenchmark("BoxBoxDistance/fcl_libccd", BoxDistanceFcl, peers::FclSolver::Libccd);
+  benchmark::RegisterBenchmark("BoxBoxDistance/minksum_batch", BoxDistanceBatch);
+  benchmark::RegisterBenchmark("BoxBoxPenetration/minksum", BoxPenetrationMinksum);
+  benchmark::RegisterBenchmark("BoxBoxPenetration/fcl_gjk", BoxPenetrationFcl);
+  const auto pairs = tools::table1_pairs();
+  for (int row = 0; row < int(pairs.size()); ++row) {
+    const std::string base = "PolytopeDistance/" + pairs[row].name + "/";
+    benchmark::RegisterBenchmark((base + "minksum").c_str(), PolytopeDistance, row, false)
+        ->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark((base + "fcl_gjk").c_str(), PolytopeDistance, row, true)
+        ->Unit(benchmark::kMicrosecond);
+  }
+  return 0;
+}();
+
+}  // namespace
