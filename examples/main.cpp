@@ -68,13 +68,14 @@ bool load(const std::string& path, ConvexPolytope& p) {
 // Parses "cx cy cz hx hy hz qw qx qy qz" into a box; false with a message if malformed.
 bool parse_box(const std::string& text, Box& box, std::string& error) {
   std::istringstream in(text);
-  double v[10];
-  for (double& x : v)
-    if (!(in >> x)) return error = "--box needs 10 numbers: cx cy cz hx hy hz qw qx qy qz", false;
-  std::string extra;
-  if (in >> extra) return error = "--box has more than 10 numbers", false;
-  for (double x : v)
-    if (!std::isfinite(x)) return error = "--box: a number is NaN or Inf", false;
+  std::vector<double> v;
+  for (std::string token; in >> token;) {
+    char* end = nullptr;
+    v.push_back(std::strtod(token.c_str(), &end));
+    if (*end != '\0') return error = "--box: '" + token + "' is not a number", false;
+    if (!std::isfinite(v.back())) return error = "--box: a number is NaN or Inf", false;
+  }
+  if (v.size() != 10) return error = "--box needs 10 numbers: cx cy cz hx hy hz qw qx qy qz", false;
   const Eigen::Quaterniond q(v[6], v[7], v[8], v[9]);
   if (std::abs(q.norm() - 1) > 1e-6) return error = "--box: the quaternion is not of unit length", false;
   box.center = Eigen::Vector3d(v[0], v[1], v[2]);

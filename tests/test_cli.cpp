@@ -202,6 +202,36 @@ TEST(Cli, VersionPrintsTheIsasAndMinksumIsaForcesOne) {
   EXPECT_NE(bogus.out.find(std::string("active ISA: ") + to_string(active_isa())), std::string::npos);
 }
 
+TEST(Cli, QueryJsonAgreesWithTheLibrary) {
+  // Two boxes inline (centre, half extents, unit quaternion) and the same boxes as vertex files.
+  const CliRun r = run("query --box \"0 0 0 1 1 1 1 0 0 0\" --box \"3 0.5 0.25 1 0.5 1 1 0 0 0\" --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"intersecting\": false"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"distance\": 1,"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"penetration_depth\": 0,"), std::string::npos) << r.out;
+  std::vector<Vector3d> a = tools::cube_points(), b;
+  for (const auto& p : tools::cube_points()) b.push_back(Vector3d(3, 0.5, 0.25) + p.cwiseProduct(Vector3d(1, 0.5, 1)));
+  const CliRun f = run("query " + write_points("qa", a, 1) + " " + write_points("qb", b, 3) + " --json");
+  ASSERT_EQ(f.code, 0) << f.err;
+  EXPECT_NE(f.out.find("\"distance\": 1,"), std::string::npos) << f.out;
+  const CliRun o = run("query --box \"0 0 0 1 1 1 1 0 0 0\" --box \"1.5 0 0 1 1 1 1 0 0 0\" --json");
+  ASSERT_EQ(o.code, 0) << o.err;
+  EXPECT_NE(o.out.find("\"intersecting\": true"), std::string::npos) << o.out;
+  EXPECT_NE(o.out.find("\"penetration_depth\": 0.5,"), std::string::npos) << o.out;
+  EXPECT_NE(o.out.find("\"penetration_direction\": [1, 0, 0]"), std::string::npos) << o.out;
+}
+
+TEST(Cli, QueryRejectsBadInput) {
+  expect_rejected("query --box \"0 0 0 1 1 1 1 0 0 0\" --box \"1 2 3\"", "10 numbers");
+  expect_rejected("query --box \"0 0 0 1 1 1 1 0 0 0\" --box \"0 0 nan 1 1 1 1 0 0 0\"", "NaN");
+  expect_rejected("query --box \"0 0 0 1 1 1 1 0 0 0\" --box \"0 0 0 1 1 1 2 0 0 0\"", "unit length");
+  expect_rejected("query --box \"0 0 0 1 1 1 1 0 0 0\" --box \"0 0 0 1 0 1 1 0 0 0\"", "invalid box");
+  expect_rejected("query --box \"0 0 0 1 1 1 1 0 0 0\"", "two --box");
+  const std::string nan = write("qnan.txt", "0 0 0\n1 0 0\nnan 1 0\n0 0 1\n");
+  const std::string cube = write_points("qcube", tools::cube_points(), 0);
+  expect_rejected("query " + nan + " " + cube, "qnan.txt:3:");
+}
+
 TEST(Cli, FlatOperandGivesASolidSum) {
   const std::string tri = write("tri.txt", "0.1 0.2 0.3\n1.1 -0.4 0.5\n0.3 0.9 -0.7\n");
   const std::string cube = write_points("cube2", tools::cube_points(), 1);

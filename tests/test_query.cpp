@@ -281,6 +281,23 @@ TEST(QueryHardCases, CoplanarTriangles) {
   EXPECT_TRUE(p.intersecting);
 }
 
+TEST(Query, BadInputGetsAStatus) {
+  Proximity p;
+  Box bad;
+  bad.center.y() = std::nan("");
+  EXPECT_EQ(proximity(bad, Box{}, p), Status::NonFinite);
+  bad = Box{};
+  bad.half_extents.z() = 0;
+  EXPECT_EQ(proximity(Box{}, bad, p), Status::InvalidBox);
+  EXPECT_EQ(proximity(Box{}, Triangle{{0, 0, 0}, {1, 1, 1}, {2, 2, 2}}, p), Status::Collinear);
+  EXPECT_EQ(proximity(Triangle{{0, 0, 0}, {1, 0, std::numeric_limits<double>::infinity()}, {0, 1, 0}},
+                      Triangle{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, p),
+            Status::NonFinite);
+  ConvexPolytope empty, cube;
+  ASSERT_EQ(polytope_from_box(Box{}, cube), Status::Ok);
+  EXPECT_EQ(proximity(empty, cube, p), Status::TooFewPoints);
+}
+
 TEST(Query, ContainsStopsAtTheFirstSeparatingPlane) {
   ConvexPolytope A, B;
   ASSERT_EQ(polytope_from_box(Box{}, A), Status::Ok);
