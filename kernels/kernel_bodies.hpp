@@ -3,7 +3,9 @@
 // make_table<Arch>(); the bodies use only the Simd<T, Arch> operations.
 #pragma once
 
+#include <array>
 #include <limits>
+#include <utility>
 
 #include "simd.hpp"
 
@@ -188,107 +190,212 @@ struct Kernels {
   // Exactly parallel generators span no facet, and the facets of the other pairs then cover
   // the merged ones between them; nearly parallel ones (below kSliverThreshold) span slivers
   // that are skipped, which moves the distance by at most that fraction of a half extent.
+
+  // Which generator of a facet g[q] is: a compile-time pair (one pair per lane group), or
+  // per-lane masks (the single-pair path, one facet per lane).
+  template <int I, int J>
+  struct FixedPair {
+    static constexpr bool is_i(int q) { return q == I; }
+    static constexpr bool is_j(int q) { return q == J; }
+  };
+  template <class M>
+  static B pick(const M& m, const B& a, const B& b) {
+    if constexpr (std::is_same_v<M, bool>)
+      return m ? a : b;
+    else
+      return S::select(m, a, b);
+  }
+  static V3 axpy(const B& s, const V3& x, const V3& y) {
+    return V3{S::fma(s, x.x, y.x), S::fma(s, x.y, y.y), S::fma(s, x.z, y.z)};
+  }
+  static V3 pick3(const decltype(B(T(0)) < B(T(0)))& m, const V3& a, const V3& b) {
+    return {S::select(m, a.x, b.x), S::select(m, a.y, b.y), S::select(m, a.z, b.z)};
+  }
+
+  // One facet pair (g_i, g_j) of the zonotope, evaluated for the origin.
+  struct FacetEval {
+    B dist2;    // squared distance to the facet if its plane separates the origin, else inf
+    B overlap;  // SAT overlap along the axis (inf if the axis is invalid)
+    B err;      // how far the facet's closest point is from the origin's projection
+    B tol;      // tie tolerance of the overlap
+    V3 n_out;   // the facet's unit outward normal on the origin's side
+    V3 pa, P;   // closest point of the facet (P, a point of M) and its preimage on A
+  };
+
+  template <class Role>
+  static FacetEval facet(const Role& role, const V3& c, const V3& ca, const V3 (&g)[6],
+                         const V3& gi, const V3& gj, const B& lane_ok) {
+    const B zero(T(0)), one(T(1)), inf(std::numeric_limits<T>::infinity());
+    auto sgn = [&](const B& v) { return S::select(v < zero, -one, one); };
+    auto clamp1 = [&](const B& v) { return S::max(-one, S::select(v > one, one, v)); };
+    const V3 x = cross(gi, gj);
+    const B x2 = dot(x, x);
+    const B sliver2(kSliverThreshold<T> * kSliverThreshold<T>);
+    const auto valid = (x2 > sliver2 * dot(gi, gi) * dot(gj, gj)) && (lane_ok > zero);
+    B dots[6], r = zero;
+    for (int q = 0; q < 6; ++q) dots[q] = dot(x, g[q]), r = r + S::abs(dots[q]);
+    const B s = dot(x, c), abs_s = S::abs(s);
+    const B inv = S::select(valid, S::rsqrt(S::select(valid, x2, one)), zero);
+    const B sigma = S::select(s < zero, one, -one);  // the facet on the origin's side
+    FacetEval f;
+    f.overlap = S::select(valid, (r - abs_s) * inv, inf);
+    f.tol = B(T(64) * std::numeric_limits<T>::epsilon()) * r * inv;
+    f.n_out = scaled(x, sigma * inv);
+    // F0: the other generators at their extreme sign along sigma x.
+    B extreme[6];
+    V3 F0 = c;
+    for (int q = 0; q < 6; ++q) {
+      extreme[q] = sgn(sigma * dots[q]);
+      F0 = axpy(pick(role.is_i(q) || role.is_j(q), zero, extreme[q]), g[q], F0);
+    }
+    // The 2D least-squares problem over (a, b) in [-1, 1]^2.
+    const B G11 = dot(gi, gi), G22 = dot(gj, gj), G12 = dot(gi, gj);
+    const B r1 = dot(gi, F0), r2 = dot(gj, F0);
+    const B det = S::select(valid, x2, one);  // = G11 G22 - G12^2, without its cancellation
+    const B as = (G12 * r2 - G22 * r1) / det, bs = (G12 * r1 - G11 * r2) / det;
+    const auto a_out = S::abs(as) > one, b_out = S::abs(bs) > one;
+    // Candidate on a = +-1 (if a* is beyond it) and on b = +-1 (if b* is).
+    const B a1 = clamp1(as), b1 = clamp1(S::select(a_out, (zero - (r2 + a1 * G12)) / G22, bs));
+    const B b2 = clamp1(bs), a2 = clamp1(S::select(b_out, (zero - (r1 + b2 * G12)) / G11, as));
+    const V3 p1 = axpy(b1, gj, axpy(a1, gi, F0)), p2 = axpy(b2, gj, axpy(a2, gi, F0));
+    const B d1 = dot(p1, p1), d2 = S::select(b_out, dot(p2, p2), inf);
+    const auto second = d2 < d1;
+    const B ab = S::select(second, a2, a1), bb = S::select(second, b2, b1);
+    f.P = pick3(second, p2, p1);
+    f.dist2 = S::select(valid && (abs_s > r), S::select(second, d2, d1), inf);
+    // The point on A: c_A plus A's generators at their parameters.
+    f.pa = ca;
+    for (int q = 0; q < 3; ++q)
+      f.pa = axpy(pick(role.is_i(q), ab, pick(role.is_j(q), bb, extreme[q])), g[q], f.pa);
+    const V3 miss = axpy(-f.overlap, f.n_out, f.P);
+    f.err = S::select(valid, dot(miss, miss), inf);
+    return f;
+  }
+
+  // Running choice over facets: the nearest separating facet, and the deepest axis. Equal depths
+  // (parallel generators give several pairs per facet, each covering part of it) go to the pair
+  // whose part holds the origin's projection: those are the deepest points.
+  struct Fold {
+    B best2, depth, deep_err;
+    V3 best_pa, best_p, dir, deep_pa, deep_p;
+    Fold() {
+      const B inf(std::numeric_limits<T>::infinity()), zero(T(0));
+      best2 = depth = deep_err = inf;
+      best_pa = best_p = dir = deep_pa = deep_p = V3{zero, zero, zero};
+    }
+    void add(const FacetEval& f) {
+      const auto deeper = (f.overlap < depth - f.tol) || ((f.overlap <= depth + f.tol) && (f.err < deep_err));
+      depth = S::select(deeper, f.overlap, depth);
+      deep_err = S::select(deeper, f.err, deep_err);
+      dir = pick3(deeper, f.n_out, dir), deep_pa = pick3(deeper, f.pa, deep_pa);
+      deep_p = pick3(deeper, f.P, deep_p);
+      const auto better = f.dist2 < best2;
+      best2 = S::select(better, f.dist2, best2);
+      best_pa = pick3(better, f.pa, best_pa), best_p = pick3(better, f.P, best_p);
+    }
+  };
+
+  static void generators(const V3 (&ua)[3], const B (&ha)[3], const V3 (&ub)[3], const B (&hb)[3],
+                         V3 (&g)[6]) {
+    for (int i = 0; i < 3; ++i) g[i] = scaled(ua[i], ha[i]), g[3 + i] = scaled(ub[i], B(T(0)) - hb[i]);
+  }
+
+  template <int P>
+  static void fold_pair(Fold& fold, const V3& c, const V3& ca, const V3 (&g)[6]) {
+    // The 15 generator pairs: (0,1) (0,2) (1,2) (3,4) (3,5) (4,5), then (A_i, B_j).
+    constexpr int kI[15] = {0, 0, 1, 3, 3, 4, 0, 0, 0, 1, 1, 1, 2, 2, 2};
+    constexpr int kJ[15] = {1, 2, 2, 4, 5, 5, 3, 4, 5, 3, 4, 5, 3, 4, 5};
+    fold.add(facet(FixedPair<kI[P], kJ[P]>{}, c, ca, g, g[kI[P]], g[kJ[P]], B(T(1))));
+  }
+  template <int... P>
+  static void fold_all(Fold& fold, const V3& c, const V3& ca, const V3 (&g)[6],
+                       std::integer_sequence<int, P...>) {
+    (fold_pair<P>(fold, c, ca, g), ...);
+  }
+
+  // One pair per lane.
   static void box_box_proximity(BoxLanes<T> a, BoxLanes<T> b, int count, int N,
                                 ProximityLanes<T> out) {
     const B zero(T(0)), one(T(1)), inf(std::numeric_limits<T>::infinity());
-    const B sliver2(kSliverThreshold<T> * kSliverThreshold<T>);
-    auto sgn = [&](const B& v) { return S::select(v < zero, -one, one); };
-    auto clamp1 = [&](const B& v) { return S::max(-one, S::select(v > one, one, v)); };
-    auto axpy = [](const B& s, const V3& x, const V3& y) {
-      return V3{S::fma(s, x.x, y.x), S::fma(s, x.y, y.y), S::fma(s, x.z, y.z)};
-    };
     for (int k = 0; k < count; k += S::size) {
-      V3 g[6];
+      V3 ua[3], ub[3], g[6];
+      B ha[3], hb[3];
       for (int i = 0; i < 3; ++i) {
-        g[i] = scaled(load3(a.u + 3 * i * N, N, k), S::load(a.h + i * N + k));
-        g[3 + i] = scaled(load3(b.u + 3 * i * N, N, k), B(T(0)) - S::load(b.h + i * N + k));
+        ua[i] = load3(a.u + 3 * i * N, N, k), ub[i] = load3(b.u + 3 * i * N, N, k);
+        ha[i] = S::load(a.h + i * N + k), hb[i] = S::load(b.h + i * N + k);
       }
+      generators(ua, ha, ub, hb, g);
       const V3 ca = load3(a.c, N, k), cb = load3(b.c, N, k);
       const V3 c{ca.x - cb.x, ca.y - cb.y, ca.z - cb.z};
-      B g2[6];
-      for (int i = 0; i < 6; ++i) g2[i] = dot(g[i], g[i]);
-      B best2 = inf, depth = inf;
-      V3 best_pa{zero, zero, zero}, best_p{zero, zero, zero}, dir{zero, zero, zero};
-      V3 deep_pa{zero, zero, zero}, deep_p{zero, zero, zero};  // witnesses of the penetration
-      B deep_err = inf;
-#pragma GCC unroll 15
-      for (int pair = 0; pair < 15; ++pair) {
-        // The 15 generator pairs: (0,1) (0,2) (1,2) (3,4) (3,5) (4,5), then (A_i, B_j).
-        static constexpr int kI[15] = {0, 0, 1, 3, 3, 4, 0, 0, 0, 1, 1, 1, 2, 2, 2};
-        static constexpr int kJ[15] = {1, 2, 2, 4, 5, 5, 3, 4, 5, 3, 4, 5, 3, 4, 5};
-        const int i = kI[pair], j = kJ[pair];
-        const V3 x = cross(g[i], g[j]);
-        const B x2 = dot(x, x);
-        const auto valid = x2 > sliver2 * g2[i] * g2[j];
-        B r = zero;
-        for (int q = 0; q < 6; ++q) r = S::fma(S::abs(dot(x, g[q])), one, r);
-        const B s = dot(x, c), abs_s = S::abs(s);
-        // Overlap along this axis (the SAT), and the facet side that faces the origin.
-        const B inv = S::select(valid, S::rsqrt(S::select(valid, x2, one)), zero);
-        const B overlap = S::select(valid, (r - abs_s) * inv, inf);
-        const B toward = S::select(s < zero, one, -one) * inv;  // +x when s < 0
-        const auto visible = valid && (abs_s > r);
-        const B sigma = S::select(s < zero, one, -one);
-        // The facet: F0 + a g_i + b g_j, the other generators at their extreme sign along the
-        // facet's outward normal sigma x.
-        auto extreme = [&](int q) { return sgn(sigma * dot(x, g[q])); };
-        const V3 &gi = g[i], &gj = g[j];
-        V3 F0 = c;
-        for (int q = 0; q < 6; ++q)
-          if (q != i && q != j) F0 = axpy(extreme(q), g[q], F0);
-        // The 2D least-squares problem over (a, b) in [-1, 1]^2.
-        const B G11 = dot(gi, gi), G22 = dot(gj, gj), G12 = dot(gi, gj);
-        const B r1 = dot(gi, F0), r2 = dot(gj, F0);
-        const B det = x2;  // = G11 G22 - G12^2, without its cancellation
-        const B as = (G12 * r2 - G22 * r1) / det, bs = (G12 * r1 - G11 * r2) / det;
-        const auto a_out = S::abs(as) > one, b_out = S::abs(bs) > one;
-        // Candidate on a = +-1 (if a* is beyond it) and on b = +-1 (if b* is).
-        const B a1 = clamp1(as), b1 = clamp1(S::select(a_out, (zero - (r2 + a1 * G12)) / G22, bs));
-        const B b2 = clamp1(bs), a2 = clamp1(S::select(b_out, (zero - (r1 + b2 * G12)) / G11, as));
-        const V3 p1 = axpy(b1, gj, axpy(a1, gi, F0)), p2 = axpy(b2, gj, axpy(a2, gi, F0));
-        const B d1 = dot(p1, p1), d2 = S::select(b_out, dot(p2, p2), inf);
-        const auto second = d2 < d1;
-        const B ab = S::select(second, a2, a1), bb = S::select(second, b2, b1);
-        const V3 P{S::select(second, p2.x, p1.x), S::select(second, p2.y, p1.y),
-                   S::select(second, p2.z, p1.z)};
-        const B d = S::select(visible, S::select(second, d2, d1), inf);
-        // The point on A: c_A plus A's generators at their parameters.
-        V3 pa = ca;
-        for (int q = 0; q < 3; ++q) pa = axpy(q == i ? ab : q == j ? bb : extreme(q), g[q], pa);
-        // Overlapping: the origin's projection onto the nearest facet lies in that facet, so the
-        // same problem gives the deepest points. Equal depths (parallel generators give several
-        // pairs per facet, each covering part of it) go to the pair whose part holds the
-        // projection.
-        const V3 n_out = scaled(x, toward);
-        const V3 miss = axpy(-overlap, n_out, P);
-        const B err = S::select(valid, dot(miss, miss), inf);
-        const B tol = B(T(64) * std::numeric_limits<T>::epsilon()) * r * inv;
-        const auto deeper = (overlap < depth - tol) || ((overlap <= depth + tol) && (err < deep_err));
-        depth = S::select(deeper, overlap, depth);
-        deep_err = S::select(deeper, err, deep_err);
-        dir = {S::select(deeper, n_out.x, dir.x), S::select(deeper, n_out.y, dir.y),
-               S::select(deeper, n_out.z, dir.z)};
-        deep_pa = {S::select(deeper, pa.x, deep_pa.x), S::select(deeper, pa.y, deep_pa.y),
-                   S::select(deeper, pa.z, deep_pa.z)};
-        deep_p = {S::select(deeper, P.x, deep_p.x), S::select(deeper, P.y, deep_p.y),
-                  S::select(deeper, P.z, deep_p.z)};
-        const auto better = d < best2;
-        best2 = S::select(better, d, best2);
-        best_pa = {S::select(better, pa.x, best_pa.x), S::select(better, pa.y, best_pa.y),
-                   S::select(better, pa.z, best_pa.z)};
-        best_p = {S::select(better, P.x, best_p.x), S::select(better, P.y, best_p.y),
-                  S::select(better, P.z, best_p.z)};
-      }
-      const auto separated = best2 < inf;
-      S::store(out.distance + k, S::select(separated, S::sqrt(best2), zero));
-      S::store(out.depth + k, S::select(separated, zero, depth));
-      store3(out.direction, N, k, scaled(dir, S::select(separated, zero, one)));
-      const V3 pa{S::select(separated, best_pa.x, deep_pa.x), S::select(separated, best_pa.y, deep_pa.y),
-                  S::select(separated, best_pa.z, deep_pa.z)};
-      const V3 p{S::select(separated, best_p.x, deep_p.x), S::select(separated, best_p.y, deep_p.y),
-                 S::select(separated, best_p.z, deep_p.z)};
+      Fold fold;
+      fold_all(fold, c, ca, g, std::make_integer_sequence<int, 15>{});
+      const auto separated = fold.best2 < inf;
+      S::store(out.distance + k, S::select(separated, S::sqrt(fold.best2), zero));
+      S::store(out.depth + k, S::select(separated, zero, fold.depth));
+      store3(out.direction, N, k, scaled(fold.dir, S::select(separated, zero, one)));
+      const V3 pa = pick3(separated, fold.best_pa, fold.deep_pa);
+      const V3 p = pick3(separated, fold.best_p, fold.deep_p);
       store3(out.point_a, N, k, pa);
       store3(out.point_b, N, k, V3{pa.x - p.x, pa.y - p.y, pa.z - p.z});
+    }
+  }
+
+  // One box pair with its 15 facet pairs in the lanes (the single-pair API). in: as for
+  // box_box_axes; out: distance, depth, direction (3), point_a (3), point_b (3).
+  static void box_box_proximity_axes(const T* in, T* out) {
+    static constexpr int kI[16] = {0, 0, 1, 3, 3, 4, 0, 0, 0, 1, 1, 1, 2, 2, 2, 0};
+    static constexpr int kJ[16] = {1, 2, 2, 4, 5, 5, 3, 4, 5, 3, 4, 5, 3, 4, 5, 1};
+    alignas(64) static constexpr T kLane[16] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 0};
+    // Lane masks: role tables of generator q, one row per q.
+    struct LaneRole {
+      const T* is_i_row;
+      const T* is_j_row;
+      auto is_i(int q) const { return S::load(is_i_row + 16 * q) > B(T(0)); }
+      auto is_j(int q) const { return S::load(is_j_row + 16 * q) > B(T(0)); }
+    };
+    alignas(64) static const auto kRoles = [] {
+      std::array<T, 2 * 6 * 16> r{};
+      for (int q = 0; q < 6; ++q)
+        for (int l = 0; l < 16; ++l) r[16 * q + l] = kI[l] == q, r[96 + 16 * q + l] = kJ[l] == q;
+      return r;
+    }();
+    T gs[6][3];  // the generators as scalars
+    for (int k = 0; k < 3; ++k)
+      for (int d = 0; d < 3; ++d) gs[k][d] = in[24 + k] * in[6 + 3 * k + d], gs[3 + k][d] = -in[27 + k] * in[15 + 3 * k + d];
+    alignas(64) T gi[3][16], gj[3][16];
+    for (int l = 0; l < 16; ++l)
+      for (int d = 0; d < 3; ++d) gi[d][l] = gs[kI[l]][d], gj[d][l] = gs[kJ[l]][d];
+    V3 g[6];
+    for (int q = 0; q < 6; ++q) g[q] = V3{B(gs[q][0]), B(gs[q][1]), B(gs[q][2])};
+    const V3 ca{B(in[0]), B(in[1]), B(in[2])};
+    const V3 c{B(in[0] - in[3]), B(in[1] - in[4]), B(in[2] - in[5])};
+    alignas(64) T lane[13][16];  // per facet: dist2, overlap, err, tol, n_out, pa, pb
+#pragma GCC unroll 16
+    for (int l = 0; l < 16; l += S::size) {
+      const LaneRole role{kRoles.data() + l, kRoles.data() + 96 + l};
+      const FacetEval f = facet(role, c, ca, g, load3(&gi[0][0], 16, l), load3(&gj[0][0], 16, l),
+                                S::load(kLane + l));
+      S::store(lane[0] + l, f.dist2), S::store(lane[1] + l, f.overlap);
+      S::store(lane[2] + l, f.err), S::store(lane[3] + l, f.tol);
+      store3(lane[4], 16, l, f.n_out), store3(lane[7], 16, l, f.pa);
+      store3(lane[10], 16, l, V3{f.pa.x - f.P.x, f.pa.y - f.P.y, f.pa.z - f.P.z});
+    }
+    // Fold the lanes as Fold does across register batches.
+    int best = -1, deep = -1;
+    for (int l = 0; l < 15; ++l) {
+      if (lane[0][l] < (best < 0 ? std::numeric_limits<T>::infinity() : lane[0][best])) best = l;
+      if (deep < 0 || lane[1][l] < lane[1][deep] - lane[3][l] ||
+          (lane[1][l] <= lane[1][deep] + lane[3][l] && lane[2][l] < lane[2][deep]))
+        deep = l;
+    }
+    const bool separated = best >= 0;
+    const int w = separated ? best : deep;
+    out[0] = separated ? std::sqrt(lane[0][best]) : T(0);
+    out[1] = separated ? T(0) : lane[1][deep];
+    for (int d = 0; d < 3; ++d) {
+      out[2 + d] = separated ? T(0) : lane[4 + d][deep];
+      out[5 + d] = lane[7 + d][w];
+      out[8 + d] = lane[10 + d][w];
     }
   }
 
@@ -394,7 +501,8 @@ constexpr KernelTable make_table() {
           &Kernels<float, Arch>::box_triangle, &Kernels<double, Arch>::box_triangle,
           &Kernels<float, Arch>::support,      &Kernels<double, Arch>::support,
           &Kernels<double, Arch>::box_box_axes,
-          &Kernels<float, Arch>::box_box_proximity,  &Kernels<double, Arch>::box_box_proximity};
+          &Kernels<float, Arch>::box_box_proximity,  &Kernels<double, Arch>::box_box_proximity,
+          &Kernels<double, Arch>::box_box_proximity_axes};
 }
 
 }  // namespace minksum::detail

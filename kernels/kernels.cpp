@@ -100,6 +100,10 @@ void box_box_proximity(BoxLanes<double> a, BoxLanes<double> b, int count, int st
   dispatch().box_box_proximity_d(a, b, count, stride, out);
 }
 
+void box_box_proximity_single(const double* in, double* out) {
+  dispatch().box_box_proximity_single_d(in, out);
+}
+
 }  // namespace detail
 
 void support_push(const float* x, const float* y, const float* z, int n, const float* dx,

@@ -4,7 +4,8 @@
 // vertices, and then sum_k w_k a_(i_k) lies on A and sum_k w_k b_(j_k) on B.
 #include <minksum/query.hpp>
 
-#include "simd.hpp"
+
+#include <minksum/kernels.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -186,35 +187,32 @@ Status proximity(const Box& a, const Box& b, Proximity& out) {
   out = Proximity{};
   for (const Box* x : {&a, &b})
     if (const Status s = check_box(*x); s != Status::Ok) return s;
-  // One lane of the box-box proximity kernel (its scalar instantiation: one pair).
-  double in[2][15];
-  for (int k = 0; k < 2; ++k) {
-    const Box& x = k ? b : a;
-    for (int d = 0; d < 3; ++d) {
-      in[k][d] = x.center[d];
-      in[k][12 + d] = x.half_extents[d];
-      for (int e = 0; e < 3; ++e) in[k][3 + 3 * e + d] = x.rotation(d, e);
-    }
+  // The box-box proximity kernel of the active ISA, with the pair's 15 facet pairs in its lanes.
+  double in[30], res[11];  // c_A, c_B, the axes of A then of B (column-major), h_A, h_B
+  for (int d = 0; d < 3; ++d) {
+    in[d] = a.center[d], in[3 + d] = b.center[d];
+    in[24 + d] = a.half_extents[d], in[27 + d] = b.half_extents[d];
   }
-  double dist, depth, dir[3], pa[3], pb[3];
-  detail::kTableScalar.box_box_proximity_d({in[0], in[0] + 3, in[0] + 12}, {in[1], in[1] + 3, in[1] + 12},
-                                          1, 1, {&dist, &depth, dir, pa, pb});
-  out.intersecting = !(dist > 0);
-  out.distance = dist;
-  out.penetration_depth = depth;
-  out.penetration_direction = Vector3d(dir[0], dir[1], dir[2]);
-  out.point_a = Vector3d(pa[0], pa[1], pa[2]);
-  out.point_b = Vector3d(pb[0], pb[1], pb[2]);
-  // The farthest pair: the largest of the 64 corner differences.
-  Vector3d ca[8], cb[8];
-  for (int k = 0; k < 8; ++k) ca[k] = box_corner(a, k), cb[k] = box_corner(b, k);
-  int fa = 0, fb = 0;
+  std::copy(a.rotation.data(), a.rotation.data() + 9, in + 6);
+  std::copy(b.rotation.data(), b.rotation.data() + 9, in + 15);
+  detail::box_box_proximity_single(in, res);
+  out.intersecting = !(res[0] > 0);
+  out.distance = res[0];
+  out.penetration_depth = res[1];
+  out.penetration_direction = Vector3d(res[2], res[3], res[4]);
+  out.point_a = Vector3d(res[5], res[6], res[7]);
+  out.point_b = Vector3d(res[8], res[9], res[10]);
+  // The farthest pair: for each corner p of A, |b - p|^2 over B's corners separates into one
+  // term per axis (B's axes are orthogonal), so B's farthest corner has signs of (c_B - p) . u_k.
   double far2 = -1;
-  for (int i = 0; i < 8; ++i)
-    for (int j = 0; j < 8; ++j)
-      if (const double d2 = (ca[i] - cb[j]).squaredNorm(); d2 > far2) far2 = d2, fa = i, fb = j;
+  for (int ca = 0; ca < 8; ++ca) {
+    const Vector3d p = box_corner(a, ca), d = b.center - p;
+    int cb = 0;
+    for (int k = 0; k < 3; ++k) cb |= (d.dot(b.rotation.col(k)) >= 0) << k;
+    const Vector3d q = box_corner(b, cb);
+    if (const double d2 = (q - p).squaredNorm(); d2 > far2) far2 = d2, out.far_a = p, out.far_b = q;
+  }
   out.max_distance = std::sqrt(far2);
-  out.far_a = ca[fa], out.far_b = cb[fb];
   return Status::Ok;
 }
 

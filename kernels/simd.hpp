@@ -83,6 +83,7 @@ struct KernelTable {
   void (*box_box_single_d)(const double*, bool, double*, double*, std::int64_t*, std::int64_t*);
   void (*box_box_proximity_f)(BoxLanes<float>, BoxLanes<float>, int, int, ProximityLanes<float>);
   void (*box_box_proximity_d)(BoxLanes<double>, BoxLanes<double>, int, int, ProximityLanes<double>);
+  void (*box_box_proximity_single_d)(const double*, double*);
 };
 
 // One constant-initialised table per ISA translation unit (no static-initialisation order

@@ -168,6 +168,9 @@ void box_box_proximity(BoxLanes<float> a, BoxLanes<float> b, int count, int stri
                        ProximityLanes<float> out);
 void box_box_proximity(BoxLanes<double> a, BoxLanes<double> b, int count, int stride,
                        ProximityLanes<double> out);
+// One pair (in: c_A, c_B, axes of A, axes of B, h_A, h_B; out: distance, depth, direction,
+// point on A, point on B), its facets in the lanes of the active ISA.
+void box_box_proximity_single(const double* in, double* out);
 }  // namespace detail
 
 /// The 30 planes of A[k] (+) B[k] (or A[k] (-) B[k]) for every lane k < a.count; a and b
