@@ -340,25 +340,30 @@ struct Kernels {
     }
   }
 
+  // Role tables of the single-pair path: lane l holds the facet pair (kI[l], kJ[l]).
+  static constexpr auto role_table(bool first) {
+    constexpr int kI[16] = {0, 0, 1, 3, 3, 4, 0, 0, 0, 1, 1, 1, 2, 2, 2, 0};
+    constexpr int kJ[16] = {1, 2, 2, 4, 5, 5, 3, 4, 5, 3, 4, 5, 3, 4, 5, 1};
+    std::array<std::array<T, 16>, 6> r{};
+    for (int q = 0; q < 6; ++q)
+      for (int l = 0; l < 16; ++l) r[q][l] = (first ? kI[l] : kJ[l]) == q ? T(1) : T(0);
+    return r;
+  }
+  alignas(64) static constexpr std::array<std::array<T, 16>, 6> kIsI = role_table(true);
+  alignas(64) static constexpr std::array<std::array<T, 16>, 6> kIsJ = role_table(false);
+
   // One box pair with its 15 facet pairs in the lanes (the single-pair API). in: as for
   // box_box_axes; out: distance, depth, direction (3), point_a (3), point_b (3).
   static void box_box_proximity_axes(const T* in, T* out) {
     static constexpr int kI[16] = {0, 0, 1, 3, 3, 4, 0, 0, 0, 1, 1, 1, 2, 2, 2, 0};
     static constexpr int kJ[16] = {1, 2, 2, 4, 5, 5, 3, 4, 5, 3, 4, 5, 3, 4, 5, 1};
     alignas(64) static constexpr T kLane[16] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 0};
-    // Lane masks: role tables of generator q, one row per q.
+    // Lane masks: row q says in which lanes generator q is g_i (kIsI) or g_j (kIsJ).
     struct LaneRole {
-      const T* is_i_row;
-      const T* is_j_row;
-      auto is_i(int q) const { return S::load(is_i_row + 16 * q) > B(T(0)); }
-      auto is_j(int q) const { return S::load(is_j_row + 16 * q) > B(T(0)); }
+      int l;
+      auto is_i(int q) const { return S::load(&kIsI[q][0] + l) > B(T(0)); }
+      auto is_j(int q) const { return S::load(&kIsJ[q][0] + l) > B(T(0)); }
     };
-    alignas(64) static const auto kRoles = [] {
-      std::array<T, 2 * 6 * 16> r{};
-      for (int q = 0; q < 6; ++q)
-        for (int l = 0; l < 16; ++l) r[16 * q + l] = kI[l] == q, r[96 + 16 * q + l] = kJ[l] == q;
-      return r;
-    }();
     T gs[6][3];  // the generators as scalars
     for (int k = 0; k < 3; ++k)
       for (int d = 0; d < 3; ++d) gs[k][d] = in[24 + k] * in[6 + 3 * k + d], gs[3 + k][d] = -in[27 + k] * in[15 + 3 * k + d];
@@ -372,7 +377,7 @@ struct Kernels {
     alignas(64) T lane[13][16];  // per facet: dist2, overlap, err, tol, n_out, pa, pb
 #pragma GCC unroll 16
     for (int l = 0; l < 16; l += S::size) {
-      const LaneRole role{kRoles.data() + l, kRoles.data() + 96 + l};
+      const LaneRole role{l};
       const FacetEval f = facet(role, c, ca, g, load3(&gi[0][0], 16, l), load3(&gj[0][0], 16, l),
                                 S::load(kLane + l));
       S::store(lane[0] + l, f.dist2), S::store(lane[1] + l, f.overlap);

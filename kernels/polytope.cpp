@@ -208,10 +208,13 @@ Status polytope_from_mesh(const std::vector<Vector3d>& vertices,
 Status check_box(const Box& box) {
   if (!box.center.allFinite() || !box.rotation.allFinite() || !box.half_extents.allFinite())
     return Status::NonFinite;
+  if ((box.half_extents.array() <= 0).any()) return Status::InvalidBox;
+  // A proper rotation: orthonormal columns (to 1e-9) and a right-handed frame.
   const Eigen::Matrix3d& R = box.rotation;
-  if ((box.half_extents.array() <= 0).any() ||
-      !(R.transpose() * R).isApprox(Eigen::Matrix3d::Identity(), 1e-9) || R.determinant() < 0)
-    return Status::InvalidBox;
+  for (int i = 0; i < 3; ++i)
+    for (int j = i; j < 3; ++j)
+      if (std::abs(R.col(i).dot(R.col(j)) - (i == j)) > 1e-9) return Status::InvalidBox;
+  if (R.col(0).cross(R.col(1)).dot(R.col(2)) < 0) return Status::InvalidBox;
   return Status::Ok;
 }
 

@@ -202,14 +202,17 @@ Status proximity(const Box& a, const Box& b, Proximity& out) {
   out.penetration_direction = Vector3d(res[2], res[3], res[4]);
   out.point_a = Vector3d(res[5], res[6], res[7]);
   out.point_b = Vector3d(res[8], res[9], res[10]);
-  // The farthest pair: for each corner p of A, |b - p|^2 over B's corners separates into one
+  // The farthest pair: for each corner p of A, |q - p|^2 over B's corners q separates into one
   // term per axis (B's axes are orthogonal), so B's farthest corner has signs of (c_B - p) . u_k.
+  Vector3d ga[3], gb[3];
+  for (int k = 0; k < 3; ++k)
+    ga[k] = a.half_extents[k] * a.rotation.col(k), gb[k] = b.half_extents[k] * b.rotation.col(k);
   double far2 = -1;
-  for (int ca = 0; ca < 8; ++ca) {
-    const Vector3d p = box_corner(a, ca), d = b.center - p;
-    int cb = 0;
-    for (int k = 0; k < 3; ++k) cb |= (d.dot(b.rotation.col(k)) >= 0) << k;
-    const Vector3d q = box_corner(b, cb);
+  for (int code = 0; code < 8; ++code) {
+    Vector3d p = a.center;
+    for (int k = 0; k < 3; ++k) p += (code >> k & 1) ? ga[k] : Vector3d(-ga[k]);
+    Vector3d q = b.center;
+    for (int k = 0; k < 3; ++k) q += (b.center - p).dot(gb[k]) >= 0 ? gb[k] : Vector3d(-gb[k]);
     if (const double d2 = (q - p).squaredNorm(); d2 > far2) far2 = d2, out.far_a = p, out.far_b = q;
   }
   out.max_distance = std::sqrt(far2);
