@@ -404,6 +404,84 @@ struct Kernels {
     }
   }
 
+  // The separating axis test fused into one pass, no planes written: is the origin inside
+  // A (-) B, and a lower bound of the distance (the largest separation over the 15 axes), for
+  // octree traversal and broad phases. Edge axes use the unnormalised cross product and scale
+  // the separation once.
+  static void box_box_separation(BoxLanes<T> a, BoxLanes<T> b, int count, int N, T* bound,
+                                 CodeOf<T>* hit) {
+    const B zero(T(0)), one(T(1));
+    for (int k = 0; k < count; k += S::size) {
+      V3 ua[3], ub[3];
+      B ha[3], hb[3];
+      for (int i = 0; i < 3; ++i) {
+        ua[i] = load3(a.u + 3 * i * N, N, k), ub[i] = load3(b.u + 3 * i * N, N, k);
+        ha[i] = S::load(a.h + i * N + k), hb[i] = S::load(b.h + i * N + k);
+      }
+      const V3 ca = load3(a.c, N, k), cb = load3(b.c, N, k);
+      const V3 c{ca.x - cb.x, ca.y - cb.y, ca.z - cb.z};
+      B sep(-std::numeric_limits<T>::infinity());
+      auto radius = [&](const V3& n) {
+        B r(T(0));
+        for (int q = 0; q < 3; ++q)
+          r = S::fma(ha[q], S::abs(dot(n, ua[q])), S::fma(hb[q], S::abs(dot(n, ub[q])), r));
+        return r;
+      };
+      for (int p = 0; p < 3; ++p) {
+        sep = S::max(sep, S::abs(dot(ua[p], c)) - radius(ua[p]));
+        sep = S::max(sep, S::abs(dot(ub[p], c)) - radius(ub[p]));
+      }
+#pragma GCC unroll 9
+      for (int e = 0; e < 9; ++e) {
+        const V3 x = cross(ua[e / 3], ub[e % 3]);
+        const B x2 = dot(x, x);
+        const auto valid = x2 > B(kParallelThreshold<T> * kParallelThreshold<T>);
+        const B inv = S::rsqrt(S::select(valid, x2, one));
+        sep = S::max(sep, S::select(valid, (S::abs(dot(x, c)) - radius(x)) * inv, sep));
+      }
+      S::store(bound + k, S::max(sep, zero));
+      S::store_code(hit + k, S::select(sep > zero, zero, one));
+    }
+  }
+
+  // Box-triangle overlap by the separating axis test on the 13 axes (box axes, triangle
+  // normal, box axes x triangle edges), fused: one flag per pair (Akenine-Moller's test).
+  static void box_triangle_overlap(BoxLanes<T> box, const T* tri, int count, int N,
+                                   CodeOf<T>* hit) {
+    const B zero(T(0)), one(T(1));
+    for (int k = 0; k < count; k += S::size) {
+      V3 u[3], v[3];
+      B h[3];
+      for (int i = 0; i < 3; ++i) {
+        u[i] = load3(box.u + 3 * i * N, N, k), h[i] = S::load(box.h + i * N + k);
+        v[i] = load3(tri + 3 * i * N, N, k);
+      }
+      const V3 c = load3(box.c, N, k);
+      // Work relative to the box centre.
+      for (auto& p : v) p = V3{p.x - c.x, p.y - c.y, p.z - c.z};
+      const V3 e[3] = {{v[1].x - v[0].x, v[1].y - v[0].y, v[1].z - v[0].z},
+                       {v[2].x - v[1].x, v[2].y - v[1].y, v[2].z - v[1].z},
+                       {v[0].x - v[2].x, v[0].y - v[2].y, v[0].z - v[2].z}};
+      // An axis separates when the triangle's interval [min d, max d] misses the box's [-r, r].
+      // Axes of (nearly) parallel directions are skipped: their rounding could fake a gap.
+      auto separates = [&](const V3& n, const B& scale2) {
+        const B d0 = dot(n, v[0]), d1 = dot(n, v[1]), d2 = dot(n, v[2]);
+        const B tmax = S::max(d0, S::max(d1, d2));
+        const B tmin = zero - S::max(zero - d0, S::max(zero - d1, zero - d2));
+        B r(T(0));
+        for (int q = 0; q < 3; ++q) r = S::fma(h[q], S::abs(dot(n, u[q])), r);
+        const auto reliable = dot(n, n) > B(kParallelThreshold<T> * kParallelThreshold<T>) * scale2;
+        return reliable && ((tmin > r) || (tmax < zero - r));
+      };
+      const B e2[3] = {dot(e[0], e[0]), dot(e[1], e[1]), dot(e[2], e[2])};
+      auto out = separates(u[0], one) || separates(u[1], one) || separates(u[2], one) ||
+                 separates(cross(e[0], e[1]), e2[0] * e2[1]);
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) out = out || separates(cross(u[i], e[j]), e2[j]);
+      S::store_code(hit + k, S::select(out, zero, one));
+    }
+  }
+
   // Box-triangle: 13 axes, 26 planes (see BoxTrianglePlanes).
   static void box_triangle(BoxLanes<T> box, const T* tri, int count, int N, bool difference,
                            PlaneLanes<T> out) {
@@ -507,7 +585,9 @@ constexpr KernelTable make_table() {
           &Kernels<float, Arch>::support,      &Kernels<double, Arch>::support,
           &Kernels<double, Arch>::box_box_axes,
           &Kernels<float, Arch>::box_box_proximity,  &Kernels<double, Arch>::box_box_proximity,
-          &Kernels<double, Arch>::box_box_proximity_axes};
+          &Kernels<double, Arch>::box_box_proximity_axes,
+          &Kernels<float, Arch>::box_box_separation, &Kernels<double, Arch>::box_box_separation,
+          &Kernels<float, Arch>::box_triangle_overlap, &Kernels<double, Arch>::box_triangle_overlap};
 }
 
 }  // namespace minksum::detail

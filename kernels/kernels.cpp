@@ -100,6 +100,23 @@ void box_box_proximity(BoxLanes<double> a, BoxLanes<double> b, int count, int st
   dispatch().box_box_proximity_d(a, b, count, stride, out);
 }
 
+void box_box_separation(BoxLanes<float> a, BoxLanes<float> b, int count, int stride, float* bound,
+                        std::int32_t* hit) {
+  dispatch().box_box_separation_f(a, b, count, stride, bound, hit);
+}
+void box_box_separation(BoxLanes<double> a, BoxLanes<double> b, int count, int stride,
+                        double* bound, std::int64_t* hit) {
+  dispatch().box_box_separation_d(a, b, count, stride, bound, hit);
+}
+void box_triangle_overlap(BoxLanes<float> box, const float* tri, int count, int stride,
+                          std::int32_t* hit) {
+  dispatch().box_triangle_overlap_f(box, tri, count, stride, hit);
+}
+void box_triangle_overlap(BoxLanes<double> box, const double* tri, int count, int stride,
+                          std::int64_t* hit) {
+  dispatch().box_triangle_overlap_d(box, tri, count, stride, hit);
+}
+
 void box_box_proximity_single(const double* in, double* out) {
   dispatch().box_box_proximity_single_d(in, out);
 }

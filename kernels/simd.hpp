@@ -84,6 +84,10 @@ struct KernelTable {
   void (*box_box_proximity_f)(BoxLanes<float>, BoxLanes<float>, int, int, ProximityLanes<float>);
   void (*box_box_proximity_d)(BoxLanes<double>, BoxLanes<double>, int, int, ProximityLanes<double>);
   void (*box_box_proximity_single_d)(const double*, double*);
+  void (*box_box_separation_f)(BoxLanes<float>, BoxLanes<float>, int, int, float*, std::int32_t*);
+  void (*box_box_separation_d)(BoxLanes<double>, BoxLanes<double>, int, int, double*, std::int64_t*);
+  void (*box_triangle_overlap_f)(BoxLanes<float>, const float*, int, int, std::int32_t*);
+  void (*box_triangle_overlap_d)(BoxLanes<double>, const double*, int, int, std::int64_t*);
 };
 
 // One constant-initialised table per ISA translation unit (no static-initialisation order

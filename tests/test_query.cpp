@@ -434,3 +434,87 @@ INSTANTIATE_TEST_SUITE_P(Isa, BatchedProximity,
 
 }  // namespace
 }  // namespace minksum
+
+namespace minksum {
+namespace {
+
+// The fused separating-axis kernels against the exact proximity of the general path.
+template <class T>
+void check_fused(Isa isa, unsigned seed) {
+  ASSERT_TRUE(force_isa(isa));
+  constexpr int N = 1024;
+  auto A = std::make_unique<BoxBatch<T, N>>(), B = std::make_unique<BoxBatch<T, N>>();
+  auto tri = std::make_unique<TriangleBatch<T, N>>();
+  auto sep = std::make_unique<BoxBoxSeparation<T, N>>();
+  auto overlap = std::make_unique<BoxTriangleOverlap<T, N>>();
+  const auto& hit = overlap->hit;
+  std::mt19937_64 rng(seed);
+  std::vector<Box> as, bs;
+  std::vector<Triangle> ts;
+  for (int k = 0; k < N; ++k) {
+    Box a = random_box(rng, 1.5), b = random_box(rng, 1.5);
+    Triangle t = random_triangle(rng, 1.5);
+    for (Box* x : {&a, &b}) {  // what the kernel sees: inputs rounded to T
+      x->center = x->center.cast<T>().template cast<double>();
+      x->half_extents = x->half_extents.cast<T>().template cast<double>();
+      x->rotation = x->rotation.cast<T>().template cast<double>();
+    }
+    t = {t.a.cast<T>().template cast<double>(), t.b.cast<T>().template cast<double>(),
+         t.c.cast<T>().template cast<double>()};
+    as.push_back(a), bs.push_back(b), ts.push_back(t);
+    A->set(k, a), B->set(k, b), tri->set(k, t);
+  }
+  A->count = B->count = tri->count = N;
+  box_box_separation(*A, *B, *sep);
+  box_triangle_overlap(*A, *tri, *overlap);
+  const double tol = std::is_same_v<T, float> ? 1e-4 : 1e-9;
+  int both[2] = {0, 0};
+  for (int k = 0; k < N; ++k) {
+    auto corners = [](const Box& x) {
+      std::vector<Vector3d> c;
+      for (int q = 0; q < 8; ++q) {
+        Vector3d p = x.center;
+        for (int d = 0; d < 3; ++d) p += ((q >> d & 1) ? 1.0 : -1.0) * x.half_extents[d] * x.rotation.col(d);
+        c.push_back(p);
+      }
+      return c;
+    };
+    ConvexPolytope pa, pb, pt;
+    ASSERT_EQ(polytope_from_points(corners(as[k]), pa), Status::Ok);
+    ASSERT_EQ(polytope_from_points(corners(bs[k]), pb), Status::Ok);
+    ASSERT_EQ(polytope_from_triangle(ts[k], pt), Status::Ok);
+    Proximity ab, at;
+    ASSERT_EQ(proximity(pa, pb, ab), Status::Ok);
+    ASSERT_EQ(proximity(pa, pt, at), Status::Ok);
+    const std::string what = std::string(to_string(isa)) + " pair " + std::to_string(k);
+    if (ab.distance > tol || ab.penetration_depth > tol) EXPECT_EQ(sep->hit[k] != 0, ab.intersecting) << what;
+    EXPECT_LE(sep->bound[k], ab.distance + tol) << what;  // a lower bound
+    if (sep->hit[k]) EXPECT_EQ(sep->bound[k], 0) << what;
+    if (at.distance > tol || at.penetration_depth > tol) EXPECT_EQ(hit[k] != 0, at.intersecting) << what;
+    ++both[ab.intersecting];
+    if (testing::Test::HasFailure()) return;
+  }
+  EXPECT_GT(both[0], 100);
+  EXPECT_GT(both[1], 100);
+}
+
+class FusedSat : public testing::TestWithParam<Isa> {
+ protected:
+  void SetUp() override {
+    if (!isa_supported(GetParam())) GTEST_SKIP();
+  }
+  void TearDown() override { force_isa(best_); }
+  Isa best_ = active_isa();
+};
+
+TEST_P(FusedSat, AgreesWithTheExactProximity) {
+  check_fused<double>(GetParam(), 61);
+  check_fused<float>(GetParam(), 62);
+}
+
+INSTANTIATE_TEST_SUITE_P(Isa, FusedSat,
+                         testing::Values(Isa::Scalar, Isa::Sse4_2, Isa::Avx2, Isa::Avx512),
+                         [](const auto& info) { return std::string(to_string(info.param)); });
+
+}  // namespace
+}  // namespace minksum

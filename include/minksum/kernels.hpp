@@ -168,6 +168,14 @@ void box_box_proximity(BoxLanes<float> a, BoxLanes<float> b, int count, int stri
                        ProximityLanes<float> out);
 void box_box_proximity(BoxLanes<double> a, BoxLanes<double> b, int count, int stride,
                        ProximityLanes<double> out);
+void box_box_separation(BoxLanes<float> a, BoxLanes<float> b, int count, int stride, float* bound,
+                        std::int32_t* hit);
+void box_box_separation(BoxLanes<double> a, BoxLanes<double> b, int count, int stride,
+                        double* bound, std::int64_t* hit);
+void box_triangle_overlap(BoxLanes<float> box, const float* tri, int count, int stride,
+                          std::int32_t* hit);
+void box_triangle_overlap(BoxLanes<double> box, const double* tri, int count, int stride,
+                          std::int64_t* hit);
 // One pair (in: c_A, c_B, axes of A, axes of B, h_A, h_B; out: distance, depth, direction,
 // point on A, point on B), its facets in the lanes of the active ISA.
 void box_box_proximity_single(const double* in, double* out);
@@ -208,6 +216,36 @@ void box_box_proximity(const BoxBatch<T, N>& a, const BoxBatch<T, N>& b,
   detail::box_box_proximity(detail::lanes(a), detail::lanes(b), a.count, kRow<N>,
                             {out.distance, out.depth, &out.direction[0][0], &out.point_a[0][0],
                              &out.point_b[0][0]});
+}
+
+/// The separating axis test of N box pairs, fused (no planes written).
+template <class T, int N>
+struct alignas(64) BoxBoxSeparation {
+  alignas(64) T bound[kRow<N>];        ///< lower bound of the distance (0 when they intersect)
+  alignas(64) CodeOf<T> hit[kRow<N>];  ///< 1 if the boxes intersect (the origin is in A (-) B)
+};
+
+/// Collision and a distance lower bound of every pair (the largest separation over the 15
+/// axes), for traversal: the cheapest box-box query. No allocation.
+template <class T, int N>
+void box_box_separation(const BoxBatch<T, N>& a, const BoxBatch<T, N>& b,
+                        BoxBoxSeparation<T, N>& out) {
+  detail::box_box_separation(detail::lanes(a), detail::lanes(b), a.count, kRow<N>, out.bound,
+                             out.hit);
+}
+
+/// Box-triangle overlap flags of N pairs.
+template <class T, int N>
+struct alignas(64) BoxTriangleOverlap {
+  alignas(64) CodeOf<T> hit[kRow<N>];  ///< 1 if the box and the triangle intersect
+};
+
+/// Box-triangle overlap of every pair by the separating axis test on the 13 axes, fused.
+/// No allocation.
+template <class T, int N>
+void box_triangle_overlap(const BoxBatch<T, N>& box, const TriangleBatch<T, N>& tri,
+                          BoxTriangleOverlap<T, N>& out) {
+  detail::box_triangle_overlap(detail::lanes(box), &tri.v[0][0][0], box.count, kRow<N>, out.hit);
 }
 
 /// One plane of a kernel result, for callers with one pair.
