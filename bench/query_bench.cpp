@@ -95,6 +95,20 @@ void BoxDistanceBatch(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * 1024);
 }
 
+// The fused separating-axis kernel (collision and a distance lower bound), per pair.
+void BoxSeparationBatch(benchmark::State& state) {
+  const auto ps = poses(256, false);
+  auto A = std::make_unique<BoxBatch<float, 1024>>(), B = std::make_unique<BoxBatch<float, 1024>>();
+  auto out = std::make_unique<BoxBoxSeparation<float, 1024>>();
+  for (int k = 0; k < 1024; ++k) A->set(k, ps[k & 255].first), B->set(k, ps[k & 255].second);
+  A->count = B->count = 1024;
+  for (auto _ : state) {
+    box_box_separation(*A, *B, *out);
+    benchmark::DoNotOptimize(out->bound[1023]);
+  }
+  state.SetItemsProcessed(state.iterations() * 1024);
+}
+
 void PolytopeDistance(benchmark::State& state, int row, bool fcl) {
   const auto pair = tools::table1_pairs()[row];
   ConvexPolytope A, B;
@@ -119,6 +133,7 @@ const int kRegistered = [] {
   benchmark::RegisterBenchmark("BoxBoxDistance/fcl_gjk", BoxDistanceFcl, peers::FclSolver::Gjk);
   benchmark::RegisterBenchmark("BoxBoxDistance/fcl_libccd", BoxDistanceFcl, peers::FclSolver::Libccd);
   benchmark::RegisterBenchmark("BoxBoxDistance/minksum_batch", BoxDistanceBatch);
+  benchmark::RegisterBenchmark("BoxBoxSeparation/minksum_batch", BoxSeparationBatch);
   benchmark::RegisterBenchmark("BoxBoxPenetration/minksum", BoxPenetrationMinksum);
   benchmark::RegisterBenchmark("BoxBoxPenetration/fcl_gjk", BoxPenetrationFcl);
   const auto pairs = tools::table1_pairs();

@@ -294,26 +294,33 @@ void check_support(Isa isa) {
   ASSERT_TRUE(force_isa(isa));
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> u(-1, 1);
-  for (int n : {1, 3, 16, 17, 100, 1000}) {
-    std::vector<T> x(n), y(n), z(n), dx(50), dy(50), dz(50), best(50);
-    std::vector<int> arg(50);
+  const double eps = std::numeric_limits<T>::epsilon();
+  constexpr int K = 10000;  // 10 vertex sets x 10,000 directions = 100,000 problems
+  for (int n : {1, 3, 7, 16, 17, 31, 64, 100, 1000, 4099}) {
+    std::vector<T> x(n), y(n), z(n), dx(K), dy(K), dz(K), best(K);
+    std::vector<int> arg(K);
     for (int k = 0; k < n; ++k) x[k] = T(u(rng)), y[k] = T(u(rng)), z[k] = T(u(rng));
-    if (n > 10) x[7] = x[n - 1], y[7] = y[n - 1], z[7] = z[n - 1];  // a duplicate: first wins
-    for (int q = 0; q < 50; ++q) dx[q] = T(u(rng)), dy[q] = T(u(rng)), dz[q] = T(u(rng));
-    dx[0] = T(1), dy[0] = dz[0] = T(0);
-    support_push(x.data(), y.data(), z.data(), n, dx.data(), dy.data(), dz.data(), 50, best.data(),
+    for (int q = 0; q < K; ++q) dx[q] = T(u(rng)), dy[q] = T(u(rng)), dz[q] = T(u(rng));
+    support_push(x.data(), y.data(), z.data(), n, dx.data(), dy.data(), dz.data(), K, best.data(),
                  arg.data());
-    for (int q = 0; q < 50; ++q) {
+    for (int q = 0; q < K; ++q) {
       double top = -1e300;
       for (int k = 0; k < n; ++k) top = std::max(top, double(dx[q]) * x[k] + double(dy[q]) * y[k] + double(dz[q]) * z[k]);
-      const double eps = std::numeric_limits<T>::epsilon();
-      EXPECT_NEAR(best[q], top, 8 * eps) << "n " << n;
+      ASSERT_NEAR(best[q], top, 8 * eps) << "n " << n;
       ASSERT_GE(arg[q], 0);
       ASSERT_LT(arg[q], n);
       const double at = double(dx[q]) * x[arg[q]] + double(dy[q]) * y[arg[q]] + double(dz[q]) * z[arg[q]];
-      EXPECT_NEAR(at, top, 8 * eps);
+      ASSERT_NEAR(at, top, 8 * eps) << "n " << n;
     }
-    if (n > 10) EXPECT_NE(arg[0], n - 1 == 7 ? -1 : (x[7] == x[n - 1] && best[0] == x[7] ? n - 1 : -1));
+  }
+  // Ties go to the first index: every vertex equal, in every lane and in the tail.
+  for (int n : {1, 5, 16, 33}) {
+    std::vector<T> x(n, T(0.5)), y(n, T(-0.25)), z(n, T(2));
+    const T d[3] = {T(0.3), T(-0.7), T(0.1)};
+    T top;
+    int at = -1;
+    support_push(x.data(), y.data(), z.data(), n, d, d + 1, d + 2, 1, &top, &at);
+    EXPECT_EQ(at, 0) << "n " << n;
   }
 }
 
