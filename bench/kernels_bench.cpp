@@ -15,14 +15,6 @@ namespace {
 using namespace minksum;
 using Eigen::Vector3d;
 
-Box random_box(std::mt19937_64& rng) {
-  std::uniform_real_distribution<double> u(-1, 1), h(0.1, 2);
-  Box b;
-  b.center = 5 * Vector3d(u(rng), u(rng), u(rng));
-  b.rotation = tools::axis_angle(Vector3d(u(rng), u(rng), u(rng)), 3 * u(rng));
-  b.half_extents = Vector3d(h(rng), h(rng), h(rng));
-  return b;
-}
 
 template <int N>
 void BoxBoxBatch(benchmark::State& state, Isa isa) {
@@ -31,7 +23,7 @@ void BoxBoxBatch(benchmark::State& state, Isa isa) {
   auto out = std::make_unique<BoxBoxPlanes<float, N>>();
   std::mt19937_64 rng(1);
   a->count = b->count = N;
-  for (int k = 0; k < N; ++k) a->set(k, random_box(rng)), b->set(k, random_box(rng));
+  for (int k = 0; k < N; ++k) a->set(k, tools::random_box(rng, 5, 2)), b->set(k, tools::random_box(rng, 5, 2));
   for (auto _ : state) {
     box_box_planes(*a, *b, true, *out);
     benchmark::DoNotOptimize(out->offset[29][N - 1]);
@@ -49,7 +41,7 @@ void BoxTriangleBatch(benchmark::State& state, Isa isa) {
   std::uniform_real_distribution<double> u(-1, 1);
   a->count = t->count = N;
   for (int k = 0; k < N; ++k) {
-    a->set(k, random_box(rng));
+    a->set(k, tools::random_box(rng, 5, 2));
     t->set(k, Triangle{{u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}});
   }
   for (auto _ : state) {
@@ -76,7 +68,7 @@ void SupportPushBench(benchmark::State& state, Isa isa, int n) {
 
 void BoxBoxSingle(benchmark::State& state) {
   std::mt19937_64 rng(5);
-  const Box a = random_box(rng), b = random_box(rng);
+  const Box a = tools::random_box(rng, 5, 2), b = tools::random_box(rng, 5, 2);
   BoxBoxPair out;
   for (auto _ : state) {
     box_box_planes(a, b, true, out);
@@ -88,7 +80,7 @@ void BoxBoxSingle(benchmark::State& state) {
 // The peer: Qhull on the 64 pairwise sums of one box pair (a full merged polytope).
 void BoxBoxQhull(benchmark::State& state) {
   std::mt19937_64 rng(5);
-  const Box a = random_box(rng), b = random_box(rng);
+  const Box a = tools::random_box(rng, 5, 2), b = tools::random_box(rng, 5, 2);
   ConvexPolytope pa, pb;
   polytope_from_box(a, pa);
   polytope_from_box(b, pb);
@@ -107,7 +99,7 @@ void BoxBoxQhull(benchmark::State& state) {
 void TopologyInstantiate(benchmark::State& state, int kind) {
   TopologyTable t;
   std::mt19937_64 rng(6);
-  const Box a = random_box(rng), b = random_box(rng);
+  const Box a = tools::random_box(rng, 5, 2), b = tools::random_box(rng, 5, 2);
   if (kind == 0) {  // box-box
     auto A = std::make_unique<BoxBatch<double, 16>>(), B = std::make_unique<BoxBatch<double, 16>>();
     auto out = std::make_unique<BoxBoxPlanes<double, 16>>();

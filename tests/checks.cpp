@@ -1,6 +1,7 @@
 #include "checks.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <random>
 #include <set>
@@ -127,6 +128,83 @@ testing::AssertionResult same_sum(const MinkowskiSum& x, const MinkowskiSum& y, 
                                          << "): the planes differ by " << d << " at its vertices";
   }
   return testing::AssertionSuccess();
+}
+
+// Closest points of segments [p0, p1] and [q0, q1] (Ericson, Real-Time Collision Detection 5.1.9).
+double segment_distance(const Vector3d& p0, const Vector3d& p1, const Vector3d& q0, const Vector3d& q1) {
+  const Vector3d d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  double s = 0, t = 0;
+  if (a <= 1e-300 && e <= 1e-300) return r.norm();
+  if (a <= 1e-300) {
+    t = std::clamp(f / e, 0.0, 1.0);
+  } else {
+    const double c = d1.dot(r);
+    if (e <= 1e-300) {
+      s = std::clamp(-c / a, 0.0, 1.0);
+    } else {
+      const double b = d1.dot(d2), denom = a * e - b * b;
+      s = denom > 0 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+      t = (b * s + f) / e;
+      if (t < 0) t = 0, s = std::clamp(-c / a, 0.0, 1.0);
+      else if (t > 1) t = 1, s = std::clamp((b - c) / a, 0.0, 1.0);
+    }
+  }
+  return (p0 + s * d1 - (q0 + t * d2)).norm();
+}
+
+namespace {
+// Distance from p to the convex polygon `loop` of `v` with unit normal n.
+double point_polygon(const Vector3d& p, const std::vector<Vector3d>& v, const std::vector<int>& loop,
+                     const Vector3d& n) {
+  const double h = n.dot(p - v[loop[0]]);
+  const Vector3d q = p - h * n;
+  bool inside = true;
+  for (size_t k = 0; k < loop.size(); ++k)
+    inside = inside && (v[loop[(k + 1) % loop.size()]] - v[loop[k]]).cross(q - v[loop[k]]).dot(n) >= 0;
+  if (inside) return std::abs(h);
+  double best = 1e300;
+  for (size_t k = 0; k < loop.size(); ++k)
+    best = std::min(best, segment_distance(p, p, v[loop[k]], v[loop[(k + 1) % loop.size()]]));
+  return best;
+}
+}  // namespace
+
+Oracle brute_force(const ConvexPolytope& A, const ConvexPolytope& B) {
+  Oracle o{false, 1e300, 1e300, 0};
+  // SAT: face normals of both and all edge crosses; the smallest overlap is the exact depth.
+  std::vector<Vector3d> axes;
+  for (const auto* P : {&A, &B})
+    for (const auto& f : P->faces) axes.push_back(f.normal);
+  for (const auto& ea : A.edges)
+    for (const auto& eb : B.edges) {
+      const Vector3d c = (A.vertices[ea.v1] - A.vertices[ea.v0]).cross(B.vertices[eb.v1] - B.vertices[eb.v0]);
+      if (c.norm() > 1e-9) axes.push_back(c.normalized());
+    }
+  double min_overlap = 1e300;
+  for (const auto& n : axes) {
+    double amin = 1e300, amax = -1e300, bmin = 1e300, bmax = -1e300;
+    for (const auto& p : A.vertices) amin = std::min(amin, n.dot(p)), amax = std::max(amax, n.dot(p));
+    for (const auto& p : B.vertices) bmin = std::min(bmin, n.dot(p)), bmax = std::max(bmax, n.dot(p));
+    min_overlap = std::min(min_overlap, std::min(amax - bmin, bmax - amin));
+  }
+  o.overlap = min_overlap >= 0;
+  o.depth = o.overlap ? min_overlap : 0;
+  o.distance = 0;
+  if (!o.overlap) {
+    o.distance = 1e300;
+    for (const auto& p : A.vertices)
+      for (const auto& f : B.faces) o.distance = std::min(o.distance, point_polygon(p, B.vertices, f.loop, f.normal));
+    for (const auto& p : B.vertices)
+      for (const auto& f : A.faces) o.distance = std::min(o.distance, point_polygon(p, A.vertices, f.loop, f.normal));
+    for (const auto& ea : A.edges)
+      for (const auto& eb : B.edges)
+        o.distance = std::min(o.distance, segment_distance(A.vertices[ea.v0], A.vertices[ea.v1],
+                                                           B.vertices[eb.v0], B.vertices[eb.v1]));
+  }
+  for (const auto& p : A.vertices)
+    for (const auto& q : B.vertices) o.max_distance = std::max(o.max_distance, (p - q).norm());
+  return o;
 }
 
 }  // namespace minksum::test

@@ -27,4 +27,20 @@ testing::AssertionResult valid_sum(const std::vector<Eigen::Vector3d>& a_pts,
 /// that agree at those vertices within tol * size.
 testing::AssertionResult same_sum(const MinkowskiSum& x, const MinkowskiSum& y, double tol);
 
+/// What brute force says of two convex polytopes.
+struct Oracle {
+  bool overlap;         ///< no separating axis among face normals and edge crosses
+  double distance;      ///< min over vertex-face and edge-edge distances (0 if overlapping)
+  double depth;         ///< smallest overlap over those axes (0 if separated)
+  double max_distance;  ///< max over vertex pairs
+};
+
+/// Brute force on two polytopes: the separating axis theorem over face normals and edge
+/// crosses, vertex-face and edge-edge distances, all vertex pairs.
+Oracle brute_force(const ConvexPolytope& a, const ConvexPolytope& b);
+
+/// Distance between the segments [p0, p1] and [q0, q1].
+double segment_distance(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
+                        const Eigen::Vector3d& q0, const Eigen::Vector3d& q1);
+
 }  // namespace minksum::test

@@ -21,14 +21,6 @@ Eigen::Matrix3d random_rotation(std::mt19937_64& rng) {
   return tools::axis_angle(Vector3d(u(rng), u(rng), u(rng)), 3.2 * u(rng));
 }
 
-Box random_box(std::mt19937_64& rng, double spread) {
-  std::uniform_real_distribution<double> u(-1, 1), h(0.05, 2);
-  Box b;
-  b.center = spread * Vector3d(u(rng), u(rng), u(rng));
-  b.rotation = random_rotation(rng);
-  b.half_extents = Vector3d(h(rng), h(rng), h(rng));
-  return b;
-}
 
 // The box (triangle) as the float kernel sees it: every input rounded to T.
 template <class T>
@@ -125,7 +117,7 @@ void check_box_box(Isa isa, const std::vector<std::pair<Box, Box>>& pairs, bool 
 std::vector<std::pair<Box, Box>> random_box_pairs(int n, double spread, unsigned seed) {
   std::mt19937_64 rng(seed);
   std::vector<std::pair<Box, Box>> pairs;
-  for (int k = 0; k < n; ++k) pairs.emplace_back(random_box(rng, spread), random_box(rng, spread));
+  for (int k = 0; k < n; ++k) pairs.emplace_back(tools::random_box(rng, spread, 2), tools::random_box(rng, spread, 2));
   return pairs;
 }
 
@@ -177,12 +169,6 @@ TEST_P(Kernels, BoxBoxDoubleMatchesTheReference) {
   }
 }
 
-Triangle random_triangle(std::mt19937_64& rng, double spread) {
-  std::uniform_real_distribution<double> u(-1, 1);
-  const Vector3d c = spread * Vector3d(u(rng), u(rng), u(rng));
-  return {c + Vector3d(u(rng), u(rng), u(rng)), c + Vector3d(u(rng), u(rng), u(rng)),
-          c + Vector3d(u(rng), u(rng), u(rng))};
-}
 
 template <class T>
 void check_box_triangle(Isa isa, const std::vector<std::pair<Box, Triangle>>& pairs,
@@ -250,7 +236,7 @@ void check_box_triangle(Isa isa, const std::vector<std::pair<Box, Triangle>>& pa
 std::vector<std::pair<Box, Triangle>> box_triangle_pairs(int n, unsigned seed) {
   std::mt19937_64 rng(seed);
   std::vector<std::pair<Box, Triangle>> pairs;
-  for (int k = 0; k < n; ++k) pairs.emplace_back(random_box(rng, 3), random_triangle(rng, 3));
+  for (int k = 0; k < n; ++k) pairs.emplace_back(tools::random_box(rng, 3, 2), tools::random_triangle(rng, 3));
   // Hard cases: a triangle in a box face's plane, an axis-parallel edge, degenerate triangles.
   Box unit;
   pairs.emplace_back(unit, Triangle{{-0.5, -0.5, 1}, {0.7, -0.2, 1}, {0.1, 0.6, 1}});
@@ -335,7 +321,7 @@ INSTANTIATE_TEST_SUITE_P(Isa, Kernels, testing::ValuesIn(kIsas),
 TEST(Kernels, SinglePairApiMatchesTheReference) {
   std::mt19937_64 rng(3);
   for (int k = 0; k < 1000; ++k) {
-    const Box a = random_box(rng, 3), b = random_box(rng, 3);
+    const Box a = tools::random_box(rng, 3, 2), b = tools::random_box(rng, 3, 2);
     BoxBoxPair pair;
     KernelPlane got[30], ref[30];
     box_box_planes(a, b, k % 2, pair);
@@ -353,7 +339,7 @@ TEST(Kernels, SinglePairApiMatchesTheReference) {
           EXPECT_EQ(got[p].j >> bit & 1, ref[p].j >> bit & 1);
       }
     }
-    const Triangle t = random_triangle(rng, 3);
+    const Triangle t = tools::random_triangle(rng, 3);
     KernelPlane tg[26], tr[26];
     box_triangle_planes(a, t, k % 2, tg);
     detail::box_triangle_reference(a, t, k % 2, kParallelThreshold<double>, tr);
@@ -383,7 +369,7 @@ TEST(Topology, BoxBoxInstantiateEqualsFreshPlanes) {
   std::uniform_real_distribution<double> u(-10, 10);
   for (bool diff : {false, true}) {
     for (int trial = 0; trial < 200; ++trial) {
-      const Box a = random_box(rng, 0), b = random_box(rng, 0);  // prototypes at the origin
+      const Box a = tools::random_box(rng, 0, 2), b = tools::random_box(rng, 0, 2);  // prototypes at the origin
       auto A = std::make_unique<BoxBatch<double, 16>>(), B = std::make_unique<BoxBatch<double, 16>>();
       auto out = std::make_unique<BoxBoxPlanes<double, 16>>();
       A->count = B->count = 1;
@@ -419,8 +405,8 @@ TEST(Topology, BoxTriangleInstantiateEqualsFreshPlanes) {
   std::uniform_real_distribution<double> u(-10, 10);
   for (bool diff : {false, true}) {
     for (int trial = 0; trial < 200; ++trial) {
-      const Box box = random_box(rng, 0);  // the prototype octree cube, at the origin
-      const Triangle tri = random_triangle(rng, 2);
+      const Box box = tools::random_box(rng, 0, 2);  // the prototype octree cube, at the origin
+      const Triangle tri = tools::random_triangle(rng, 2);
       auto A = std::make_unique<BoxBatch<double, 16>>();
       auto T = std::make_unique<TriangleBatch<double, 16>>();
       auto out = std::make_unique<BoxTrianglePlanes<double, 16>>();

@@ -7,93 +7,13 @@
 #include <memory>
 #include <random>
 
+#include "checks.hpp"
 #include "tools/shapes.hpp"
 
 namespace minksum {
 namespace {
 
 using Eigen::Vector3d;
-
-// Closest points of segments [p0, p1] and [q0, q1] (Ericson, Real-Time Collision Detection 5.1.9).
-double segment_distance(const Vector3d& p0, const Vector3d& p1, const Vector3d& q0, const Vector3d& q1) {
-  const Vector3d d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
-  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
-  double s = 0, t = 0;
-  if (a <= 1e-300 && e <= 1e-300) return r.norm();
-  if (a <= 1e-300) {
-    t = std::clamp(f / e, 0.0, 1.0);
-  } else {
-    const double c = d1.dot(r);
-    if (e <= 1e-300) {
-      s = std::clamp(-c / a, 0.0, 1.0);
-    } else {
-      const double b = d1.dot(d2), denom = a * e - b * b;
-      s = denom > 0 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
-      t = (b * s + f) / e;
-      if (t < 0) t = 0, s = std::clamp(-c / a, 0.0, 1.0);
-      else if (t > 1) t = 1, s = std::clamp((b - c) / a, 0.0, 1.0);
-    }
-  }
-  return (p0 + s * d1 - (q0 + t * d2)).norm();
-}
-
-// Distance from p to the convex polygon `loop` of `v` with unit normal n.
-double point_polygon(const Vector3d& p, const std::vector<Vector3d>& v, const std::vector<int>& loop,
-                     const Vector3d& n) {
-  const double h = n.dot(p - v[loop[0]]);
-  const Vector3d q = p - h * n;
-  bool inside = true;
-  for (size_t k = 0; k < loop.size(); ++k)
-    inside = inside && (v[loop[(k + 1) % loop.size()]] - v[loop[k]]).cross(q - v[loop[k]]).dot(n) >= 0;
-  if (inside) return std::abs(h);
-  double best = 1e300;
-  for (size_t k = 0; k < loop.size(); ++k)
-    best = std::min(best, segment_distance(p, p, v[loop[k]], v[loop[(k + 1) % loop.size()]]));
-  return best;
-}
-
-struct Oracle {
-  bool overlap;
-  double distance, depth, max_distance;
-};
-
-// Brute force on two polytopes (faces and edges as built from their point sets).
-Oracle brute_force(const ConvexPolytope& A, const ConvexPolytope& B) {
-  Oracle o{false, 1e300, 1e300, 0};
-  // SAT: face normals of both and all edge crosses; the smallest overlap is the exact depth.
-  std::vector<Vector3d> axes;
-  for (const auto* P : {&A, &B})
-    for (const auto& f : P->faces) axes.push_back(f.normal);
-  for (const auto& ea : A.edges)
-    for (const auto& eb : B.edges) {
-      const Vector3d c = (A.vertices[ea.v1] - A.vertices[ea.v0]).cross(B.vertices[eb.v1] - B.vertices[eb.v0]);
-      if (c.norm() > 1e-9) axes.push_back(c.normalized());
-    }
-  double min_overlap = 1e300;
-  for (const auto& n : axes) {
-    double amin = 1e300, amax = -1e300, bmin = 1e300, bmax = -1e300;
-    for (const auto& p : A.vertices) amin = std::min(amin, n.dot(p)), amax = std::max(amax, n.dot(p));
-    for (const auto& p : B.vertices) bmin = std::min(bmin, n.dot(p)), bmax = std::max(bmax, n.dot(p));
-    min_overlap = std::min(min_overlap, std::min(amax - bmin, bmax - amin));
-  }
-  o.overlap = min_overlap >= 0;
-  o.depth = o.overlap ? min_overlap : 0;
-  o.distance = 0;
-  if (!o.overlap) {
-    o.distance = 1e300;
-    for (const auto& p : A.vertices)
-      for (const auto& f : B.faces) o.distance = std::min(o.distance, point_polygon(p, B.vertices, f.loop, f.normal));
-    for (const auto& p : B.vertices)
-      for (const auto& f : A.faces) o.distance = std::min(o.distance, point_polygon(p, A.vertices, f.loop, f.normal));
-    for (const auto& ea : A.edges)
-      for (const auto& eb : B.edges)
-        o.distance = std::min(o.distance, segment_distance(A.vertices[ea.v0], A.vertices[ea.v1],
-                                                           B.vertices[eb.v0], B.vertices[eb.v1]));
-  }
-  for (const auto& p : A.vertices)
-    for (const auto& q : B.vertices) o.max_distance = std::max(o.max_distance, (p - q).norm());
-  return o;
-}
 
 // Largest distance of p outside the polytope's face planes (0 inside).
 double outside(const ConvexPolytope& P, const Vector3d& p) {
@@ -104,7 +24,7 @@ double outside(const ConvexPolytope& P, const Vector3d& p) {
 
 void expect_agrees(const ConvexPolytope& A, const ConvexPolytope& B, const Proximity& got,
                    const std::string& what) {
-  const Oracle o = brute_force(A, B);
+  const test::Oracle o = test::brute_force(A, B);
   double size = 1;
   for (const auto* P : {&A, &B})
     for (const auto& v : P->vertices) size = std::max(size, v.cwiseAbs().maxCoeff());
@@ -122,21 +42,7 @@ void expect_agrees(const ConvexPolytope& A, const ConvexPolytope& B, const Proxi
   EXPECT_NEAR((got.far_a - got.far_b).norm(), got.max_distance, tol) << what;
 }
 
-Box random_box(std::mt19937_64& rng, double spread) {
-  std::uniform_real_distribution<double> u(-1, 1), h(0.05, 1.5);
-  Box b;
-  b.center = spread * Vector3d(u(rng), u(rng), u(rng));
-  b.rotation = tools::axis_angle(Vector3d(u(rng), u(rng), u(rng)), 3.2 * u(rng));
-  b.half_extents = Vector3d(h(rng), h(rng), h(rng));
-  return b;
-}
 
-Triangle random_triangle(std::mt19937_64& rng, double spread) {
-  std::uniform_real_distribution<double> u(-1, 1);
-  const Vector3d c = spread * Vector3d(u(rng), u(rng), u(rng));
-  return {c + Vector3d(u(rng), u(rng), u(rng)), c + Vector3d(u(rng), u(rng), u(rng)),
-          c + Vector3d(u(rng), u(rng), u(rng))};
-}
 
 class RandomQueries : public testing::TestWithParam<int> {};
 
@@ -144,7 +50,7 @@ class RandomQueries : public testing::TestWithParam<int> {};
 TEST_P(RandomQueries, BoxBoxAgreesWithBruteForce) {
   std::mt19937_64 rng(100 + GetParam());
   for (int k = 0; k < 10000; ++k) {
-    const Box a = random_box(rng, 1.5), b = random_box(rng, 1.5);
+    const Box a = tools::random_box(rng, 1.5), b = tools::random_box(rng, 1.5);
     Proximity got;
     ASSERT_EQ(proximity(a, b, got), Status::Ok);
     ConvexPolytope A, B;
@@ -157,8 +63,8 @@ TEST_P(RandomQueries, BoxBoxAgreesWithBruteForce) {
 TEST_P(RandomQueries, BoxTriangleAgreesWithBruteForce) {
   std::mt19937_64 rng(200 + GetParam());
   for (int k = 0; k < 10000; ++k) {
-    const Box a = random_box(rng, 1.5);
-    const Triangle t = random_triangle(rng, 1.5);
+    const Box a = tools::random_box(rng, 1.5);
+    const Triangle t = tools::random_triangle(rng, 1.5);
     Proximity got;
     ASSERT_EQ(proximity(a, t, got), Status::Ok);
     ConvexPolytope A, B;
@@ -171,7 +77,7 @@ TEST_P(RandomQueries, BoxTriangleAgreesWithBruteForce) {
 TEST_P(RandomQueries, TriangleTriangleAgreesWithBruteForce) {
   std::mt19937_64 rng(300 + GetParam());
   for (int k = 0; k < 10000; ++k) {
-    const Triangle s = random_triangle(rng, 1.2), t = random_triangle(rng, 1.2);
+    const Triangle s = tools::random_triangle(rng, 1.2), t = tools::random_triangle(rng, 1.2);
     Proximity got;
     ASSERT_EQ(proximity(s, t, got), Status::Ok);
     ConvexPolytope A, B;
@@ -348,7 +254,7 @@ void check_batched_proximity(Isa isa, unsigned seed, double spread) {
     }
   }
   for (int k = 0; k < N; ++k) {
-    Box a = random_box(rng, spread), b = random_box(rng, spread);
+    Box a = tools::random_box(rng, spread), b = tools::random_box(rng, spread);
     if (k < int(hard.size())) a = hard[k].first, b = hard[k].second;
     // Round the inputs to T so that both sides see the same boxes.
     for (Box* x : {&a, &b}) {
@@ -452,8 +358,8 @@ void check_fused(Isa isa, unsigned seed) {
   std::vector<Box> as, bs;
   std::vector<Triangle> ts;
   for (int k = 0; k < N; ++k) {
-    Box a = random_box(rng, 1.5), b = random_box(rng, 1.5);
-    Triangle t = random_triangle(rng, 1.5);
+    Box a = tools::random_box(rng, 1.5), b = tools::random_box(rng, 1.5);
+    Triangle t = tools::random_triangle(rng, 1.5);
     for (Box* x : {&a, &b}) {  // what the kernel sees: inputs rounded to T
       x->center = x->center.cast<T>().template cast<double>();
       x->half_extents = x->half_extents.cast<T>().template cast<double>();

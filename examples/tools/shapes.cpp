@@ -73,4 +73,20 @@ std::vector<Vector3d> sphere_points(int n, unsigned seed) {
   return out;
 }
 
+Box random_box(std::mt19937_64& rng, double spread, double max_half) {
+  std::uniform_real_distribution<double> u(-1, 1), h(0.05, max_half);
+  Box b;
+  b.center = spread * Vector3d(u(rng), u(rng), u(rng));
+  b.rotation = axis_angle(Vector3d(u(rng), u(rng), u(rng)), 3.2 * u(rng));
+  b.half_extents = Vector3d(h(rng), h(rng), h(rng));
+  return b;
+}
+
+Triangle random_triangle(std::mt19937_64& rng, double spread) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  const Vector3d c = spread * Vector3d(u(rng), u(rng), u(rng));
+  return {c + Vector3d(u(rng), u(rng), u(rng)), c + Vector3d(u(rng), u(rng), u(rng)),
+          c + Vector3d(u(rng), u(rng), u(rng))};
+}
+
 }  // namespace minksum::tools

@@ -3,6 +3,7 @@
 
 #include <minksum/model.hpp>
 
+#include <random>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,13 @@ std::vector<Eigen::Vector3d> rotated(const std::vector<Eigen::Vector3d>& pts,
 
 /// n points uniformly on the unit sphere, from a seeded generator.
 std::vector<Eigen::Vector3d> sphere_points(int n, unsigned seed);
+
+/// A seeded random box: centre in [-spread, spread]^3, a random rotation, half extents in
+/// [0.05, max_half].
+Box random_box(std::mt19937_64& rng, double spread, double max_half = 1.5);
+
+/// A seeded random triangle: corners in a unit cube around a centre in [-spread, spread]^3.
+Triangle random_triangle(std::mt19937_64& rng, double spread);
 
 /// A rotation about a unit axis by an angle (radians).
 Eigen::Matrix3d axis_angle(const Eigen::Vector3d& axis, double angle);
