@@ -6,8 +6,6 @@
 
 namespace minksum::detail {
 
-namespace {
-
 int exact_orient(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& r) {
   // Every double is a dyadic rational, so mpq_class holds it exactly.
   auto m = [](double x) { return mpq_class(x); };
@@ -16,8 +14,6 @@ int exact_orient(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen
                         m(p.z()) * (m(q.x()) * m(r.y()) - m(q.y()) * m(r.x()));
   return sgn(det);
 }
-
-}  // namespace
 
 Eigen::Vector3d exact_newell(const std::vector<Eigen::Vector3d>& points,
                              const std::vector<int>& loop) {
@@ -40,17 +36,6 @@ Cross make_cross(const Eigen::Vector3d& q, const Eigen::Vector3d& r) {
                             std::abs(q.z() * r.x()) + std::abs(q.x() * r.z()),
                             std::abs(q.x() * r.y()) + std::abs(q.y() * r.x()));
   return c;
-}
-
-int orient(const Eigen::Vector3d& p, const Cross& c) {
-  const double det = p.dot(c.value);
-  // The permanent bounds every rounding error of the six products and their sums.
-  const double perm = p.cwiseAbs().dot(c.bound);
-  if (perm == 0.0) return 0;  // every product is exactly zero
-  // Shewchuk's o3derrboundA is (7 + 56 eps) eps ~ 7.8e-16; 1e-15 is a safe round-up.
-  // Products that may have underflowed (perm < 1e-290) go to the exact path as well.
-  if (perm > 1e-290 && std::abs(det) > 1e-15 * perm) return det > 0 ? 1 : -1;
-  return exact_orient(p, c.q, c.r);
 }
 
 int orient(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& r) {

@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <cmath>
 #include <vector>
 
 namespace minksum::detail {
@@ -28,7 +29,20 @@ struct Cross {
 /// Builds the cached cross product q x r.
 Cross make_cross(const Eigen::Vector3d& q, const Eigen::Vector3d& r);
 
-/// The same sign as orient(p, c.q, c.r), reusing the cached cross product.
-int orient(const Eigen::Vector3d& p, const Cross& c);
+/// The exact sign of p . (q x r) in rational arithmetic (the filter's fallback).
+int exact_orient(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& r);
+
+/// The same sign as orient(p, c.q, c.r), reusing the cached cross product. Inline: the
+/// filter decides almost every call in a few multiply-adds.
+inline int orient(const Eigen::Vector3d& p, const Cross& c) {
+  const double det = p.dot(c.value);
+  // The permanent bounds every rounding error of the six products and their sums.
+  const double perm = p.cwiseAbs().dot(c.bound);
+  // Shewchuk's o3derrboundA is (7 + 56 eps) eps ~ 7.8e-16; 1e-15 is a safe round-up.
+  // Products that may have underflowed (perm < 1e-290) go to the exact path as well.
+  if (std::abs(det) > 1e-15 * perm && perm > 1e-290) return det > 0 ? 1 : -1;
+  if (perm == 0.0) return 0;  // every product is exactly zero
+  return exact_orient(p, c.q, c.r);
+}
 
 }  // namespace minksum::detail

@@ -55,11 +55,14 @@ void assemble(const ConvexPolytope& a, const ConvexPolytope& b, std::vector<Face
     out.planes.push_back(plane);
     out.facets.push_back(std::move(loop));
   }
-  // A closed 2-manifold: every directed edge once, and its reverse once.
+  // A closed 2-manifold: every directed edge once, and its reverse once; that is, no repeats,
+  // and the sorted edges equal the sorted reversed edges.
+  std::vector<std::pair<int, int>> reversed(directed.size());
+  for (size_t k = 0; k < directed.size(); ++k) reversed[k] = {directed[k].second, directed[k].first};
   std::sort(directed.begin(), directed.end());
-  bool manifold = std::adjacent_find(directed.begin(), directed.end()) == directed.end();
-  for (const auto& [u, v] : directed)
-    manifold = manifold && std::binary_search(directed.begin(), directed.end(), std::make_pair(v, u));
+  std::sort(reversed.begin(), reversed.end());
+  const bool manifold =
+      std::adjacent_find(directed.begin(), directed.end()) == directed.end() && directed == reversed;
   out.V = int(out.vertices.size());
   out.E = int(directed.size() / 2);
   out.F = int(out.facets.size());
