@@ -1,0 +1,105 @@
+// Real-time guarantees: no heap allocation inside the kernel calls and the box queries (the
+// calls a haptics tick makes). This executable replaces operator new and malloc to count them.
+#include <gtest/gtest.h>
+#include <minksum/minksum.hpp>
+
+#include <atomic>
+#include <cstdlib>
+#include <memory>
+#include <new>
+#include <random>
+
+#include "tools/shapes.hpp"
+
+namespace {
+std::atomic<long> g_allocations{0};
+}  // namespace
+
+void* operator new(std::size_t n) {
+  ++g_allocations;
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t n) { return operator new(n); }
+void* operator new(std::size_t n, std::align_val_t a) {
+  ++g_allocations;
+  if (void* p = std::aligned_alloc(std::size_t(a), (n + std::size_t(a) - 1) / std::size_t(a) * std::size_t(a)))
+    return p;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t n, std::align_val_t a) { return operator new(n, a); }
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
+
+namespace minksum {
+namespace {
+
+// Allocations made while running f.
+template <class F>
+long allocations(F&& f) {
+  const long before = g_allocations.load();
+  f();
+  return g_allocations.load() - before;
+}
+
+TEST(RealTime, CountingWorks) {
+  // The counter must see an allocation, or every zero below would prove nothing.
+  EXPECT_GE(allocations([] { auto p = std::make_unique<std::vector<int>>(100); }), 1);
+}
+
+TEST(RealTime, KernelsAndBoxQueriesDoNotAllocate) {
+  const Isa active = active_isa();
+  std::mt19937_64 rng(1);
+  // Set-up: caller-owned buffers, allocated before the loop.
+  auto A = std::make_unique<BoxBatch<float, 64>>(), B = std::make_unique<BoxBatch<float, 64>>();
+  auto T = std::make_unique<TriangleBatch<float, 64>>();
+  auto planes = std::make_unique<BoxBoxPlanes<float, 64>>();
+  auto tri_planes = std::make_unique<BoxTrianglePlanes<float, 64>>();
+  auto prox = std::make_unique<BoxBoxProximity<float, 64>>();
+  auto sep = std::make_unique<BoxBoxSeparation<float, 64>>();
+  auto overlap = std::make_unique<BoxTriangleOverlap<float, 64>>();
+  std::vector<Box> boxes;
+  std::vector<Triangle> tris;
+  for (int k = 0; k < 64; ++k) {
+    boxes.push_back(tools::random_box(rng, 2)), tris.push_back(tools::random_triangle(rng, 2));
+    A->set(k, boxes.back()), B->set(k, tools::random_box(rng, 2)), T->set(k, tris.back());
+  }
+  A->count = B->count = T->count = 64;
+  std::vector<float> x(100, 1.f), y(100, 2.f), z(100, 3.f), d(8, 0.5f), best(8);
+  std::vector<int> arg(8);
+  for (Isa isa : {Isa::Scalar, Isa::Sse4_2, Isa::Avx2, Isa::Avx512}) {
+    if (!force_isa(isa)) continue;
+    SCOPED_TRACE(to_string(isa));
+    EXPECT_EQ(allocations([&] { box_box_planes(*A, *B, true, *planes); }), 0);
+    EXPECT_EQ(allocations([&] { box_triangle_planes(*A, *T, false, *tri_planes); }), 0);
+    EXPECT_EQ(allocations([&] { box_box_proximity(*A, *B, *prox); }), 0);
+    EXPECT_EQ(allocations([&] { box_box_separation(*A, *B, *sep); }), 0);
+    EXPECT_EQ(allocations([&] { box_triangle_overlap(*A, *T, *overlap); }), 0);
+    EXPECT_EQ(allocations([&] {
+                support_push(x.data(), y.data(), z.data(), 100, d.data(), d.data(), d.data(), 8,
+                             best.data(), arg.data());
+              }),
+              0);
+    BoxBoxPair pair;
+    Proximity p;
+    KernelPlane tp[26];
+    EXPECT_EQ(allocations([&] {
+                for (int k = 0; k + 1 < 64; ++k) {
+                  box_box_planes(boxes[k], boxes[k + 1], false, pair);
+                  box_triangle_planes(boxes[k], tris[k], true, tp);
+                  proximity(boxes[k], boxes[k + 1], p);
+                }
+              }),
+              0);
+  }
+  force_isa(active);
+}
+
+}  // namespace
+}  // namespace minksum
