@@ -220,10 +220,12 @@ double time_us(F&& f, double budget_us = 20000) {
 
 int cmd_demo() {
   std::printf("minksum demo: the paper's Table 1 (B rotated 0.7 rad about (1,2,3)),\n"
-              "median time per sum on this machine. The paper (2007): OSM 6.1-82.9 ms,\n"
-              "CGAL quickhull 131-277 ms. Google Benchmark runs: build/bench/minksum_bench.\n\n");
+              "median time per full sum (planes, support pairs, vertices, facet loops) on this\n"
+              "machine: the fast path, the reference path (the paper as written), and the hull\n"
+              "method (Qhull on the pairwise sums). The paper (2007): OSM 6.1-82.9 ms, CGAL\n"
+              "quickhull 131-277 ms. Google Benchmark runs: build/bench/minksum_bench.\n\n");
   std::printf("%-14s %4s %4s %4s  %12s %14s %12s  %8s\n", "pair", "V", "E", "F", "fast [us]",
-              "reference [us]", "qhull [us]", "qhull/fast");
+              "reference [us]", "hull [us]", "hull/fast");
   for (const auto& pair : tools::table1_pairs()) {
     ConvexPolytope A, B;
     if (polytope_from_points(pair.a, A) != Status::Ok ||
