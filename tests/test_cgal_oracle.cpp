@@ -2,12 +2,17 @@
 // exactly coplanar triangles; its V, E, F must equal the fast path's. This is the only
 // translation unit that includes CGAL (it is slow to compile).
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+#include <CGAL/Gmpzf.h>
+#include <CGAL/Homogeneous.h>
+#include <CGAL/Polytope_distance_d.h>
+#include <CGAL/Polytope_distance_d_traits_3.h>
 #include <CGAL/Polyhedron_3.h>
 #include <CGAL/convex_hull_3.h>
 #include <gtest/gtest.h>
 #include <minksum/minksum.hpp>
 
 #include <map>
+#include <random>
 #include <numeric>
 #include <set>
 
@@ -163,6 +168,50 @@ TEST(ExactOracle, IdenticalAndMirroredPolytopes) {
 }
 
 TEST(ExactOracle, ThinBox) { expect_matches_oracle(box({1, 1, 1e-7}), exact_rotated(scaled(tools::cube_points(), 30))); }
+
+// CGAL's exact polytope distance (an LP-type solver over the input points, exact Gmpzf
+// arithmetic) as the oracle of minksum's distances: its squared distance is an exact ratio.
+double cgal_distance(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b) {
+  using HK = CGAL::Homogeneous<double>;
+  using Traits = CGAL::Polytope_distance_d_traits_3<HK, CGAL::Gmpzf, double>;
+  std::vector<HK::Point_3> p, q;
+  for (const auto& v : a) p.emplace_back(v.x(), v.y(), v.z());
+  for (const auto& v : b) q.emplace_back(v.x(), v.y(), v.z());
+  CGAL::Polytope_distance_d<Traits> pd(p.begin(), p.end(), q.begin(), q.end());
+  return std::sqrt(CGAL::to_double(pd.squared_distance_numerator()) /
+                   CGAL::to_double(pd.squared_distance_denominator()));
+}
+
+TEST(ExactOracle, DistancesAgreeWithCgalPolytopeDistance) {
+  std::mt19937_64 rng(81);
+  std::uniform_int_distribution<int> count(4, 20);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int separated = 0;
+  for (int k = 0; k < 3000; ++k) {
+    std::vector<Vector3d> pts[2];
+    for (auto& pt : pts) {
+      const Vector3d c = 2 * Vector3d(u(rng), u(rng), u(rng));
+      if (k % 3 == 0) {  // boxes
+        const Box b = tools::random_box(rng, 0);
+        for (const auto& q : tools::cube_points()) pt.push_back(c + b.rotation * q.cwiseProduct(b.half_extents));
+      } else if (k % 3 == 1) {  // triangles
+        for (int v = 0; v < 3; ++v) pt.push_back(c + Vector3d(u(rng), u(rng), u(rng)));
+      } else {  // random polytopes
+        for (const auto& q : tools::sphere_points(count(rng), unsigned(rng()))) pt.push_back(c + q);
+      }
+    }
+    ConvexPolytope A, B;
+    ASSERT_EQ(polytope_from_points(pts[0], A), Status::Ok);
+    ASSERT_EQ(polytope_from_points(pts[1], B), Status::Ok);
+    Proximity p;
+    ASSERT_EQ(proximity(A, B, p), Status::Ok);
+    const double exact = cgal_distance(pts[0], pts[1]);
+    EXPECT_NEAR(p.distance, exact, 1e-9 * (1 + exact)) << "pair " << k;
+    separated += exact > 0;
+  }
+  EXPECT_GT(separated, 1000);  // and the rest overlap: both outcomes are exercised
+  EXPECT_LT(separated, 2900);
+}
 
 }  // namespace
 }  // namespace minksum
