@@ -8,11 +8,8 @@ using Eigen::Vector3d;
 
 double box_support_brute(const Box& b, const Vector3d& n, int* code) {
   double best = -std::numeric_limits<double>::infinity();
-  for (int k = 0; k < 8; ++k) {
-    Vector3d p = b.center;
-    for (int a = 0; a < 3; ++a) p += ((k >> a & 1) ? 1.0 : -1.0) * b.half_extents[a] * b.rotation.col(a);
-    if (n.dot(p) > best) best = n.dot(p), *code = k;
-  }
+  for (int k = 0; k < 8; ++k)
+    if (const double h = n.dot(box_corner(b, k)); h > best) best = h, *code = k;
   return best;
 }
 

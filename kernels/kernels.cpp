@@ -215,12 +215,8 @@ void add_facet(TopologyTable& t, const Eigen::Vector3d& n, const Eigen::Vector3d
   t.i.push_back(i), t.j.push_back(j);
 }
 
-// Corner `code` of a box relative to its centre (bit a set: +h_a u_a).
-Eigen::Vector3d corner(const Box& b, int code) {
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();
-  for (int a = 0; a < 3; ++a) p += ((code >> a & 1) ? 1 : -1) * b.half_extents[a] * b.rotation.col(a);
-  return p;
-}
+// Corner `code` of a box relative to its centre (the tables take the centre as translation).
+Eigen::Vector3d corner(const Box& b, int code) { return box_corner(b, code) - b.center; }
 
 }  // namespace
 

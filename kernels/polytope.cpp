@@ -218,13 +218,19 @@ Status check_box(const Box& box) {
   return Status::Ok;
 }
 
+Vector3d box_corner(const Box& box, int code) {
+  Vector3d p = box.center;
+  for (int a = 0; a < 3; ++a)
+    p += ((code >> a & 1) ? 1.0 : -1.0) * box.half_extents[a] * box.rotation.col(a);
+  return p;
+}
+
 Status polytope_from_box(const Box& box, ConvexPolytope& out) {
   out = ConvexPolytope{};
   if (const Status s = check_box(box); s != Status::Ok) return s;
   const Eigen::Matrix3d& R = box.rotation;
   for (int k = 0; k < 8; ++k) {
-    Vector3d s((k & 1) ? 1 : -1, (k & 2) ? 1 : -1, (k & 4) ? 1 : -1);
-    out.vertices.push_back(box.center + R * s.cwiseProduct(box.half_extents));
+    out.vertices.push_back(box_corner(box, k));
     out.input_index.push_back(k);
   }
   for (int a = 0; a < 3; ++a) {

@@ -17,11 +17,6 @@ using Eigen::Vector3d;
 
 namespace {
 
-Vector3d box_corner(const Box& b, int code) {
-  Vector3d p = b.center;
-  for (int k = 0; k < 3; ++k) p += ((code >> k & 1) ? 1.0 : -1.0) * b.half_extents[k] * b.rotation.col(k);
-  return p;
-}
 
 // A point of M as weights over (i, j) pairs: its preimages on A and B.
 struct Witness {

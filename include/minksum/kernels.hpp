@@ -250,7 +250,7 @@ void box_triangle_overlap(const BoxBatch<T, N>& box, const TriangleBatch<T, N>& 
 
 /// One plane of a kernel result, for callers with one pair.
 struct KernelPlane {
-  Eigen::Vector3d normal;  ///< unit normal (zero when invalid)
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();  ///< unit normal (zero when invalid)
   double offset = 0;       ///< n . x <= offset
   int i = -1, j = -1;      ///< support pair: box corner code, and B's corner or triangle vertex
   bool valid = false;      ///< false for an axis of parallel edges (or a degenerate triangle)

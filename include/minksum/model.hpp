@@ -32,13 +32,15 @@ struct Box {
 
 /// Triangle with vertices a, b, c.
 struct Triangle {
-  Eigen::Vector3d a, b, c;  ///< the three corners
+  Eigen::Vector3d a = Eigen::Vector3d::Zero();  ///< first corner
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();  ///< second corner
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();  ///< third corner
 };
 
 /// One polygonal face: a vertex loop counter-clockwise seen from outside, and its plane.
 struct Face {
   std::vector<int> loop;    ///< vertex indices, counter-clockwise seen from outside
-  Eigen::Vector3d normal;   ///< outward unit normal
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();  ///< outward unit normal
   double offset = 0;        ///< plane: normal . x = offset
 };
 
@@ -69,6 +71,9 @@ Status polytope_from_mesh(const std::vector<Eigen::Vector3d>& vertices,
 
 /// Ok for a valid box: finite, half extents > 0, rotation a proper rotation (to 1e-9).
 Status check_box(const Box& box);
+
+/// Corner `code` of the box: bit a of code set means the +h_a side of axis a.
+Eigen::Vector3d box_corner(const Box& box, int code);
 
 /// The box as a polytope; vertex k is the corner with bit a of k set iff its axis-a sign is +.
 Status polytope_from_box(const Box& box, ConvexPolytope& out);

@@ -15,12 +15,12 @@ enum class Method {
 /// A vertex of the sum: the pair (i in A, j in B) and its coordinates a_i + b_j (or a_i - b_j).
 struct SumVertex {
   int i = -1, j = -1;     ///< support index pair (the paper's index tracking)
-  Eigen::Vector3d point;  ///< coordinates
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();  ///< coordinates
 };
 
 /// A facet plane n . x <= offset, with one support pair (i, j) lying on it.
 struct SumPlane {
-  Eigen::Vector3d normal;  ///< outward unit normal
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();  ///< outward unit normal
   double offset = 0;       ///< n . x = offset on the facet
   int i = -1, j = -1;      ///< a vertex pair of this facet (its loop's first vertex)
 };
