@@ -194,7 +194,7 @@ int cmd_sum(int argc, char** argv) {
       std::printf("%s[%.17g, %.17g, %.17g, %.17g, %d, %d]", k ? ", " : "", p.normal.x(),
                   p.normal.y(), p.normal.z(), p.offset, A.input_index[p.i], B.input_index[p.j]);
     }
-    std::printf("], \"method\": \"%s\", \"time_us\": %.3f}\n", method_name(method), t1 - t0);
+    std::printf("], \"method\": \"%s\", \"time_us\": %.17g}\n", method_name(method), t1 - t0);
   } else {
     std::printf("%s %s %s: V=%d E=%d F=%d, Euler %s%s, %.1f us (%s path)\n", files[0].c_str(),
                 diff ? "(-)" : "(+)", files[1].c_str(), m.V, m.E, m.F,
