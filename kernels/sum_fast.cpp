@@ -174,9 +174,16 @@ void directions(const GaussMap& g, const Feature& f, bool from_a, std::vector<Di
 
 // Facet loop at the overlay vertex n (a face normal of A or B): the cells around n in
 // counter-clockwise order; directions that coincide are one boundary (merged facets).
-FacetLoop sector_loop(const GaussMap& ga, const Feature& fa, const GaussMap& gb,
-                      const Feature& fb, const Vector3d& n) {
+// Scratch buffers of sector_loop, kept across the facets of one sum (no allocation per facet).
+struct SectorScratch {
   std::vector<Dir> dirs;
+  std::vector<std::pair<int, Dir>> keyed;
+};
+
+FacetLoop sector_loop(const GaussMap& ga, const Feature& fa, const GaussMap& gb,
+                      const Feature& fb, const Vector3d& n, SectorScratch& scratch) {
+  auto& dirs = scratch.dirs;
+  dirs.clear();
   directions(ga, fa, true, dirs);
   directions(gb, fb, false, dirs);
   const Vector3d ref = dirs[0].m;
@@ -187,7 +194,8 @@ FacetLoop sector_loop(const GaussMap& ga, const Feature& fa, const GaussMap& gb,
     if (s != 0) return s > 0 ? 1 : 3;
     return tangent(ref).dot(tangent(m)) > 0 ? 0 : 2;
   };
-  std::vector<std::pair<int, Dir>> keyed;
+  auto& keyed = scratch.keyed;
+  keyed.clear();
   for (const auto& d : dirs) keyed.emplace_back(angle_class(d.m), d);
   auto same = [&](const auto& x, const auto& y) {
     return x.first == y.first && (x.first % 2 == 0 || orient(n, x.second.m, y.second.m) == 0);
@@ -245,19 +253,21 @@ bool crossing_facet(const GaussMap& ga, int ea, const GaussMap& gb, int eb, Face
 bool sum_fast(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out) {
   const GaussMap ga = gauss_map(a), gb = gauss_map(b);
   std::vector<FacetLoop> facets;
+  facets.reserve(ga.normal.size() + gb.normal.size() + ga.arcs.size());
+  SectorScratch scratch;
   Feature fa, fb;
   const std::vector<int> start_b = support_cells(gb, ga.normal);
   const std::vector<int> start_a = support_cells(ga, gb.normal);
   // Face normals of A: F_A(n) is the face, F_B(n) is wherever n lies in B's Gauss map.
   for (int f = 0; f < int(ga.normal.size()); ++f) {
     if (!locate(gb, ga.normal[f], start_b[f], fb)) return false;
-    facets.push_back(sector_loop(ga, {Feature::Face, f}, gb, fb, ga.normal[f]));
+    facets.push_back(sector_loop(ga, {Feature::Face, f}, gb, fb, ga.normal[f], scratch));
   }
   // Face normals of B, except those that coincide with a face normal of A (done above).
   for (int f = 0; f < int(gb.normal.size()); ++f) {
     if (!locate(ga, gb.normal[f], start_a[f], fa)) return false;
     if (fa.kind != Feature::Face)
-      facets.push_back(sector_loop(ga, fa, gb, {Feature::Face, f}, gb.normal[f]));
+      facets.push_back(sector_loop(ga, fa, gb, {Feature::Face, f}, gb.normal[f], scratch));
   }
   // Edge-edge facets: every crossing of an arc of A with an arc of B.
   FacetLoop f;
