@@ -39,7 +39,6 @@ Cross make_cross(const Eigen::Vector3d& q, const Eigen::Vector3d& r) {
 }
 
 int orient(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& r) {
-  if (p == q || q == r || p == r) return 0;  // a repeated row; the filter cannot see it
   return orient(p, make_cross(q, r));
 }
 

@@ -42,6 +42,9 @@ inline int orient(const Eigen::Vector3d& p, const Cross& c) {
   // Products that may have underflowed (perm < 1e-290) go to the exact path as well.
   if (std::abs(det) > 1e-15 * perm && perm > 1e-290) return det > 0 ? 1 : -1;
   if (perm == 0.0) return 0;  // every product is exactly zero
+  // A repeated or exactly opposite row (antipodal normals are common: A and -A, symmetric
+  // solids) makes the determinant exactly 0; the filter cannot see that.
+  if (p == c.q || p == c.r || c.q == c.r || p == -c.q || p == -c.r || c.q == -c.r) return 0;
   return exact_orient(p, c.q, c.r);
 }
 
