@@ -219,13 +219,26 @@ FacetLoop sector_loop(const GaussMap& ga, const Feature& fa, const GaussMap& gb,
 
 // Gregorius's arc-crossing test with strict signs: a facet iff the arcs cross at inner points.
 // On success, fills the parallelogram facet e_A (+) e_B.
-bool crossing_facet(const GaussMap& ga, int ea, const GaussMap& gb, int eb, FacetLoop& f) {
+// side[f][e]: the sign of orient(normal f of one map, great circle of arc e of the other),
+// computed once per (normal, arc) instead of once per pair of arcs.
+struct Sides {
+  int arcs;
+  std::vector<signed char> sign;
+  Sides(const GaussMap& normals, const GaussMap& circles) : arcs(int(circles.arcs.size())) {
+    sign.resize(normals.normal.size() * circles.arcs.size());
+    for (size_t f = 0; f < normals.normal.size(); ++f)
+      for (int e = 0; e < arcs; ++e) sign[f * arcs + e] = static_cast<signed char>(orient(normals.normal[f], circles.great[e]));
+  }
+  int operator()(int f, int e) const { return sign[size_t(f) * arcs + e]; }
+};
+
+bool crossing_facet(const GaussMap& ga, int ea, const GaussMap& gb, int eb, const Sides& b_vs_a,
+                    const Sides& a_vs_b, FacetLoop& f) {
   const auto &A = ga.arcs[ea], &B = gb.arcs[eb];
   const Vector3d &a1 = ga.normal[A.L], &a2 = ga.normal[A.R];
-  const Vector3d &b1 = gb.normal[B.L], &b2 = gb.normal[B.R];
-  const int s1 = orient(b1, ga.great[ea]), s2 = orient(b2, ga.great[ea]);
+  const int s1 = b_vs_a(B.L, ea), s2 = b_vs_a(B.R, ea);
   if (s1 * s2 >= 0) return false;
-  const int s3 = orient(a1, gb.great[eb]), s4 = orient(a2, gb.great[eb]);
+  const int s3 = a_vs_b(A.L, eb), s4 = a_vs_b(A.R, eb);
   if (s3 * s4 >= 0 || s1 * s4 <= 0) return false;
   // The facet is the parallelogram e_A (+) e_B, so its normal is +-(d_A x d_B). The crossing
   // point p = |a2.g_B| a1 + |a1.g_B| a2 always lies on A's arc and fixes the sign; it is the
@@ -270,10 +283,11 @@ bool sum_fast(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& ou
       facets.push_back(sector_loop(ga, fa, gb, {Feature::Face, f}, gb.normal[f], scratch));
   }
   // Edge-edge facets: every crossing of an arc of A with an arc of B.
+  const Sides b_vs_a(gb, ga), a_vs_b(ga, gb);
   FacetLoop f;
   for (int ea = 0; ea < int(ga.arcs.size()); ++ea)
     for (int eb = 0; eb < int(gb.arcs.size()); ++eb)
-      if (crossing_facet(ga, ea, gb, eb, f)) facets.push_back(f);
+      if (crossing_facet(ga, ea, gb, eb, b_vs_a, a_vs_b, f)) facets.push_back(f);
   assemble(a, b, facets, out);
   return true;
 }
