@@ -41,9 +41,12 @@ void assemble(const ConvexPolytope& a, const ConvexPolytope& b, std::vector<Face
     const int i = code / nb, j = code % nb;
     out.vertices.push_back(SumVertex{i, j, a.vertices[i] + b.vertices[j]});
   }
-  std::vector<std::pair<int, int>> directed;
+  out.planes.reserve(facets.size());
+  out.facets.reserve(facets.size());
+  size_t directed = 0;  // directed edges, one per loop step
   for (const auto& f : facets) {
     std::vector<int> loop;
+    loop.reserve(f.loop.size());
     SumPlane plane{f.normal.normalized(), -std::numeric_limits<double>::infinity(),
                    f.loop[0].first, f.loop[0].second};
     for (const auto& p : f.loop) {
@@ -51,20 +54,31 @@ void assemble(const ConvexPolytope& a, const ConvexPolytope& b, std::vector<Face
       // The offset is the largest over the facet's vertices, so no vertex is ever cut off.
       plane.offset = std::max(plane.offset, plane.normal.dot(out.vertices[loop.back()].point));
     }
-    for (size_t k = 0; k < loop.size(); ++k) directed.emplace_back(loop[k], loop[(k + 1) % loop.size()]);
+    directed += loop.size();
     out.planes.push_back(plane);
     out.facets.push_back(std::move(loop));
   }
-  // A closed 2-manifold: every directed edge once, and its reverse once; that is, no repeats,
-  // and the sorted edges equal the sorted reversed edges.
-  std::vector<std::pair<int, int>> reversed(directed.size());
-  for (size_t k = 0; k < directed.size(); ++k) reversed[k] = {directed[k].second, directed[k].first};
-  std::sort(directed.begin(), directed.end());
-  std::sort(reversed.begin(), reversed.end());
-  const bool manifold =
-      std::adjacent_find(directed.begin(), directed.end()) == directed.end() && directed == reversed;
+  // A closed 2-manifold: every directed edge u -> v once, and v -> u once. Outgoing edges are
+  // grouped per vertex (a few per vertex), so each check is a short scan.
+  const size_t V = out.vertices.size();
+  std::vector<int> start(V + 1, 0), head(directed);
+  for (const auto& loop : out.facets)
+    for (int u : loop) ++start[u + 1];
+  for (size_t v = 0; v < V; ++v) start[v + 1] += start[v];
+  std::vector<int> fill(start.begin(), start.end() - 1);
+  for (const auto& loop : out.facets)
+    for (size_t k = 0; k < loop.size(); ++k) head[fill[loop[k]]++] = loop[(k + 1) % loop.size()];
+  auto count = [&](int u, int v) {
+    int n = 0;
+    for (int k = start[u]; k < start[u + 1]; ++k) n += head[k] == v;
+    return n;
+  };
+  bool manifold = true;
+  for (size_t u = 0; u < V && manifold; ++u)
+    for (int k = start[u]; k < start[u + 1] && manifold; ++k)
+      manifold = count(int(u), head[k]) == 1 && count(head[k], int(u)) == 1;
   out.V = int(out.vertices.size());
-  out.E = int(directed.size() / 2);
+  out.E = int(directed / 2);
   out.F = int(out.facets.size());
   out.euler_ok = manifold && out.F >= 4 && out.V - out.E + out.F == 2;
 }

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 #include <minksum/minksum.hpp>
 
+#include <algorithm>
 #include <random>
 
 #include "checks.hpp"
@@ -265,6 +266,43 @@ TEST(Sum, DifferenceContainsTheOriginExactlyWhenBoxesOverlap) {
   }
   EXPECT_GT(overlaps, 50);  // both outcomes are exercised
   EXPECT_LT(overlaps, 450);
+}
+
+}  // namespace
+}  // namespace minksum
+
+#include "sum_internal.hpp"
+
+namespace minksum {
+namespace {
+
+// The assembly's consistency check (which sends results to the corrector) must reject a
+// reversed facet, a missing facet and a repeated facet, and accept the real thing.
+TEST(Sum, AssemblyRejectsInconsistentFacets) {
+  ConvexPolytope a, b;  // a tetrahedron (+) a point-like tiny tetrahedron: pairs (i, 0) only
+  ASSERT_EQ(polytope_from_points({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, a), Status::Ok);
+  ASSERT_EQ(polytope_from_points({{0, 0, 0}, {1e-3, 0, 0}, {0, 1e-3, 0}, {0, 0, 1e-3}}, b), Status::Ok);
+  auto loops = [&](bool reverse_one, bool drop_one, bool repeat_one) {
+    std::vector<detail::FacetLoop> f;
+    for (const auto& face : a.faces) {
+      detail::FacetLoop l{face.normal, {}};
+      for (int v : face.loop) l.loop.emplace_back(v, 0);
+      f.push_back(l);
+    }
+    if (reverse_one) std::reverse(f[0].loop.begin(), f[0].loop.end());
+    if (drop_one) f.pop_back();
+    if (repeat_one) f.push_back(f[0]);
+    return f;
+  };
+  MinkowskiSum m;
+  auto ok = [&](std::vector<detail::FacetLoop> f) {
+    detail::assemble(a, b, f, m);
+    return m.euler_ok;
+  };
+  EXPECT_TRUE(ok(loops(false, false, false)));
+  EXPECT_FALSE(ok(loops(true, false, false)));
+  EXPECT_FALSE(ok(loops(false, true, false)));
+  EXPECT_FALSE(ok(loops(false, false, true)));
 }
 
 }  // namespace
