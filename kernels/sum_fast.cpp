@@ -58,6 +58,11 @@ struct GaussMap {
 
 GaussMap gauss_map(const ConvexPolytope& p) {
   GaussMap g;
+  // Sizes are known up front (a flat polygon's prism: K + 2 faces, 3K arcs, 2K cells).
+  const size_t K = p.flat ? p.faces[0].loop.size() : 0;
+  g.normal.reserve(p.flat ? K + 2 : p.faces.size());
+  g.arcs.reserve(p.flat ? 3 * K : p.edges.size());
+  g.vertex.reserve(p.flat ? 2 * K : p.vertices.size());
   if (!p.flat) {
     for (const auto& f : p.faces) g.normal.push_back(f.normal);
     for (const auto& e : p.edges) g.arcs.push_back({e.v0, e.v1, e.left, e.right});
@@ -82,6 +87,9 @@ GaussMap gauss_map(const ConvexPolytope& p) {
     for (int c = 0; c < 2 * K; ++c) g.vertex.push_back(top[c % K]);
   }
   std::vector<std::pair<int, int>> by_face, by_cell;
+  by_face.reserve(2 * g.arcs.size()), by_cell.reserve(2 * g.arcs.size());
+  g.great.reserve(g.arcs.size());
+  g.point.reserve(g.vertex.size());
   for (int e = 0; e < int(g.arcs.size()); ++e) {
     const auto& a = g.arcs[e];
     by_face.insert(by_face.end(), {{a.L, e}, {a.R, e}});
