@@ -22,6 +22,20 @@ bool unit_axis(const Vector3d& c, double scale, double tau, Vector3d& n) {
   return true;
 }
 
+// Fills planes p and p + axes of axis n (zeroed if invalid); `support` sets a plane's offset
+// and support pair from its normal.
+template <class Support>
+void both_sides(KernelPlane* out, int p, int axes, bool valid, const Vector3d& n, Support support) {
+  for (int side = 0; side < 2; ++side) {
+    KernelPlane& k = out[p + axes * side];
+    k = KernelPlane{};
+    k.valid = valid;
+    if (!valid) continue;
+    k.normal = side ? Vector3d(-n) : n;
+    support(k);
+  }
+}
+
 }  // namespace
 
 void box_box_reference(const Box& a, const Box& b, bool difference, double tau,
@@ -33,21 +47,10 @@ void box_box_reference(const Box& a, const Box& b, bool difference, double tau,
     if (p < 3) n = a.rotation.col(p);
     else if (p < 6) n = b.rotation.col(p - 3);
     else valid = unit_axis(a.rotation.col((p - 6) / 3).cross(b.rotation.col((p - 6) % 3)), 1, tau, n);
-    for (int side = 0; side < 2; ++side) {
-      KernelPlane& k = out[p + 15 * side];
-      k = KernelPlane{};
-      k.valid = valid;
-      if (!valid) {
-        k.normal.setZero();
-        continue;
-      }
-      k.normal = side ? Vector3d(-n) : n;
-      int ca, cb;
+    both_sides(out, p, 15, valid, n, [&](KernelPlane& k) {
       // h_{A (+) sB}(n) = h_A(n) + h_B(s n); B's support corner is the maximiser in s n.
-      k.offset = box_support_brute(a, k.normal, &ca) + box_support_brute(b, s * k.normal, &cb);
-      k.i = ca;
-      k.j = cb;
-    }
+      k.offset = box_support_brute(a, k.normal, &k.i) + box_support_brute(b, s * k.normal, &k.j);
+    });
   }
 }
 
@@ -65,23 +68,12 @@ void box_triangle_reference(const Box& box, const Triangle& tri, bool difference
     else if (p == 3) n = nt;
     else valid = tri_ok && unit_axis(box.rotation.col((p - 4) / 3).cross(e[(p - 4) % 3]),
                                      e[(p - 4) % 3].norm(), tau, n);
-    for (int side = 0; side < 2; ++side) {
-      KernelPlane& k = out[p + 13 * side];
-      k = KernelPlane{};
-      k.valid = valid;
-      if (!valid) {
-        k.normal.setZero();
-        continue;
-      }
-      k.normal = side ? Vector3d(-n) : n;
-      int code;
-      k.offset = box_support_brute(box, k.normal, &code);
+    both_sides(out, p, 13, valid, n, [&](KernelPlane& k) {
       double best = -std::numeric_limits<double>::infinity();
       for (int i = 0; i < 3; ++i)  // the first vertex of s T that is extreme in n
         if (s * k.normal.dot(v[i]) > best) best = s * k.normal.dot(v[i]), k.j = i;
-      k.offset += best;
-      k.i = code;
-    }
+      k.offset = box_support_brute(box, k.normal, &k.i) + best;
+    });
   }
 }
 

@@ -117,6 +117,15 @@ void box_triangle_overlap(BoxLanes<double> box, const double* tri, int count, in
   dispatch().box_triangle_overlap_d(box, tri, count, stride, hit);
 }
 
+void pack_box_pair(const Box& a, const Box& b, double (&in)[30]) {
+  for (int d = 0; d < 3; ++d) {
+    in[d] = a.center[d], in[3 + d] = b.center[d];
+    in[24 + d] = a.half_extents[d], in[27 + d] = b.half_extents[d];
+  }
+  std::copy(a.rotation.data(), a.rotation.data() + 9, in + 6);
+  std::copy(b.rotation.data(), b.rotation.data() + 9, in + 15);
+}
+
 void box_box_proximity_single(const double* in, double* out) {
   dispatch().box_box_proximity_single_d(in, out);
 }
@@ -148,20 +157,17 @@ struct OneBox {
   detail::BoxLanes<double> lanes() const { return {c, u, h}; }
 };
 
-// Reads plane p of a single-lane kernel result with `axes` axes (planes p and p + axes share
-// axis p; codes of the opposite plane come from `code_minus`).
-template <int Axes>
-void read_planes(const double* n, const double* offset, const std::int64_t* code_plus,
-                 const std::int64_t* code_minus, std::int64_t valid, KernelPlane* out) {
-  for (int p = 0; p < 2 * Axes; ++p) {
-    const int axis = p % Axes;
-    const double s = p < Axes ? 1 : -1;
+// Converts a single-lane box-triangle result: plane p and p + 13 share axis p; each plane has
+// its own code; bit 30 of valid marks a degenerate triangle.
+void read_triangle_planes(const double* n, const double* offset, const std::int64_t* code,
+                          std::int64_t valid, KernelPlane (&out)[26]) {
+  for (int p = 0; p < 26; ++p) {
+    const int axis = p % 13;
     KernelPlane& k = out[p];
-    k.normal = s * Eigen::Vector3d(n[3 * axis], n[3 * axis + 1], n[3 * axis + 2]);
+    k.normal = (p < 13 ? 1.0 : -1.0) * Eigen::Vector3d(n[3 * axis], n[3 * axis + 1], n[3 * axis + 2]);
     k.offset = offset[p];
-    const std::int64_t code = p < Axes ? code_plus[axis] : code_minus[axis];
-    k.i = int(code & 7);
-    k.j = int(code >> 3);
+    k.i = int(code[p] & 7);
+    k.j = int(code[p] >> 3);
     k.valid = ((valid >> axis) & 1) && !(valid >> 30 & 1);
   }
 }
@@ -169,13 +175,8 @@ void read_planes(const double* n, const double* offset, const std::int64_t* code
 }  // namespace
 
 void box_box_planes(const Box& a, const Box& b, bool difference, BoxBoxPair& out) {
-  double in[30];  // c_A, c_B, the axes of A then of B (Eigen's column-major order), h_A, h_B
-  for (int d = 0; d < 3; ++d) {
-    in[d] = a.center[d], in[3 + d] = b.center[d];
-    in[24 + d] = a.half_extents[d], in[27 + d] = b.half_extents[d];
-  }
-  std::copy(a.rotation.data(), a.rotation.data() + 9, in + 6);
-  std::copy(b.rotation.data(), b.rotation.data() + 9, in + 15);
+  double in[30];
+  detail::pack_box_pair(a, b, in);
   dispatch().box_box_single_d(in, difference, &out.n[0][0], &out.offset[0][0], out.code,
                                     out.valid);
 }
@@ -201,7 +202,7 @@ void box_triangle_planes(const Box& box, const Triangle& tri, bool difference,
     for (int d = 0; d < 3; ++d) v[3 * i + d] = (*p[i])[d];
   std::int64_t code[26], valid;
   detail::kTableScalar.box_tri_d(lb.lanes(), v, 1, 1, difference, {n, offset, code, &valid});
-  read_planes<13>(n, offset, code, code + 13, valid, out);
+  read_triangle_planes(n, offset, code, valid, out);
 }
 
 // --- Topology tables -------------------------------------------------------------------------
@@ -213,6 +214,12 @@ void add_facet(TopologyTable& t, const Eigen::Vector3d& n, const Eigen::Vector3d
   t.nx.push_back(n.x()), t.ny.push_back(n.y()), t.nz.push_back(n.z());
   t.pa.push_back(n.dot(a)), t.pb.push_back(t.sign_b * n.dot(b));
   t.i.push_back(i), t.j.push_back(j);
+}
+
+// Normal of axis `axis` in lane `lane` of a planes struct, on side s (+1 or -1).
+template <class Planes>
+Eigen::Vector3d lane_normal(const Planes& planes, int axis, int lane, double s) {
+  return s * Eigen::Vector3d(planes.n[axis][0][lane], planes.n[axis][1][lane], planes.n[axis][2][lane]);
 }
 
 // Corner `code` of a box relative to its centre (the tables take the centre as translation).
@@ -236,9 +243,7 @@ TopologyTable topology_table(const BoxBoxPlanes<T, N>& planes, int lane, const B
   for (int p = 0; p < 30; ++p) {
     const int axis = p % 15;
     if (!(planes.valid[lane] >> axis & 1)) continue;
-    const double s = p < 15 ? 1 : -1;
-    const Eigen::Vector3d n = s * Eigen::Vector3d(planes.n[axis][0][lane], planes.n[axis][1][lane],
-                                                  planes.n[axis][2][lane]);
+    const Eigen::Vector3d n = lane_normal(planes, axis, lane, p < 15 ? 1 : -1);
     const int code = int(p < 15 ? planes.code[axis][lane] : 63 - planes.code[axis][lane]);
     add_facet(t, n, corner(a, code & 7), corner(b, code >> 3), code & 7, code >> 3);
   }
@@ -255,9 +260,7 @@ TopologyTable topology_table(const BoxTrianglePlanes<T, N>& planes, int lane, co
   for (int p = 0; p < 26; ++p) {
     const int axis = p % 13;
     if (!(planes.valid[lane] >> axis & 1)) continue;
-    const double s = p < 13 ? 1 : -1;
-    const Eigen::Vector3d n = s * Eigen::Vector3d(planes.n[axis][0][lane], planes.n[axis][1][lane],
-                                                  planes.n[axis][2][lane]);
+    const Eigen::Vector3d n = lane_normal(planes, axis, lane, p < 13 ? 1 : -1);
     const int code = int(planes.code[p][lane]);
     add_facet(t, n, corner(box, code & 7), *v[code >> 3], code & 7, code >> 3);
   }

@@ -183,13 +183,8 @@ Status proximity(const Box& a, const Box& b, Proximity& out) {
   for (const Box* x : {&a, &b})
     if (const Status s = check_box(*x); s != Status::Ok) return s;
   // The box-box proximity kernel of the active ISA, with the pair's 15 facet pairs in its lanes.
-  double in[30], res[11];  // c_A, c_B, the axes of A then of B (column-major), h_A, h_B
-  for (int d = 0; d < 3; ++d) {
-    in[d] = a.center[d], in[3 + d] = b.center[d];
-    in[24 + d] = a.half_extents[d], in[27 + d] = b.half_extents[d];
-  }
-  std::copy(a.rotation.data(), a.rotation.data() + 9, in + 6);
-  std::copy(b.rotation.data(), b.rotation.data() + 9, in + 15);
+  double in[30], res[11];
+  detail::pack_box_pair(a, b, in);
   detail::box_box_proximity_single(in, res);
   out.intersecting = !(res[0] > 0);
   out.distance = res[0];

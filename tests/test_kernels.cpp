@@ -364,6 +364,22 @@ Box scaled_moved(const Box& b, double s, const Vector3d& t) {
   return r;
 }
 
+// Every instantiated facet has a valid freshly computed plane with the same normal and offset.
+template <size_t P>
+void expect_same_planes(const TopologyTable& t, const std::vector<double>& offsets,
+                        const KernelPlane (&fresh)[P]) {
+  for (size_t f = 0; f < offsets.size(); ++f) {
+    const Vector3d n(t.nx[f], t.ny[f], t.nz[f]);
+    bool found = false;
+    for (const auto& p : fresh)
+      if (p.valid && (p.normal - n).norm() < 1e-12) {
+        found = true;
+        EXPECT_NEAR(offsets[f], p.offset, 1e-12 * (20 + std::abs(p.offset))) << "facet " << f;
+      }
+    EXPECT_TRUE(found) << "facet " << f;
+  }
+}
+
 TEST(Topology, BoxBoxInstantiateEqualsFreshPlanes) {
   std::mt19937_64 rng(17);
   std::uniform_real_distribution<double> u(-10, 10);
@@ -385,16 +401,7 @@ TEST(Topology, BoxBoxInstantiateEqualsFreshPlanes) {
         KernelPlane fresh[30];
         detail::box_box_reference(scaled_moved(a, sa, ta), scaled_moved(b, sb, tb), diff,
                                   kParallelThreshold<double>, fresh);
-        for (size_t f = 0; f < offsets.size(); ++f) {
-          const Vector3d n(t.nx[f], t.ny[f], t.nz[f]);
-          bool found = false;
-          for (const auto& p : fresh)
-            if (p.valid && (p.normal - n).norm() < 1e-12) {
-              found = true;
-              EXPECT_NEAR(offsets[f], p.offset, 1e-12 * (20 + std::abs(p.offset)));
-            }
-          EXPECT_TRUE(found);
-        }
+        expect_same_planes(t, offsets, fresh);
       }
     }
   }
@@ -424,16 +431,7 @@ TEST(Topology, BoxTriangleInstantiateEqualsFreshPlanes) {
         KernelPlane fresh[26];
         detail::box_triangle_reference(scaled_moved(box, s, ta), moved, diff,
                                        kParallelThreshold<double>, fresh);
-        for (size_t f = 0; f < offsets.size(); ++f) {
-          const Vector3d n(t.nx[f], t.ny[f], t.nz[f]);
-          bool found = false;
-          for (const auto& p : fresh)
-            if (p.valid && (p.normal - n).norm() < 1e-12) {
-              found = true;
-              EXPECT_NEAR(offsets[f], p.offset, 1e-12 * (20 + std::abs(p.offset)));
-            }
-          EXPECT_TRUE(found);
-        }
+        expect_same_planes(t, offsets, fresh);
       }
     }
   }

@@ -176,7 +176,10 @@ void box_triangle_overlap(BoxLanes<float> box, const float* tri, int count, int 
                           std::int32_t* hit);
 void box_triangle_overlap(BoxLanes<double> box, const double* tri, int count, int stride,
                           std::int64_t* hit);
-// One pair (in: c_A, c_B, axes of A, axes of B, h_A, h_B; out: distance, depth, direction,
+/// Packs a box pair for the single-pair kernels: c_A, c_B, the axes of A then of B (each
+/// column-major), h_A, h_B.
+void pack_box_pair(const Box& a, const Box& b, double (&in)[30]);
+// One pair (in: as packed by pack_box_pair; out: distance, depth, direction,
 // point on A, point on B), its facets in the lanes of the active ISA.
 void box_box_proximity_single(const double* in, double* out);
 }  // namespace detail
