@@ -35,13 +35,15 @@ std::vector<std::pair<Box, Box>> poses(int n, bool only_overlapping) {
   return out;
 }
 
-void BoxDistanceMinksum(benchmark::State& state) {
+// Distance with closest points, or depth and direction (what FCL's calls return), or (want =
+// kWantAll) the maximum distance as well.
+void BoxDistanceMinksum(benchmark::State& state, Want want) {
   const auto ps = poses(256, false);
   Proximity p;
   size_t k = 0;
   for (auto _ : state) {
     const auto& [a, b] = ps[k++ & 255];
-    proximity(a, b, p);
+    proximity(a, b, p, want);
     benchmark::DoNotOptimize(p.distance);
   }
 }
@@ -63,7 +65,7 @@ void BoxPenetrationMinksum(benchmark::State& state) {
   size_t k = 0;
   for (auto _ : state) {
     const auto& [a, b] = ps[k++ & 255];
-    proximity(a, b, p);
+    proximity(a, b, p, kWantContact);
     benchmark::DoNotOptimize(p.penetration_depth);
   }
 }
@@ -129,7 +131,8 @@ void PolytopeDistance(benchmark::State& state, int row, bool fcl) {
 }
 
 const int kRegistered = [] {
-  benchmark::RegisterBenchmark("BoxBoxDistance/minksum", BoxDistanceMinksum);
+  benchmark::RegisterBenchmark("BoxBoxDistance/minksum", BoxDistanceMinksum, kWantContact);
+  benchmark::RegisterBenchmark("BoxBoxDistance/minksum_with_max", BoxDistanceMinksum, kWantAll);
   benchmark::RegisterBenchmark("BoxBoxDistance/fcl_gjk", BoxDistanceFcl, peers::FclSolver::Gjk);
   benchmark::RegisterBenchmark("BoxBoxDistance/fcl_libccd", BoxDistanceFcl, peers::FclSolver::Libccd);
   benchmark::RegisterBenchmark("BoxBoxDistance/minksum_batch", BoxDistanceBatch);

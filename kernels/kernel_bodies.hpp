@@ -7,6 +7,7 @@
 #include <limits>
 #include <utility>
 
+#include "box_pair.hpp"
 #include "simd.hpp"
 
 namespace minksum::detail {
@@ -191,20 +192,13 @@ struct Kernels {
   // the merged ones between them; nearly parallel ones (below kSliverThreshold) span slivers
   // that are skipped, which moves the distance by at most that fraction of a half extent.
 
-  // Which generator of a facet g[q] is: a compile-time pair (one pair per lane group), or
-  // per-lane masks (the single-pair path, one facet per lane).
+  // The facet's generator pair (I, J), known at compile time (one pair per lane group).
   template <int I, int J>
   struct FixedPair {
     static constexpr bool is_i(int q) { return q == I; }
     static constexpr bool is_j(int q) { return q == J; }
   };
-  template <class M>
-  static B pick(const M& m, const B& a, const B& b) {
-    if constexpr (std::is_same_v<M, bool>)
-      return m ? a : b;
-    else
-      return S::select(m, a, b);
-  }
+  static B pick(bool m, const B& a, const B& b) { return m ? a : b; }
   static V3 axpy(const B& s, const V3& x, const V3& y) {
     return V3{S::fma(s, x.x, y.x), S::fma(s, x.y, y.y), S::fma(s, x.z, y.z)};
   }
@@ -224,14 +218,14 @@ struct Kernels {
 
   template <class Role>
   static FacetEval facet(const Role& role, const V3& c, const V3& ca, const V3 (&g)[6],
-                         const V3& gi, const V3& gj, const B& lane_ok) {
+                         const V3& gi, const V3& gj) {
     const B zero(T(0)), one(T(1)), inf(std::numeric_limits<T>::infinity());
     auto sgn = [&](const B& v) { return S::select(v < zero, -one, one); };
     auto clamp1 = [&](const B& v) { return S::max(-one, S::select(v > one, one, v)); };
     const V3 x = cross(gi, gj);
     const B x2 = dot(x, x);
     const B sliver2(kSliverThreshold<T> * kSliverThreshold<T>);
-    const auto valid = (x2 > sliver2 * dot(gi, gi) * dot(gj, gj)) && (lane_ok > zero);
+    const auto valid = (x2 > sliver2 * dot(gi, gi) * dot(gj, gj));
     B dots[6], r = zero;
     for (int q = 0; q < 6; ++q) dots[q] = dot(x, g[q]), r = r + S::abs(dots[q]);
     const B s = dot(x, c), abs_s = S::abs(s);
@@ -241,12 +235,23 @@ struct Kernels {
     f.overlap = S::select(valid, (r - abs_s) * inv, inf);
     f.tol = B(T(64) * std::numeric_limits<T>::epsilon()) * r * inv;
     f.n_out = scaled(x, sigma * inv);
-    // F0: the other generators at their extreme sign along sigma x.
+    // F0: the other generators at their extreme sign along sigma x. A generator in the facet's
+    // plane (parallel to g_i or g_j, or to both: |x . g_q| below the sliver threshold) has no
+    // extreme sign; the facet is then a zonogon, covered by the pairs that include the parallel
+    // generators only if each takes the sign towards the origin's projection (then, along each
+    // parallel family, the pairs' ranges overlap over the target side).
     B extreme[6];
+    decltype(zero < zero) inplane[6];
     V3 F0 = c;
     for (int q = 0; q < 6; ++q) {
       extreme[q] = sgn(sigma * dots[q]);
-      F0 = axpy(pick(role.is_i(q) || role.is_j(q), zero, extreme[q]), g[q], F0);
+      inplane[q] = dots[q] * dots[q] <= sliver2 * x2 * dot(g[q], g[q]);
+      if (!(role.is_i(q) || role.is_j(q))) F0 = axpy(S::select(inplane[q], zero, extreme[q]), g[q], F0);
+    }
+    for (int q = 0; q < 6; ++q) {
+      if (role.is_i(q) || role.is_j(q)) continue;
+      extreme[q] = S::select(inplane[q], zero - sgn(dot(g[q], F0)), extreme[q]);
+      F0 = axpy(S::select(inplane[q], extreme[q], zero), g[q], F0);
     }
     // The 2D least-squares problem over (a, b) in [-1, 1]^2.
     const B G11 = dot(gi, gi), G22 = dot(gj, gj), G12 = dot(gi, gj);
@@ -305,7 +310,7 @@ struct Kernels {
     // The 15 generator pairs: (0,1) (0,2) (1,2) (3,4) (3,5) (4,5), then (A_i, B_j).
     constexpr int kI[15] = {0, 0, 1, 3, 3, 4, 0, 0, 0, 1, 1, 1, 2, 2, 2};
     constexpr int kJ[15] = {1, 2, 2, 4, 5, 5, 3, 4, 5, 3, 4, 5, 3, 4, 5};
-    fold.add(facet(FixedPair<kI[P], kJ[P]>{}, c, ca, g, g[kI[P]], g[kJ[P]], B(T(1))));
+    fold.add(facet(FixedPair<kI[P], kJ[P]>{}, c, ca, g, g[kI[P]], g[kJ[P]]));
   }
   template <int... P>
   static void fold_all(Fold& fold, const V3& c, const V3& ca, const V3 (&g)[6],
@@ -337,70 +342,6 @@ struct Kernels {
       const V3 p = pick3(separated, fold.best_p, fold.deep_p);
       store3(out.point_a, N, k, pa);
       store3(out.point_b, N, k, V3{pa.x - p.x, pa.y - p.y, pa.z - p.z});
-    }
-  }
-
-  // Role tables of the single-pair path: lane l holds the facet pair (kI[l], kJ[l]).
-  static constexpr auto role_table(bool first) {
-    constexpr int kI[16] = {0, 0, 1, 3, 3, 4, 0, 0, 0, 1, 1, 1, 2, 2, 2, 0};
-    constexpr int kJ[16] = {1, 2, 2, 4, 5, 5, 3, 4, 5, 3, 4, 5, 3, 4, 5, 1};
-    std::array<std::array<T, 16>, 6> r{};
-    for (int q = 0; q < 6; ++q)
-      for (int l = 0; l < 16; ++l) r[q][l] = (first ? kI[l] : kJ[l]) == q ? T(1) : T(0);
-    return r;
-  }
-  alignas(64) static constexpr std::array<std::array<T, 16>, 6> kIsI = role_table(true);
-  alignas(64) static constexpr std::array<std::array<T, 16>, 6> kIsJ = role_table(false);
-
-  // One box pair with its 15 facet pairs in the lanes (the single-pair API). in: as for
-  // box_box_axes; out: distance, depth, direction (3), point_a (3), point_b (3).
-  static void box_box_proximity_axes(const T* in, T* out) {
-    static constexpr int kI[16] = {0, 0, 1, 3, 3, 4, 0, 0, 0, 1, 1, 1, 2, 2, 2, 0};
-    static constexpr int kJ[16] = {1, 2, 2, 4, 5, 5, 3, 4, 5, 3, 4, 5, 3, 4, 5, 1};
-    alignas(64) static constexpr T kLane[16] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 0};
-    // Lane masks: row q says in which lanes generator q is g_i (kIsI) or g_j (kIsJ).
-    struct LaneRole {
-      int l;
-      auto is_i(int q) const { return S::load(&kIsI[q][0] + l) > B(T(0)); }
-      auto is_j(int q) const { return S::load(&kIsJ[q][0] + l) > B(T(0)); }
-    };
-    T gs[6][3];  // the generators as scalars
-    for (int k = 0; k < 3; ++k)
-      for (int d = 0; d < 3; ++d) gs[k][d] = in[24 + k] * in[6 + 3 * k + d], gs[3 + k][d] = -in[27 + k] * in[15 + 3 * k + d];
-    alignas(64) T gi[3][16], gj[3][16];
-    for (int l = 0; l < 16; ++l)
-      for (int d = 0; d < 3; ++d) gi[d][l] = gs[kI[l]][d], gj[d][l] = gs[kJ[l]][d];
-    V3 g[6];
-    for (int q = 0; q < 6; ++q) g[q] = V3{B(gs[q][0]), B(gs[q][1]), B(gs[q][2])};
-    const V3 ca{B(in[0]), B(in[1]), B(in[2])};
-    const V3 c{B(in[0] - in[3]), B(in[1] - in[4]), B(in[2] - in[5])};
-    alignas(64) T lane[13][16];  // per facet: dist2, overlap, err, tol, n_out, pa, pb
-#pragma GCC unroll 16
-    for (int l = 0; l < 16; l += S::size) {
-      const LaneRole role{l};
-      const FacetEval f = facet(role, c, ca, g, load3(&gi[0][0], 16, l), load3(&gj[0][0], 16, l),
-                                S::load(kLane + l));
-      S::store(lane[0] + l, f.dist2), S::store(lane[1] + l, f.overlap);
-      S::store(lane[2] + l, f.err), S::store(lane[3] + l, f.tol);
-      store3(lane[4], 16, l, f.n_out), store3(lane[7], 16, l, f.pa);
-      store3(lane[10], 16, l, V3{f.pa.x - f.P.x, f.pa.y - f.P.y, f.pa.z - f.P.z});
-    }
-    // Fold the lanes as Fold does across register batches.
-    int best = -1, deep = -1;
-    for (int l = 0; l < 15; ++l) {
-      if (lane[0][l] < (best < 0 ? std::numeric_limits<T>::infinity() : lane[0][best])) best = l;
-      if (deep < 0 || lane[1][l] < lane[1][deep] - lane[3][l] ||
-          (lane[1][l] <= lane[1][deep] + lane[3][l] && lane[2][l] < lane[2][deep]))
-        deep = l;
-    }
-    const bool separated = best >= 0;
-    const int w = separated ? best : deep;
-    out[0] = separated ? std::sqrt(lane[0][best]) : T(0);
-    out[1] = separated ? T(0) : lane[1][deep];
-    for (int d = 0; d < 3; ++d) {
-      out[2 + d] = separated ? T(0) : lane[4 + d][deep];
-      out[5 + d] = lane[7 + d][w];
-      out[8 + d] = lane[10 + d][w];
     }
   }
 
@@ -585,9 +526,9 @@ constexpr KernelTable make_table() {
           &Kernels<float, Arch>::support,      &Kernels<double, Arch>::support,
           &Kernels<double, Arch>::box_box_axes,
           &Kernels<float, Arch>::box_box_proximity,  &Kernels<double, Arch>::box_box_proximity,
-          &Kernels<double, Arch>::box_box_proximity_axes,
           &Kernels<float, Arch>::box_box_separation, &Kernels<double, Arch>::box_box_separation,
-          &Kernels<float, Arch>::box_triangle_overlap, &Kernels<double, Arch>::box_triangle_overlap};
+          &Kernels<float, Arch>::box_triangle_overlap, &Kernels<double, Arch>::box_triangle_overlap,
+          &BoxPairQuery<double, Arch>::box_pair};
 }
 
 }  // namespace minksum::detail

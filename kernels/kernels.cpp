@@ -6,6 +6,7 @@
 #include <cstring>
 #include <xsimd/config/xsimd_cpuid.hpp>
 
+#include "box_pair.hpp"
 #include "simd.hpp"
 
 namespace minksum {
@@ -126,8 +127,8 @@ void pack_box_pair(const Box& a, const Box& b, double (&in)[30]) {
   std::copy(b.rotation.data(), b.rotation.data() + 9, in + 15);
 }
 
-void box_box_proximity_single(const double* in, double* out) {
-  dispatch().box_box_proximity_single_d(in, out);
+void box_pair_proximity(const Box& a, const Box& b, BoxPair<double>& pair, PairAnswer<double>& out) {
+  dispatch().box_pair_d(a, b, pair, out);
 }
 
 }  // namespace detail

@@ -206,15 +206,19 @@ Status polytope_from_mesh(const std::vector<Vector3d>& vertices,
 }
 
 Status check_box(const Box& box) {
-  if (!box.center.allFinite() || !box.rotation.allFinite() || !box.half_extents.allFinite())
-    return Status::NonFinite;
-  if ((box.half_extents.array() <= 0).any()) return Status::InvalidBox;
+  // Finite iff x * 0 == 0 for every entry (NaN and Inf give NaN); one sum, no branch per entry.
+  double zero = 0;
+  for (int k = 0; k < 3; ++k) zero += 0 * box.center[k] + 0 * box.half_extents[k];
+  for (int k = 0; k < 9; ++k) zero += 0 * box.rotation.data()[k];
+  if (!(zero == 0)) return Status::NonFinite;
+  const Vector3d& h = box.half_extents;
+  if (!(h[0] > 0 && h[1] > 0 && h[2] > 0)) return Status::InvalidBox;
   // A proper rotation: orthonormal columns (to 1e-9) and a right-handed frame.
   const Eigen::Matrix3d& R = box.rotation;
-  for (int i = 0; i < 3; ++i)
-    for (int j = i; j < 3; ++j)
-      if (std::abs(R.col(i).dot(R.col(j)) - (i == j)) > 1e-9) return Status::InvalidBox;
-  if (R.col(0).cross(R.col(1)).dot(R.col(2)) < 0) return Status::InvalidBox;
+  const Vector3d x = R.col(0), y = R.col(1), z = R.col(2);
+  const double worst = std::max({std::abs(x.dot(x) - 1), std::abs(y.dot(y) - 1), std::abs(z.dot(z) - 1),
+                                 std::abs(x.dot(y)), std::abs(x.dot(z)), std::abs(y.dot(z))});
+  if (!(worst <= 1e-9) || x.cross(y).dot(z) < 0) return Status::InvalidBox;
   return Status::Ok;
 }
 

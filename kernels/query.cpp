@@ -7,6 +7,8 @@
 
 #include <minksum/kernels.hpp>
 
+#include "box_pair.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -94,12 +96,18 @@ Proximity proximity(const MinkowskiSum& m, const ConvexPolytope& a, const Convex
   Proximity out;
   farthest(m, a, b, out);
   // Inside M (every offset >= 0): intersecting; the nearest facet is the minimum translation.
+  // Within rounding of the boundary (offsets are exact only to a few ulps of M's size) the
+  // origin touches M: there a plane can separate it by rounding while its facet lies far away,
+  // and the facet that holds the origin's projection may not separate it.
+  double size = 0;
+  for (const auto& v : m.vertices) size = std::max(size, v.point.cwiseAbs().maxCoeff());
+  const double tol = 64 * std::numeric_limits<double>::epsilon() * size;
   int nearest = 0;
   for (int k = 1; k < m.F; ++k)
     if (m.planes[k].offset < m.planes[nearest].offset) nearest = k;
-  if (m.planes[nearest].offset >= 0) {
+  if (m.planes[nearest].offset >= -tol) {
     out.intersecting = true;
-    out.penetration_depth = m.planes[nearest].offset;
+    out.penetration_depth = std::max(0.0, m.planes[nearest].offset);
     out.penetration_direction = m.planes[nearest].normal;
     // Deepest points: the origin's projection onto that facet, pulled back to A and B.
     witness_points(m, a, b, closest_on_facet(m, m.facets[nearest], m.planes[nearest].normal),
@@ -109,7 +117,7 @@ Proximity proximity(const MinkowskiSum& m, const ConvexPolytope& a, const Convex
   // Outside: the closest point of M lies on a facet whose plane separates the origin.
   Witness best;
   for (int k = 0; k < m.F; ++k) {
-    if (m.planes[k].offset >= 0) continue;
+    if (m.planes[k].offset >= tol) continue;
     const Witness w = closest_on_facet(m, m.facets[k], m.planes[k].normal);
     if (w.dist2 < best.dist2) best = w;
   }
@@ -178,34 +186,79 @@ Status proximity(const ConvexPolytope& a, const ConvexPolytope& b, Proximity& ou
   return Status::Ok;
 }
 
-Status proximity(const Box& a, const Box& b, Proximity& out) {
+namespace {
+
+// The farthest pair of two boxes: the farthest vertex of M = c + G t. For a fixed corner t_A of
+// A, |p + G_B t_B|^2 with p = c + G_A t_A separates into one term per axis of B (its axes are
+// orthogonal), so the best t_B has the signs of g_Bj . p; compare the 8 corners of A by
+// 2 t_A . (h_A u_A . c) + 2 sum_j |g_Bj . p|, the rest being the same for all.
+void box_box_farthest(const detail::BoxPair<double>& p, Proximity& out) {
+  double gbc[3], gab[3][3];
+  for (int j = 0; j < 3; ++j) {
+    gbc[j] = detail::dot3(p.g[3 + j], p.c);
+    for (int i = 0; i < 3; ++i) gab[i][j] = detail::dot3(p.g[i], p.g[3 + j]);
+  }
+  double best = -std::numeric_limits<double>::infinity(), t[6] = {};
+  for (int code = 0; code < 8; ++code) {
+    const double s[3] = {code & 1 ? 1.0 : -1.0, code & 2 ? 1.0 : -1.0, code & 4 ? 1.0 : -1.0};
+    double value = 0, tb[3];
+    for (int j = 0; j < 3; ++j) {
+      const double gp = gbc[j] + s[0] * gab[0][j] + s[1] * gab[1][j] + s[2] * gab[2][j];
+      tb[j] = gp >= 0 ? 1 : -1;
+      value += 2 * std::abs(gp) + 2 * s[j] * p.h[j] * p.uc[j];
+    }
+    if (value > best) best = value, t[0] = s[0], t[1] = s[1], t[2] = s[2], t[3] = tb[0], t[4] = tb[1], t[5] = tb[2];
+  }
+  Vector3d m(p.c), fa(p.ca);
+  for (int k = 0; k < 6; ++k) {
+    const Vector3d g(p.g[k]);
+    m += t[k] * g;
+    if (k < 3) fa += t[k] * g;
+  }
+  out.max_distance = m.norm(), out.far_a = fa, out.far_b = fa - m;
+}
+
+// The 15-facet evaluation of the batched kernel on one lane: the fallback if the active set
+// does not settle.
+Status box_box_exhaustive(const Box& a, const Box& b, Proximity& out) {
+  BoxBatch<double, kLaneMultiple> A, B;
+  BoxBoxProximity<double, kLaneMultiple> r;
+  A.set(0, a), B.set(0, b);
+  A.count = B.count = 1;
+  A.pad(), B.pad();
+  box_box_proximity(A, B, r);
+  out.intersecting = !(r.distance[0] > 0);
+  out.distance = r.distance[0];
+  out.penetration_depth = r.depth[0];
+  for (int d = 0; d < 3; ++d) {
+    out.penetration_direction[d] = r.direction[d][0];
+    out.point_a[d] = r.point_a[d][0], out.point_b[d] = r.point_b[d][0];
+  }
+  return Status::Ok;
+}
+
+}  // namespace
+
+Status proximity(const Box& a, const Box& b, Proximity& out, Want want) {
   out = Proximity{};
   for (const Box* x : {&a, &b})
     if (const Status s = check_box(*x); s != Status::Ok) return s;
-  // The box-box proximity kernel of the active ISA, with the pair's 15 facet pairs in its lanes.
-  double in[30], res[11];
-  detail::pack_box_pair(a, b, in);
-  detail::box_box_proximity_single(in, res);
-  out.intersecting = !(res[0] > 0);
-  out.distance = res[0];
-  out.penetration_depth = res[1];
-  out.penetration_direction = Vector3d(res[2], res[3], res[4]);
-  out.point_a = Vector3d(res[5], res[6], res[7]);
-  out.point_b = Vector3d(res[8], res[9], res[10]);
-  // The farthest pair: for each corner p of A, |q - p|^2 over B's corners q separates into one
-  // term per axis (B's axes are orthogonal), so B's farthest corner has signs of (c_B - p) . u_k.
-  Vector3d ga[3], gb[3];
-  for (int k = 0; k < 3; ++k)
-    ga[k] = a.half_extents[k] * a.rotation.col(k), gb[k] = b.half_extents[k] * b.rotation.col(k);
-  double far2 = -1;
-  for (int code = 0; code < 8; ++code) {
-    Vector3d p = a.center;
-    for (int k = 0; k < 3; ++k) p += (code >> k & 1) ? ga[k] : Vector3d(-ga[k]);
-    Vector3d q = b.center;
-    for (int k = 0; k < 3; ++k) q += (b.center - p).dot(gb[k]) >= 0 ? gb[k] : Vector3d(-gb[k]);
-    if (const double d2 = (q - p).squaredNorm(); d2 > far2) far2 = d2, out.far_a = p, out.far_b = q;
+  detail::BoxPair<double> pair;
+  if (!(want & kWantContact)) detail::load_pair(a, b, pair);
+  if (want & kWantContact) {
+    detail::PairAnswer<double> r;
+    detail::box_pair_proximity(a, b, pair, r);
+    if (!r.converged) {
+      box_box_exhaustive(a, b, out);
+    } else {
+      out.intersecting = r.intersecting;
+      out.distance = r.distance;
+      out.penetration_depth = r.depth;
+      out.penetration_direction = Vector3d(r.direction);
+      out.point_a = Vector3d(r.point_a), out.point_b = Vector3d(r.point_b);
+    }
   }
-  out.max_distance = std::sqrt(far2);
+  if (want & kWantMaxDistance) box_box_farthest(pair, out);
   return Status::Ok;
 }
 

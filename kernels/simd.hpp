@@ -70,6 +70,11 @@ struct Simd<T, ScalarArch> {
   static void store_code(CodeOf<T>* p, B v) { *p = CodeOf<T>(v); }
 };
 
+template <class T>
+struct BoxPair;
+template <class T>
+struct PairAnswer;
+
 /// The kernels of one ISA, as plain function pointers (one table per ISA translation unit).
 struct KernelTable {
   void (*box_box_f)(BoxLanes<float>, BoxLanes<float>, int, int, bool, PlaneLanes<float>);
@@ -83,11 +88,11 @@ struct KernelTable {
   void (*box_box_single_d)(const double*, bool, double*, double*, std::int64_t*, std::int64_t*);
   void (*box_box_proximity_f)(BoxLanes<float>, BoxLanes<float>, int, int, ProximityLanes<float>);
   void (*box_box_proximity_d)(BoxLanes<double>, BoxLanes<double>, int, int, ProximityLanes<double>);
-  void (*box_box_proximity_single_d)(const double*, double*);
   void (*box_box_separation_f)(BoxLanes<float>, BoxLanes<float>, int, int, float*, std::int32_t*);
   void (*box_box_separation_d)(BoxLanes<double>, BoxLanes<double>, int, int, double*, std::int64_t*);
   void (*box_triangle_overlap_f)(BoxLanes<float>, const float*, int, int, std::int32_t*);
   void (*box_triangle_overlap_d)(BoxLanes<double>, const double*, int, int, std::int64_t*);
+  void (*box_pair_d)(const Box&, const Box&, BoxPair<double>&, PairAnswer<double>&);
 };
 
 // One constant-initialised table per ISA translation unit (no static-initialisation order

@@ -179,9 +179,6 @@ void box_triangle_overlap(BoxLanes<double> box, const double* tri, int count, in
 /// Packs a box pair for the single-pair kernels: c_A, c_B, the axes of A then of B (each
 /// column-major), h_A, h_B.
 void pack_box_pair(const Box& a, const Box& b, double (&in)[30]);
-// One pair (in: as packed by pack_box_pair; out: distance, depth, direction,
-// point on A, point on B), its facets in the lanes of the active ISA.
-void box_box_proximity_single(const double* in, double* out);
 }  // namespace detail
 
 /// The 30 planes of A[k] (+) B[k] (or A[k] (-) B[k]) for every lane k < a.count; a and b

@@ -21,6 +21,11 @@ struct Proximity {
   Eigen::Vector3d penetration_direction = Eigen::Vector3d::Zero();
 };
 
+/// What a proximity call computes, as a bit mask; the fields it does not ask for keep their
+/// defaults. Contact: intersecting, distance and closest points, penetration depth and
+/// direction. MaxDistance: max_distance, far_a, far_b.
+enum Want : unsigned { kWantContact = 1, kWantMaxDistance = 2, kWantAll = 3 };
+
 /// True if p lies in the closed polytope m; stops at the first plane that separates p.
 bool contains(const MinkowskiSum& m, const Eigen::Vector3d& p);
 
@@ -31,8 +36,9 @@ Proximity proximity(const MinkowskiSum& m, const ConvexPolytope& a, const Convex
 
 /// The proximity of two convex polytopes (exact).
 Status proximity(const ConvexPolytope& a, const ConvexPolytope& b, Proximity& out);
-/// The proximity of two boxes.
-Status proximity(const Box& a, const Box& b, Proximity& out);
+/// The proximity of two boxes, exact without building A (-) B: the separating axis test, then
+/// an active-set walk on A (-) B's generators from the nearest facet.
+Status proximity(const Box& a, const Box& b, Proximity& out, Want want = kWantAll);
 /// The proximity of a box and a triangle.
 Status proximity(const Box& a, const Triangle& b, Proximity& out);
 /// The proximity of two triangles (coplanar triangles included).

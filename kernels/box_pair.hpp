@@ -1,0 +1,267 @@
+// The exact proximity of one box pair without building A (-) B: the separating axis test picks
+// the facet of the zonotope M = A (-) B = c + G t (t in [-1, 1]^6) nearest the origin's side,
+// and an active-set walk from that facet finds M's closest point (distance) or the preimage of
+// the deepest boundary point (penetration). Scalar and templated on the float type: one pair is
+// too little work for SIMD lanes; the batched kernels cover many pairs.
+#pragma once
+
+#include <minksum/kernels.hpp>
+#include <minksum/model.hpp>
+
+#include <cmath>
+#include <limits>
+
+namespace minksum::detail {
+
+/// M = A (-) B of one box pair: c = c_A - c_B, generators g_k = h_Ak u_Ak (k < 3) and
+/// -h_Bk u_Bk (k >= 3), and C = U_A^T U_B.
+template <class T>
+struct BoxPair {
+  T c[3], ca[3];
+  T u[6][3];  // unit axes of A then of B
+  T h[6];     // half extents of A then of B
+  T g[6][3];  // generators
+  T C[3][3];  // C[i][j] = u_Ai . u_Bj
+  T uc[6];    // u_k . c
+};
+
+template <class T>
+inline T dot3(const T* x, const T* y) {
+  return x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
+}
+
+/// The zonotope A (-) B of two boxes (checked by check_box), in precision T.
+template <class T>
+inline void load_pair(const Box& a, const Box& b, BoxPair<T>& p) {
+  for (int d = 0; d < 3; ++d) p.ca[d] = T(a.center[d]), p.c[d] = T(a.center[d] - b.center[d]);
+  for (int k = 0; k < 6; ++k) {
+    const Box& x = k < 3 ? a : b;
+    p.h[k] = T(x.half_extents[k % 3]);
+    for (int d = 0; d < 3; ++d) {
+      p.u[k][d] = T(x.rotation(d, k % 3));
+      p.g[k][d] = (k < 3 ? p.h[k] : -p.h[k]) * p.u[k][d];
+    }
+    p.uc[k] = dot3(p.u[k], p.c);
+  }
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) p.C[i][j] = dot3(p.u[i], p.u[3 + j]);
+}
+
+template <class T>
+struct SatResult {
+  T separation;     // largest separation over the axes (negative: the smallest overlap)
+  T normal[3];      // its unit normal, outward from M on the origin's side
+  unsigned free_mask;  // the two generators spanning that facet
+};
+
+/// Everything the box-box query computes, as plain numbers.
+template <class T>
+struct PairAnswer {
+  bool intersecting;
+  T distance, depth;
+  T direction[3], point_a[3], point_b[3];
+  bool converged;  // false: the active set ran out of iterations (distance is an upper bound)
+};
+
+/// The box-pair query, compiled once per ISA translation unit (Arch only tells the copies apart).
+template <class T, class Arch>
+struct BoxPairQuery {
+  // The separating axis test over the 15 axes (Gottschalk, Lin & Manocha, "OBBTree", SIGGRAPH
+  // 1996): the axis with the largest separation |n . c| - sum_k |n . g_k| (negative: overlap).
+  // Edge crosses closer to parallel than kSliverThreshold are skipped (see box_box_proximity).
+  static SatResult<T> separating_axis(const BoxPair<T>& p) {
+    // Separation of axis k = num[k] / sqrt(len2[k]); edge crosses in A's frame, where u_Ai = e_i,
+    // u_Bj = column j of C and c = (u_A . c): L = e_i x C_j, L . c = c_i2 C_i1j - c_i1 C_i2j,
+    // |L|^2 = C_i1j^2 + C_i2j^2, and for right-handed frames L . u_A(i+1) = -C_i2j,
+    // L . u_A(i+2) = C_i1j, L . u_B(j+1) = C_ij2, L . u_B(j+2) = -C_ij1.
+    T absC[3][3], num[15], len2[15];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) absC[i][j] = std::abs(p.C[i][j]);
+    for (int i = 0; i < 3; ++i) {
+      num[i] = std::abs(p.uc[i]) - (p.h[i] + p.h[3] * absC[i][0] + p.h[4] * absC[i][1] + p.h[5] * absC[i][2]);
+      num[3 + i] = std::abs(p.uc[3 + i]) - (p.h[3 + i] + p.h[0] * absC[0][i] + p.h[1] * absC[1][i] + p.h[2] * absC[2][i]);
+      len2[i] = len2[3 + i] = 1;
+    }
+    const T sliver2 = kSliverThreshold<T> * kSliverThreshold<T>;
+    for (int i = 0; i < 3; ++i) {
+      const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+      for (int j = 0; j < 3; ++j) {
+        const int j1 = (j + 1) % 3, j2 = (j + 2) % 3, k = 6 + 3 * i + j;
+        const T r = p.h[i1] * absC[i2][j] + p.h[i2] * absC[i1][j] + p.h[3 + j1] * absC[i][j2] +
+                    p.h[3 + j2] * absC[i][j1];
+        len2[k] = p.C[i1][j] * p.C[i1][j] + p.C[i2][j] * p.C[i2][j];
+        // A sliver axis: separation -inf (len2 stays > 0 for the division).
+        num[k] = len2[k] > sliver2 ? std::abs(p.uc[i2] * p.C[i1][j] - p.uc[i1] * p.C[i2][j]) - r
+                                   : -std::numeric_limits<T>::infinity();
+        len2[k] = len2[k] > sliver2 ? len2[k] : T(1);
+      }
+    }
+    T sep[16];
+    sep[15] = -std::numeric_limits<T>::infinity();
+    for (int k = 0; k < 15; ++k) sep[k] = num[k] / std::sqrt(len2[k]);  // vectorised
+    int w = 0;
+    for (int k = 1; k < 15; ++k) w = sep[k] > sep[w] ? k : w;
+    SatResult<T> out;
+    T n[3];
+    if (w < 6) {
+      for (int d = 0; d < 3; ++d) n[d] = p.u[w][d];
+      out.free_mask = w < 3 ? 7u & ~(1u << w) : 56u & ~(1u << w);
+    } else {
+      const T* a = p.u[(w - 6) / 3];
+      const T* b = p.u[3 + (w - 6) % 3];
+      n[0] = a[1] * b[2] - a[2] * b[1], n[1] = a[2] * b[0] - a[0] * b[2], n[2] = a[0] * b[1] - a[1] * b[0];
+      out.free_mask = (1u << (w - 6) / 3) | (8u << (w - 6) % 3);
+    }
+    const T inv = T(1) / std::sqrt(len2[w]);
+    out.separation = sep[w];
+    // Outward facet normal on the origin's side: against c.
+    const T s = dot3(n, p.c) > 0 ? -inv : inv;
+    for (int d = 0; d < 3; ++d) out.normal[d] = s * n[d];
+    return out;
+  }
+
+  /// The point of M = c + G t nearest to the point q, t in [-1, 1]^6: bounded-variable least
+  /// squares min |c - q + G t|^2 by the active-set method of Stark & Parker ("Bounded-variable
+  /// least squares", Computational Statistics 10, 1995; Lawson & Hanson 1974, ch. 23), started
+  /// with t at a vertex and `free_mask` free. At most 3 generators are free at a time: three
+  /// independent ones reach q. Returns false if it did not settle within its iteration budget
+  /// (never seen; the caller then has a feasible t, i.e. an upper bound).
+  static bool nearest_point(const BoxPair<T>& p, const T (&q)[3], T (&t)[6], unsigned free_mask) {
+    const T eps = std::is_same_v<T, float> ? T(1e-5) : T(1e-12);
+    T base[3];  // c - q
+    for (int d = 0; d < 3; ++d) base[d] = p.c[d] - q[d];
+    T noise = std::abs(base[0]) + std::abs(base[1]) + std::abs(base[2]);
+    for (int k = 0; k < 6; ++k) noise += p.h[k];
+    noise *= 64 * std::numeric_limits<T>::epsilon();
+    // c - q + the generators outside `skip` at their parameters.
+    const auto residual = [&](unsigned skip, T (&r)[3]) {
+      T w[6];
+      for (int k = 0; k < 6; ++k) w[k] = (skip >> k & 1) ? T(0) : t[k];
+      for (int d = 0; d < 3; ++d)
+        r[d] = base[d] + w[0] * p.g[0][d] + w[1] * p.g[1][d] + w[2] * p.g[2][d] +
+               w[3] * p.g[3][d] + w[4] * p.g[4][d] + w[5] * p.g[5][d];
+    };
+    unsigned blocked = 0;  // generators found dependent on the free ones (no KKT progress)
+    int newest = -1;       // the generator freed last: the one to drop if the system is singular
+    const auto drop = [&](const int (&f)[3], int m) {
+      const int k = (newest >= 0 && (free_mask >> newest & 1)) ? newest : f[m - 1];
+      free_mask &= ~(1u << k), blocked |= 1u << k;
+    };
+    bool first = true;
+    for (int iter = 0; iter < 24; ++iter) {
+      // Solve for the free parameters with the others fixed; step back to the box if needed.
+      for (;;) {
+        int f[3], m = 0;
+        for (int k = 0; k < 6; ++k)
+          if (free_mask >> k & 1) {
+            if (m == 3) return false;  // four free generators: cannot happen (rank 3)
+            f[m++] = k;
+          }
+        if (m == 0) break;
+        T r0[3];
+        residual(free_mask, r0);
+        T z[3];
+        const T* g0 = p.g[f[0]];
+        if (m == 1) {
+          z[0] = -dot3(g0, r0) / dot3(g0, g0);
+        } else if (m == 2) {
+          const T* g1 = p.g[f[1]];
+          const T G00 = dot3(g0, g0), G11 = dot3(g1, g1), G01 = dot3(g0, g1);
+          const T x[3] = {g0[1] * g1[2] - g0[2] * g1[1], g0[2] * g1[0] - g0[0] * g1[2],
+                          g0[0] * g1[1] - g0[1] * g1[0]};
+          const T det = dot3(x, x);  // G00 G11 - G01^2 without the cancellation
+          if (!(det > eps * eps * G00 * G11)) {  // parallel: one of them is enough
+            drop(f, m);
+            continue;
+          }
+          const T b0 = -dot3(g0, r0), b1 = -dot3(g1, r0);
+          z[0] = (G11 * b0 - G01 * b1) / det, z[1] = (G00 * b1 - G01 * b0) / det;
+        } else {
+          const T* g1 = p.g[f[1]];
+          const T* g2 = p.g[f[2]];
+          // Three independent generators reach r = 0: solve G_F z = -r0 (Cramer's rule).
+          const auto cross = [](const T* a, const T* b, T (&x)[3]) {
+            x[0] = a[1] * b[2] - a[2] * b[1], x[1] = a[2] * b[0] - a[0] * b[2], x[2] = a[0] * b[1] - a[1] * b[0];
+          };
+          T x12[3], x20[3], x01[3];
+          cross(g1, g2, x12), cross(g2, g0, x20), cross(g0, g1, x01);
+          const T det = dot3(g0, x12);
+          const T scale = std::sqrt(dot3(g0, g0) * dot3(g1, g1) * dot3(g2, g2));
+          if (!(std::abs(det) > eps * scale)) {
+            drop(f, m);  // coplanar: the newest one adds nothing (its KKT slack is rounding)
+            continue;
+          }
+          z[0] = -dot3(r0, x12) / det, z[1] = -dot3(r0, x20) / det, z[2] = -dot3(r0, x01) / det;
+        }
+        // Feasible: take it. Otherwise move towards z until the first parameter hits +-1, and fix
+        // it there (the objective still decreases along the segment: it is convex).
+        T alpha = 1;
+        int hit = -1;
+        for (int a = 0; a < m; ++a) {
+          if (std::abs(z[a]) <= 1) continue;
+          const T bound = z[a] > 0 ? T(1) : T(-1);
+          const T s = (bound - t[f[a]]) / (z[a] - t[f[a]]);
+          if (s < alpha) alpha = s, hit = a;
+        }
+        for (int a = 0; a < m; ++a) t[f[a]] += alpha * (z[a] - t[f[a]]);
+        // q projects into the start facet: r is along its normal, optimal without a KKT check.
+        if (hit < 0 && first && m == 2) return true;
+        first = false;
+        if (hit < 0) break;
+        t[f[hit]] = z[hit] > 0 ? T(1) : T(-1);
+        free_mask &= ~(1u << f[hit]);
+      }
+      // Optimality (KKT): no fixed parameter can move inwards and reduce |r|.
+      T r[3];
+      residual(0, r);
+      const T rn = std::sqrt(dot3(r, r));
+      // Below rounding of r (when q is on M, as for the deepest point), nothing can improve.
+      int enter = -1;
+      T worst = eps * rn + noise;
+      for (int k = 0; k < 6; ++k) {
+        if ((free_mask | blocked) >> k & 1) continue;
+        const T slope = t[k] * dot3(p.g[k], r) / p.h[k];  // > 0: moving t_k inwards helps
+        if (slope > worst) worst = slope, enter = k;
+      }
+      if (enter < 0) return true;
+      free_mask |= 1u << enter;
+      newest = enter, blocked = 0;
+    }
+    return false;
+  }
+
+  static void box_pair(const Box& a, const Box& b, BoxPair<T>& p, PairAnswer<T>& out) {
+    load_pair(a, b, p);
+    out = run(p);
+  }
+
+  /// The exact proximity of one box pair.
+  static PairAnswer<T> run(const BoxPair<T>& p) {
+    PairAnswer<T> out{};
+    const SatResult<T> sat = separating_axis(p);
+    T t[6];
+    for (int k = 0; k < 6; ++k) t[k] = dot3(sat.normal, p.g[k]) >= 0 ? T(1) : T(-1);
+    T target[3] = {0, 0, 0};
+    out.intersecting = !(sat.separation > 0);
+    if (out.intersecting) {
+      // The deepest point: the origin's projection onto the nearest facet, depth * normal.
+      out.depth = -sat.separation;
+      for (int d = 0; d < 3; ++d) out.direction[d] = sat.normal[d], target[d] = out.depth * sat.normal[d];
+    }
+    out.converged = nearest_point(p, target, t, sat.free_mask);
+    T m[3];
+    for (int d = 0; d < 3; ++d) {
+      out.point_a[d] = p.ca[d] + t[0] * p.g[0][d] + t[1] * p.g[1][d] + t[2] * p.g[2][d];
+      m[d] = p.c[d] + t[0] * p.g[0][d] + t[1] * p.g[1][d] + t[2] * p.g[2][d] + t[3] * p.g[3][d] +
+             t[4] * p.g[4][d] + t[5] * p.g[5][d];
+      out.point_b[d] = out.point_a[d] - m[d];
+    }
+    if (!out.intersecting) out.distance = std::sqrt(dot3(m, m));
+    return out;
+  }
+};
+
+/// The box-pair query of the active ISA: loads the pair, then answers.
+void box_pair_proximity(const Box& a, const Box& b, BoxPair<double>& pair, PairAnswer<double>& out);
+
+}  // namespace minksum::detail
