@@ -4,9 +4,20 @@
 #include <gtest/gtest.h>
 #include <minksum/minksum.hpp>
 
+#include <random>
+#include <string>
 #include <vector>
 
+#include "tools/mesh_io.hpp"
+
 namespace minksum::test {
+
+/// ../shared/data/`name` (a Stanford bunny) if this machine has it, else a generated bumpy
+/// sphere of 4 rings^2 triangles, so that mesh tests run everywhere.
+tools::Mesh test_mesh(const std::string& name, int fallback_rings);
+
+/// A random pose: uniform rotation, translation in [-reach, reach]^3.
+Pose random_pose(std::mt19937_64& rng, double reach);
 
 /// Every pairwise sum a + s b of the input points (s = +1 sum, -1 difference).
 std::vector<Eigen::Vector3d> pairwise(const std::vector<Eigen::Vector3d>& a,

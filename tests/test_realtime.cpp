@@ -9,6 +9,7 @@
 #include <new>
 #include <random>
 
+#include "tools/mesh_io.hpp"
 #include "tools/shapes.hpp"
 
 namespace {
@@ -99,6 +100,30 @@ TEST(RealTime, KernelsAndBoxQueriesDoNotAllocate) {
               0);
   }
   force_isa(active);
+}
+
+// The mesh-mesh query with a workspace made at set-up: no allocation on any pose.
+TEST(RealTime, MeshDistanceDoesNotAllocate) {
+  std::string source;
+  const tools::Mesh m = tools::demo_mesh("bun_zipper_res4.ply", source);
+  Octree A;
+  ASSERT_EQ(build_octree(m.vertices, m.triangles, A), Status::Ok);
+  MeshWorkspace ws;
+  make_workspace(A, A, ws);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<Pose> poses(50);
+  for (auto& p : poses) {
+    p.rotation = Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized().toRotationMatrix();
+    p.translation = 0.2 * Eigen::Vector3d(u(rng), u(rng), u(rng));
+  }
+  MeshDistance d;
+  long pairs = 0;
+  EXPECT_EQ(allocations([&] {
+              for (const Pose& p : poses) mesh_distance(A, A, p, ws, d), pairs += d.triangle_pairs;
+            }),
+            0);
+  EXPECT_GT(pairs, 50);  // the queries did real work
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <minksum/kernels.hpp>
+#include <minksum/mesh.hpp>
 #include <minksum/model.hpp>
 #include <minksum/query.hpp>
 #include <minksum/sum.hpp>

@@ -1,0 +1,114 @@
+// minksum: exact minimum distance between two triangle meshes through octrees of cubes (the
+// paper's Section 5.1): node pairs are culled with cube-cube bounds that share one relative
+// rotation per query (topological invariance, Section 4), and the surviving triangle pairs get
+// the exact triangle-triangle distance.
+#pragma once
+
+#include <minksum/model.hpp>
+
+#include <array>
+#include <vector>
+
+namespace minksum {
+
+/// How an octree is built. Defaults suit meshes of 10^3 - 10^5 triangles.
+struct OctreeOptions {
+  /// Levels below the root, at most; -1 (the default): floor(log4(triangles / 32)), at least 1,
+  /// which puts about 16-64 triangles in a leaf of a surface mesh (measured best on the bunnies).
+  int max_depth = -1;
+  int leaf_size = 16;  ///< a node with more triangles than this is split (until max_depth)
+};
+
+/// An octree of cubes over one triangle mesh, in flat arrays (built once, read-only after).
+/// A triangle is listed in every leaf whose cube it overlaps, so the leaves' cubes cover the
+/// mesh and each bounds the parts of its triangles inside it.
+struct Octree {
+  /// One cube; children are contiguous and only non-empty ones are kept. Besides the cube,
+  /// two bounds of what the node's triangles have inside it: their box (the cube clipped to
+  /// the triangles' bounding box) and their slab (between two planes of the mean normal).
+  struct Node {
+    Eigen::Vector3d center = Eigen::Vector3d::Zero();  ///< cube centre (mesh frame)
+    double half = 0;         ///< half side length
+    Eigen::Vector3d box_center = Eigen::Vector3d::Zero();  ///< tight box centre
+    Eigen::Vector3d box_half = Eigen::Vector3d::Zero();    ///< tight box half extents
+    Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();     ///< slab normal (unit)
+    double slab_lo = 0, slab_hi = 0;  ///< normal . x of the triangles lies in [slab_lo, slab_hi]
+    int first_child = -1;    ///< index of the first child, -1 for a leaf
+    int child_count = 0;     ///< number of children
+    int first = 0;           ///< leaf: first entry in `items`
+    int count = 0;           ///< leaf: number of triangles listed
+  };
+  std::vector<Eigen::Vector3d> vertices;         ///< the mesh's vertices (a copy)
+  std::vector<std::array<int, 3>> triangles;     ///< the mesh's triangles (a copy)
+  std::vector<Eigen::Vector4d> spheres;          ///< per triangle: bounding sphere centre, radius
+  std::vector<Node> nodes;                       ///< nodes[0] is the root
+  std::vector<int> items;                        ///< triangle indices of the leaves
+  int depth = 0;                                 ///< deepest level reached
+  int leaves = 0;                                ///< number of leaves
+  int max_leaf = 0;                              ///< most triangles in one leaf
+  size_t bytes() const;                          ///< memory held by the arrays
+};
+
+/// Builds the octree of a mesh. Unused vertices, boundary and non-manifold edges and
+/// degenerate triangles are accepted; NaN/Inf coordinates (NonFinite), indices out of range
+/// (InvalidMesh) and meshes without triangles (TooFewPoints) are rejected.
+Status build_octree(const std::vector<Eigen::Vector3d>& vertices,
+                    const std::vector<std::array<int, 3>>& triangles, Octree& out,
+                    const OctreeOptions& options = {});
+
+/// Rigid placement of mesh B in mesh A's frame: x_A = rotation * x_B + translation.
+struct Pose {
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();      ///< proper rotation
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();       ///< offset
+};
+
+/// Scratch memory of mesh_distance, sized once for a pair of octrees so that queries never
+/// allocate (make_workspace); reuse it for every query of that pair.
+struct MeshWorkspace {
+  /// A node pair still to visit, with its squared distance bound.
+  struct Entry {
+    int a = 0, b = 0;    ///< node of A, node of B
+    double bound2 = 0;   ///< lower bound of their squared distance
+  };
+  std::vector<Entry> stack;                  ///< node pairs still to visit
+  std::vector<Eigen::Vector3d> moved;        ///< B's vertices in A's frame, filled on demand
+  std::vector<unsigned> moved_stamp;         ///< query stamp per vertex of B
+  std::vector<Eigen::Vector3d> moved_center; ///< B's sphere centres in A's frame, on demand
+  std::vector<unsigned> center_stamp;        ///< query stamp per triangle of B
+  std::vector<unsigned> seen_a, seen_b;      ///< query stamp per candidate triangle
+  std::vector<int> near_b;                   ///< triangles of B's leaf near A's leaf
+  std::vector<double> near_x, near_y, near_z, near_r;  ///< their spheres (A's frame)
+  std::vector<int> hits;                     ///< those near one triangle of A
+  unsigned stamp = 0;                        ///< current query
+};
+
+/// Sizes a workspace for queries between a and b.
+void make_workspace(const Octree& a, const Octree& b, MeshWorkspace& ws);
+
+/// The answer of one mesh-mesh distance query, with its statistics.
+struct MeshDistance {
+  double distance = 0;        ///< exact minimum distance (0 when the meshes intersect)
+  Eigen::Vector3d point_a = Eigen::Vector3d::Zero();  ///< closest point on A (A's frame)
+  Eigen::Vector3d point_b = Eigen::Vector3d::Zero();  ///< closest point on B (A's frame)
+  int triangle_a = -1, triangle_b = -1;  ///< the triangles holding them
+  bool intersecting = false;  ///< the meshes share a point
+  double first_bound = 0;     ///< U of the first leaf pair reached (its cubes' max distance)
+  long node_pairs = 0;        ///< node pairs whose bound was evaluated
+  long triangle_pairs = 0;    ///< exact triangle-triangle distances computed
+  int candidates_a = 0, candidates_b = 0;  ///< distinct triangles that reached that stage
+  double culled_percent_a = 0, culled_percent_b = 0;  ///< 100 * (1 - candidates / triangles)
+};
+
+/// Exact minimum distance between mesh A and mesh B placed by `pose`: depth-first
+/// branch-and-bound over node pairs, nearest first, pruning pairs whose cube distance bound
+/// reaches the best triangle distance found so far. No allocation with a workspace from
+/// make_workspace(a, b); InvalidBox for a pose that is not a finite proper rotation.
+Status mesh_distance(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace& ws,
+                     MeshDistance& out);
+
+/// Exact distance between two triangles given by their corners, with the closest points;
+/// 0 when they intersect (degenerate triangles allowed). The distance kernel of mesh_distance.
+double triangle_distance(const Eigen::Vector3d (&s)[3], const Eigen::Vector3d (&t)[3],
+                         Eigen::Vector3d& ps, Eigen::Vector3d& pt);
+
+}  // namespace minksum

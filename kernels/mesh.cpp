@@ -1,0 +1,437 @@
+// Mesh-mesh distance through octrees of cubes (the paper's Section 5.1), exact: the octree
+// prunes with lower bounds only, and every triangle pair that could hold the closest points gets
+// the exact triangle-triangle distance.
+#include <minksum/mesh.hpp>
+#include <minksum/query.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace minksum {
+
+using Eigen::Vector3d;
+
+namespace {
+
+// Closest points of segments p0-p1 and q0-q1 (Ericson, "Real-Time Collision Detection", 2005,
+// section 5.1.9), degenerate segments included; returns the squared distance.
+double segment_segment(const Vector3d& p0, const Vector3d& p1, const Vector3d& q0,
+                       const Vector3d& q1, Vector3d& cp, Vector3d& cq) {
+  const Vector3d d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  double s = 0, t = 0;
+  if (a == 0 && e == 0) {
+    s = t = 0;
+  } else if (a == 0) {
+    t = std::clamp(f / e, 0.0, 1.0);
+  } else {
+    const double c = d1.dot(r);
+    if (e == 0) {
+      s = std::clamp(-c / a, 0.0, 1.0);
+    } else {
+      const double b = d1.dot(d2);
+      // a e - b^2 = |d1 x d2|^2, without the cancellation for near-parallel segments.
+      const double denom = d1.cross(d2).squaredNorm();
+      s = denom > 0 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+      t = (b * s + f) / e;
+      if (t < 0) t = 0, s = std::clamp(-c / a, 0.0, 1.0);
+      else if (t > 1) t = 1, s = std::clamp((b - c) / a, 0.0, 1.0);
+    }
+  }
+  cp = p0 + s * d1, cq = q0 + t * d2;
+  return (cp - cq).squaredNorm();
+}
+
+// Closest point of triangle (a, b, c) to p by Voronoi regions (Ericson, section 5.1.5); the
+// caller handles degenerate triangles (their edges suffice).
+Vector3d point_triangle(const Vector3d& p, const Vector3d& a, const Vector3d& b, const Vector3d& c) {
+  const Vector3d ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Vector3d bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + d1 / (d1 - d3) * ab;
+  const Vector3d cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + d2 / (d2 - d6) * ac;
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
+  const double denom = 1 / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+// Where the segment p-q crosses the interior of triangle t (normal n, not degenerate), if it
+// does with its endpoints strictly on opposite sides of the plane.
+bool pierces(const Vector3d& p, const Vector3d& q, const Vector3d (&t)[3], const Vector3d& n,
+             Vector3d& x) {
+  const double dp = n.dot(p - t[0]), dq = n.dot(q - t[0]);
+  if (!((dp > 0 && dq < 0) || (dp < 0 && dq > 0))) return false;
+  x = p + dp / (dp - dq) * (q - p);
+  for (int k = 0; k < 3; ++k)
+    if ((t[(k + 1) % 3] - t[k]).cross(x - t[k]).dot(n) < 0) return false;
+  return true;
+}
+
+}  // namespace
+
+double triangle_distance(const Vector3d (&s_in)[3], const Vector3d (&t_in)[3], Vector3d& ps,
+                         Vector3d& pt) {
+  // Work relative to one corner: coordinates far from the origin keep their precision.
+  const Vector3d o = s_in[0];
+  const Vector3d s[3] = {s_in[0] - o, s_in[1] - o, s_in[2] - o};
+  const Vector3d t[3] = {t_in[0] - o, t_in[1] - o, t_in[2] - o};
+  const Vector3d ns = (s[1] - s[0]).cross(s[2] - s[0]), nt = (t[1] - t[0]).cross(t[2] - t[0]);
+  // Degenerate (zero-area) triangles have no face region; their edges cover them.
+  const auto flat = [](const Vector3d& n, const Vector3d (&v)[3]) {
+    const double scale = std::max({(v[1] - v[0]).squaredNorm(), (v[2] - v[0]).squaredNorm(), (v[2] - v[1]).squaredNorm()});
+    return !(n.squaredNorm() > 1e-24 * scale * scale);
+  };
+  const bool s_flat = flat(ns, s), t_flat = flat(nt, t);
+  // Intersecting, not coplanar: an edge of one crosses the other's interior.
+  Vector3d x;
+  for (int k = 0; k < 3; ++k) {
+    if (!t_flat && pierces(s[k], s[(k + 1) % 3], t, nt, x)) {
+      ps = pt = x + o;
+      return 0;
+    }
+    if (!s_flat && pierces(t[k], t[(k + 1) % 3], s, ns, x)) {
+      ps = pt = x + o;
+      return 0;
+    }
+  }
+  // Otherwise the closest pair is edge-edge or vertex-face (coplanar overlap shows as 0 there).
+  double best = std::numeric_limits<double>::infinity();
+  Vector3d bs = s[0], bt = t[0], cp, cq;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      const double d2 = segment_segment(s[i], s[(i + 1) % 3], t[j], t[(j + 1) % 3], cp, cq);
+      if (d2 < best) best = d2, bs = cp, bt = cq;
+    }
+  for (int k = 0; k < 3; ++k) {
+    if (!t_flat) {
+      cq = point_triangle(s[k], t[0], t[1], t[2]);
+      if (const double d2 = (s[k] - cq).squaredNorm(); d2 < best) best = d2, bs = s[k], bt = cq;
+    }
+    if (!s_flat) {
+      cp = point_triangle(t[k], s[0], s[1], s[2]);
+      if (const double d2 = (t[k] - cp).squaredNorm(); d2 < best) best = d2, bs = cp, bt = t[k];
+    }
+  }
+  ps = bs + o, pt = bt + o;
+  return std::sqrt(best);
+}
+
+namespace {
+
+// Triangle against the axis-aligned cube (c, h), separating axis test over the cube's axes,
+// the triangle's normal and the 9 edge crosses (Akenine-Moller, "Fast 3D triangle-box overlap
+// testing", JGT 2001). Conservative: the cube is slightly inflated by the caller.
+bool triangle_overlaps_cube(const Vector3d (&v_in)[3], const Vector3d& c, double h) {
+  const Vector3d v[3] = {v_in[0] - c, v_in[1] - c, v_in[2] - c};
+  for (int d = 0; d < 3; ++d)
+    if (std::min({v[0][d], v[1][d], v[2][d]}) > h || std::max({v[0][d], v[1][d], v[2][d]}) < -h) return false;
+  const Vector3d e[3] = {v[1] - v[0], v[2] - v[1], v[0] - v[2]};
+  const auto separated = [&](const Vector3d& axis) {
+    const double p0 = axis.dot(v[0]), p1 = axis.dot(v[1]), p2 = axis.dot(v[2]);
+    const double r = h * axis.cwiseAbs().sum();
+    return std::min({p0, p1, p2}) > r || std::max({p0, p1, p2}) < -r;
+  };
+  if (separated(e[0].cross(e[1]))) return false;
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k)
+      if (separated(Vector3d::Unit(i).cross(e[k]))) return false;
+  return true;
+}
+
+// The node's tight box (its cube clipped to its triangles' bounding box) and its slab along the
+// triangles' area-weighted mean normal (any unit normal gives a valid slab; a flat patch a thin
+// one). Both hold the parts of the triangles inside the cube, since they hold the triangles.
+void fit_bounds(const std::vector<Vector3d>& v, const std::vector<std::array<int, 3>>& tris,
+                const std::vector<int>& list, Octree::Node& node) {
+  Vector3d lo = Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo, n = Vector3d::Zero();
+  for (int t : list) {
+    const auto& x = tris[t];
+    for (int k : x) lo = lo.cwiseMin(v[k]), hi = hi.cwiseMax(v[k]);
+    n += (v[x[1]] - v[x[0]]).cross(v[x[2]] - v[x[0]]);
+  }
+  const Vector3d cube = Vector3d::Constant(node.half);
+  lo = lo.cwiseMax(node.center - cube), hi = hi.cwiseMin(node.center + cube);
+  node.box_center = (lo + hi) / 2;
+  node.box_half = ((hi - lo) / 2).cwiseMax(0.0) * (1 + 1e-12) + Vector3d::Constant(1e-15 * (1 + node.center.norm()));
+  node.normal = n.norm() > 0 ? Vector3d(n.normalized()) : Vector3d::UnitZ();
+  node.slab_lo = std::numeric_limits<double>::infinity(), node.slab_hi = -node.slab_lo;
+  for (int t : list)
+    for (int k : tris[t]) {
+      const double d = node.normal.dot(v[k]);
+      node.slab_lo = std::min(node.slab_lo, d), node.slab_hi = std::max(node.slab_hi, d);
+    }
+  const double pad = 1e-12 * (std::abs(node.slab_lo) + std::abs(node.slab_hi)) + 1e-15;
+  node.slab_lo -= pad, node.slab_hi += pad;
+}
+
+// The unit normal of a triangle (zero if it is degenerate).
+Vector3d unit_normal(const Vector3d (&v)[3]) {
+  const Vector3d n = (v[1] - v[0]).cross(v[2] - v[0]);
+  const double len = n.norm();
+  return len > 0 ? Vector3d(n / len) : Vector3d::Zero();
+}
+
+// A lower bound of the distance between a triangle (plane n . x = n . p, n unit or zero) and
+// the points q: how far they all are on one side of its plane (0 if they straddle it).
+double plane_gap(const Vector3d& n, const Vector3d& p, const Vector3d (&q)[3]) {
+  const double d0 = n.dot(q[0] - p), d1 = n.dot(q[1] - p), d2 = n.dot(q[2] - p);
+  return std::max({std::min({d0, d1, d2}), -std::max({d0, d1, d2}), 0.0});
+}
+
+bool finite(const Vector3d& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
+
+}  // namespace
+
+size_t Octree::bytes() const {
+  return vertices.capacity() * sizeof(Vector3d) + triangles.capacity() * sizeof(triangles[0]) +
+         nodes.capacity() * sizeof(Node) + items.capacity() * sizeof(int);
+}
+
+Status build_octree(const std::vector<Vector3d>& vertices,
+                    const std::vector<std::array<int, 3>>& triangles, Octree& out,
+                    const OctreeOptions& options) {
+  out = Octree{};
+  if (triangles.empty()) return Status::TooFewPoints;
+  if (options.max_depth < -1 || options.max_depth > 24 || options.leaf_size < 1) return Status::InvalidMesh;
+  const int max_depth = options.max_depth >= 0 ? options.max_depth
+                        : std::max(1, int(std::floor(std::log(triangles.size() / 32.0) / std::log(4.0))));
+  for (const auto& v : vertices)
+    if (!finite(v)) return Status::NonFinite;
+  const int nv = int(vertices.size());
+  Vector3d lo = Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const auto& t : triangles)
+    for (int k : t) {
+      if (k < 0 || k >= nv) return Status::InvalidMesh;
+      lo = lo.cwiseMin(vertices[k]), hi = hi.cwiseMax(vertices[k]);
+    }
+  out.vertices = vertices, out.triangles = triangles;
+  for (const auto& t : triangles) {  // centroid, farthest corner (rounded up)
+    const Vector3d m = (vertices[t[0]] + vertices[t[1]] + vertices[t[2]]) / 3;
+    double r = 0;
+    for (int k : t) r = std::max(r, (vertices[k] - m).norm());
+    out.spheres.emplace_back(m.x(), m.y(), m.z(), r * (1 + 1e-12) + 1e-15 * (m.norm() + r));
+  }
+  // The root: the bounding cube of the used vertices, a little larger so nothing sits on it.
+  const Vector3d center = (lo + hi) / 2;
+  const double size = std::max(1.0, center.cwiseAbs().maxCoeff());
+  const double root_half = (hi - lo).maxCoeff() / 2 * (1 + 1e-9) + 1e-12 * size;
+  // Breadth first, so that every node's children are contiguous.
+  std::vector<std::vector<int>> lists(1);
+  std::vector<int> level(1, 0);
+  lists[0].resize(triangles.size());
+  for (size_t k = 0; k < triangles.size(); ++k) lists[0][k] = int(k);
+  out.nodes.emplace_back();
+  out.nodes[0].center = center, out.nodes[0].half = root_half;
+  for (size_t i = 0; i < out.nodes.size(); ++i) {
+    std::vector<int> list = std::move(lists[i]);
+    out.depth = std::max(out.depth, level[i]);
+    fit_bounds(vertices, triangles, list, out.nodes[i]);
+    if (int(list.size()) <= options.leaf_size || level[i] >= max_depth) {
+      out.nodes[i].first = int(out.items.size());
+      out.nodes[i].count = int(list.size());
+      out.items.insert(out.items.end(), list.begin(), list.end());
+      ++out.leaves;
+      out.max_leaf = std::max(out.max_leaf, int(list.size()));
+      continue;
+    }
+    const Vector3d c = out.nodes[i].center;
+    const double h = out.nodes[i].half / 2;
+    const int first_child = int(out.nodes.size());
+    for (int octant = 0; octant < 8; ++octant) {
+      const Vector3d cc = c + h * Vector3d(octant & 1 ? 1 : -1, octant & 2 ? 1 : -1, octant & 4 ? 1 : -1);
+      std::vector<int> sub;
+      for (int t : list) {
+        const auto& tri = triangles[t];
+        const Vector3d v[3] = {vertices[tri[0]], vertices[tri[1]], vertices[tri[2]]};
+        // Inflated by a few ulps of the coordinates: a triangle on a cube face goes to both sides.
+        if (triangle_overlaps_cube(v, cc, h * (1 + 1e-9) + 1e-13 * size)) sub.push_back(t);
+      }
+      if (sub.empty()) continue;
+      out.nodes.emplace_back();
+      out.nodes.back().center = cc, out.nodes.back().half = h;
+      lists.push_back(std::move(sub));
+      level.push_back(level[i] + 1);
+    }
+    out.nodes[i].first_child = first_child;
+    out.nodes[i].child_count = int(out.nodes.size()) - first_child;
+  }
+  return Status::Ok;
+}
+
+void make_workspace(const Octree& a, const Octree& b, MeshWorkspace& ws) {
+  // Depth first, each split pops one pair and pushes at most 8: the stack never holds more than
+  // 7 per level of the current path plus one.
+  ws.stack.assign(size_t(8 * (a.depth + b.depth) + 16), MeshWorkspace::Entry{});
+  ws.moved.assign(b.vertices.size(), Vector3d::Zero());
+  ws.moved_stamp.assign(b.vertices.size(), 0);
+  ws.moved_center.assign(b.triangles.size(), Vector3d::Zero());
+  ws.center_stamp.assign(b.triangles.size(), 0);
+  ws.seen_a.assign(a.triangles.size(), 0);
+  ws.seen_b.assign(b.triangles.size(), 0);
+  for (auto* v : {&ws.near_b, &ws.hits}) v->assign(size_t(b.max_leaf), 0);
+  for (auto* v : {&ws.near_x, &ws.near_y, &ws.near_z, &ws.near_r}) v->assign(size_t(b.max_leaf), 0.0);
+  ws.stamp = 0;
+}
+
+Status mesh_distance(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace& ws,
+                     MeshDistance& out) {
+  out = MeshDistance{};
+  Box check;  // the pose's rotation must be a proper rotation, like a box's
+  check.center = pose.translation, check.rotation = pose.rotation;
+  if (const Status s = check_box(check); s != Status::Ok) return s;
+  if (a.nodes.empty() || b.nodes.empty()) return Status::TooFewPoints;
+  if (ws.seen_a.size() != a.triangles.size() || ws.seen_b.size() != b.triangles.size() ||
+      ws.moved.size() != b.vertices.size() || ws.center_stamp.size() != b.triangles.size() ||
+      ws.hits.size() < size_t(b.max_leaf) || ws.near_r.size() < size_t(b.max_leaf) || ws.stack.size() < size_t(8 * (a.depth + b.depth) + 16))
+    return Status::InvalidMesh;  // a workspace made for other octrees
+  if (++ws.stamp == 0) {  // stamps wrapped: forget every old mark
+    std::fill(ws.moved_stamp.begin(), ws.moved_stamp.end(), 0u);
+    std::fill(ws.center_stamp.begin(), ws.center_stamp.end(), 0u);
+    std::fill(ws.seen_a.begin(), ws.seen_a.end(), 0u);
+    std::fill(ws.seen_b.begin(), ws.seen_b.end(), 0u);
+    ws.stamp = 1;
+  }
+  const Eigen::Matrix3d& R = pose.rotation;
+  const Vector3d& t = pose.translation;
+  // Topological invariance: every cube of B has the rotation R in A's frame, so the widths of
+  // a unit cube of B along A's axes (and of A's along B's) are the same for every node pair.
+  // Lower bound of the squared distance of two nodes' contents, the largest of four: their
+  // boxes apart along A's axes (B's box inside its axis-aligned bounding box in A's frame) or
+  // along B's, and each slab apart from the other's box along the slab's normal.
+  const Eigen::Matrix3d absR = R.cwiseAbs();
+  const auto bound2 = [&](int i, int j) {
+    const Octree::Node &na = a.nodes[i], &nb = b.nodes[j];
+    const Vector3d delta = R * nb.box_center + t - na.box_center;
+    const Vector3d ga = (delta.cwiseAbs() - na.box_half - absR * nb.box_half).cwiseMax(0.0);
+    const Vector3d gb = ((R.transpose() * delta).cwiseAbs() - nb.box_half - absR.transpose() * na.box_half).cwiseMax(0.0);
+    // Slab of A against B's box: B's box spans normal . (centre) +- |R^T normal| . half.
+    const Vector3d nab = R.transpose() * na.normal;
+    const double cb = na.normal.dot(R * nb.box_center + t), rb = nab.cwiseAbs().dot(nb.box_half);
+    const double sa = std::max({cb - rb - na.slab_hi, na.slab_lo - cb - rb, 0.0});
+    // Slab of B against A's box, in B's frame.
+    const Vector3d nba = R * nb.normal;
+    const double ca = nba.dot(na.box_center - t), ra = nba.cwiseAbs().dot(na.box_half);
+    const double sb = std::max({ca - ra - nb.slab_hi, nb.slab_lo - ca - ra, 0.0});
+    return std::max({ga.squaredNorm(), gb.squaredNorm(), sa * sa, sb * sb});
+  };
+  const auto moved = [&](int v) -> const Vector3d& {
+    if (ws.moved_stamp[v] != ws.stamp) ws.moved_stamp[v] = ws.stamp, ws.moved[v] = R * b.vertices[v] + t;
+    return ws.moved[v];
+  };
+  double best = std::numeric_limits<double>::infinity();
+  bool first_leaf_pair = true;
+  size_t top = 0;
+  ws.stack[top++] = {0, 0, bound2(0, 0)};
+  out.node_pairs = 1;
+  while (top > 0) {
+    const MeshWorkspace::Entry e = ws.stack[--top];
+    const int i = e.a, j = e.b;
+    if (e.bound2 >= best * best) continue;  // a nearer pair was found since it was pushed
+    const Octree::Node &na = a.nodes[i], &nb = b.nodes[j];
+    if (na.first_child < 0 && nb.first_child < 0) {
+      if (first_leaf_pair) {  // the paper's U: the maximum distance of the first leaf pair
+        Box ca, cb;
+        ca.center = na.center, ca.half_extents.setConstant(na.half);
+        cb.center = R * nb.center + t, cb.rotation = R, cb.half_extents.setConstant(nb.half);
+        Proximity p;
+        proximity(ca, cb, p, kWantMaxDistance);
+        out.first_bound = p.max_distance;
+        first_leaf_pair = false;
+      }
+      // Triangles whose spheres are nearer than `best` to the other node's box, pairwise: the
+      // sphere distance, then the separation along the centre line, then the exact distance.
+      // (A sphere's centre c in the node's own frame: its distance to the node's box and slab.)
+      const auto sphere_near = [&best](const Vector3d& c, double r, const Octree::Node& n) {
+        const double d = n.normal.dot(c), reach = best + r;
+        if (d - n.slab_hi >= reach || n.slab_lo - d >= reach) return false;
+        return ((c - n.box_center).cwiseAbs() - n.box_half).cwiseMax(0.0).squaredNorm() < reach * reach;
+      };
+      int near = 0;
+      for (int y = nb.first; y < nb.first + nb.count; ++y) {
+        const int tb = b.items[y];
+        if (ws.center_stamp[tb] != ws.stamp)
+          ws.center_stamp[tb] = ws.stamp, ws.moved_center[tb] = R * b.spheres[tb].head<3>() + t;
+        const Vector3d& c = ws.moved_center[tb];
+        if (!sphere_near(c, b.spheres[tb][3], na)) continue;
+        ws.near_b[near] = tb, ws.near_r[near] = b.spheres[tb][3];
+        ws.near_x[near] = c.x(), ws.near_y[near] = c.y(), ws.near_z[near] = c.z();
+        ++near;
+      }
+      for (int x = na.first; x < na.first + na.count && best > 0 && near > 0; ++x) {
+        const int ta = a.items[x];
+        const Vector3d ca = a.spheres[ta].head<3>();
+        const double rad_a = a.spheres[ta][3];
+        if (!sphere_near(R.transpose() * (ca - t), rad_a, nb)) continue;
+        const Vector3d sa[3] = {a.vertices[a.triangles[ta][0]], a.vertices[a.triangles[ta][1]],
+                                a.vertices[a.triangles[ta][2]]};
+        const Vector3d na_unit = unit_normal(sa);
+        // The sphere test over the whole list first (branch-free, vectorisable), then the rest.
+        int hits = 0;
+        for (int y = 0; y < near; ++y) {
+          const double dx = ws.near_x[y] - ca.x(), dy = ws.near_y[y] - ca.y(), dz = ws.near_z[y] - ca.z();
+          const double reach = best + rad_a + ws.near_r[y];
+          ws.hits[hits] = y;
+          hits += dx * dx + dy * dy + dz * dz < reach * reach;
+        }
+        for (int h = 0; h < hits; ++h) {
+          const int tb = ws.near_b[ws.hits[h]];
+          const Vector3d axis = ws.moved_center[tb] - ca;
+          const double len = axis.norm();
+          const Vector3d sb[3] = {moved(b.triangles[tb][0]), moved(b.triangles[tb][1]), moved(b.triangles[tb][2])};
+          // Separation along the centre line: a lower bound as tight as the triangles are flat.
+          if (len > 0) {
+            const double hi_a = std::max({axis.dot(sa[0]), axis.dot(sa[1]), axis.dot(sa[2])});
+            const double lo_b = std::min({axis.dot(sb[0]), axis.dot(sb[1]), axis.dot(sb[2])});
+            if (lo_b - hi_a >= best * len) continue;
+          }
+          if (plane_gap(na_unit, sa[0], sb) >= best) continue;
+          const Vector3d nb_unit = unit_normal(sb);
+          if (plane_gap(nb_unit, sb[0], sa) >= best) continue;
+          if (ws.seen_a[ta] != ws.stamp) ws.seen_a[ta] = ws.stamp, ++out.candidates_a;
+          if (ws.seen_b[tb] != ws.stamp) ws.seen_b[tb] = ws.stamp, ++out.candidates_b;
+          Vector3d pa, pb;
+          ++out.triangle_pairs;
+          const double d = triangle_distance(sa, sb, pa, pb);
+          if (d < best) {
+            best = d;
+            out.point_a = pa, out.point_b = pb, out.triangle_a = ta, out.triangle_b = tb;
+            if (d == 0) break;
+          }
+        }
+      }
+      if (best == 0) break;  // they intersect: nothing is nearer
+      continue;
+    }
+    // Split the larger cube (a leaf cannot be split), children nearest last so popped first.
+    const bool split_a = nb.first_child < 0 || (na.first_child >= 0 && na.half >= nb.half);
+    const Octree::Node& parent = split_a ? na : nb;
+    std::array<std::pair<double, int>, 8> kids;
+    int n = 0;
+    for (int c = parent.first_child; c < parent.first_child + parent.child_count; ++c) {
+      const double b2 = split_a ? bound2(c, j) : bound2(i, c);
+      ++out.node_pairs;
+      if (b2 < best * best) kids[n++] = {b2, c};
+    }
+    for (int k = 1; k < n; ++k)  // insertion sort, farthest first
+      for (int m = k; m > 0 && kids[m - 1].first < kids[m].first; --m) std::swap(kids[m - 1], kids[m]);
+    for (int k = 0; k < n; ++k)
+      ws.stack[top++] = {split_a ? kids[k].second : i, split_a ? j : kids[k].second, kids[k].first};
+  }
+  out.distance = best;
+  out.intersecting = best == 0;
+  out.culled_percent_a = 100.0 * (1 - double(out.candidates_a) / double(a.triangles.size()));
+  out.culled_percent_b = 100.0 * (1 - double(out.candidates_b) / double(b.triangles.size()));
+  return Status::Ok;
+}
+
+}  // namespace minksum

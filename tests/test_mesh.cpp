@@ -1,0 +1,172 @@
+// Mesh-mesh distance through octrees against all-pairs brute force (an independent traversal:
+// every triangle pair), and the triangle-triangle distance against the general convex path
+// (the Minkowski difference of the two triangles); bad input; the octree's leaf invariant.
+#include <gtest/gtest.h>
+#include <minksum/minksum.hpp>
+
+#include <cstdlib>
+#include <random>
+
+#include "checks.hpp"
+#include "tools/mesh_io.hpp"
+#include "tools/shapes.hpp"
+
+namespace minksum {
+namespace {
+
+using Eigen::Vector3d;
+
+// Distance of p from triangle t (for checking witnesses).
+double off_triangle(const tools::Mesh& m, int t, const Vector3d& p, const Pose& pose) {
+  Vector3d v[3];
+  for (int k = 0; k < 3; ++k) v[k] = pose.rotation * m.vertices[m.triangles[t][k]] + pose.translation;
+  const Vector3d pt[3] = {p, p, p};
+  Vector3d a, b;
+  return triangle_distance(v, pt, a, b);
+}
+
+// Octree query == brute force on `poses` random poses from overlapping to well apart.
+void check_against_brute_force(const tools::Mesh& m, int poses, unsigned seed) {
+  Octree A;
+  ASSERT_EQ(build_octree(m.vertices, m.triangles, A), Status::Ok);
+  MeshWorkspace ws;
+  make_workspace(A, A, ws);
+  std::mt19937_64 rng(seed);
+  int intersecting = 0;
+  for (int k = 0; k < poses; ++k) {
+    const Pose pose = test::random_pose(rng, 0.05 + 0.25 * k / poses);
+    MeshDistance got;
+    ASSERT_EQ(mesh_distance(A, A, pose, ws, got), Status::Ok);
+    const MeshDistance want = tools::brute_distance(m, m, pose);
+    ASSERT_NEAR(got.distance, want.distance, 1e-12) << "pose " << k;
+    ASSERT_EQ(got.intersecting, want.intersecting) << "pose " << k;
+    intersecting += got.intersecting;
+    // The witnesses realise the distance and lie on the triangles named.
+    EXPECT_NEAR((got.point_a - got.point_b).norm(), got.distance, 1e-12) << "pose " << k;
+    EXPECT_LE(off_triangle(m, got.triangle_a, got.point_a, Pose{}), 1e-12) << "pose " << k;
+    EXPECT_LE(off_triangle(m, got.triangle_b, got.point_b, pose), 1e-12) << "pose " << k;
+    EXPECT_GT(got.candidates_a, 0);
+    if (testing::Test::HasFailure()) return;
+  }
+  // The sweep must cover both kinds, or half of the claim went untested.
+  EXPECT_GT(intersecting, poses / 20);
+  EXPECT_LT(intersecting, poses - poses / 20);
+}
+
+int poses_from_env(int fallback) {
+  const char* s = std::getenv("MINKSUM_MESH_POSES");
+  return s ? std::atoi(s) : fallback;
+}
+
+TEST(MeshDistance, EqualsBruteForceOnBunnyRes4) {
+  check_against_brute_force(test::test_mesh("bun_zipper_res4.ply", 16), poses_from_env(1000), 11);
+}
+
+TEST(MeshDistance, EqualsBruteForceOnBunnyRes3) {
+  check_against_brute_force(test::test_mesh("bun_zipper_res3.ply", 31), poses_from_env(150), 12);
+}
+
+// The kernel against the general exact path (Minkowski difference of the two triangles), on
+// random, near-parallel, coplanar and far-from-the-origin pairs.
+TEST(TriangleDistance, AgreesWithTheGeneralPath) {
+  std::mt19937_64 rng(13);
+  std::uniform_real_distribution<double> u(-1, 1), tiny(-1e-9, 1e-9);
+  for (int k = 0; k < 20000; ++k) {
+    Triangle s = tools::random_triangle(rng, 1.2), t = tools::random_triangle(rng, 1.2);
+    if (k % 4 == 1) {  // near-parallel: t is s's plane, lifted and tilted by ~1e-9
+      const Vector3d n = (s.b - s.a).cross(s.c - s.a).normalized(), lift = 0.01 * (1 + u(rng)) * n;
+      t = {s.a + lift + Vector3d(tiny(rng), tiny(rng), tiny(rng)) + 0.3 * (s.b - s.a), s.b + lift, s.c + lift + 0.2 * (s.a - s.c)};
+    }
+    if (k % 4 == 2) {  // coplanar
+      const Vector3d n = (s.b - s.a).cross(s.c - s.a);
+      t = {s.a + 0.7 * (s.b - s.a), s.c + (s.c - s.b) * u(rng), s.b + n.cross(s.b - s.a) * 0.5 * u(rng)};
+    }
+    const Vector3d far = k % 8 == 3 ? Vector3d(1e5, -1e5, 1e5) : Vector3d::Zero();
+    for (Triangle* x : {&s, &t}) x->a += far, x->b += far, x->c += far;
+    Proximity want;
+    if (proximity(s, t, want) != Status::Ok) continue;  // a degenerate random triangle
+    const Vector3d vs[3] = {s.a, s.b, s.c}, vt[3] = {t.a, t.b, t.c};
+    Vector3d ps, pt;
+    const double got = triangle_distance(vs, vt, ps, pt);
+    const double tol = 1e-9 * (1 + far.norm());
+    ASSERT_NEAR(got, want.distance, tol) << "pair " << k;
+    ASSERT_NEAR((ps - pt).norm(), got, tol) << "pair " << k;
+  }
+}
+
+TEST(TriangleDistance, DegenerateTriangles) {
+  const Vector3d seg[3] = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};     // collinear
+  const Vector3d point[3] = {{0, 1, 0}, {0, 1, 0}, {0, 1, 0}};   // one point
+  const Vector3d tri[3] = {{3, 0, -1}, {3, 0, 1}, {3, 1, 0}};
+  Vector3d p, q;
+  EXPECT_NEAR(triangle_distance(seg, point, p, q), 1, 1e-15);
+  EXPECT_NEAR(triangle_distance(seg, tri, p, q), 1, 1e-15);
+  EXPECT_NEAR(triangle_distance(point, tri, p, q), 3, 1e-15);  // onto the corner (3, 1, 0)
+}
+
+TEST(Octree, RejectsBadMeshes) {
+  Octree o;
+  const std::vector<Vector3d> v = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  EXPECT_EQ(build_octree(v, {}, o), Status::TooFewPoints);
+  EXPECT_EQ(build_octree(v, {{0, 1, 3}}, o), Status::InvalidMesh);
+  EXPECT_EQ(build_octree(v, {{0, -1, 2}}, o), Status::InvalidMesh);
+  auto bad = v;
+  bad[1].y() = std::nan("");
+  EXPECT_EQ(build_octree(bad, {{0, 1, 2}}, o), Status::NonFinite);
+  bad[1].y() = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(build_octree(bad, {{0, 1, 2}}, o), Status::NonFinite);
+  OctreeOptions options;
+  options.leaf_size = 0;
+  EXPECT_EQ(build_octree(v, {{0, 1, 2}}, o, options), Status::InvalidMesh);
+  // Unused vertices and degenerate triangles are fine.
+  auto extra = v;
+  extra.emplace_back(5, 5, 5);
+  EXPECT_EQ(build_octree(extra, {{0, 1, 2}, {0, 0, 1}}, o), Status::Ok);
+}
+
+TEST(Octree, RejectsABadPoseAndAForeignWorkspace) {
+  const tools::Mesh m = test::test_mesh("bun_zipper_res4.ply", 16);
+  Octree A, small;
+  ASSERT_EQ(build_octree(m.vertices, m.triangles, A), Status::Ok);
+  ASSERT_EQ(build_octree({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}}, small), Status::Ok);
+  MeshWorkspace ws;
+  make_workspace(A, A, ws);
+  MeshDistance d;
+  Pose pose;
+  pose.rotation(0, 0) = 2;
+  EXPECT_EQ(mesh_distance(A, A, pose, ws, d), Status::InvalidBox);
+  pose = Pose{};
+  pose.translation.x() = std::nan("");
+  EXPECT_EQ(mesh_distance(A, A, pose, ws, d), Status::NonFinite);
+  EXPECT_EQ(mesh_distance(A, small, Pose{}, ws, d), Status::InvalidMesh);
+}
+
+// Every triangle is listed in every leaf whose cube it meets: checked against the exact
+// box-triangle proximity of the general path, for every (leaf, triangle) pair of a small mesh.
+TEST(Octree, LeavesListEveryTriangleTheyMeet) {
+  const tools::Mesh m = test::test_mesh("bun_zipper_res4.ply", 16);
+  Octree A;
+  OctreeOptions options;
+  options.max_depth = 3;
+  ASSERT_EQ(build_octree(m.vertices, m.triangles, A, options), Status::Ok);
+  int checked = 0;
+  for (const auto& n : A.nodes) {
+    if (n.first_child >= 0) continue;
+    std::vector<bool> listed(m.triangles.size());
+    for (int x = n.first; x < n.first + n.count; ++x) listed[A.items[x]] = true;
+    Box cube;
+    cube.center = n.center, cube.half_extents.setConstant(n.half);
+    for (size_t t = 0; t < m.triangles.size(); ++t) {
+      if (listed[t]) continue;
+      const Triangle tri{m.vertices[m.triangles[t][0]], m.vertices[m.triangles[t][1]], m.vertices[m.triangles[t][2]]};
+      Proximity p;
+      if (proximity(cube, tri, p) != Status::Ok) continue;  // degenerate triangle
+      ASSERT_FALSE(p.intersecting && p.penetration_depth > 1e-12 * n.half) << "triangle " << t << " missing";
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 1000);
+}
+
+}  // namespace
+}  // namespace minksum
