@@ -77,4 +77,44 @@ bool FclPair::penetration(FclSolver solver, FclAnswer& out) {
   return out.collide;
 }
 
+struct FclMeshPair::Impl {
+  std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> ga, gb;
+  std::unique_ptr<fcl::CollisionObjectd> a, b;
+};
+
+namespace {
+std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> bvh(const std::vector<Eigen::Vector3d>& v,
+                                                 const std::vector<std::array<int, 3>>& t) {
+  auto m = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
+  std::vector<fcl::Triangle> tris;
+  for (const auto& x : t) tris.emplace_back(x[0], x[1], x[2]);
+  m->beginModel();
+  m->addSubModel(std::vector<fcl::Vector3d>(v.begin(), v.end()), tris);
+  m->endModel();
+  return m;
+}
+}  // namespace
+
+FclMeshPair::FclMeshPair(const std::vector<Eigen::Vector3d>& va, const std::vector<std::array<int, 3>>& ta,
+                         const std::vector<Eigen::Vector3d>& vb, const std::vector<std::array<int, 3>>& tb)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->ga = bvh(va, ta), impl_->gb = bvh(vb, tb);
+  impl_->a = std::make_unique<fcl::CollisionObjectd>(impl_->ga);
+  impl_->b = std::make_unique<fcl::CollisionObjectd>(impl_->gb);
+}
+
+FclMeshPair::~FclMeshPair() = default;
+
+double FclMeshPair::distance(const Pose& pose, Eigen::Vector3d* pa, Eigen::Vector3d* pb) {
+  fcl::Transform3d t = fcl::Transform3d::Identity();
+  t.linear() = pose.rotation, t.translation() = pose.translation;
+  impl_->b->setTransform(t);
+  fcl::DistanceRequestd request(pa != nullptr);
+  fcl::DistanceResultd result;
+  fcl::distance(impl_->a.get(), impl_->b.get(), request, result);
+  if (pa) *pa = result.nearest_points[0];
+  if (pb) *pb = result.nearest_points[1];
+  return result.min_distance;
+}
+
 }  // namespace minksum::peers

@@ -1,10 +1,13 @@
 // FCL 0.7 as a peer of the queries (benchmarks) and as an oracle (tests): its GJK (GST_INDEP)
-// and libccd (GST_LIBCCD) solvers on boxes and convex polytopes.
+// and libccd (GST_LIBCCD) solvers on boxes and convex polytopes, and its OBBRSS BVH distance on
+// triangle meshes.
 #pragma once
 
-#include <minksum/model.hpp>
+#include <minksum/mesh.hpp>
 
+#include <array>
 #include <memory>
+#include <vector>
 
 namespace minksum::peers {
 
@@ -34,6 +37,21 @@ class FclPair {
   double distance(FclSolver solver, FclAnswer* out = nullptr);
   /// fcl::collide with one contact: penetration depth and normal.
   bool penetration(FclSolver solver, FclAnswer& out);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Two triangle meshes as FCL BVH models with OBBRSS bounding volumes, built once.
+class FclMeshPair {
+ public:
+  /// Builds both BVHs (FCL's default splitter).
+  FclMeshPair(const std::vector<Eigen::Vector3d>& va, const std::vector<std::array<int, 3>>& ta,
+              const std::vector<Eigen::Vector3d>& vb, const std::vector<std::array<int, 3>>& tb);
+  ~FclMeshPair();
+  /// fcl::distance with B placed by the pose (A at the identity); nearest points in A's frame.
+  double distance(const Pose& pose, Eigen::Vector3d* pa = nullptr, Eigen::Vector3d* pb = nullptr);
 
  private:
   struct Impl;

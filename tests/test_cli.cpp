@@ -232,6 +232,54 @@ TEST(Cli, QueryRejectsBadInput) {
   expect_rejected("query " + nan + " " + cube, "qnan.txt:3:");
 }
 
+// The unit cube [0, 1]^3 as 12 triangles (OFF), with an optional bad coordinate or index.
+std::string cube_off(const std::string& name, const std::string& bad_vertex = "", int bad_index = -1) {
+  std::string text = "OFF\n8 12 0\n";
+  for (int k = 0; k < 8; ++k)
+    text += (k == 7 && !bad_vertex.empty()) ? bad_vertex + "\n"
+                                          : std::to_string(k & 1) + " " + std::to_string(k >> 1 & 1) + " " + std::to_string(k >> 2 & 1) + "\n";
+  const int f[12][3] = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
+                        {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
+  for (int k = 0; k < 12; ++k)
+    text += "3 " + std::to_string(f[k][0]) + " " + std::to_string(f[k][1]) + " " + std::to_string(k == 11 && bad_index >= 0 ? bad_index : f[k][2]) + "\n";
+  return write(name, text);
+}
+
+TEST(Cli, DistanceBetweenMeshes) {
+  const std::string a = cube_off("ca.off"), b = cube_off("cb.off");
+  // B turned 90 degrees about z (it then spans x in [-1, 0]) and moved by 3 along x: gap 1.
+  const std::string pose = "--pose \"0.70710678118654757 0 0 0.70710678118654757 3 0.5 0\"";
+  for (const std::string mode : {"", " --brute"}) {
+    const CliRun r = run("distance " + a + " " + b + " " + pose + " --json" + mode);
+    ASSERT_EQ(r.code, 0) << r.err;
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(r.out, m, std::regex("\"distance\": ([0-9.e+-]+),"))) << r.out;
+    EXPECT_NEAR(std::stod(m[1]), 1, 1e-12) << r.out;
+  }
+  const std::string poses = write("poses.txt", "# three poses\n1 0 0 0 3 0 0\n1 0 0 0 0.5 0 0\n1 0 0 0 0 0 5\n");
+  const CliRun r = run("distance " + a + " " + b + " --poses " + poses);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 3) << r.out;
+  EXPECT_NE(r.out.find("\"distance\": 2,"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"distance\": 0,"), std::string::npos) << r.out;  // overlapping
+  EXPECT_NE(r.out.find("\"distance\": 4,"), std::string::npos) << r.out;
+  const CliRun demo = run("distance");  // the bunnies, or a fallback mesh: it says which
+  ASSERT_EQ(demo.code, 0) << demo.err;
+  EXPECT_NE(demo.out.find("demo: two copies of "), std::string::npos) << demo.out;
+  EXPECT_NE(demo.out.find("culled"), std::string::npos) << demo.out;
+}
+
+TEST(Cli, DistanceRejectsBadInput) {
+  const std::string a = cube_off("da.off");
+  expect_rejected("distance " + a + " " + cube_off("dnan.off", "nan 0 1"), "NaN or Inf");
+  expect_rejected("distance " + a + " " + cube_off("dindex.off", "", 99), "dindex.off");
+  expect_rejected("distance " + a + " " + write("garbage.off", "OFF\n3 1 0\n0 0\n"), "garbage.off");
+  expect_rejected("distance " + a + " " + a + " --pose \"1 0 0 0 1 2\"", "7 numbers");
+  expect_rejected("distance " + a + " " + a + " --pose \"2 0 0 0 1 2 3\"", "unit length");
+  expect_rejected("distance " + a + " " + a + " --poses " + write("bad_poses.txt", "1 0 0 0 0 0 0\n1 0 0 x 0 0 0\n"), "bad_poses.txt:2:");
+  expect_rejected("distance " + a, "two mesh files");
+}
+
 TEST(Cli, FlatOperandGivesASolidSum) {
   const std::string tri = write("tri.txt", "0.1 0.2 0.3\n1.1 -0.4 0.5\n0.3 0.9 -0.7\n");
   const std::string cube = write_points("cube2", tools::cube_points(), 1);

@@ -1,0 +1,204 @@
+// Mesh input through assimp; the libcgal-demo fallback reads one member of a .tar.gz with zlib.
+#include "tools/mesh_io.hpp"
+
+#include <assimp/DefaultLogger.hpp>
+#include <assimp/Importer.hpp>
+#include <assimp/LogStream.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <zlib.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <cstring>
+#include <filesystem>
+
+namespace minksum::tools {
+
+namespace {
+
+bool from_scene(const aiScene* scene, Mesh& mesh, std::string& error) {
+  mesh = Mesh{};
+  if (!scene || scene->mNumMeshes == 0) {
+    error = "no mesh in the file";
+    return false;
+  }
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+    const aiMesh* part = scene->mMeshes[m];
+    const int base = int(mesh.vertices.size());
+    for (unsigned v = 0; v < part->mNumVertices; ++v)
+      mesh.vertices.emplace_back(part->mVertices[v].x, part->mVertices[v].y, part->mVertices[v].z);
+    for (unsigned f = 0; f < part->mNumFaces; ++f) {
+      const aiFace& face = part->mFaces[f];
+      if (face.mNumIndices != 3) continue;  // points and lines are not surfaces
+      mesh.triangles.push_back({base + int(face.mIndices[0]), base + int(face.mIndices[1]),
+                                base + int(face.mIndices[2])});
+    }
+  }
+  if (mesh.triangles.empty()) {
+    error = "no triangles in the file";
+    return false;
+  }
+  return true;
+}
+
+// Triangulate polygons, bake node transforms; keep vertices as they are (no welding), so a
+// mesh's own unused or duplicated vertices pass through unchanged.
+constexpr unsigned kFlags = aiProcess_Triangulate | aiProcess_PreTransformVertices;
+
+// Assimp reports some malformed input only in its log and carries on (an OFF face index out of
+// range is clamped): listen to the log's errors while reading, and fail on the first one.
+class ErrorLog : public Assimp::LogStream {
+ public:
+  ErrorLog() {
+    if (!Assimp::DefaultLogger::isNullLogger() || Assimp::DefaultLogger::create("", Assimp::Logger::NORMAL, 0))
+      Assimp::DefaultLogger::get()->attachStream(this, Assimp::Logger::Err);
+  }
+  ~ErrorLog() override { Assimp::DefaultLogger::get()->detachStream(this, Assimp::Logger::Err); }
+  void write(const char* message) override {
+    if (!first.empty()) return;
+    first = message;
+    if (first.rfind("Error, T", 0) == 0 && first.find(": ") != std::string::npos)  // "Error, T0: "
+      first = first.substr(first.find(": ") + 2);
+    while (!first.empty() && (first.back() == '\n' || first.back() == '\r')) first.pop_back();
+  }
+  std::string first;  // the first error message, if any
+};
+
+}  // namespace
+
+bool read_mesh(const std::string& path, Mesh& mesh, std::string& error) {
+  Assimp::Importer importer;
+  ErrorLog log;
+  const aiScene* scene = importer.ReadFile(path, kFlags);
+  if (!scene || !log.first.empty()) {
+    error = path + ": " + (scene ? log.first : std::string(importer.GetErrorString()));
+    return false;
+  }
+  if (!from_scene(scene, mesh, error)) {
+    error = path + ": " + error;
+    return false;
+  }
+  return true;
+}
+
+bool read_mesh_from_memory(const std::string& data, const char* hint, Mesh& mesh,
+                           std::string& error) {
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFileFromMemory(data.data(), data.size(), kFlags, hint);
+  if (!scene) {
+    error = importer.GetErrorString();
+    return false;
+  }
+  return from_scene(scene, mesh, error);
+}
+
+namespace {
+
+// One member of a gzip-compressed tar archive (ustar: 512-byte headers, size in octal).
+bool tar_member(const std::string& archive, const std::string& member, std::string& out) {
+  gzFile f = gzopen(archive.c_str(), "rb");
+  if (!f) return false;
+  char header[512];
+  bool found = false;
+  while (gzread(f, header, 512) == 512 && header[0] != 0) {
+    const std::string name(header, strnlen(header, 100));
+    const size_t size = std::strtoull(std::string(header + 124, 12).c_str(), nullptr, 8);
+    const size_t padded = (size + 511) / 512 * 512;
+    if (name == member) {
+      out.resize(padded);
+      found = gzread(f, out.data(), unsigned(padded)) == int(padded);
+      out.resize(size);
+      break;
+    }
+    if (gzseek(f, z_off_t(padded), SEEK_CUR) < 0) break;
+  }
+  gzclose(f);
+  return found;
+}
+
+// A torus of 48 x 24 quads (2,304 triangles), radii 1 and 0.35.
+Mesh torus() {
+  Mesh m;
+  const int nu = 48, nv = 24;
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) {
+      const double u = 2 * M_PI * i / nu, v = 2 * M_PI * j / nv;
+      m.vertices.emplace_back((1 + 0.35 * std::cos(v)) * std::cos(u), (1 + 0.35 * std::cos(v)) * std::sin(u), 0.35 * std::sin(v));
+    }
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) {
+      const int a = i * nv + j, b = (i + 1) % nu * nv + j, c = (i + 1) % nu * nv + (j + 1) % nv, d = i * nv + (j + 1) % nv;
+      m.triangles.push_back({a, b, c});
+      m.triangles.push_back({a, c, d});
+    }
+  return m;
+}
+
+}  // namespace
+
+MeshDistance brute_distance(const Mesh& a, const Mesh& b, const Pose& pose) {
+  using Eigen::Vector3d;
+  std::vector<Vector3d> moved;
+  for (const auto& v : b.vertices) moved.push_back(pose.rotation * v + pose.translation);
+  // Bounding sphere of each triangle: centroid and largest corner distance.
+  const auto spheres = [](const std::vector<Vector3d>& v, const std::vector<std::array<int, 3>>& tris,
+                          std::vector<Vector3d>& c, std::vector<double>& r) {
+    for (const auto& t : tris) {
+      const Vector3d m = (v[t[0]] + v[t[1]] + v[t[2]]) / 3;
+      c.push_back(m);
+      r.push_back(std::max({(v[t[0]] - m).norm(), (v[t[1]] - m).norm(), (v[t[2]] - m).norm()}) * (1 + 1e-12));
+    }
+  };
+  std::vector<Vector3d> ca, cb;
+  std::vector<double> ra, rb;
+  spheres(a.vertices, a.triangles, ca, ra);
+  spheres(moved, b.triangles, cb, rb);
+  MeshDistance out;
+  out.distance = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < a.triangles.size() && out.distance > 0; ++i) {
+    const Vector3d s[3] = {a.vertices[a.triangles[i][0]], a.vertices[a.triangles[i][1]], a.vertices[a.triangles[i][2]]};
+    for (size_t j = 0; j < b.triangles.size(); ++j) {
+      if ((ca[i] - cb[j]).norm() - ra[i] - rb[j] > out.distance) continue;
+      const Vector3d t[3] = {moved[b.triangles[j][0]], moved[b.triangles[j][1]], moved[b.triangles[j][2]]};
+      Vector3d p, q;
+      ++out.triangle_pairs;
+      const double d = triangle_distance(s, t, p, q);
+      if (d < out.distance) {
+        out.distance = d, out.point_a = p, out.point_b = q;
+        out.triangle_a = int(i), out.triangle_b = int(j);
+        if (d == 0) break;
+      }
+    }
+  }
+  out.intersecting = out.distance == 0;
+  out.candidates_a = int(a.triangles.size()), out.candidates_b = int(b.triangles.size());
+  return out;
+}
+
+Mesh demo_mesh(const std::string& name, std::string& source) {
+  Mesh mesh;
+  std::string error;
+  namespace fs = std::filesystem;
+  for (fs::path dir = fs::current_path();; dir = dir.parent_path()) {
+    const fs::path candidate = dir / "shared" / "data" / name;
+    const fs::path sibling = dir / ".." / "shared" / "data" / name;
+    for (const fs::path& p : {candidate, sibling})
+      if (fs::exists(p) && read_mesh(p.string(), mesh, error)) {
+        source = fs::weakly_canonical(p).string();
+        return mesh;
+      }
+    if (dir == dir.root_path() || dir.empty()) break;
+  }
+  const std::string archive = "/usr/share/doc/libcgal-dev/data.tar.gz";
+  std::string off;
+  if (tar_member(archive, "data/meshes/bunny00.off", off) && read_mesh_from_memory(off, "off", mesh, error)) {
+    source = archive + ":data/meshes/bunny00.off";
+    return mesh;
+  }
+  source = "generated torus (no ../shared/data, no libcgal-demo)";
+  return torus();
+}
+
+}  // namespace minksum::tools

@@ -1,0 +1,34 @@
+// Triangle-mesh input of the command-line tools, through assimp (the library takes arrays).
+#pragma once
+
+#include <minksum/mesh.hpp>
+#include <array>
+#include <string>
+#include <vector>
+
+namespace minksum::tools {
+
+/// A triangle mesh as the library's octree takes it.
+struct Mesh {
+  std::vector<Eigen::Vector3d> vertices;      ///< positions
+  std::vector<std::array<int, 3>> triangles;  ///< vertex indices
+};
+
+/// Reads a PLY, OBJ, OFF or STL mesh (polygons are triangulated; points and lines dropped).
+/// On failure returns false and sets `error` to "path: what is wrong".
+bool read_mesh(const std::string& path, Mesh& mesh, std::string& error);
+
+/// Reads a mesh from memory; `hint` is the format's file extension ("off", "ply", ...).
+bool read_mesh_from_memory(const std::string& data, const char* hint, Mesh& mesh,
+                           std::string& error);
+
+/// The demo mesh: `name` in ../shared/data (searched from the working directory up), else
+/// data/meshes/bunny00.off from Debian's libcgal-demo (its data.tar.gz), else a generated
+/// torus. `source` says which one was used.
+Mesh demo_mesh(const std::string& name, std::string& source);
+
+/// All-pairs triangle distance (for checking mesh_distance): every pair is enumerated, a pair
+/// is skipped only if its bounding spheres are already farther apart than the best distance.
+MeshDistance brute_distance(const Mesh& a, const Mesh& b, const Pose& pose);
+
+}  // namespace minksum::tools
