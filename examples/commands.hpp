@@ -11,4 +11,8 @@ int usage_error(const std::string& what);
 /// minksum distance [MESH_A MESH_B] [--pose P] [--poses FILE] [--json] [--brute]
 int cmd_distance(int argc, char** argv);
 
+/// minksum haptics [--tool box|icosa|MESH] [--scene MESH] [--seconds S] [--rate HZ]
+/// [--realtime] [--plot out.png] [--json]
+int cmd_haptics(int argc, char** argv);
+
 }  // namespace minksum::cli

@@ -44,6 +44,11 @@ const char* kHelp =
     "      octrees; the pose places B in A's frame (default: B shifted along +x by 1.1 x A's\n"
     "      width); --poses reads one pose per line and prints one JSON line each; --brute\n"
     "      checks by all pairs. No meshes: two bunnies (../shared/data, else libcgal-demo).\n"
+    "  haptics [--tool box|icosa|MESH] [--scene MESH] [--seconds S] [--rate HZ] [--realtime]\n"
+    "          [--plot out.png] [--json]\n"
+    "      A 1 kHz haptic loop: a tool approaches, presses into and slides over the scene mesh;\n"
+    "      tick latency percentiles, missed deadlines (--realtime paces the ticks), allocations\n"
+    "      and exceptions inside the loop, contacts; --plot draws the run (gnuplot).\n"
     "  demo\n"
     "      The paper's Table 1 pairs: V, E, F and the time of each path.\n"
     "  --version, --help\n"
@@ -275,6 +280,7 @@ int main(int argc, char** argv) {
   if (cmd == "sum") return cmd_sum(argc - 2, argv + 2);
   if (cmd == "query") return cmd_query(argc - 2, argv + 2);
   if (cmd == "distance") return cli::cmd_distance(argc - 2, argv + 2);
+  if (cmd == "haptics") return cli::cmd_haptics(argc - 2, argv + 2);
   if (cmd == "demo") return cmd_demo();
   return usage_error("unknown command '" + cmd + "'");
 }

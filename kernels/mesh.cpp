@@ -92,9 +92,15 @@ double triangle_distance(const Vector3d (&s_in)[3], const Vector3d (&t_in)[3], V
     return !(n.squaredNorm() > 1e-24 * scale * scale);
   };
   const bool s_flat = flat(ns, s), t_flat = flat(nt, t);
-  // Intersecting, not coplanar: an edge of one crosses the other's interior.
+  // Intersecting, not coplanar: an edge of one crosses the other's interior. Impossible if
+  // either triangle lies strictly on one side of the other's plane (the common case).
+  const auto one_side = [](const Vector3d& n, const Vector3d& p, const Vector3d (&q)[3]) {
+    const double d0 = n.dot(q[0] - p), d1 = n.dot(q[1] - p), d2 = n.dot(q[2] - p);
+    return (d0 > 0 && d1 > 0 && d2 > 0) || (d0 < 0 && d1 < 0 && d2 < 0);
+  };
+  const bool apart = one_side(ns, s[0], t) || one_side(nt, t[0], s);
   Vector3d x;
-  for (int k = 0; k < 3; ++k) {
+  for (int k = 0; k < 3 && !apart; ++k) {
     if (!t_flat && pierces(s[k], s[(k + 1) % 3], t, nt, x)) {
       ps = pt = x + o;
       return 0;
@@ -280,6 +286,8 @@ void make_workspace(const Octree& a, const Octree& b, MeshWorkspace& ws) {
   ws.seen_b.assign(b.triangles.size(), 0);
   for (auto* v : {&ws.near_b, &ws.hits}) v->assign(size_t(b.max_leaf), 0);
   for (auto* v : {&ws.near_x, &ws.near_y, &ws.near_z, &ws.near_r}) v->assign(size_t(b.max_leaf), 0.0);
+  ws.parts.assign(size_t(8 * kMaxContactTriangles), Vector3d::Zero());
+  ws.part_start.assign(size_t(kMaxContactTriangles + 1), 0);
   ws.stamp = 0;
 }
 
@@ -431,6 +439,145 @@ Status mesh_distance(const Octree& a, const Octree& b, const Pose& pose, MeshWor
   out.intersecting = best == 0;
   out.culled_percent_a = 100.0 * (1 - double(out.candidates_a) / double(a.triangles.size()));
   out.culled_percent_b = 100.0 * (1 - double(out.candidates_b) / double(b.triangles.size()));
+  return Status::Ok;
+}
+
+Status mesh_contact(const Octree& a, const ConvexPolytope& tool, const Pose& pose, MeshWorkspace& ws,
+                    MeshContact& out) {
+  out = MeshContact{};
+  if (ws.parts.size() < size_t(8 * kMaxContactTriangles) || ws.part_start.size() < size_t(kMaxContactTriangles + 1))
+    return Status::InvalidMesh;  // not a workspace from make_workspace
+  Box check;  // the pose's rotation must be a proper rotation, like a box's
+  check.center = pose.translation, check.rotation = pose.rotation;
+  if (const Status s = check_box(check); s != Status::Ok) return s;
+  if (a.nodes.empty()) return Status::TooFewPoints;
+  const int nv = int(tool.vertices.size());
+  if (nv > kMaxToolVertices || tool.flat || nv < 4) return Status::InvalidMesh;
+  // The tool in A's frame, and its bounding box there.
+  Vector3d v[kMaxToolVertices];
+  Vector3d lo = Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (int k = 0; k < nv; ++k) {
+    v[k] = pose.rotation * tool.vertices[k] + pose.translation;
+    lo = lo.cwiseMin(v[k]), hi = hi.cwiseMax(v[k]);
+  }
+  const Vector3d box_c = (lo + hi) / 2, box_h = (hi - lo) / 2;
+  // The tool's face planes in A's frame. A triangle meets the tool iff clipping it by every
+  // plane (Sutherland-Hodgman, 1974) leaves something: O(faces) per triangle.
+  const int nf = int(tool.faces.size());
+  if (nf > 2 * kMaxToolVertices) return Status::InvalidMesh;
+  Vector3d plane_n[2 * kMaxToolVertices];
+  double plane_o[2 * kMaxToolVertices];
+  for (int f = 0; f < nf; ++f) {
+    plane_n[f] = pose.rotation * tool.faces[f].normal;
+    plane_o[f] = tool.faces[f].offset + plane_n[f].dot(pose.translation);
+  }
+  // The part of triangle t inside the tool: `m` corners at `poly` (m = 0: they do not meet).
+  Vector3d buffer[2][3 + 2 * kMaxToolVertices];
+  int last_reject = 0;  // neighbouring triangles tend to lie outside the same face plane
+  const auto clip = [&](const Vector3d (&t)[3], const Vector3d*& poly) {
+    if (nf > 0) {
+      const Vector3d& n = plane_n[last_reject];
+      const double o = plane_o[last_reject];
+      if (n.dot(t[0]) > o && n.dot(t[1]) > o && n.dot(t[2]) > o) return 0;
+    }
+    int m = 3, cur = 0;
+    for (int k = 0; k < 3; ++k) buffer[0][k] = t[k];
+    for (int f = 0; f < nf && m > 0; ++f) {
+      const Vector3d& n = plane_n[f];
+      const double o = plane_o[f];
+      int out_m = 0;
+      for (int k = 0; k < m; ++k) {
+        const Vector3d &p = buffer[cur][k], &q = buffer[cur][(k + 1) % m];
+        const double dp = n.dot(p) - o, dq = n.dot(q) - o;
+        if (dp <= 0) buffer[1 - cur][out_m++] = p;
+        if ((dp < 0 && dq > 0) || (dp > 0 && dq < 0)) buffer[1 - cur][out_m++] = p + dp / (dp - dq) * (q - p);
+      }
+      m = out_m, cur = 1 - cur;
+      if (m == 0) last_reject = f;
+    }
+    poly = buffer[cur];
+    return m;
+  };
+  const auto corners = [&](int tri, Vector3d (&t)[3]) {
+    for (int k = 0; k < 3; ++k) t[k] = a.vertices[a.triangles[tri][k]];
+  };
+  // Pass 1: the overlapped triangles (each once) and the area vector of their parts inside the
+  // tool, whose direction is the push-out direction (a sum over the contact patch: it turns
+  // continuously as the tool slides, unlike any single triangle's normal).
+  int hit[kMaxContactTriangles], hits = 0;
+  ws.part_start[0] = 0;
+  // Triangles seen so far: open addressing over a fixed table (twice the capacity).
+  struct {
+    int slot[4 * kMaxContactTriangles];
+    int used = 0;
+    bool insert(int key) {  // false if present
+      if (used == 0) std::fill(std::begin(slot), std::end(slot), -1);
+      unsigned h = unsigned(key) * 2654435761u;
+      for (;; ++h) {
+        int& e = slot[h % (4 * kMaxContactTriangles)];
+        if (e == key) return false;
+        if (e < 0) return used < 2 * kMaxContactTriangles ? (e = key, ++used, true) : true;
+      }
+    }
+  } seen;
+  Vector3d area = Vector3d::Zero();
+  int stack[8 * 25 + 8], top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Octree::Node& n = a.nodes[stack[--top]];
+    if (((n.box_center - box_c).cwiseAbs() - n.box_half - box_h).maxCoeff() > 0) continue;
+    if (n.first_child >= 0) {
+      for (int c = n.first_child; c < n.first_child + n.child_count; ++c) stack[top++] = c;
+      continue;
+    }
+    for (int x = n.first; x < n.first + n.count; ++x) {
+      const int tri = a.items[x];
+      Vector3d t[3];
+      corners(tri, t);
+      const Vector3d tlo = t[0].cwiseMin(t[1]).cwiseMin(t[2]), thi = t[0].cwiseMax(t[1]).cwiseMax(t[2]);
+      if ((tlo.array() > hi.array()).any() || (thi.array() < lo.array()).any()) continue;
+      if (!seen.insert(tri)) continue;  // already met in another leaf
+      ++out.tested;
+      const Vector3d* poly;
+      const int m = clip(t, poly);
+      if (m == 0) continue;
+      if (hits == kMaxContactTriangles || ws.part_start[hits] + m > int(ws.parts.size())) {
+        out.overflow = true;  // more contact than capacity: flagged, the first parts count
+        continue;
+      }
+      hit[hits] = tri;
+      std::copy(poly, poly + m, ws.parts.begin() + ws.part_start[hits]);
+      ws.part_start[hits + 1] = ws.part_start[hits] + m;
+      ++hits;
+      for (int k = 1; k + 1 < m; ++k) area += (poly[k] - poly[0]).cross(poly[k + 1] - poly[0]) / 2;
+    }
+  }
+  if (hits == 0) return Status::Ok;
+  out.intersecting = true;
+  Vector3d u = area.norm() > 0 ? Vector3d(area.normalized()) : Vector3d::Zero();
+  if (u.isZero()) {  // parts facing both ways cancel (a sheet pinched from both sides)
+    Vector3d t[3];
+    corners(hit[0], t);
+    u = unit_normal(t);
+  }
+  out.direction = u;
+  // Pass 2: how far the tool must move along u until no part is inside it: for each corner p
+  // of the parts, the ray p - lambda u stays in the tool until the first face it leaves by.
+  int facing[2 * kMaxToolVertices], nfacing = 0;  // the faces a ray along -u can leave by
+  for (int f = 0; f < nf; ++f)
+    if (plane_n[f].dot(u) < 0) facing[nfacing++] = f;
+  for (int h = 0; h < hits; ++h) {
+    for (int k = ws.part_start[h]; k < ws.part_start[h + 1]; ++k) {
+      const Vector3d& p = ws.parts[k];
+      double lambda = std::numeric_limits<double>::infinity();
+      for (int i = 0; i < nfacing; ++i) {
+        const int f = facing[i];
+        lambda = std::min(lambda, std::max(0.0, plane_o[f] - plane_n[f].dot(p)) / -plane_n[f].dot(u));
+      }
+      if (std::isfinite(lambda) && (lambda > out.depth || out.triangle < 0))
+        out.depth = lambda, out.point = p, out.triangle = hit[h];
+    }
+  }
   return Status::Ok;
 }
 

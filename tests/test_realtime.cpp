@@ -9,6 +9,7 @@
 #include <new>
 #include <random>
 
+#include "haptics/loop.hpp"
 #include "tools/mesh_io.hpp"
 #include "tools/shapes.hpp"
 
@@ -124,6 +125,40 @@ TEST(RealTime, MeshDistanceDoesNotAllocate) {
             }),
             0);
   EXPECT_GT(pairs, 50);  // the queries did real work
+}
+
+long allocation_count() { return g_allocations.load(); }
+
+// A short haptic loop (two 4 s path cycles at 1 kHz) for each convex tool: nothing allocated or
+// thrown after warm-up; no force while apart; pressing in pushes the tool back up (the press is
+// straight down onto the scene's highest point); the depth moves continuously along the path.
+TEST(RealTime, HapticLoop) {
+  for (const char* tool : {"box", "icosa"}) {
+    SCOPED_TRACE(tool);
+    haptics::Options o;
+    o.tool = tool, o.seconds = 8, o.warmup = 500;
+    haptics::Report r;
+    std::string error;
+    ASSERT_TRUE(haptics::run(o, allocation_count, r, error)) << error;
+    EXPECT_EQ(r.ticks, 8000);
+    EXPECT_EQ(r.allocations, 0);
+    EXPECT_EQ(r.exceptions, 0);
+    EXPECT_GT(r.contacts, 1000);  // both phases happen
+    EXPECT_LT(r.contacts, 7000);
+    double max_jump = 0, max_depth = 0;
+    for (long k = 0; k < r.ticks; ++k) {
+      if (r.distance[k] > 0) EXPECT_EQ(r.force[k], 0) << "tick " << k;
+      if (r.depth[k] > 0.001) {  // pressing in: pushed out, and up
+        EXPECT_GT(r.force_dot_normal[k], 0) << "tick " << k;
+        EXPECT_GT(r.force_up[k], 0.5 * r.force[k]) << "tick " << k;
+      }
+      if (k > 0) max_jump = std::max(max_jump, std::abs(r.depth[k] - r.depth[k - 1]));
+      max_depth = std::max(max_depth, r.depth[k]);
+    }
+    // The path moves at most 0.1 mm per tick; the depth may not jump by more than that.
+    EXPECT_LT(max_jump, 1e-4);
+    EXPECT_GT(max_depth, 0.0015);  // the 2 mm press was felt
+  }
 }
 
 }  // namespace

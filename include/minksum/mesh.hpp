@@ -5,6 +5,7 @@
 #pragma once
 
 #include <minksum/model.hpp>
+#include <minksum/query.hpp>
 
 #include <array>
 #include <vector>
@@ -79,6 +80,8 @@ struct MeshWorkspace {
   std::vector<int> near_b;                   ///< triangles of B's leaf near A's leaf
   std::vector<double> near_x, near_y, near_z, near_r;  ///< their spheres (A's frame)
   std::vector<int> hits;                     ///< those near one triangle of A
+  std::vector<Eigen::Vector3d> parts;        ///< mesh_contact: corners of the parts inside
+  std::vector<int> part_start;               ///< mesh_contact: where each part's corners start
   unsigned stamp = 0;                        ///< current query
 };
 
@@ -105,6 +108,34 @@ struct MeshDistance {
 /// make_workspace(a, b); InvalidBox for a pose that is not a finite proper rotation.
 Status mesh_distance(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace& ws,
                      MeshDistance& out);
+
+/// How a convex tool touches a mesh (haptic rendering): the parts of the mesh's triangles
+/// inside the tool, and how far the tool must move to push them all out.
+struct MeshContact {
+  bool intersecting = false;   ///< some triangle has a part inside the tool
+  double depth = 0;            ///< how far the tool must move along `direction` to clear them
+  Eigen::Vector3d direction = Eigen::Vector3d::Zero();  ///< unit push-out direction
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();      ///< the part's corner that needs it most
+  int triangle = -1;           ///< the triangle of that corner
+  int tested = 0;              ///< triangles that were clipped
+  bool overflow = false;       ///< over kMaxContactTriangles overlapped: the first ones count
+};
+
+/// Most hull vertices a tool may have in mesh_contact (its fixed scratch space).
+constexpr int kMaxToolVertices = 256;
+/// Most overlapped triangles one mesh_contact call gathers (beyond: flagged, ignored).
+constexpr int kMaxContactTriangles = 2048;
+
+/// Contact of a convex tool (a polytope in its own frame, placed in the mesh's frame by pose)
+/// with mesh A. Each triangle whose box meets the tool's box is clipped by the tool's face
+/// planes; the parts left are inside the tool. Their summed area vector (triangle winding:
+/// counter-clockwise = outward) gives the push-out direction u, which turns continuously as
+/// the tool slides over a tessellated surface; the depth is the largest distance, over the
+/// parts' corners p, that p travels along -u inside the tool. No allocation. InvalidMesh if the
+/// tool is flat or has more than kMaxToolVertices vertices; the workspace is any made by
+/// make_workspace (its contact buffers are sized there).
+Status mesh_contact(const Octree& a, const ConvexPolytope& tool, const Pose& pose, MeshWorkspace& ws,
+                    MeshContact& out);
 
 /// Exact distance between two triangles given by their corners, with the closest points;
 /// 0 when they intersect (degenerate triangles allowed). The distance kernel of mesh_distance.

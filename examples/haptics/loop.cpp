@@ -1,0 +1,201 @@
+// The haptic loop: a scripted tool path over a static mesh (approach, touch, press in, slide,
+// leave), one query set per tick, latency percentiles over the run.
+#include "haptics/loop.hpp"
+
+#include <minksum/minksum.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <thread>
+
+#include "tools/mesh_io.hpp"
+#include "tools/shapes.hpp"
+
+namespace minksum::haptics {
+
+namespace {
+
+using Eigen::Vector3d;
+
+// Penalty force: a spring along the push-out direction and a damper on the approach speed.
+constexpr double kStiffness = 2000;  // N/m
+constexpr double kDamping = 5;       // N s/m
+
+// The tool: a surface mesh for the distance, and its hull for the penetration depth.
+struct Tool {
+  tools::Mesh mesh;
+  ConvexPolytope hull;
+  bool convex = true;  // the mesh is its hull's surface
+};
+
+bool make_tool(const std::string& what, Tool& tool, std::string& name, std::string& error) {
+  std::vector<Vector3d> points;
+  if (what == "box" || what == "icosa") {
+    const double s = what == "box" ? 1.0 : 0.008 / std::sqrt(1 + 1.618034 * 1.618034);
+    points = what == "box" ? tools::cube_points() : tools::icosahedron_points();
+    for (auto& p : points) p = what == "box" ? Vector3d(0.010 * p.x(), 0.008 * p.y(), 0.006 * p.z()) : Vector3d(s * p);
+    name = what == "box" ? "box 20 x 16 x 12 mm" : "icosahedron, 8 mm circumradius";
+  } else {
+    if (!tools::read_mesh(what, tool.mesh, error)) return false;
+    // Scaled to 30 mm across and centred, so that it is a tool, not a second scene.
+    Vector3d lo = tool.mesh.vertices[tool.mesh.triangles[0][0]], hi = lo;
+    for (const auto& t : tool.mesh.triangles)
+      for (int k : t) lo = lo.cwiseMin(tool.mesh.vertices[k]), hi = hi.cwiseMax(tool.mesh.vertices[k]);
+    const double scale = 0.03 / (hi - lo).maxCoeff();
+    for (auto& v : tool.mesh.vertices) v = scale * (v - (lo + hi) / 2);
+    points = tool.mesh.vertices;
+    name = what + " (scaled to 30 mm)";
+    tool.convex = false;
+  }
+  if (const Status s = polytope_from_points(points, tool.hull); s != Status::Ok)
+    return error = "tool: " + std::string(to_string(s)), false;
+  if (tool.mesh.triangles.empty()) {  // a convex tool's surface: its hull's faces, fanned
+    tool.mesh.vertices = tool.hull.vertices;
+    for (const auto& f : tool.hull.faces)
+      for (size_t k = 1; k + 1 < f.loop.size(); ++k) tool.mesh.triangles.push_back({f.loop[0], f.loop[k], f.loop[k + 1]});
+  }
+  if (int(tool.hull.vertices.size()) > kMaxToolVertices)
+    return error = "tool: its hull has more than " + std::to_string(kMaxToolVertices) + " vertices", false;
+  return true;
+}
+
+// The scripted path, one 4 s cycle: approach from 30 mm straight above the scene's highest
+// vertex, touch, press 2 mm in, slide 8 mm to one side and 8 mm to the other while pressed,
+// come back up; smooth in time (cosine ramps), so positions and velocities are continuous.
+// Nothing of the scene is higher than where the tool presses, so the tool never runs into a
+// wall side-on (a penalty depth cannot be continuous there).
+struct Path {
+  Vector3d top;      // the scene's highest vertex
+  double lift = 0;   // the tool's reach below its centre (touching clearance)
+  Vector3d at(double t) const {
+    const double u = std::fmod(t, 4.0);
+    const auto ramp = [](double x) { return 0.5 - 0.5 * std::cos(M_PI * std::clamp(x, 0.0, 1.0)); };
+    double clearance = -0.002, slide = 0;
+    if (u < 1) clearance = 0.03 - 0.032 * ramp(u);                          // approach, touch, press
+    else if (u < 3) slide = 0.008 * std::sin(M_PI * (u - 1));               // slide there and back
+    else clearance = -0.002 + 0.032 * ramp(u - 3);                          // leave
+    return top + Vector3d(slide, lift + clearance, 0);
+  }
+};
+
+double percentile(std::vector<double> v, double q) {
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, size_t(q * double(v.size())))];
+}
+
+}  // namespace
+
+bool run(const Options& options, long (*allocations)(), Report& report, std::string& error) {
+  report = Report{};
+  if (!(options.seconds > 0) || !(options.rate > 0) || options.seconds * options.rate > 1e8)
+    return error = "--seconds and --rate must be positive (at most 1e8 ticks)", false;
+  // Set-up: everything that allocates happens here.
+  tools::Mesh scene;
+  if (options.scene.empty()) {
+    scene = tools::demo_mesh("bun_zipper_res2.ply", report.scene_source);
+  } else {
+    if (!tools::read_mesh(options.scene, scene, error)) return false;
+    report.scene_source = options.scene;
+  }
+  Tool tool;
+  if (!make_tool(options.tool, tool, report.tool_name, error)) return false;
+  Octree scene_tree, tool_tree;
+  // A small tool is fastest as one leaf (a deeper tree multiplies the node pairs).
+  OctreeOptions tool_options;
+  if (tool.mesh.triangles.size() <= 64) tool_options.max_depth = 0;
+  if (Status s = build_octree(scene.vertices, scene.triangles, scene_tree); s != Status::Ok)
+    return error = "scene: " + std::string(to_string(s)), false;
+  if (Status s = build_octree(tool.mesh.vertices, tool.mesh.triangles, tool_tree, tool_options); s != Status::Ok)
+    return error = "tool: " + std::string(to_string(s)), false;
+  MeshWorkspace ws;
+  make_workspace(scene_tree, tool_tree, ws);
+  Path path;
+  path.top = scene.vertices[scene.triangles[0][0]];
+  for (const auto& t : scene.triangles)
+    for (int k : t)
+      if (scene.vertices[k].y() > path.top.y()) path.top = scene.vertices[k];
+  for (const auto& v : tool.hull.vertices) path.lift = std::max(path.lift, -v.y());
+  const long n = long(std::llround(options.seconds * options.rate));
+  for (auto* v : {&report.time, &report.distance, &report.depth, &report.force, &report.latency_us,
+                  &report.force_dot_normal, &report.force_up})
+    v->assign(size_t(n), 0.0);
+  const double dt = 1 / options.rate;
+  using clock = std::chrono::steady_clock;
+  const auto start = clock::now();
+  const auto period = std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(dt));
+  long allocations_after_warmup = 0;
+  Vector3d previous = path.at(0);
+  for (long k = 0; k < n; ++k) {
+    if (k == options.warmup) allocations_after_warmup = allocations();
+    const auto deadline = start + (k + 1) * period;
+    if (options.realtime) std::this_thread::sleep_until(start + k * period);
+    const auto t0 = clock::now();
+    try {
+      // The tick: pose, collision and distance, penetration, force.
+      Pose pose;
+      pose.translation = path.at(double(k) * dt);
+      const Vector3d velocity = (pose.translation - previous) / dt;
+      previous = pose.translation;
+      // A convex tool: contact first (it only looks under the tool), the exact distance when
+      // there is none. A mesh tool: the mesh-mesh distance, and its hull's depth on contact.
+      MeshDistance d;
+      MeshContact c;
+      double force = 0, along = 0, up = 0;
+      bool touching;
+      if (tool.convex) {
+        touching = mesh_contact(scene_tree, tool.hull, pose, ws, c) == Status::Ok && c.intersecting;
+        if (!touching) mesh_distance(scene_tree, tool_tree, pose, ws, d);
+      } else {
+        touching = mesh_distance(scene_tree, tool_tree, pose, ws, d) == Status::Ok && d.intersecting &&
+                   mesh_contact(scene_tree, tool.hull, pose, ws, c) == Status::Ok && c.intersecting;
+      }
+      if (!touching) {
+        c = MeshContact{};
+      } else {
+        const double push = kStiffness * c.depth - kDamping * std::min(0.0, velocity.dot(c.direction));
+        const Vector3d f = std::max(0.0, push) * c.direction;
+        force = f.norm(), along = f.dot(c.direction), up = f.y();
+        ++report.contacts;
+      }
+      report.time[k] = double(k) * dt, report.distance[k] = d.distance, report.depth[k] = c.depth;
+      report.force[k] = force, report.force_dot_normal[k] = along, report.force_up[k] = up;
+    } catch (...) {
+      ++report.exceptions;
+    }
+    const auto t1 = clock::now();
+    report.latency_us[k] = std::chrono::duration<double, std::micro>(t1 - t0).count();
+    if (options.realtime && t1 > deadline) ++report.misses;
+  }
+  report.allocations = n > options.warmup ? allocations() - allocations_after_warmup : 0;
+  report.ticks = n;
+  report.p50_us = percentile(report.latency_us, 0.5), report.p99_us = percentile(report.latency_us, 0.99);
+  report.p999_us = percentile(report.latency_us, 0.999);
+  report.max_us = *std::max_element(report.latency_us.begin(), report.latency_us.end());
+  return true;
+}
+
+bool plot(const Report& r, const std::string& png, std::string& error) {
+  const std::string data = png + ".dat";
+  FILE* f = std::fopen(data.c_str(), "w");
+  if (!f) return error = png + ": cannot write " + data, false;
+  for (size_t k = 0; k < r.time.size(); ++k)
+    std::fprintf(f, "%.6f %.9g %.9g %.9g %.3f\n", r.time[k], 1000 * r.distance[k], 1000 * r.depth[k], r.force[k], r.latency_us[k]);
+  std::fclose(f);
+  FILE* g = popen("gnuplot 2>&1", "w");
+  if (!g) return error = "gnuplot not found (Debian package gnuplot-nox)", false;
+  std::fprintf(g,
+               "set terminal pngcairo size 1200,900 noenhanced\nset output '%s'\nset multiplot layout 2,1 title '%s on %s'\n"
+               "set xlabel 'time [s]'\nset ylabel 'distance, depth [mm]'\nset y2label 'force [N]'\nset y2tics\nset ytics nomirror\n"
+               "plot [0:8] '%s' u 1:2 w l t 'distance', '' u 1:3 w l t 'depth', '' u 1:4 axes x1y2 w l t 'force'\n"
+               "unset y2label\nunset y2tics\nset xlabel 'tick latency [us]'\nset ylabel 'ticks'\nset logscale y\nbinwidth=1\n"
+               "plot '%s' u (binwidth*floor($5/binwidth)):(1.0) smooth freq w boxes t 'latency'\nunset multiplot\n",
+               png.c_str(), r.tool_name.c_str(), r.scene_source.c_str(), data.c_str(), data.c_str());
+  const int status = pclose(g);
+  std::remove(data.c_str());
+  if (status != 0) return error = "gnuplot failed (is gnuplot-nox installed?)", false;
+  return true;
+}
+
+}  // namespace minksum::haptics

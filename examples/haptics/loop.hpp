@@ -1,0 +1,41 @@
+// A 1 kHz haptic servo loop on minksum, as a device application would run it: everything sized
+// at set-up, then per tick collision, exact distance or penetration depth, and a penalty force.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace minksum::haptics {
+
+/// What to run.
+struct Options {
+  std::string tool = "box";  ///< "box", "icosa", or a mesh file (its hull gives the depth)
+  std::string scene;         ///< mesh file; empty: bunny res2 (or its fallbacks)
+  double seconds = 60;       ///< simulated time
+  double rate = 1000;        ///< ticks per second
+  bool realtime = false;     ///< pace ticks with sleep-until and count missed deadlines
+  int warmup = 1000;         ///< ticks before allocations are counted
+};
+
+/// What one run measured, with per-tick traces for plots and tests.
+struct Report {
+  std::string scene_source, tool_name;
+  long ticks = 0;
+  double p50_us = 0, p99_us = 0, p999_us = 0, max_us = 0;  ///< tick latency
+  long misses = 0;        ///< ticks that ended after their deadline (realtime only)
+  long allocations = 0;   ///< heap allocations inside the loop after warm-up
+  long exceptions = 0;    ///< exceptions caught around ticks
+  long contacts = 0;      ///< ticks with the tool touching or pressing into the scene
+  std::vector<double> time, distance, depth, force, latency_us;  ///< per tick
+  std::vector<double> force_dot_normal;  ///< force . push-out direction (>= 0)
+  std::vector<double> force_up;          ///< force . +y (the press is straight down along -y)
+};
+
+/// Runs the loop. `allocations` reads the executable's allocation counter (it replaces
+/// operator new and malloc). False with a one-line `error` for bad options or files.
+bool run(const Options& options, long (*allocations)(), Report& report, std::string& error);
+
+/// Draws distance, depth and force along the path and a latency histogram into a PNG (gnuplot).
+bool plot(const Report& report, const std::string& png, std::string& error);
+
+}  // namespace minksum::haptics
