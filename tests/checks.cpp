@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <random>
@@ -234,6 +235,12 @@ Pose random_pose(std::mt19937_64& rng, double reach) {
   p.rotation = q.normalized().toRotationMatrix();
   p.translation = reach * Vector3d(u(rng), u(rng), u(rng));
   return p;
+}
+
+int scaled(int n) {
+  const char* s = std::getenv("MINKSUM_TEST_SCALE");
+  const double f = s ? std::atof(s) : 1.0;
+  return std::max(1, int(n * (f > 0 ? f : 1.0)));
 }
 
 }  // namespace minksum::test

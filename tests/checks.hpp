@@ -16,6 +16,10 @@ namespace minksum::test {
 /// sphere of 4 rings^2 triangles, so that mesh tests run everywhere.
 tools::Mesh test_mesh(const std::string& name, int fallback_rings);
 
+/// n scaled by the environment variable MINKSUM_TEST_SCALE (default 1; the sanitizer run of
+/// ci/test uses a fraction), at least 1: the sizes of the randomized tests.
+int scaled(int n);
+
 /// A random pose: uniform rotation, translation in [-reach, reach]^3.
 Pose random_pose(std::mt19937_64& rng, double reach);
 

@@ -28,7 +28,8 @@ class VersusFcl : public testing::TestWithParam<int> {};
 TEST_P(VersusFcl, DistanceAndPenetration) {
   std::mt19937_64 rng(700 + GetParam());
   int fcl_wrong[2] = {0, 0}, separated = 0, overlapping = 0, depth_checked = 0, depth_wrong = 0;
-  for (int k = 0; k < 25000; ++k) {
+  const int n = test::scaled(25000);
+  for (int k = 0; k < n; ++k) {
     const Box a = tools::random_box(rng, 2), b = tools::random_box(rng, 2);
     Proximity p;
     ASSERT_EQ(proximity(a, b, p), Status::Ok);
@@ -57,8 +58,8 @@ TEST_P(VersusFcl, DistanceAndPenetration) {
   }
   // Both outcomes are exercised, and FCL agrees on most pairs (else the oracle was never
   // really consulted on typical input).
-  EXPECT_GT(separated, 5000);
-  EXPECT_GT(overlapping, 5000);
+  EXPECT_GT(separated, n / 5);
+  EXPECT_GT(overlapping, n / 5);
   EXPECT_LT(fcl_wrong[0] + fcl_wrong[1], separated / 10);
   RecordProperty("separated", separated);
   RecordProperty("fcl_gjk_off_by_more_than_1e-6", fcl_wrong[0]);
@@ -83,7 +84,7 @@ TEST(VersusFclMeshes, BunnyRes2Distance) {
   peers::FclMeshPair fcl(m.vertices, m.triangles, m.vertices, m.triangles);
   std::mt19937_64 rng(17);
   int separated = 0;
-  for (int k = 0; k < 200; ++k) {
+  for (int k = 0; k < test::scaled(200); ++k) {
     const Pose pose = test::random_pose(rng, 0.12 + 0.2 * k / 200);
     MeshDistance got;
     ASSERT_EQ(mesh_distance(A, A, pose, ws, got), Status::Ok);
@@ -91,7 +92,7 @@ TEST(VersusFclMeshes, BunnyRes2Distance) {
     ASSERT_NEAR(got.distance, want, 1e-9 * want + 1e-15) << "pose " << k;
     separated += !got.intersecting;
   }
-  EXPECT_GT(separated, 100);
+  EXPECT_GT(separated, test::scaled(200) / 2);
 }
 
 }  // namespace

@@ -53,9 +53,10 @@ void check_against_brute_force(const tools::Mesh& m, int poses, unsigned seed) {
   EXPECT_LT(intersecting, poses - poses / 20);
 }
 
+// MINKSUM_MESH_POSES overrides the number of poses (the closing note's longer runs).
 int poses_from_env(int fallback) {
   const char* s = std::getenv("MINKSUM_MESH_POSES");
-  return s ? std::atoi(s) : fallback;
+  return s ? std::atoi(s) : test::scaled(fallback);
 }
 
 TEST(MeshDistance, EqualsBruteForceOnBunnyRes4) {
@@ -71,7 +72,7 @@ TEST(MeshDistance, EqualsBruteForceOnBunnyRes3) {
 TEST(TriangleDistance, AgreesWithTheGeneralPath) {
   std::mt19937_64 rng(13);
   std::uniform_real_distribution<double> u(-1, 1), tiny(-1e-9, 1e-9);
-  for (int k = 0; k < 20000; ++k) {
+  for (int k = 0; k < test::scaled(20000); ++k) {
     Triangle s = tools::random_triangle(rng, 1.2), t = tools::random_triangle(rng, 1.2);
     if (k % 4 == 1) {  // near-parallel: t is s's plane, lifted and tilted by ~1e-9
       const Vector3d n = (s.b - s.a).cross(s.c - s.a).normalized(), lift = 0.01 * (1 + u(rng)) * n;

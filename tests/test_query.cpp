@@ -50,7 +50,7 @@ class RandomQueries : public testing::TestWithParam<int> {};
 // 100,000 pairs of each kind (10 shards of 10,000), half of them overlapping or close.
 TEST_P(RandomQueries, BoxBoxAgreesWithBruteForce) {
   std::mt19937_64 rng(100 + GetParam());
-  for (int k = 0; k < 10000; ++k) {
+  for (int k = 0; k < test::scaled(10000); ++k) {
     const Box a = tools::random_box(rng, 1.5);
     Box b = tools::random_box(rng, 1.5);
     if (k % 8 == 0) b.rotation = a.rotation;  // parallel generators
@@ -65,7 +65,7 @@ TEST_P(RandomQueries, BoxBoxAgreesWithBruteForce) {
 
 TEST_P(RandomQueries, BoxTriangleAgreesWithBruteForce) {
   std::mt19937_64 rng(200 + GetParam());
-  for (int k = 0; k < 10000; ++k) {
+  for (int k = 0; k < test::scaled(10000); ++k) {
     const Box a = tools::random_box(rng, 1.5);
     const Triangle t = tools::random_triangle(rng, 1.5);
     Proximity got;
@@ -79,7 +79,7 @@ TEST_P(RandomQueries, BoxTriangleAgreesWithBruteForce) {
 
 TEST_P(RandomQueries, TriangleTriangleAgreesWithBruteForce) {
   std::mt19937_64 rng(300 + GetParam());
-  for (int k = 0; k < 10000; ++k) {
+  for (int k = 0; k < test::scaled(10000); ++k) {
     const Triangle s = tools::random_triangle(rng, 1.2), t = tools::random_triangle(rng, 1.2);
     Proximity got;
     ASSERT_EQ(proximity(s, t, got), Status::Ok);
@@ -94,7 +94,7 @@ TEST_P(RandomQueries, PolytopePolytopeAgreesWithBruteForce) {
   std::mt19937_64 rng(400 + GetParam());
   std::uniform_int_distribution<int> count(4, 24);
   std::uniform_real_distribution<double> u(-1, 1);
-  for (int k = 0; k < 10000; ++k) {
+  for (int k = 0; k < test::scaled(10000); ++k) {
     ConvexPolytope A, B;
     for (auto* P : {&A, &B}) {
       const Vector3d c = 1.5 * Vector3d(u(rng), u(rng), u(rng));
@@ -355,7 +355,7 @@ TEST_P(BatchedProximity, SinglePairActiveSetAgreesWithAllFacets) {
   auto A = std::make_unique<BoxBatch<double, N>>(), B = std::make_unique<BoxBatch<double, N>>();
   auto all = std::make_unique<BoxBoxProximity<double, N>>();
   std::vector<std::pair<Box, Box>> pairs;
-  for (int round = 0; round < 20; ++round) {
+  for (int round = 0; round < test::scaled(20); ++round) {
     for (int k = 0; k < N; ++k) {
       Box a = tools::random_box(rng, 1.5), b = tools::random_box(rng, 1.5);
       if (k % 4 == 1) b.rotation = a.rotation;  // parallel faces and edges

@@ -84,7 +84,7 @@ class RandomPairs : public testing::TestWithParam<int> {};
 
 TEST_P(RandomPairs, FastEqualsReferenceAndBruteForce) {
   std::mt19937_64 rng(1000 + GetParam());
-  for (int k = 0; k < 1000; ++k) {  // 10 shards x 1000 pairs, each as sum and difference
+  for (int k = 0; k < test::scaled(1000); ++k) {  // 10 shards x 1000 pairs, each as sum and difference
     SCOPED_TRACE("shard " + std::to_string(GetParam()) + " pair " + std::to_string(k));
     const Operands o = make(random_points(rng), random_points(rng));
     for (double s : {1.0, -1.0}) {

@@ -49,13 +49,17 @@ int cmd_haptics(int argc, char** argv) {
   }
   if (json) {
     std::printf("{\"ticks\": %ld, \"p50_us\": %.2f, \"p99_us\": %.2f, \"p999_us\": %.2f, \"max_us\": %.2f, "
-                "\"misses\": %ld, \"allocations\": %ld, \"exceptions\": %ld, \"contacts\": %ld}\n",
-                r.ticks, r.p50_us, r.p99_us, r.p999_us, r.max_us, r.misses, r.allocations, r.exceptions, r.contacts);
+                "\"misses\": %ld, \"allocations\": %ld, \"exceptions\": %ld, \"contacts\": %ld, \"realtime_priority\": %s, "
+                "\"max_late_start_us\": %.1f}\n",
+                r.ticks, r.p50_us, r.p99_us, r.p999_us, r.max_us, r.misses, r.allocations, r.exceptions, r.contacts,
+                r.realtime_priority ? "true" : "false", r.max_late_start_us);
   } else {
     std::printf("haptics: %s on %s, %ld ticks at %.0f Hz (%s)\n", r.tool_name.c_str(), r.scene_source.c_str(),
-                r.ticks, o.rate, o.realtime ? "paced" : "back to back");
+                r.ticks, o.rate,
+                !o.realtime ? "back to back" : r.realtime_priority ? "paced, SCHED_FIFO" : "paced, normal priority");
     std::printf("tick latency p50 %.1f us, p99 %.1f us, p99.9 %.1f us, max %.1f us; %ld missed deadlines\n",
                 r.p50_us, r.p99_us, r.p999_us, r.max_us, r.misses);
+    if (o.realtime) std::printf("latest start after its tick time %.1f us (scheduling jitter)\n", r.max_late_start_us);
     std::printf("allocations after warm-up %ld, exceptions %ld, ticks in contact %ld\n", r.allocations,
                 r.exceptions, r.contacts);
   }

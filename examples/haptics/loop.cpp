@@ -10,6 +10,8 @@
 #include <cstdio>
 #include <thread>
 
+#include <sched.h>
+
 #include "tools/mesh_io.hpp"
 #include "tools/shapes.hpp"
 
@@ -123,6 +125,18 @@ bool run(const Options& options, long (*allocations)(), Report& report, std::str
     v->assign(size_t(n), 0.0);
   const double dt = 1 / options.rate;
   using clock = std::chrono::steady_clock;
+  // Paced runs ask for real-time scheduling (granted to root or with CAP_SYS_NICE; otherwise
+  // the run goes on at normal priority and says so).
+  if (options.realtime) {
+    sched_param param{};
+    param.sched_priority = sched_get_priority_max(SCHED_FIFO) / 2;
+    report.realtime_priority = sched_setscheduler(0, SCHED_FIFO, &param) == 0;
+    // One core of its own: no migrations between ticks (the last core; best effort).
+    cpu_set_t one;
+    CPU_ZERO(&one);
+    CPU_SET(std::max(0, int(std::thread::hardware_concurrency()) - 1), &one);
+    sched_setaffinity(0, sizeof one, &one);
+  }
   const auto start = clock::now();
   const auto period = std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(dt));
   long allocations_after_warmup = 0;
@@ -130,7 +144,14 @@ bool run(const Options& options, long (*allocations)(), Report& report, std::str
   for (long k = 0; k < n; ++k) {
     if (k == options.warmup) allocations_after_warmup = allocations();
     const auto deadline = start + (k + 1) * period;
-    if (options.realtime) std::this_thread::sleep_until(start + k * period);
+    if (options.realtime) {
+      // Sleep until shortly before the tick, then spin: the kernel's wake-up is late by tens
+      // of microseconds, sometimes more, and a haptic tick cannot start late.
+      const auto tick = start + k * period;
+      std::this_thread::sleep_until(tick - std::chrono::microseconds(300));
+      while (clock::now() < tick) {
+      }
+    }
     const auto t0 = clock::now();
     try {
       // The tick: pose, collision and distance, penetration, force.
@@ -166,9 +187,13 @@ bool run(const Options& options, long (*allocations)(), Report& report, std::str
     }
     const auto t1 = clock::now();
     report.latency_us[k] = std::chrono::duration<double, std::micro>(t1 - t0).count();
-    if (options.realtime && t1 > deadline) ++report.misses;
+    if (options.realtime) {
+      if (t1 > deadline) ++report.misses;
+      report.max_late_start_us = std::max(report.max_late_start_us, std::chrono::duration<double, std::micro>(t0 - (start + k * period)).count());
+    }
   }
-  report.allocations = n > options.warmup ? allocations() - allocations_after_warmup : 0;
+  // -1: this build does not count (allocations() says -1).
+  report.allocations = allocations() < 0 ? -1 : n > options.warmup ? allocations() - allocations_after_warmup : 0;
   report.ticks = n;
   report.p50_us = percentile(report.latency_us, 0.5), report.p99_us = percentile(report.latency_us, 0.99);
   report.p999_us = percentile(report.latency_us, 0.999);

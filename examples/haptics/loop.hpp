@@ -23,9 +23,11 @@ struct Report {
   long ticks = 0;
   double p50_us = 0, p99_us = 0, p999_us = 0, max_us = 0;  ///< tick latency
   long misses = 0;        ///< ticks that ended after their deadline (realtime only)
-  long allocations = 0;   ///< heap allocations inside the loop after warm-up
+  double max_late_start_us = 0;  ///< worst start after the tick's time (realtime: OS jitter)
+  long allocations = 0;   ///< heap allocations inside the loop after warm-up (-1: not counted)
   long exceptions = 0;    ///< exceptions caught around ticks
   long contacts = 0;      ///< ticks with the tool touching or pressing into the scene
+  bool realtime_priority = false;  ///< a paced run got SCHED_FIFO
   std::vector<double> time, distance, depth, force, latency_us;  ///< per tick
   std::vector<double> force_dot_normal;  ///< force . push-out direction (>= 0)
   std::vector<double> force_up;          ///< force . +y (the press is straight down along -y)
