@@ -26,28 +26,6 @@ struct BoxPair {
 };
 
 template <class T>
-inline T dot3(const T* x, const T* y) {
-  return x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
-}
-
-/// The zonotope A (-) B of two boxes (checked by check_box), in precision T.
-template <class T>
-inline void load_pair(const Box& a, const Box& b, BoxPair<T>& p) {
-  for (int d = 0; d < 3; ++d) p.ca[d] = T(a.center[d]), p.c[d] = T(a.center[d] - b.center[d]);
-  for (int k = 0; k < 6; ++k) {
-    const Box& x = k < 3 ? a : b;
-    p.h[k] = T(x.half_extents[k % 3]);
-    for (int d = 0; d < 3; ++d) {
-      p.u[k][d] = T(x.rotation(d, k % 3));
-      p.g[k][d] = (k < 3 ? p.h[k] : -p.h[k]) * p.u[k][d];
-    }
-    p.uc[k] = dot3(p.u[k], p.c);
-  }
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) p.C[i][j] = dot3(p.u[i], p.u[3 + j]);
-}
-
-template <class T>
 struct SatResult {
   T separation;     // largest separation over the axes (negative: the smallest overlap)
   T normal[3];      // its unit normal, outward from M on the origin's side
@@ -63,9 +41,29 @@ struct PairAnswer {
   bool converged;  // false: the active set ran out of iterations (distance is an upper bound)
 };
 
-/// The box-pair query, compiled once per ISA translation unit (Arch only tells the copies apart).
+/// The box-pair query, compiled once per ISA translation unit. Arch tells the copies apart:
+/// every function here is a member, so no inline function is shared between translation units
+/// compiled with different instruction sets (the linker would keep any one copy of it).
 template <class T, class Arch>
 struct BoxPairQuery {
+  static T dot3(const T* x, const T* y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; }
+
+  // The zonotope A (-) B from the packed pair (pack_box_pair: c_A, c_B, A's axes, B's axes, each
+  // column-major, h_A, h_B).
+  static void load(const double (&in)[30], BoxPair<T>& p) {
+    for (int d = 0; d < 3; ++d) p.ca[d] = T(in[d]), p.c[d] = T(in[d] - in[3 + d]);
+    for (int k = 0; k < 6; ++k) {
+      p.h[k] = T(in[24 + k]);
+      for (int d = 0; d < 3; ++d) {
+        p.u[k][d] = T(in[6 + 3 * k + d]);
+        p.g[k][d] = (k < 3 ? p.h[k] : -p.h[k]) * p.u[k][d];
+      }
+      p.uc[k] = dot3(p.u[k], p.c);
+    }
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) p.C[i][j] = dot3(p.u[i], p.u[3 + j]);
+  }
+
   // The separating axis test over the 15 axes (Gottschalk, Lin & Manocha, "OBBTree", SIGGRAPH
   // 1996): the axis with the largest separation |n . c| - sum_k |n . g_k| (negative: overlap).
   // Edge crosses closer to parallel than kSliverThreshold are skipped (see box_box_proximity).
@@ -230,9 +228,9 @@ struct BoxPairQuery {
     return false;
   }
 
-  static void box_pair(const Box& a, const Box& b, BoxPair<T>& p, PairAnswer<T>& out) {
-    load_pair(a, b, p);
-    out = run(p);
+  static void box_pair(const double (&in)[30], bool answer, BoxPair<T>& p, PairAnswer<T>& out) {
+    load(in, p);
+    if (answer) out = run(p);
   }
 
   /// The exact proximity of one box pair.
@@ -261,7 +259,8 @@ struct BoxPairQuery {
   }
 };
 
-/// The box-pair query of the active ISA: loads the pair, then answers.
-void box_pair_proximity(const Box& a, const Box& b, BoxPair<double>& pair, PairAnswer<double>& out);
+/// The box-pair query of the active ISA: loads the pair and, if `answer`, answers.
+void box_pair_proximity(const Box& a, const Box& b, bool answer, BoxPair<double>& pair,
+                        PairAnswer<double>& out);
 
 }  // namespace minksum::detail

@@ -127,8 +127,11 @@ void pack_box_pair(const Box& a, const Box& b, double (&in)[30]) {
   std::copy(b.rotation.data(), b.rotation.data() + 9, in + 15);
 }
 
-void box_pair_proximity(const Box& a, const Box& b, BoxPair<double>& pair, PairAnswer<double>& out) {
-  dispatch().box_pair_d(a, b, pair, out);
+void box_pair_proximity(const Box& a, const Box& b, bool answer, BoxPair<double>& pair,
+                        PairAnswer<double>& out) {
+  double in[30];
+  pack_box_pair(a, b, in);
+  dispatch().box_pair_d(in, answer, pair, out);
 }
 
 }  // namespace detail

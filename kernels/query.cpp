@@ -195,8 +195,8 @@ namespace {
 void box_box_farthest(const detail::BoxPair<double>& p, Proximity& out) {
   double gbc[3], gab[3][3];
   for (int j = 0; j < 3; ++j) {
-    gbc[j] = detail::dot3(p.g[3 + j], p.c);
-    for (int i = 0; i < 3; ++i) gab[i][j] = detail::dot3(p.g[i], p.g[3 + j]);
+    gbc[j] = Vector3d(p.g[3 + j]).dot(Vector3d(p.c));
+    for (int i = 0; i < 3; ++i) gab[i][j] = Vector3d(p.g[i]).dot(Vector3d(p.g[3 + j]));
   }
   double best = -std::numeric_limits<double>::infinity(), t[6] = {};
   for (int code = 0; code < 8; ++code) {
@@ -244,10 +244,9 @@ Status proximity(const Box& a, const Box& b, Proximity& out, Want want) {
   for (const Box* x : {&a, &b})
     if (const Status s = check_box(*x); s != Status::Ok) return s;
   detail::BoxPair<double> pair;
-  if (!(want & kWantContact)) detail::load_pair(a, b, pair);
+  detail::PairAnswer<double> r;
+  detail::box_pair_proximity(a, b, want & kWantContact, pair, r);
   if (want & kWantContact) {
-    detail::PairAnswer<double> r;
-    detail::box_pair_proximity(a, b, pair, r);
     if (!r.converged) {
       box_box_exhaustive(a, b, out);
     } else {

@@ -92,7 +92,7 @@ struct KernelTable {
   void (*box_box_separation_d)(BoxLanes<double>, BoxLanes<double>, int, int, double*, std::int64_t*);
   void (*box_triangle_overlap_f)(BoxLanes<float>, const float*, int, int, std::int32_t*);
   void (*box_triangle_overlap_d)(BoxLanes<double>, const double*, int, int, std::int64_t*);
-  void (*box_pair_d)(const Box&, const Box&, BoxPair<double>&, PairAnswer<double>&);
+  void (*box_pair_d)(const double (&)[30], bool, BoxPair<double>&, PairAnswer<double>&);
 };
 
 // One constant-initialised table per ISA translation unit (no static-initialisation order
