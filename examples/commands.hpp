@@ -1,12 +1,21 @@
 // The command-line program's commands that live outside main.cpp.
 #pragma once
 
+#include <Eigen/Core>
 #include <string>
+#include <vector>
 
 namespace minksum::cli {
 
 /// Prints "minksum: what (see minksum --help)" on stderr and returns exit code 2.
 int usage_error(const std::string& what);
+
+/// Parses exactly `count` finite numbers (`what` names the option, `layout` lists them).
+bool parse_numbers(const std::string& text, const std::string& what, const std::string& layout,
+                   size_t count, std::vector<double>& v, std::string& error);
+
+/// The rotation of the unit quaternion q[0..3] = (w, x, y, z); false if |q| is not 1 (1e-6).
+bool unit_quaternion(const double* q, Eigen::Matrix3d& rotation, std::string& error);
 
 /// minksum distance [MESH_A MESH_B] [--pose P] [--poses FILE] [--json] [--brute]
 int cmd_distance(int argc, char** argv);

@@ -23,18 +23,9 @@ double now_us() {
 
 // Parses "qw qx qy qz tx ty tz" (a unit quaternion, then a translation).
 bool parse_pose(const std::string& text, Pose& pose, std::string& error) {
-  std::istringstream in(text);
   std::vector<double> v;
-  for (std::string token; in >> token;) {
-    char* end = nullptr;
-    v.push_back(std::strtod(token.c_str(), &end));
-    if (*end != '\0') return error = "'" + token + "' is not a number", false;
-    if (!std::isfinite(v.back())) return error = "a number is NaN or Inf", false;
-  }
-  if (v.size() != 7) return error = "a pose is 7 numbers: qw qx qy qz tx ty tz", false;
-  const Eigen::Quaterniond q(v[0], v[1], v[2], v[3]);
-  if (std::abs(q.norm() - 1) > 1e-6) return error = "the quaternion is not of unit length", false;
-  pose.rotation = q.normalized().toRotationMatrix();
+  if (!parse_numbers(text, "pose", "qw qx qy qz tx ty tz", 7, v, error)) return false;
+  if (!unit_quaternion(&v[0], pose.rotation, error)) return false;
   pose.translation = Eigen::Vector3d(v[4], v[5], v[6]);
   return true;
 }

@@ -21,6 +21,27 @@ int usage_error(const std::string& what) {
   return 2;
 }
 
+bool parse_numbers(const std::string& text, const std::string& what, const std::string& layout,
+                   size_t count, std::vector<double>& v, std::string& error) {
+  std::istringstream in(text);
+  v.clear();
+  for (std::string token; in >> token;) {
+    char* end = nullptr;
+    v.push_back(std::strtod(token.c_str(), &end));
+    if (*end != '\0') return error = what + ": '" + token + "' is not a number", false;
+    if (!std::isfinite(v.back())) return error = what + ": a number is NaN or Inf", false;
+  }
+  if (v.size() != count) return error = what + " needs " + std::to_string(count) + " numbers: " + layout, false;
+  return true;
+}
+
+bool unit_quaternion(const double* q, Eigen::Matrix3d& rotation, std::string& error) {
+  const Eigen::Quaterniond quat(q[0], q[1], q[2], q[3]);
+  if (std::abs(quat.norm() - 1) > 1e-6) return error = "the quaternion is not of unit length", false;
+  rotation = quat.normalized().toRotationMatrix();
+  return true;
+}
+
 }  // namespace minksum::cli
 
 namespace {
@@ -84,20 +105,11 @@ bool load(const std::string& path, ConvexPolytope& p) {
 
 // Parses "cx cy cz hx hy hz qw qx qy qz" into a box; false with a message if malformed.
 bool parse_box(const std::string& text, Box& box, std::string& error) {
-  std::istringstream in(text);
   std::vector<double> v;
-  for (std::string token; in >> token;) {
-    char* end = nullptr;
-    v.push_back(std::strtod(token.c_str(), &end));
-    if (*end != '\0') return error = "--box: '" + token + "' is not a number", false;
-    if (!std::isfinite(v.back())) return error = "--box: a number is NaN or Inf", false;
-  }
-  if (v.size() != 10) return error = "--box needs 10 numbers: cx cy cz hx hy hz qw qx qy qz", false;
-  const Eigen::Quaterniond q(v[6], v[7], v[8], v[9]);
-  if (std::abs(q.norm() - 1) > 1e-6) return error = "--box: the quaternion is not of unit length", false;
+  if (!cli::parse_numbers(text, "--box", "cx cy cz hx hy hz qw qx qy qz", 10, v, error)) return false;
+  if (!cli::unit_quaternion(&v[6], box.rotation, error)) return error = "--box: " + error, false;
   box.center = Eigen::Vector3d(v[0], v[1], v[2]);
   box.half_extents = Eigen::Vector3d(v[3], v[4], v[5]);
-  box.rotation = q.normalized().toRotationMatrix();
   return true;
 }
 
