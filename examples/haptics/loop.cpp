@@ -11,6 +11,7 @@
 #include <thread>
 
 #include <sched.h>
+#include <sys/mman.h>
 
 #include "tools/mesh_io.hpp"
 #include "tools/shapes.hpp"
@@ -125,12 +126,13 @@ bool run(const Options& options, long (*allocations)(), Report& report, std::str
     v->assign(size_t(n), 0.0);
   const double dt = 1 / options.rate;
   using clock = std::chrono::steady_clock;
-  // Paced runs ask for real-time scheduling (granted to root or with CAP_SYS_NICE; otherwise
-  // the run goes on at normal priority and says so).
+  // Paced runs ask for real-time scheduling and locked memory (granted to root or with
+  // CAP_SYS_NICE / CAP_IPC_LOCK; otherwise the run goes on at normal priority and says so).
   if (options.realtime) {
     sched_param param{};
     param.sched_priority = sched_get_priority_max(SCHED_FIFO) / 2;
     report.realtime_priority = sched_setscheduler(0, SCHED_FIFO, &param) == 0;
+    mlockall(MCL_CURRENT | MCL_FUTURE);  // no page fault or swap-in inside the loop
     // One core of its own: no migrations between ticks (the last core; best effort).
     cpu_set_t one;
     CPU_ZERO(&one);
