@@ -84,15 +84,16 @@ TEST(VersusFclMeshes, BunnyRes2Distance) {
   peers::FclMeshPair fcl(m.vertices, m.triangles, m.vertices, m.triangles);
   std::mt19937_64 rng(17);
   int separated = 0;
-  for (int k = 0; k < test::scaled(200); ++k) {
-    const Pose pose = test::random_pose(rng, 0.12 + 0.2 * k / 200);
+  const int n = test::scaled(200);
+  for (int k = 0; k < n; ++k) {
+    const Pose pose = test::random_pose(rng, 0.12 + 0.2 * k / n);
     MeshDistance got;
     ASSERT_EQ(mesh_distance(A, A, pose, ws, got), Status::Ok);
     const double want = std::max(0.0, fcl.distance(pose));  // FCL reports a collision as <= 0
     ASSERT_NEAR(got.distance, want, 1e-9 * want + 1e-15) << "pose " << k;
     separated += !got.intersecting;
   }
-  EXPECT_GT(separated, test::scaled(200) / 2);
+  EXPECT_GT(separated, n / 2);
 }
 
 }  // namespace
