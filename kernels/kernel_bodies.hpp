@@ -218,7 +218,7 @@ struct Kernels {
 
   template <class Role>
   static FacetEval facet(const Role& role, const V3& c, const V3& ca, const V3 (&g)[6],
-                         const V3& gi, const V3& gj) {
+                         const B (&g2)[6], const V3& gi, const V3& gj) {
     const B zero(T(0)), one(T(1)), inf(std::numeric_limits<T>::infinity());
     auto sgn = [&](const B& v) { return S::select(v < zero, -one, one); };
     auto clamp1 = [&](const B& v) { return S::max(-one, S::select(v > one, one, v)); };
@@ -242,13 +242,16 @@ struct Kernels {
     // parallel family, the pairs' ranges overlap over the target side).
     B extreme[6];
     decltype(zero < zero) inplane[6];
+    bool any_inplane = false;  // rare (parallel boxes): the second pass only runs then
     V3 F0 = c;
     for (int q = 0; q < 6; ++q) {
       extreme[q] = sgn(sigma * dots[q]);
-      inplane[q] = dots[q] * dots[q] <= sliver2 * x2 * dot(g[q], g[q]);
-      if (!(role.is_i(q) || role.is_j(q))) F0 = axpy(S::select(inplane[q], zero, extreme[q]), g[q], F0);
+      if (role.is_i(q) || role.is_j(q)) continue;
+      inplane[q] = dots[q] * dots[q] <= sliver2 * x2 * g2[q];
+      any_inplane = any_inplane || S::any(inplane[q]);
+      F0 = axpy(S::select(inplane[q], zero, extreme[q]), g[q], F0);
     }
-    for (int q = 0; q < 6; ++q) {
+    for (int q = 0; q < 6 && any_inplane; ++q) {
       if (role.is_i(q) || role.is_j(q)) continue;
       extreme[q] = S::select(inplane[q], zero - sgn(dot(g[q], F0)), extreme[q]);
       F0 = axpy(S::select(inplane[q], extreme[q], zero), g[q], F0);
@@ -306,16 +309,16 @@ struct Kernels {
   }
 
   template <int P>
-  static void fold_pair(Fold& fold, const V3& c, const V3& ca, const V3 (&g)[6]) {
+  static void fold_pair(Fold& fold, const V3& c, const V3& ca, const V3 (&g)[6], const B (&g2)[6]) {
     // The 15 generator pairs: (0,1) (0,2) (1,2) (3,4) (3,5) (4,5), then (A_i, B_j).
     constexpr int kI[15] = {0, 0, 1, 3, 3, 4, 0, 0, 0, 1, 1, 1, 2, 2, 2};
     constexpr int kJ[15] = {1, 2, 2, 4, 5, 5, 3, 4, 5, 3, 4, 5, 3, 4, 5};
-    fold.add(facet(FixedPair<kI[P], kJ[P]>{}, c, ca, g, g[kI[P]], g[kJ[P]]));
+    fold.add(facet(FixedPair<kI[P], kJ[P]>{}, c, ca, g, g2, g[kI[P]], g[kJ[P]]));
   }
   template <int... P>
-  static void fold_all(Fold& fold, const V3& c, const V3& ca, const V3 (&g)[6],
+  static void fold_all(Fold& fold, const V3& c, const V3& ca, const V3 (&g)[6], const B (&g2)[6],
                        std::integer_sequence<int, P...>) {
-    (fold_pair<P>(fold, c, ca, g), ...);
+    (fold_pair<P>(fold, c, ca, g, g2), ...);
   }
 
   // One pair per lane.
@@ -332,8 +335,10 @@ struct Kernels {
       generators(ua, ha, ub, hb, g);
       const V3 ca = load3(a.c, N, k), cb = load3(b.c, N, k);
       const V3 c{ca.x - cb.x, ca.y - cb.y, ca.z - cb.z};
+      B g2[6];  // |g_q|^2
+      for (int q = 0; q < 6; ++q) g2[q] = dot(g[q], g[q]);
       Fold fold;
-      fold_all(fold, c, ca, g, std::make_integer_sequence<int, 15>{});
+      fold_all(fold, c, ca, g, g2, std::make_integer_sequence<int, 15>{});
       const auto separated = fold.best2 < inf;
       S::store(out.distance + k, S::select(separated, S::sqrt(fold.best2), zero));
       S::store(out.depth + k, S::select(separated, zero, fold.depth));

@@ -47,6 +47,8 @@ struct Simd {
   }
   template <class M>
   static B select(const M& m, const B& a, const B& b) { return xsimd::select(m, a, b); }
+  template <class M>
+  static bool any(const M& m) { return xsimd::any(m); }
   /// Stores small non-negative integers held exactly in T as integer codes.
   static void store_code(CodeOf<T>* p, const B& v) {
     xsimd::batch_cast<CodeOf<T>>(v).store_aligned(p);
@@ -67,6 +69,7 @@ struct Simd<T, ScalarArch> {
   static B max(B a, B b) { return a > b ? a : b; }
   static B rsqrt(B x) { return T(1) / std::sqrt(x); }
   static B select(bool m, B a, B b) { return m ? a : b; }
+  static bool any(bool m) { return m; }
   static void store_code(CodeOf<T>* p, B v) { *p = CodeOf<T>(v); }
 };
 
