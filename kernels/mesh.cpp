@@ -213,6 +213,8 @@ Status build_octree(const std::vector<Vector3d>& vertices,
                         : std::max(1, int(std::floor(std::log(triangles.size() / 32.0) / std::log(4.0))));
   for (const auto& v : vertices)
     if (!finite(v)) return Status::NonFinite;
+  for (const auto& v : vertices)
+    if (!(v.cwiseAbs().maxCoeff() <= kMaxCoordinate)) return Status::OutOfRange;
   const int nv = int(vertices.size());
   Vector3d lo = Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   for (const auto& t : triangles)

@@ -17,6 +17,7 @@ const char* to_string(Status s) {
   switch (s) {
     case Status::Ok: return "ok";
     case Status::NonFinite: return "a coordinate is NaN or Inf";
+    case Status::OutOfRange: return "a coordinate's magnitude exceeds 1e100";
     case Status::TooFewPoints: return "fewer than 3 distinct points";
     case Status::Collinear: return "all points are collinear (a segment is not a polytope)";
     case Status::InvalidMesh: return "invalid mesh (bad index, short or degenerate face, open or non-manifold)";
@@ -35,8 +36,13 @@ namespace {
 constexpr double kFlatTol = 1e-10;
 constexpr double kLineTol = 1e-12;
 
-bool all_finite(const std::vector<Vector3d>& pts) {
-  return std::all_of(pts.begin(), pts.end(), [](const Vector3d& p) { return p.allFinite(); });
+// NonFinite for NaN/Inf, OutOfRange beyond kMaxCoordinate, else Ok.
+Status check_coordinates(const std::vector<Vector3d>& pts) {
+  for (const auto& p : pts)
+    if (!p.allFinite()) return Status::NonFinite;
+  for (const auto& p : pts)
+    if (!(p.cwiseAbs().maxCoeff() <= kMaxCoordinate)) return Status::OutOfRange;
+  return Status::Ok;
 }
 
 double diagonal(const std::vector<Vector3d>& pts) {
@@ -87,7 +93,7 @@ Status make_flat(const std::vector<Vector3d>& pts, const std::vector<int>& loop_
 
 Status polytope_from_points(const std::vector<Vector3d>& points, ConvexPolytope& out) {
   out = ConvexPolytope{};
-  if (!all_finite(points)) return Status::NonFinite;
+  if (const Status s = check_coordinates(points); s != Status::Ok) return s;
   // Exact duplicates are dropped, keeping the first index (Qhull would keep an arbitrary one).
   std::vector<int> order(points.size());
   for (int k = 0; k < int(points.size()); ++k) order[k] = k;
@@ -155,7 +161,7 @@ Status polytope_from_points(const std::vector<Vector3d>& points, ConvexPolytope&
 Status polytope_from_mesh(const std::vector<Vector3d>& vertices,
                           const std::vector<std::vector<int>>& faces, ConvexPolytope& out) {
   out = ConvexPolytope{};
-  if (!all_finite(vertices)) return Status::NonFinite;
+  if (const Status s = check_coordinates(vertices); s != Status::Ok) return s;
   if (vertices.size() < 4 || faces.size() < 4) return Status::InvalidMesh;
   const double D = diagonal(vertices);
   const double tol = 1e-9 * D;
@@ -211,8 +217,13 @@ Status check_box(const Box& box) {
   for (int k = 0; k < 3; ++k) zero += 0 * box.center[k] + 0 * box.half_extents[k];
   for (int k = 0; k < 9; ++k) zero += 0 * box.rotation.data()[k];
   if (!(zero == 0)) return Status::NonFinite;
+  if (!(box.center.cwiseAbs().maxCoeff() <= kMaxCoordinate && box.half_extents.maxCoeff() <= kMaxCoordinate))
+    return Status::OutOfRange;
   const Vector3d& h = box.half_extents;
-  if (!(h[0] > 0 && h[1] > 0 && h[2] > 0)) return Status::InvalidBox;
+  // Positive, and not so small against the box's coordinates that its corners coincide in
+  // double (1e-13 relative: about 450 ulps).
+  const double floor = 1e-13 * (box.center.cwiseAbs().maxCoeff() + h.maxCoeff());
+  if (!(h[0] > floor && h[1] > floor && h[2] > floor)) return Status::InvalidBox;
   // A proper rotation: orthonormal columns (to 1e-9) and a right-handed frame.
   const Eigen::Matrix3d& R = box.rotation;
   const Vector3d x = R.col(0), y = R.col(1), z = R.col(2);
@@ -257,7 +268,7 @@ Status polytope_from_box(const Box& box, ConvexPolytope& out) {
 Status polytope_from_triangle(const Triangle& t, ConvexPolytope& out) {
   out = ConvexPolytope{};
   const std::vector<Vector3d> pts = {t.a, t.b, t.c};
-  if (!all_finite(pts)) return Status::NonFinite;
+  if (const Status s = check_coordinates(pts); s != Status::Ok) return s;
   if (t.a == t.b || t.b == t.c || t.a == t.c) return Status::TooFewPoints;
   const Vector3d n = (t.b - t.a).cross(t.c - t.a);
   const double D = diagonal(pts);

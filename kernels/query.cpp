@@ -42,7 +42,7 @@ Witness closest_on_facet(const MinkowskiSum& m, const std::vector<int>& loop, co
       const Vector3d &a = P(0), &b = P(k), &c = P(k + 1);
       const double area = (b - a).cross(c - a).dot(n);
       const double wb = (q - a).cross(c - a).dot(n) / area, wc = (b - a).cross(q - a).dot(n) / area;
-      if (wb < -1e-12 || wc < -1e-12 || wb + wc > 1 + 1e-12) continue;
+      if (!(wb >= -1e-12 && wc >= -1e-12 && wb + wc <= 1 + 1e-12)) continue;  // NaN (a sliver): skip
       best.dist2 = d * d;
       best.pair[0] = loop[0], best.pair[1] = loop[k], best.pair[2] = loop[k + 1];
       best.w[0] = 1 - wb - wc, best.w[1] = wb, best.w[2] = wc;

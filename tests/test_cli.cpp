@@ -271,7 +271,7 @@ TEST(Cli, DistanceBetweenMeshes) {
 
 TEST(Cli, DistanceRejectsBadInput) {
   const std::string a = cube_off("da.off");
-  expect_rejected("distance " + a + " " + cube_off("dnan.off", "nan 0 1"), "NaN or Inf");
+  expect_rejected("distance " + a + " " + cube_off("dnan.off", "nan 0 1"), "dnan.off:10:");  // file:line
   expect_rejected("distance " + a + " " + cube_off("dindex.off", "", 99), "dindex.off");
   expect_rejected("distance " + a + " " + write("garbage.off", "OFF\n3 1 0\n0 0\n"), "garbage.off");
   expect_rejected("distance " + a + " " + a + " --pose \"1 0 0 0 1 2\"", "7 numbers");

@@ -116,6 +116,8 @@ TEST(Octree, RejectsBadMeshes) {
   EXPECT_EQ(build_octree(bad, {{0, 1, 2}}, o), Status::NonFinite);
   bad[1].y() = std::numeric_limits<double>::infinity();
   EXPECT_EQ(build_octree(bad, {{0, 1, 2}}, o), Status::NonFinite);
+  bad[1].y() = -1e101;
+  EXPECT_EQ(build_octree(bad, {{0, 1, 2}}, o), Status::OutOfRange);
   OctreeOptions options;
   options.leaf_size = 0;
   EXPECT_EQ(build_octree(v, {{0, 1, 2}}, o, options), Status::InvalidMesh);

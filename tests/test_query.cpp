@@ -205,6 +205,14 @@ TEST(Query, BadInputGetsAStatus) {
   ConvexPolytope empty, cube;
   ASSERT_EQ(polytope_from_box(Box{}, cube), Status::Ok);
   EXPECT_EQ(proximity(empty, cube, p), Status::TooFewPoints);
+  // Finite but too large to compute with (products would overflow): a status, not a crash.
+  bad = Box{};
+  bad.center.x() = 256, bad.half_extents.y() = 1e-304;  // corners coincide in double
+  EXPECT_EQ(proximity(bad, Box{}, p), Status::InvalidBox);
+  bad = Box{};
+  bad.center.x() = 1e150;
+  EXPECT_EQ(proximity(bad, Box{}, p), Status::OutOfRange);
+  EXPECT_EQ(proximity(Box{}, Triangle{{0, 0, 0}, {1e200, 0, 0}, {0, 1, 0}}, p), Status::OutOfRange);
 }
 
 TEST(Query, ContainsStopsAtTheFirstSeparatingPlane) {

@@ -1,10 +1,11 @@
 // Mesh input through assimp; the libcgal-demo fallback reads one member of a .tar.gz with zlib.
 #include "tools/mesh_io.hpp"
 
+#include "tools/io.hpp"
+
 #include <assimp/DefaultLogger.hpp>
 #include <assimp/Importer.hpp>
 #include <assimp/LogStream.hpp>
-#include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <zlib.h>
 
@@ -31,9 +32,15 @@ bool from_scene(const aiScene* scene, Mesh& mesh, std::string& error) {
       mesh.vertices.emplace_back(part->mVertices[v].x, part->mVertices[v].y, part->mVertices[v].z);
     for (unsigned f = 0; f < part->mNumFaces; ++f) {
       const aiFace& face = part->mFaces[f];
-      if (face.mNumIndices != 3) continue;  // points and lines are not surfaces
-      mesh.triangles.push_back({base + int(face.mIndices[0]), base + int(face.mIndices[1]),
-                                base + int(face.mIndices[2])});
+      // Points and lines are not surfaces; polygons are fanned into triangles.
+      for (unsigned k = 0; k < face.mNumIndices; ++k)
+        if (face.mIndices[k] >= part->mNumVertices) {
+          error = "a face index is out of range";
+          return false;
+        }
+      for (unsigned k = 1; k + 1 < face.mNumIndices; ++k)
+        mesh.triangles.push_back({base + int(face.mIndices[0]), base + int(face.mIndices[k]),
+                                  base + int(face.mIndices[k + 1])});
     }
   }
   if (mesh.triangles.empty()) {
@@ -43,9 +50,11 @@ bool from_scene(const aiScene* scene, Mesh& mesh, std::string& error) {
   return true;
 }
 
-// Triangulate polygons, bake node transforms; keep vertices as they are (no welding), so a
-// mesh's own unused or duplicated vertices pass through unchanged.
-constexpr unsigned kFlags = aiProcess_Triangulate | aiProcess_PreTransformVertices;
+// No assimp post-processing: its steps abort the process on some malformed files (found by
+// fuzzing), and the formats read here (PLY, OBJ, OFF, STL) have one mesh and no transforms.
+// Polygons are fanned above; vertices are kept as they are (no welding), so a mesh's own
+// unused or duplicated vertices pass through unchanged.
+constexpr unsigned kFlags = 0;
 
 // Assimp reports some malformed input only in its log and carries on (an OFF face index out of
 // range is clamped): listen to the log's errors while reading, and fail on the first one.
@@ -69,6 +78,13 @@ class ErrorLog : public Assimp::LogStream {
 }  // namespace
 
 bool read_mesh(const std::string& path, Mesh& mesh, std::string& error) {
+  // OFF, OBJ and PLY go through the strict vertex reader first: assimp hangs or aborts on some
+  // malformed files of these formats (found by fuzzing), and it gives no line numbers.
+  const std::string ext = std::filesystem::path(path).extension().string();
+  if (ext == ".off" || ext == ".obj" || ext == ".ply" || ext == ".OFF" || ext == ".OBJ" || ext == ".PLY") {
+    std::vector<Eigen::Vector3d> points;
+    if (!read_points(path, points, error)) return false;
+  }
   Assimp::Importer importer;
   ErrorLog log;
   const aiScene* scene = importer.ReadFile(path, kFlags);

@@ -18,7 +18,12 @@ enum class Status {
   InvalidBox,        ///< a box half extent is <= 0 or its rotation is not a rotation
   DegenerateResult,  ///< the sum is flat (two coplanar flat operands): not a solid
   HullFailed,        ///< Qhull reported an error on input that passed validation
+  OutOfRange,        ///< a coordinate's magnitude exceeds kMaxCoordinate
 };
+
+/// Largest coordinate magnitude accepted: products of three stay finite in double, so the
+/// exact predicates and the distances never meet an overflow.
+constexpr double kMaxCoordinate = 1e100;
 
 /// Human-readable one-line description of a status.
 const char* to_string(Status s);
@@ -69,7 +74,9 @@ Status polytope_from_points(const std::vector<Eigen::Vector3d>& points, ConvexPo
 Status polytope_from_mesh(const std::vector<Eigen::Vector3d>& vertices,
                           const std::vector<std::vector<int>>& faces, ConvexPolytope& out);
 
-/// Ok for a valid box: finite, half extents > 0, rotation a proper rotation (to 1e-9).
+/// Ok for a valid box: finite, coordinates within kMaxCoordinate, half extents above 1e-13 of
+/// its largest coordinate (else its corners coincide in double), rotation a proper rotation
+/// (to 1e-9).
 Status check_box(const Box& box);
 
 /// Corner `code` of the box: bit a of code set means the +h_a side of axis a.

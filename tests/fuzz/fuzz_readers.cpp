@@ -1,0 +1,54 @@
+// The file readers on arbitrary bytes, through a file as the CLI reads them: the vertex-file
+// reader (OFF, OBJ, PLY, text) and the mesh loader (PLY, OBJ, OFF, STL: assimp, after the
+// vertex reader's checks for the first three),
+// each followed by what the CLI does next (a hull; an octree and a distance query). Either a
+// clear error or a result without NaN.
+#include "fuzz_common.hpp"
+
+#include <fstream>
+#include <string>
+#include <unistd.h>
+
+#include "tools/io.hpp"
+#include "tools/mesh_io.hpp"
+
+using namespace minksum;
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  if (size < 1) return 0;
+  static const char* kExt[] = {"off", "obj", "ply", "txt", "stl"};
+  const char* ext = kExt[data[0] % 5];
+  const std::string body(reinterpret_cast<const char*>(data + 1), size - 1);
+  std::string error;
+  // Both readers take a path, as the CLI gives them (the extension picks the format).
+  static const std::string path = "/tmp/minksum_fuzz_" + std::to_string(::getpid()) + ".";
+  const std::string file = path + ext;
+  std::ofstream(file, std::ios::binary) << body;
+  if (data[0] % 2 == 0) {
+    std::vector<Eigen::Vector3d> points;
+    if (tools::read_points(file, points, error)) {
+      for (const auto& p : points)
+        if (!fuzz::finite(p)) fuzz::fail("the vertex reader returned a non-finite point");
+      ConvexPolytope P;
+      polytope_from_points(points, P);
+    } else if (error.empty()) {
+      fuzz::fail("a failed read without a message");
+    }
+    return 0;
+  }
+  tools::Mesh mesh;
+  if (!tools::read_mesh(file, mesh, error)) {
+    if (error.empty()) fuzz::fail("a failed mesh read without a message");
+    return 0;
+  }
+  Octree tree;
+  if (build_octree(mesh.vertices, mesh.triangles, tree) != Status::Ok) return 0;  // e.g. NaN
+  MeshWorkspace ws;
+  make_workspace(tree, tree, ws);
+  Pose pose;
+  pose.translation.x() = 0.5;
+  MeshDistance d;
+  if (mesh_distance(tree, tree, pose, ws, d) == Status::Ok && !(d.distance >= 0 && std::isfinite(d.distance)))
+    fuzz::fail("mesh distance not finite and >= 0");
+  return 0;
+}

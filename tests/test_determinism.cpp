@@ -1,0 +1,126 @@
+// Determinism: the same input gives bit-identical output from call to call on one ISA (no
+// uninitialised scratch, no order-dependent state), for the kernels, the sums, the queries
+// and the mesh distance. Across ISAs the kernels differ only within the bounds their own
+// tests check against the scalar reference (test_kernels.cpp, test_query.cpp).
+#include <gtest/gtest.h>
+#include <minksum/minksum.hpp>
+
+#include <cstring>
+#include <memory>
+#include <random>
+
+#include "checks.hpp"
+#include "tools/shapes.hpp"
+
+namespace minksum {
+namespace {
+
+using Eigen::Vector3d;
+
+template <class T>
+bool same_bytes(const T& x, const T& y) {
+  return std::memcmp(&x, &y, sizeof(T)) == 0;
+}
+// Field by field where a struct has padding (its bytes are not part of the value).
+bool same(const Proximity& x, const Proximity& y) {
+  return x.intersecting == y.intersecting && same_bytes(x.distance, y.distance) &&
+         same_bytes(x.point_a, y.point_a) && same_bytes(x.point_b, y.point_b) &&
+         same_bytes(x.max_distance, y.max_distance) && same_bytes(x.far_a, y.far_a) &&
+         same_bytes(x.far_b, y.far_b) && same_bytes(x.penetration_depth, y.penetration_depth) &&
+         same_bytes(x.penetration_direction, y.penetration_direction);
+}
+bool same(const MeshDistance& x, const MeshDistance& y) {
+  return same_bytes(x.distance, y.distance) && same_bytes(x.point_a, y.point_a) &&
+         same_bytes(x.point_b, y.point_b) && x.triangle_a == y.triangle_a && x.triangle_b == y.triangle_b &&
+         x.intersecting == y.intersecting && x.node_pairs == y.node_pairs &&
+         x.triangle_pairs == y.triangle_pairs && x.candidates_a == y.candidates_a && x.candidates_b == y.candidates_b;
+}
+
+class Determinism : public testing::TestWithParam<Isa> {
+ protected:
+  void SetUp() override {
+    if (!isa_supported(GetParam())) GTEST_SKIP();
+    force_isa(GetParam());
+  }
+  void TearDown() override { force_isa(best_); }
+  Isa best_ = active_isa();
+};
+
+TEST_P(Determinism, KernelsRepeatBitForBit) {
+  std::mt19937_64 rng(5);
+  auto A = std::make_unique<BoxBatch<float, 256>>(), B = std::make_unique<BoxBatch<float, 256>>();
+  auto T = std::make_unique<TriangleBatch<float, 256>>();
+  for (int k = 0; k < 256; ++k)
+    A->set(k, tools::random_box(rng, 2)), B->set(k, tools::random_box(rng, 2)), T->set(k, tools::random_triangle(rng, 2));
+  A->count = B->count = T->count = 256;
+  auto p1 = std::make_unique<BoxBoxPlanes<float, 256>>(), p2 = std::make_unique<BoxBoxPlanes<float, 256>>();
+  auto q1 = std::make_unique<BoxBoxProximity<float, 256>>(), q2 = std::make_unique<BoxBoxProximity<float, 256>>();
+  auto t1 = std::make_unique<BoxTrianglePlanes<float, 256>>(), t2 = std::make_unique<BoxTrianglePlanes<float, 256>>();
+  // Different garbage in the output buffers first: nothing of it may survive.
+  std::memset(p1.get(), 0x11, sizeof *p1), std::memset(p2.get(), 0x7f, sizeof *p2);
+  std::memset(q1.get(), 0x11, sizeof *q1), std::memset(q2.get(), 0x7f, sizeof *q2);
+  std::memset(t1.get(), 0x11, sizeof *t1), std::memset(t2.get(), 0x7f, sizeof *t2);
+  box_box_planes(*A, *B, true, *p1), box_box_planes(*A, *B, true, *p2);
+  box_box_proximity(*A, *B, *q1), box_box_proximity(*A, *B, *q2);
+  box_triangle_planes(*A, *T, false, *t1), box_triangle_planes(*A, *T, false, *t2);
+  // Compare the lanes in use (padding lanes past kRow may hold anything).
+  for (int k = 0; k < 256; ++k) {
+    for (int p = 0; p < 30; ++p) ASSERT_EQ(p1->offset[p][k], p2->offset[p][k]) << k;
+    for (int p = 0; p < 15; ++p) ASSERT_EQ(p1->code[p][k], p2->code[p][k]) << k;
+    ASSERT_EQ(q1->distance[k], q2->distance[k]) << k;
+    ASSERT_EQ(q1->depth[k], q2->depth[k]) << k;
+    for (int d = 0; d < 3; ++d) ASSERT_EQ(q1->point_a[d][k], q2->point_a[d][k]) << k;
+    for (int p = 0; p < 26; ++p) ASSERT_EQ(t1->offset[p][k], t2->offset[p][k]) << k;
+  }
+}
+
+TEST_P(Determinism, QueriesRepeatBitForBit) {
+  std::mt19937_64 rng(6);
+  for (int k = 0; k < 2000; ++k) {
+    const Box a = tools::random_box(rng, 1.5), b = tools::random_box(rng, 1.5);
+    Proximity x, y;
+    ASSERT_EQ(proximity(a, b, x), Status::Ok);
+    ASSERT_EQ(proximity(a, b, y), Status::Ok);
+    ASSERT_TRUE(same(x, y)) << "pair " << k;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Isa, Determinism, testing::Values(Isa::Scalar, Isa::Sse4_2, Isa::Avx2, Isa::Avx512),
+                         [](const auto& info) { return std::string(to_string(info.param)); });
+
+TEST(Determinism, SumsRepeatBitForBit) {
+  for (const auto& pair : tools::table1_pairs()) {
+    ConvexPolytope A, B;
+    ASSERT_EQ(polytope_from_points(pair.a, A), Status::Ok);
+    ASSERT_EQ(polytope_from_points(pair.b, B), Status::Ok);
+    for (Method method : {Method::Fast, Method::Reference, Method::Hull}) {
+      MinkowskiSum x, y;
+      ASSERT_EQ(minkowski_sum(A, B, x, method), Status::Ok);
+      ASSERT_EQ(minkowski_sum(A, B, y, method), Status::Ok);
+      ASSERT_EQ(x.F, y.F) << pair.name;
+      for (int f = 0; f < x.F; ++f) {
+        ASSERT_TRUE(same_bytes(x.planes[f], y.planes[f])) << pair.name << " plane " << f;
+        ASSERT_EQ(x.facets[f], y.facets[f]) << pair.name;
+      }
+    }
+  }
+}
+
+TEST(Determinism, MeshDistanceRepeatsBitForBit) {
+  const tools::Mesh m = test::test_mesh("bun_zipper_res4.ply", 16);
+  Octree A;
+  ASSERT_EQ(build_octree(m.vertices, m.triangles, A), Status::Ok);
+  MeshWorkspace ws;
+  make_workspace(A, A, ws);
+  std::mt19937_64 rng(7);
+  for (int k = 0; k < 50; ++k) {
+    const Pose pose = test::random_pose(rng, 0.2);
+    MeshDistance x, y;
+    ASSERT_EQ(mesh_distance(A, A, pose, ws, x), Status::Ok);
+    ASSERT_EQ(mesh_distance(A, A, pose, ws, y), Status::Ok);  // the workspace is reused
+    ASSERT_TRUE(same(x, y)) << "pose " << k;
+  }
+}
+
+}  // namespace
+}  // namespace minksum
