@@ -243,4 +243,12 @@ int scaled(int n) {
   return std::max(1, int(n * (f > 0 ? f : 1.0)));
 }
 
+std::unique_ptr<MeshSetup> mesh_setup(const std::string& name, int fallback_rings) {
+  auto m = std::make_unique<MeshSetup>();
+  m->mesh = test_mesh(name, fallback_rings);
+  EXPECT_EQ(build_octree(m->mesh.vertices, m->mesh.triangles, m->tree), Status::Ok);
+  make_workspace(m->tree, m->tree, m->ws);
+  return m;
+}
+
 }  // namespace minksum::test

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <minksum/minksum.hpp>
 
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -19,6 +20,15 @@ tools::Mesh test_mesh(const std::string& name, int fallback_rings);
 /// n scaled by the environment variable MINKSUM_TEST_SCALE (default 1; the sanitizer run of
 /// ci/test uses a fraction), at least 1: the sizes of the randomized tests.
 int scaled(int n);
+
+/// A test mesh (test_mesh), its octree (default options) and a workspace for it against itself.
+struct MeshSetup {
+  tools::Mesh mesh;
+  Octree tree;
+  MeshWorkspace ws;
+};
+/// Builds a MeshSetup; a failed octree build fails the calling test.
+std::unique_ptr<MeshSetup> mesh_setup(const std::string& name, int fallback_rings);
 
 /// A random pose: uniform rotation, translation in [-reach, reach]^3.
 Pose random_pose(std::mt19937_64& rng, double reach);

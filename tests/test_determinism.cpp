@@ -107,11 +107,9 @@ TEST(Determinism, SumsRepeatBitForBit) {
 }
 
 TEST(Determinism, MeshDistanceRepeatsBitForBit) {
-  const tools::Mesh m = test::test_mesh("bun_zipper_res4.ply", 16);
-  Octree A;
-  ASSERT_EQ(build_octree(m.vertices, m.triangles, A), Status::Ok);
-  MeshWorkspace ws;
-  make_workspace(A, A, ws);
+  const auto m = test::mesh_setup("bun_zipper_res4.ply", 16);
+  const Octree& A = m->tree;
+  MeshWorkspace& ws = m->ws;
   std::mt19937_64 rng(7);
   for (int k = 0; k < 50; ++k) {
     const Pose pose = test::random_pose(rng, 0.2);

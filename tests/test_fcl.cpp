@@ -76,11 +76,10 @@ INSTANTIATE_TEST_SUITE_P(Shards, VersusFcl, testing::Range(0, 4));
 // Mesh-mesh distance against FCL's BVH distance (OBBRSS) on two bunny res2 (16,301 triangles;
 // a generated mesh where ../shared/data is missing), 200 poses from near contact to apart.
 TEST(VersusFclMeshes, BunnyRes2Distance) {
-  const tools::Mesh m = test::test_mesh("bun_zipper_res2.ply", 64);
-  Octree A;
-  ASSERT_EQ(build_octree(m.vertices, m.triangles, A), Status::Ok);
-  MeshWorkspace ws;
-  make_workspace(A, A, ws);
+  const auto setup = test::mesh_setup("bun_zipper_res2.ply", 64);
+  const tools::Mesh& m = setup->mesh;
+  const Octree& A = setup->tree;
+  MeshWorkspace& ws = setup->ws;
   peers::FclMeshPair fcl(m.vertices, m.triangles, m.vertices, m.triangles);
   std::mt19937_64 rng(17);
   int separated = 0;

@@ -26,11 +26,11 @@ double off_triangle(const tools::Mesh& m, int t, const Vector3d& p, const Pose& 
 }
 
 // Octree query == brute force on `poses` random poses from overlapping to well apart.
-void check_against_brute_force(const tools::Mesh& m, int poses, unsigned seed) {
-  Octree A;
-  ASSERT_EQ(build_octree(m.vertices, m.triangles, A), Status::Ok);
-  MeshWorkspace ws;
-  make_workspace(A, A, ws);
+void check_against_brute_force(const std::string& name, int rings, int poses, unsigned seed) {
+  const auto setup = test::mesh_setup(name, rings);
+  const tools::Mesh& m = setup->mesh;
+  const Octree& A = setup->tree;
+  MeshWorkspace& ws = setup->ws;
   std::mt19937_64 rng(seed);
   int intersecting = 0;
   for (int k = 0; k < poses; ++k) {
@@ -60,11 +60,11 @@ int poses_from_env(int fallback) {
 }
 
 TEST(MeshDistance, EqualsBruteForceOnBunnyRes4) {
-  check_against_brute_force(test::test_mesh("bun_zipper_res4.ply", 16), poses_from_env(1000), 11);
+  check_against_brute_force("bun_zipper_res4.ply", 16, poses_from_env(1000), 11);
 }
 
 TEST(MeshDistance, EqualsBruteForceOnBunnyRes3) {
-  check_against_brute_force(test::test_mesh("bun_zipper_res3.ply", 31), poses_from_env(150), 12);
+  check_against_brute_force("bun_zipper_res3.ply", 31, poses_from_env(150), 12);
 }
 
 // The kernel against the general exact path (Minkowski difference of the two triangles), on
