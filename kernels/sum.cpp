@@ -98,7 +98,9 @@ Status hull_corrector(const ConvexPolytope& a, const ConvexPolytope& b, Minkowsk
   }
   assemble(a, b, facets, out);
   out.corrected = true;
-  return Status::Ok;
+  // Qhull's facets of a badly scaled input (fuzzed: 1e11 next to 1e-304) can fail to close
+  // into a manifold: a clear error rather than an inconsistent "Ok".
+  return out.euler_ok ? Status::Ok : Status::HullFailed;
 }
 
 }  // namespace detail

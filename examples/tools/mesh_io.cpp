@@ -13,7 +13,10 @@
 #include <cmath>
 #include <limits>
 #include <cstring>
+#include <cctype>
+#include <cstdint>
 #include <filesystem>
+#include <fstream>
 
 namespace minksum::tools {
 
@@ -78,10 +81,26 @@ class ErrorLog : public Assimp::LogStream {
 }  // namespace
 
 bool read_mesh(const std::string& path, Mesh& mesh, std::string& error) {
-  // OFF, OBJ and PLY go through the strict vertex reader first: assimp hangs or aborts on some
-  // malformed files of these formats (found by fuzzing), and it gives no line numbers.
-  const std::string ext = std::filesystem::path(path).extension().string();
-  if (ext == ".off" || ext == ".obj" || ext == ".ply" || ext == ".OFF" || ext == ".OBJ" || ext == ".PLY") {
+  // Every file but STL goes through the strict vertex reader first (it knows OFF, OBJ and PLY,
+  // by extension or content): assimp hangs or aborts on some malformed files (found by
+  // fuzzing), and it gives no line numbers. An STL file must be shaped like one.
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".stl") {
+    std::ifstream in(path, std::ios::binary);
+    char head[84] = {};
+    in.read(head, 84);
+    const auto got = in.gcount();
+    in.seekg(0, std::ios::end);
+    const auto bytes = static_cast<long long>(in.tellg());
+    uint32_t n = 0;
+    std::memcpy(&n, head + 80, 4);
+    const bool binary = got == 84 && bytes == 84 + 50LL * n;
+    if (!binary && std::string(head, size_t(std::max<std::streamsize>(got, 0))).rfind("solid", 0) != 0) {
+      error = path + ": not an STL file (neither \"solid\" nor 84 + 50 n bytes)";
+      return false;
+    }
+  } else {
     std::vector<Eigen::Vector3d> points;
     if (!read_points(path, points, error)) return false;
   }

@@ -28,7 +28,8 @@ void check(const Proximity& p) {
   for (const auto* v : {&p.point_a, &p.point_b, &p.far_a, &p.far_b, &p.penetration_direction})
     if (!fuzz::finite(*v)) fuzz::fail("non-finite point or direction");
   if (p.intersecting && p.distance != 0) fuzz::fail("intersecting with a positive distance");
-  const double scale = 1 + p.point_a.cwiseAbs().maxCoeff() + p.point_b.cwiseAbs().maxCoeff();
+  // Rounding is relative to the largest coordinate involved (the farthest pair bounds it).
+  const double scale = 1 + p.max_distance + p.point_a.cwiseAbs().maxCoeff() + p.point_b.cwiseAbs().maxCoeff();
   if (!p.intersecting && std::abs((p.point_a - p.point_b).norm() - p.distance) > 1e-6 * scale)
     fuzz::fail("the closest points do not realise the distance");
 }
