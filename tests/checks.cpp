@@ -209,8 +209,12 @@ Oracle brute_force(const ConvexPolytope& A, const ConvexPolytope& B) {
   return o;
 }
 
+std::string data_path(const std::string& name) {
+  return (std::filesystem::path(MINKSUM_SOURCE_DIR) / ".." / "shared" / "data" / name).string();
+}
+
 tools::Mesh test_mesh(const std::string& name, int fallback_rings) {
-  const std::filesystem::path path = std::filesystem::path(MINKSUM_SOURCE_DIR) / ".." / "shared" / "data" / name;
+  const std::filesystem::path path = data_path(name);
   tools::Mesh m;
   std::string error;
   if (std::filesystem::exists(path) && tools::read_mesh(path.string(), m, error)) return m;

@@ -13,6 +13,9 @@
 
 namespace minksum::test {
 
+/// The path of `name` in ../shared/data (the bunnies), whether or not it exists.
+std::string data_path(const std::string& name);
+
 /// ../shared/data/`name` (a Stanford bunny) if this machine has it, else a generated bumpy
 /// sphere of 4 rings^2 triangles, so that mesh tests run everywhere.
 tools::Mesh test_mesh(const std::string& name, int fallback_rings);

@@ -1,6 +1,8 @@
 #include "io.hpp"
 
+#include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -59,7 +61,44 @@ struct Reader {
   }
 };
 
-bool read_plain(std::istream& in, Reader r, std::vector<Vector3d>& pts) {
+// Parses a whole token as an integer (an index or a count).
+bool parse_index(const std::string& tok, long& out) {
+  char* end = nullptr;
+  errno = 0;
+  out = std::strtol(tok.c_str(), &end, 10);
+  return end != tok.c_str() && *end == '\0' && errno == 0;
+}
+
+// The polygons read so far: vertex indices as written, checked once all vertices are known.
+struct Faces {
+  std::vector<long> index;  // all polygons' indices, one after the other
+  std::vector<int> line;    // per polygon: the line it was on (0 in binary files)
+  std::vector<size_t> start{0};
+  void add(const std::vector<long>& polygon, int at) {
+    index.insert(index.end(), polygon.begin(), polygon.end());
+    line.push_back(at);
+    start.push_back(index.size());
+  }
+  // Every index within [0, n); polygons fanned into triangles, points and lines dropped.
+  bool finish(Reader r, size_t n, std::vector<std::array<int, 3>>* triangles) const {
+    for (size_t f = 0; f + 1 < start.size(); ++f) {
+      for (size_t k = start[f]; k < start[f + 1]; ++k)
+        if (index[k] < 0 || size_t(index[k]) >= n)
+          return r.fail(line[f], "face " + std::to_string(f) + ": vertex index " +
+                                     std::to_string(index[k]) + " is out of range [0, " +
+                                     std::to_string(n) + ")");
+      if (triangles)
+        for (size_t k = start[f] + 1; k + 1 < start[f + 1]; ++k)
+          triangles->push_back({int(index[start[f]]), int(index[k]), int(index[k + 1])});
+    }
+    return true;
+  }
+};
+
+// Counts in headers are bounded so that a corrupt count fails instead of exhausting memory.
+constexpr long kMaxCount = 100000000;
+
+bool read_plain(std::istream& in, Reader r, std::vector<Vector3d>& pts, Faces&) {
   Lines lines{in};
   std::string line;
   while (lines.next(line)) {
@@ -71,25 +110,39 @@ bool read_plain(std::istream& in, Reader r, std::vector<Vector3d>& pts) {
   return true;
 }
 
-bool read_obj(std::istream& in, Reader r, std::vector<Vector3d>& pts) {
+// OBJ: "v x y z [w]" and "f i[/t][/n] ..." (1-based, or negative: relative to the last vertex);
+// the other statements (normals, texture coordinates, groups, materials) are not needed.
+bool read_obj(std::istream& in, Reader r, std::vector<Vector3d>& pts, Faces& faces) {
   Lines lines{in};
   std::string line;
+  std::vector<long> polygon;
   while (lines.next(line)) {
     std::istringstream ss(line);
     std::string tag;
     ss >> tag;
-    if (tag != "v") continue;  // faces, normals, groups: not needed for a vertex set
-    double v[3];
-    std::string rest;
-    std::getline(ss, rest);
-    if (!parse_numbers(rest, 3, v, true))
-      return r.fail(lines.number, "a vertex needs three finite coordinates");
-    pts.emplace_back(v[0], v[1], v[2]);
+    if (tag == "v") {
+      double v[3];
+      std::string rest;
+      std::getline(ss, rest);
+      if (!parse_numbers(rest, 3, v, true))
+        return r.fail(lines.number, "a vertex needs three finite coordinates");
+      pts.emplace_back(v[0], v[1], v[2]);
+    } else if (tag == "f") {
+      polygon.clear();
+      for (std::string tok; ss >> tok;) {
+        long i = 0;
+        if (!parse_index(tok.substr(0, tok.find('/')), i) || i == 0)
+          return r.fail(lines.number, "bad face vertex \"" + tok + "\"");
+        polygon.push_back(i > 0 ? i - 1 : long(pts.size()) + i);
+      }
+      faces.add(polygon, lines.number);
+    }
   }
   return true;
 }
 
-bool read_off(std::istream& in, Reader r, std::vector<Vector3d>& pts) {
+// OFF: the header, the counts, the vertices, then "k i1 ... ik [colour]" per face.
+bool read_off(std::istream& in, Reader r, std::vector<Vector3d>& pts, Faces& faces) {
   Lines lines{in};
   std::string line;
   if (!lines.next(line)) return r.fail(0, "empty file");
@@ -103,7 +156,7 @@ bool read_off(std::istream& in, Reader r, std::vector<Vector3d>& pts) {
     return r.fail(lines.number, "missing vertex and face counts");
   long nv = -1, nf = -1;
   std::istringstream cs(counts);
-  if (!(cs >> nv >> nf) || nv < 0 || nf < 0 || nv > 100000000)
+  if (!(cs >> nv >> nf) || nv < 0 || nf < 0 || nv > kMaxCount || nf > kMaxCount)
     return r.fail(lines.number, "bad vertex and face counts");
   for (long k = 0; k < nv; ++k) {
     double v[3];
@@ -112,114 +165,229 @@ bool read_off(std::istream& in, Reader r, std::vector<Vector3d>& pts) {
       return r.fail(lines.number, "a vertex needs three finite coordinates");
     pts.emplace_back(v[0], v[1], v[2]);
   }
+  std::vector<long> polygon;
+  for (long f = 0; f < nf; ++f) {
+    if (!lines.next(line)) return r.fail(lines.number, "file ends before all faces are read");
+    std::istringstream ss(line);
+    std::string tok;
+    long k = -1;
+    if (!(ss >> tok) || !parse_index(tok, k) || k < 0 || k > std::min(nv, 1000000L))
+      return r.fail(lines.number, "a face starts with its vertex count");
+    polygon.assign(size_t(k), 0);
+    for (long& i : polygon)
+      if (!(ss >> tok) || !parse_index(tok, i))
+        return r.fail(lines.number, "a face needs " + std::to_string(k) + " vertex indices");
+    faces.add(polygon, lines.number);
+  }
+  if (lines.next(line)) return r.fail(lines.number, "more data after the last face");
   return true;
 }
 
-// PLY: the vertex element's x, y, z, in ASCII or binary little-endian.
-bool read_ply(std::istream& in, Reader r, std::vector<Vector3d>& pts) {
+// PLY (Turk 1994; ASCII, binary little- or big-endian): every element is read so that the ones
+// after it can be found; kept are the vertex element's x, y, z and the face element's
+// vertex_indices (or vertex_index) lists.
+struct PlyProperty {
+  std::string name;
+  int type = 0;        // bytes of a scalar, or of a list's items; negative: floating point
+  int count_type = 0;  // bytes of a list's count; 0 for a scalar
+  bool is_signed = false;
+};
+
+struct PlyElement {
+  std::string name;
+  long count = 0;
+  std::vector<PlyProperty> properties;
+  int axis[3] = {-1, -1, -1};  // the vertex element's x, y, z properties
+  int indices = -1;            // the face element's vertex_indices property
+};
+
+// Bytes of a PLY type (negative for float and double), or 0 if unknown.
+int ply_type(const std::string& t, bool& is_signed) {
+  is_signed = t == "char" || t == "int8" || t == "short" || t == "int16" || t == "int" || t == "int32";
+  if (t == "char" || t == "int8" || t == "uchar" || t == "uint8") return 1;
+  if (t == "short" || t == "int16" || t == "ushort" || t == "uint16") return 2;
+  if (t == "int" || t == "int32" || t == "uint" || t == "uint32") return 4;
+  if (t == "float" || t == "float32") return -4;
+  if (t == "double" || t == "float64") return -8;
+  return 0;
+}
+
+// One binary value of `type` (see ply_type) as a double.
+bool ply_binary_value(std::istream& in, int type, bool is_signed, bool big_endian, double& out) {
+  unsigned char b[8];
+  const int size = type < 0 ? -type : type;
+  if (!in.read(reinterpret_cast<char*>(b), size)) return false;
+  if (big_endian) std::reverse(b, b + size);
+  uint64_t u = 0;
+  for (int k = size - 1; k >= 0; --k) u = u << 8 | b[k];
+  if (type == -4) {
+    float f;
+    const uint32_t u32 = uint32_t(u);
+    std::memcpy(&f, &u32, 4);
+    out = f;
+  } else if (type == -8) {
+    std::memcpy(&out, &u, 8);
+  } else if (is_signed) {
+    const int shift = 64 - 8 * size;
+    out = double(int64_t(u << shift) >> shift);  // sign-extend
+  } else {
+    out = double(u);
+  }
+  return true;
+}
+
+bool read_ply(std::istream& in, Reader r, std::vector<Vector3d>& pts, Faces& faces) {
   std::string line;
   int number = 0;
-  auto next = [&]() { return bool(std::getline(in, line)) && (++number, true); };
-  if (!next() || line.rfind("ply", 0) != 0) return r.fail(1, "expected the ply header");
+  auto next = [&]() {
+    if (!std::getline(in, line)) return false;
+    ++number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    return true;
+  };
+  if (!next() || line != "ply") return r.fail(1, "expected the ply header");
   std::string format;
-  long nv = -1;
-  bool in_vertex = false, vertex_first = false, seen_element = false;
-  std::vector<std::string> types;  // of the vertex element's properties
-  int ix = -1, iy = -1, iz = -1;
+  std::vector<PlyElement> elements;
   while (true) {
     if (!next()) return r.fail(number, "header has no end_header");
-    if (!line.empty() && line.back() == '\r') line.pop_back();
     std::istringstream ss(line);
     std::string key;
     ss >> key;
     if (key == "end_header") break;
-    if (key == "format") ss >> format;
-    if (key == "element") {
-      std::string name;
-      long count = -1;
-      ss >> name >> count;
-      in_vertex = name == "vertex";
-      if (in_vertex) {
-        if (count < 0 || count > 100000000) return r.fail(number, "bad vertex count");
-        nv = count;
-        vertex_first = !seen_element;
+    if (key == "format") {
+      ss >> format;
+      if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian")
+        return r.fail(number, "unknown PLY format \"" + format + "\"");
+    } else if (key == "element") {
+      PlyElement e;
+      std::string count;
+      if (!(ss >> e.name >> count) || !parse_index(count, e.count) || e.count < 0 || e.count > kMaxCount)
+        return r.fail(number, "bad element line");
+      elements.push_back(e);
+    } else if (key == "property") {
+      if (elements.empty()) return r.fail(number, "a property before any element");
+      PlyProperty p;
+      std::string type;
+      ss >> type;
+      if (type == "list") {
+        std::string count_type;
+        bool count_signed = false;
+        ss >> count_type >> type;
+        p.count_type = ply_type(count_type, count_signed);
+        if (p.count_type <= 0) return r.fail(number, "a list count must be an integer type");
       }
-      seen_element = true;
-    }
-    if (key == "property" && in_vertex) {
-      std::string type, name;
-      ss >> type >> name;
-      if (type == "list") return r.fail(number, "list properties on vertices are not supported");
-      if (name == "x") ix = int(types.size());
-      if (name == "y") iy = int(types.size());
-      if (name == "z") iz = int(types.size());
-      types.push_back(type);
+      p.type = ply_type(type, p.is_signed);
+      if (p.type == 0 || !(ss >> p.name)) return r.fail(number, "bad property line");
+      elements.back().properties.push_back(p);
+    } else if (key != "comment" && key != "obj_info") {
+      return r.fail(number, "unknown header line \"" + key + "\"");
     }
   }
-  if (nv < 0 || ix < 0 || iy < 0 || iz < 0) return r.fail(number, "no vertex element with x, y, z");
-  if (!vertex_first) return r.fail(number, "the vertex element must come first");
-  if (format == "ascii") {
-    for (long k = 0; k < nv; ++k) {
-      if (!next()) return r.fail(number, "file ends before all vertices are read");
-      std::vector<double> v(types.size());
-      if (!parse_numbers(line, int(types.size()), v.data(), true))
-        return r.fail(number, "a vertex needs " + std::to_string(types.size()) + " finite numbers");
-      pts.emplace_back(v[ix], v[iy], v[iz]);
+  if (format.empty()) return r.fail(number, "the header has no format line");
+  const bool ascii = format == "ascii", big_endian = format == "binary_big_endian";
+  // Which properties are kept: checked before the body is read.
+  int vertex_elements = 0;
+  for (PlyElement& e : elements) {
+    for (size_t p = 0; p < e.properties.size(); ++p) {
+      const PlyProperty& q = e.properties[p];
+      if (e.name == "vertex" && q.count_type == 0 && q.name.size() == 1 && q.name[0] >= 'x' && q.name[0] <= 'z')
+        e.axis[q.name[0] - 'x'] = int(p);
+      if (e.name == "face" && q.count_type != 0 && (q.name == "vertex_indices" || q.name == "vertex_index"))
+        e.indices = int(p);
     }
-    return true;
+    if (e.name == "vertex" && (++vertex_elements > 1 || e.axis[0] < 0 || e.axis[1] < 0 || e.axis[2] < 0))
+      return r.fail(number, "the vertex element needs one x, y and z each");
+    if (e.name == "face" && e.indices < 0) return r.fail(number, "the face element has no vertex_indices list");
   }
-  if (format != "binary_little_endian") return r.fail(number, "unsupported PLY format " + format);
-  for (long k = 0; k < nv; ++k) {
-    double v[3] = {0, 0, 0};
-    for (size_t p = 0; p < types.size(); ++p) {
-      const std::string& t = types[p];
-      unsigned char buf[8];
-      const int size = (t == "double" || t == "float64") ? 8
-                       : (t == "float" || t == "float32" || t == "int" || t == "int32" ||
-                          t == "uint" || t == "uint32") ? 4
-                       : (t == "short" || t == "int16" || t == "ushort" || t == "uint16") ? 2
-                       : (t == "char" || t == "int8" || t == "uchar" || t == "uint8") ? 1 : 0;
-      if (size == 0) return r.fail(0, "unknown PLY property type " + t);
-      if (!in.read(reinterpret_cast<char*>(buf), size))
-        return r.fail(0, "file ends before all vertices are read");
-      const int axis = int(p) == ix ? 0 : int(p) == iy ? 1 : int(p) == iz ? 2 : -1;
-      if (axis < 0) continue;
-      if (size == 8) {
-        std::memcpy(&v[axis], buf, 8);
-      } else if (t == "float" || t == "float32") {
-        float f;
-        std::memcpy(&f, buf, 4);
-        v[axis] = f;
-      } else {
-        return r.fail(0, "coordinates must be float or double");
+  if (vertex_elements == 0) return r.fail(number, "no vertex element");
+  std::vector<long> polygon;
+  for (const PlyElement& e : elements) {
+    const int* axis = e.axis;
+    const int indices = e.indices;
+    for (long k = 0; k < e.count; ++k) {
+      std::istringstream ss;
+      if (ascii) {
+        if (!next()) return r.fail(number, "file ends before all " + e.name + " elements are read");
+        ss.str(line);
       }
-      if (!std::isfinite(v[axis])) return r.fail(0, "vertex " + std::to_string(k) + " is not finite");
+      std::istream& src = ascii ? static_cast<std::istream&>(ss) : in;
+      // One value of `type`: from the line's next token, or from the binary stream.
+      const auto value = [&](int type, bool is_signed, double& out) {
+        if (!ascii) return ply_binary_value(src, type, is_signed, big_endian, out);
+        std::string tok;
+        char* end = nullptr;
+        if (!(src >> tok)) return false;
+        out = std::strtod(tok.c_str(), &end);
+        if (type == -4 && std::isfinite(out)) out = double(float(out));  // as declared
+        return end != tok.c_str() && *end == '\0';
+      };
+      double xyz[3] = {0, 0, 0};
+      for (size_t p = 0; p < e.properties.size(); ++p) {
+        const PlyProperty& q = e.properties[p];
+        double v = 0;
+        long n = 1;
+        if (q.count_type != 0) {
+          if (!value(q.count_type, false, v) || !(v >= 0 && v <= 1e6) || v != std::floor(v))
+            return r.fail(ascii ? number : 0, e.name + " " + std::to_string(k) + ": bad list count");
+          n = long(v);
+        }
+        if (int(p) == indices) polygon.clear();
+        for (long j = 0; j < n; ++j) {
+          if (!value(q.type, q.is_signed, v))
+            return r.fail(ascii ? number : 0, e.name + " " + std::to_string(k) + ": missing or malformed " + q.name);
+          if (!std::isfinite(v))
+            return r.fail(ascii ? number : 0, e.name + " " + std::to_string(k) + ": " + q.name + " is not finite");
+          if (int(p) == indices) {
+            if (q.type < 0 || v != std::floor(v) || std::abs(v) > 1e15)
+              return r.fail(ascii ? number : 0, "face " + std::to_string(k) + ": a vertex index must be an integer");
+            polygon.push_back(long(v));
+          }
+          for (int a = 0; a < 3; ++a)
+            if (q.count_type == 0 && int(p) == axis[a]) xyz[a] = v;
+        }
+      }
+      if (ascii) {
+        std::string extra;
+        if (ss >> extra) return r.fail(number, "more values than the " + e.name + " element's properties");
+      }
+      if (e.name == "vertex") pts.emplace_back(xyz[0], xyz[1], xyz[2]);
+      if (indices >= 0) faces.add(polygon, ascii ? number : 0);
     }
-    pts.emplace_back(v[0], v[1], v[2]);
   }
+  if (ascii ? next() && line.find_first_not_of(" \t") != std::string::npos : in.peek() != EOF)
+    return r.fail(ascii ? number : 0, "more data after the last element");
   return true;
 }
 
 }  // namespace
 
-bool read_points(const std::string& path, std::vector<Vector3d>& points, std::string& error) {
+bool read_polygons(std::istream& in, const std::string& name, std::string format,
+                   std::vector<Vector3d>& points, std::vector<std::array<int, 3>>* triangles,
+                   std::string& error) {
   points.clear();
-  std::ifstream in(path, std::ios::binary);
-  Reader r{path, error};
+  if (triangles) triangles->clear();
+  Reader r{name, error};
   if (!in) return r.fail(0, "cannot open file");
-  std::string ext = lower_extension(path);
-  if (ext != "off" && ext != "obj" && ext != "ply") {  // sniff the content instead
+  if (format != "off" && format != "obj" && format != "ply") {  // sniff the content instead
     std::string first;
     in >> first;
+    in.clear();
     in.seekg(0);
-    ext = first == "OFF" ? "off" : first == "ply" ? "ply" : "txt";
+    format = first == "OFF" ? "off" : first == "ply" ? "ply" : "txt";
   }
-  const bool ok = ext == "off"   ? read_off(in, r, points)
-                  : ext == "obj" ? read_obj(in, r, points)
-                  : ext == "ply" ? read_ply(in, r, points)
-                                 : read_plain(in, r, points);
-  if (ok && points.empty()) return r.fail(0, "no vertices");
-  return ok;
+  Faces faces;
+  const bool ok = format == "off"   ? read_off(in, r, points, faces)
+                  : format == "obj" ? read_obj(in, r, points, faces)
+                  : format == "ply" ? read_ply(in, r, points, faces)
+                                    : read_plain(in, r, points, faces);
+  if (!ok || !faces.finish(r, points.size(), triangles)) return false;
+  if (points.empty()) return r.fail(0, "no vertices");
+  return true;
+}
+
+bool read_points(const std::string& path, std::vector<Vector3d>& points, std::string& error) {
+  std::ifstream in(path, std::ios::binary);
+  return read_polygons(in, path, lower_extension(path), points, nullptr, error);
 }
 
 bool write_mesh(const std::string& path, const MinkowskiSum& sum, std::string& error) {

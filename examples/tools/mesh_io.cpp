@@ -1,4 +1,4 @@
-// Mesh input through assimp; the libcgal-demo fallback reads one member of a .tar.gz with zlib.
+// Mesh input (STL through assimp, the others through the strict reader of io.cpp); the libcgal-demo fallback reads one member of a .tar.gz with zlib.
 #include "tools/mesh_io.hpp"
 
 #include "tools/io.hpp"
@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 namespace minksum::tools {
 
@@ -54,7 +55,7 @@ bool from_scene(const aiScene* scene, Mesh& mesh, std::string& error) {
 }
 
 // No assimp post-processing: its steps abort the process on some malformed files (found by
-// fuzzing), and the formats read here (PLY, OBJ, OFF, STL) have one mesh and no transforms.
+// fuzzing), and an STL file has one mesh and no transforms.
 // Polygons are fanned above; vertices are kept as they are (no welding), so a mesh's own
 // unused or duplicated vertices pass through unchanged.
 constexpr unsigned kFlags = 0;
@@ -81,28 +82,38 @@ class ErrorLog : public Assimp::LogStream {
 }  // namespace
 
 bool read_mesh(const std::string& path, Mesh& mesh, std::string& error) {
-  // Every file but STL goes through the strict vertex reader first (it knows OFF, OBJ and PLY,
-  // by extension or content): assimp hangs or aborts on some malformed files (found by
-  // fuzzing), and it gives no line numbers. An STL file must be shaped like one.
+  // OFF, OBJ and PLY go through the strict reader (by extension, else by content): assimp
+  // 5.2.5 crashes, hangs or aborts on some malformed OFF and PLY files (found by fuzzing) and
+  // gives no line numbers. STL goes to assimp once it is shaped like an STL file.
+  mesh = Mesh{};
   std::string ext = std::filesystem::path(path).extension().string();
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  if (ext == ".stl") {
-    std::ifstream in(path, std::ios::binary);
-    char head[84] = {};
-    in.read(head, 84);
-    const auto got = in.gcount();
-    in.seekg(0, std::ios::end);
-    const auto bytes = static_cast<long long>(in.tellg());
-    uint32_t n = 0;
-    std::memcpy(&n, head + 80, 4);
-    const bool binary = got == 84 && bytes == 84 + 50LL * n;
-    if (!binary && std::string(head, size_t(std::max<std::streamsize>(got, 0))).rfind("solid", 0) != 0) {
-      error = path + ": not an STL file (neither \"solid\" nor 84 + 50 n bytes)";
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    error = path + ": cannot open file";
+    return false;
+  }
+  if (ext != ".stl") {
+    if (!read_polygons(in, path, ext.empty() ? ext : ext.substr(1), mesh.vertices, &mesh.triangles, error))
+      return false;
+    if (mesh.triangles.empty()) {
+      error = path + ": no triangles in the file";
       return false;
     }
-  } else {
-    std::vector<Eigen::Vector3d> points;
-    if (!read_points(path, points, error)) return false;
+    return true;
+  }
+  char head[84] = {};
+  in.read(head, 84);
+  const auto got = in.gcount();
+  in.clear();
+  in.seekg(0, std::ios::end);
+  const auto bytes = static_cast<long long>(in.tellg());
+  uint32_t n = 0;
+  std::memcpy(&n, head + 80, 4);
+  const bool binary = got == 84 && bytes == 84 + 50LL * n;
+  if (!binary && std::string(head, size_t(std::max<std::streamsize>(got, 0))).rfind("solid", 0) != 0) {
+    error = path + ": not an STL file (neither \"solid\" nor 84 + 50 n bytes)";
+    return false;
   }
   Assimp::Importer importer;
   ErrorLog log;
@@ -116,17 +127,6 @@ bool read_mesh(const std::string& path, Mesh& mesh, std::string& error) {
     return false;
   }
   return true;
-}
-
-bool read_mesh_from_memory(const std::string& data, const char* hint, Mesh& mesh,
-                           std::string& error) {
-  Assimp::Importer importer;
-  const aiScene* scene = importer.ReadFileFromMemory(data.data(), data.size(), kFlags, hint);
-  if (!scene) {
-    error = importer.GetErrorString();
-    return false;
-  }
-  return from_scene(scene, mesh, error);
 }
 
 namespace {
@@ -228,7 +228,10 @@ Mesh demo_mesh(const std::string& name, std::string& source) {
   }
   const std::string archive = "/usr/share/doc/libcgal-dev/data.tar.gz";
   std::string off;
-  if (tar_member(archive, "data/meshes/bunny00.off", off) && read_mesh_from_memory(off, "off", mesh, error)) {
+  std::istringstream off_stream;
+  if (tar_member(archive, "data/meshes/bunny00.off", off) && (off_stream.str(off), true) &&
+      read_polygons(off_stream, archive, "off", mesh.vertices, &mesh.triangles, error) &&
+      !mesh.triangles.empty()) {
     source = archive + ":data/meshes/bunny00.off";
     return mesh;
   }

@@ -1,4 +1,4 @@
-// Triangle-mesh input of the command-line tools, through assimp (the library takes arrays).
+// Triangle-mesh input of the command-line tools, STL through assimp (the library takes arrays).
 #pragma once
 
 #include <minksum/mesh.hpp>
@@ -14,13 +14,10 @@ struct Mesh {
   std::vector<std::array<int, 3>> triangles;  ///< vertex indices
 };
 
-/// Reads a PLY, OBJ, OFF or STL mesh (polygons are triangulated; points and lines dropped).
+/// Reads a PLY, OBJ, OFF or STL mesh (polygons are triangulated; points and lines dropped;
+/// vertices kept as they are: no welding). STL is read by assimp, the others by read_polygons.
 /// On failure returns false and sets `error` to "path: what is wrong".
 bool read_mesh(const std::string& path, Mesh& mesh, std::string& error);
-
-/// Reads a mesh from memory; `hint` is the format's file extension ("off", "ply", ...).
-bool read_mesh_from_memory(const std::string& data, const char* hint, Mesh& mesh,
-                           std::string& error);
 
 /// The demo mesh: `name` in ../shared/data (searched from the working directory up), else
 /// data/meshes/bunny00.off from Debian's libcgal-demo (its data.tar.gz), else a generated

@@ -1,6 +1,6 @@
 // The file readers on arbitrary bytes, through a file as the CLI reads them: the vertex-file
-// reader (OFF, OBJ, PLY, text) and the mesh loader (PLY, OBJ, OFF, STL: assimp, after the
-// vertex reader's checks for the first three),
+// reader (OFF, OBJ, PLY, text) and the mesh loader (PLY, OBJ, OFF: the strict reader; STL:
+// assimp after a shape check),
 // each followed by what the CLI does next (a hull; an octree and a distance query). Either a
 // clear error or a result without NaN.
 #include "fuzz_common.hpp"
