@@ -3,7 +3,9 @@
 // poses (random rotation; centres 0.10 to 0.30 apart along a random direction, i.e. from
 // overlapping through near contact to about two bunny lengths apart). Each iteration is one
 // query; counters give the median per query and minksum's culling. MeshBuild/<mesh> times one
-// octree build.
+// octree build. MeshDistance/concentric_spheres/* is the octree's worst case: a sphere of 6,240
+// triangles inside one of radius 1/0.9 times its own, nearly concentric (random rotation, centre
+// offsets up to 1e-3), so that every triangle is about as near as any; max_us is its worst query.
 #include <benchmark/benchmark.h>
 #include <minksum/minksum.hpp>
 
@@ -35,43 +37,60 @@ const tools::Mesh& mesh(const std::string& name) {
   static std::map<std::string, tools::Mesh> cache;
   if (!cache.count(name)) {
     std::string source;
-    cache[name] = tools::demo_mesh(name, source);
+    cache[name] = name == "sphere_outer" ? tools::sphere_mesh(1.0, 40)
+                  : name == "sphere_inner" ? tools::sphere_mesh(0.9, 40)
+                                           : tools::demo_mesh(name, source);
   }
   return cache[name];
 }
 
-void report_median(benchmark::State& state, std::vector<double>& us) {
-  std::nth_element(us.begin(), us.begin() + us.size() / 2, us.end());
-  state.counters["median_us"] = us[us.size() / 2];
+// A scene: mesh A, mesh B and B's poses.
+struct Scene {
+  std::string a, b;
+};
+
+std::vector<Pose> poses_of(const Scene& scene) {
+  std::vector<Pose> poses = bench_poses();
+  if (scene.a == "sphere_outer")
+    for (Pose& p : poses) p.translation *= 1e-3 / 0.3;  // nearly concentric
+  return poses;
 }
 
-void Minksum(benchmark::State& state, std::string name) {
-  const tools::Mesh& m = mesh(name);
-  Octree A;
-  build_octree(m.vertices, m.triangles, A);
+void report_median(benchmark::State& state, std::vector<double>& us) {
+  std::sort(us.begin(), us.end());
+  state.counters["median_us"] = us[us.size() / 2];
+  state.counters["max_us"] = us.back();
+}
+
+void Minksum(benchmark::State& state, Scene scene) {
+  const tools::Mesh &ma = mesh(scene.a), &mb = mesh(scene.b);
+  Octree A, B;
+  build_octree(ma.vertices, ma.triangles, A);
+  build_octree(mb.vertices, mb.triangles, B);
   MeshWorkspace ws;
-  make_workspace(A, A, ws);
-  const auto poses = bench_poses();
+  make_workspace(A, B, ws);
+  const auto poses = poses_of(scene);
   std::vector<double> us;
-  double culled = 100, node_pairs = 0;
+  double culled = 100, node_pairs = 0, triangle_pairs = 0;
   size_t k = 0;
   for (auto _ : state) {
     MeshDistance d;
     const auto t0 = std::chrono::steady_clock::now();
-    mesh_distance(A, A, poses[k++ % poses.size()], ws, d);
+    mesh_distance(A, B, poses[k++ % poses.size()], ws, d);
     us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
     culled = std::min({culled, d.culled_percent_a, d.culled_percent_b});
-    node_pairs += double(d.node_pairs);
+    node_pairs += double(d.node_pairs), triangle_pairs += double(d.triangle_pairs);
   }
   report_median(state, us);
   state.counters["min_culled_pct"] = culled;
   state.counters["node_pairs"] = node_pairs / double(us.size());
+  state.counters["triangle_pairs"] = triangle_pairs / double(us.size());
 }
 
-void Fcl(benchmark::State& state, std::string name) {
-  const tools::Mesh& m = mesh(name);
-  peers::FclMeshPair fcl(m.vertices, m.triangles, m.vertices, m.triangles);
-  const auto poses = bench_poses();
+void Fcl(benchmark::State& state, Scene scene) {
+  const tools::Mesh &ma = mesh(scene.a), &mb = mesh(scene.b);
+  peers::FclMeshPair fcl(ma.vertices, ma.triangles, mb.vertices, mb.triangles);
+  const auto poses = poses_of(scene);
   std::vector<double> us;
   size_t k = 0;
   for (auto _ : state) {
@@ -92,11 +111,13 @@ void Build(benchmark::State& state, std::string name) {
 }
 
 const int kRegistered = [] {
-  for (auto [label, file] : {std::pair{"bunny_res2", "bun_zipper_res2.ply"}, std::pair{"bunny_full", "bun_zipper.ply"}}) {
+  for (auto [label, file] : {std::pair{"bunny_res2", "bun_zipper_res2.ply"}, std::pair{"bunny_full", "bun_zipper.ply"},
+                             std::pair{"concentric_spheres", "sphere_outer"}}) {
     const std::string base = std::string("MeshDistance/") + label + "/";
+    const Scene scene{file, label == std::string("concentric_spheres") ? "sphere_inner" : file};
     // At least the 100 poses once each.
-    benchmark::RegisterBenchmark((base + "minksum").c_str(), Minksum, file)->Unit(benchmark::kMicrosecond)->Iterations(300);
-    benchmark::RegisterBenchmark((base + "fcl_obbrss").c_str(), Fcl, file)->Unit(benchmark::kMicrosecond)->Iterations(300);
+    benchmark::RegisterBenchmark((base + "minksum").c_str(), Minksum, scene)->Unit(benchmark::kMicrosecond)->Iterations(300);
+    benchmark::RegisterBenchmark((base + "fcl_obbrss").c_str(), Fcl, scene)->Unit(benchmark::kMicrosecond)->Iterations(300);
     benchmark::RegisterBenchmark((std::string("MeshBuild/") + label).c_str(), Build, file)->Unit(benchmark::kMillisecond);
   }
   return 0;

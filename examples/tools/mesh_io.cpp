@@ -173,6 +173,29 @@ Mesh torus() {
 
 }  // namespace
 
+Mesh sphere_mesh(double radius, int rings) {
+  Mesh m;
+  const int n = rings, around = 2 * rings;
+  m.vertices.emplace_back(0, 0, radius);
+  for (int i = 1; i < n; ++i)
+    for (int j = 0; j < around; ++j) {
+      const double th = M_PI * i / n, ph = 2 * M_PI * j / around;
+      m.vertices.emplace_back(radius * std::sin(th) * std::cos(ph), radius * std::sin(th) * std::sin(ph), radius * std::cos(th));
+    }
+  m.vertices.emplace_back(0, 0, -radius);
+  const int south = int(m.vertices.size()) - 1;
+  const auto at = [&](int ring, int j) { return 1 + (ring - 1) * around + (j % around); };
+  for (int j = 0; j < around; ++j) {
+    m.triangles.push_back({0, at(1, j), at(1, j + 1)});
+    m.triangles.push_back({south, at(n - 1, j + 1), at(n - 1, j)});
+    for (int i = 1; i + 1 < n; ++i) {
+      m.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      m.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  }
+  return m;
+}
+
 MeshDistance brute_distance(const Mesh& a, const Mesh& b, const Pose& pose) {
   using Eigen::Vector3d;
   std::vector<Vector3d> moved;

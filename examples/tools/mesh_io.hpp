@@ -24,6 +24,10 @@ bool read_mesh(const std::string& path, Mesh& mesh, std::string& error);
 /// torus. `source` says which one was used.
 Mesh demo_mesh(const std::string& name, std::string& source);
 
+/// A UV sphere about the origin: a vertex at each pole, rings - 1 circles of 2 rings vertices,
+/// 4 rings (rings - 1) triangles.
+Mesh sphere_mesh(double radius, int rings);
+
 /// All-pairs triangle distance (for checking mesh_distance): every pair is enumerated, a pair
 /// is skipped only if its bounding spheres are already farther apart than the best distance.
 MeshDistance brute_distance(const Mesh& a, const Mesh& b, const Pose& pose);
