@@ -37,6 +37,25 @@ FclPair::FclPair(const Box& a, const Box& b) : impl_(std::make_unique<Impl>()) {
   impl_->b = std::make_unique<fcl::CollisionObjectd>(impl_->gb, pose(b));
 }
 
+namespace {
+std::shared_ptr<fcl::TriangleP<double>> triangle(const Triangle& t) {
+  return std::make_shared<fcl::TriangleP<double>>(t.a, t.b, t.c);
+}
+}  // namespace
+
+FclPair::FclPair(const Box& a, const Triangle& b) : impl_(std::make_unique<Impl>()) {
+  impl_->ga = std::make_shared<fcl::Boxd>(2 * a.half_extents);
+  impl_->gb = triangle(b);
+  impl_->a = std::make_unique<fcl::CollisionObjectd>(impl_->ga, pose(a));
+  impl_->b = std::make_unique<fcl::CollisionObjectd>(impl_->gb);
+}
+
+FclPair::FclPair(const Triangle& a, const Triangle& b) : impl_(std::make_unique<Impl>()) {
+  impl_->ga = triangle(a), impl_->gb = triangle(b);
+  impl_->a = std::make_unique<fcl::CollisionObjectd>(impl_->ga);
+  impl_->b = std::make_unique<fcl::CollisionObjectd>(impl_->gb);
+}
+
 FclPair::FclPair(const ConvexPolytope& a, const ConvexPolytope& b) : impl_(std::make_unique<Impl>()) {
   impl_->ga = convex(a);
   impl_->gb = convex(b);

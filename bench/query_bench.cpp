@@ -1,5 +1,7 @@
 // Queries against FCL 0.7 on the same seeded poses: BoxBoxDistance/<method>,
-// BoxBoxPenetration/<method>, PolytopeDistance/<pair>/<method>. Distance runs use 256 box pairs,
+// BoxBoxPenetration/<method>, BoxTriangleDistance/<method>, TriangleTriangleDistance/<method>
+// (every other pair overlapping; minksum answers penetration there, FCL's distance call only
+// reports the collision), PolytopeDistance/<pair>/<method>. Distance runs use 256 box pairs,
 // half of them overlapping; penetration runs use overlapping pairs only.
 #include <benchmark/benchmark.h>
 #include <minksum/minksum.hpp>
@@ -111,6 +113,45 @@ void BoxSeparationBatch(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * 1024);
 }
 
+// Seeded box-triangle (or, with two_triangles, triangle-triangle) pairs, every other one
+// overlapping; 256 of them, each with its FCL pair built once.
+struct SmallPairs {
+  std::vector<Box> boxes;
+  std::vector<Triangle> s, t;
+  std::vector<std::unique_ptr<peers::FclPair>> fcl;
+};
+
+SmallPairs small_pairs(bool two_triangles) {
+  std::mt19937_64 rng(43);
+  SmallPairs out;
+  while (out.t.size() < 256) {
+    const Box box = tools::random_box(rng, 1.5);
+    const Triangle s = tools::random_triangle(rng, 1.2), t = tools::random_triangle(rng, 1.2);
+    Proximity p;
+    if ((two_triangles ? proximity(s, t, p) : proximity(box, t, p)) != Status::Ok) continue;
+    if (p.intersecting != (out.t.size() % 2 == 0)) continue;
+    out.boxes.push_back(box), out.s.push_back(s), out.t.push_back(t);
+    out.fcl.push_back(two_triangles ? std::make_unique<peers::FclPair>(s, t) : std::make_unique<peers::FclPair>(box, t));
+  }
+  return out;
+}
+
+void SmallDistance(benchmark::State& state, bool two_triangles, bool fcl) {
+  const SmallPairs ps = small_pairs(two_triangles);
+  Proximity p;
+  size_t k = 0;
+  for (auto _ : state) {
+    const size_t i = k++ & 255;
+    if (fcl) {
+      benchmark::DoNotOptimize(ps.fcl[i]->distance(peers::FclSolver::Gjk));
+    } else {
+      if (two_triangles) proximity(ps.s[i], ps.t[i], p);
+      else proximity(ps.boxes[i], ps.t[i], p);
+      benchmark::DoNotOptimize(p.distance);
+    }
+  }
+}
+
 void PolytopeDistance(benchmark::State& state, int row, bool fcl) {
   const auto pair = tools::table1_pairs()[row];
   ConvexPolytope A, B;
@@ -139,6 +180,10 @@ const int kRegistered = [] {
   benchmark::RegisterBenchmark("BoxBoxSeparation/minksum_batch", BoxSeparationBatch);
   benchmark::RegisterBenchmark("BoxBoxPenetration/minksum", BoxPenetrationMinksum);
   benchmark::RegisterBenchmark("BoxBoxPenetration/fcl_gjk", BoxPenetrationFcl);
+  benchmark::RegisterBenchmark("BoxTriangleDistance/minksum", SmallDistance, false, false);
+  benchmark::RegisterBenchmark("BoxTriangleDistance/fcl_gjk", SmallDistance, false, true);
+  benchmark::RegisterBenchmark("TriangleTriangleDistance/minksum", SmallDistance, true, false);
+  benchmark::RegisterBenchmark("TriangleTriangleDistance/fcl_gjk", SmallDistance, true, true);
   const auto pairs = tools::table1_pairs();
   for (int row = 0; row < int(pairs.size()); ++row) {
     const std::string base = "PolytopeDistance/" + pairs[row].name + "/";

@@ -37,19 +37,21 @@ constexpr double kFlatTol = 1e-10;
 constexpr double kLineTol = 1e-12;
 
 // NonFinite for NaN/Inf, OutOfRange beyond kMaxCoordinate, else Ok.
-Status check_coordinates(const std::vector<Vector3d>& pts) {
-  for (const auto& p : pts)
-    if (!p.allFinite()) return Status::NonFinite;
-  for (const auto& p : pts)
-    if (!(p.cwiseAbs().maxCoeff() <= kMaxCoordinate)) return Status::OutOfRange;
+Status check_coordinates(const Vector3d* pts, size_t n) {
+  for (size_t k = 0; k < n; ++k)
+    if (!pts[k].allFinite()) return Status::NonFinite;
+  for (size_t k = 0; k < n; ++k)
+    if (!(pts[k].cwiseAbs().maxCoeff() <= kMaxCoordinate)) return Status::OutOfRange;
   return Status::Ok;
 }
+Status check_coordinates(const std::vector<Vector3d>& pts) { return check_coordinates(pts.data(), pts.size()); }
 
-double diagonal(const std::vector<Vector3d>& pts) {
+double diagonal(const Vector3d* pts, size_t n) {
   Vector3d lo = pts[0], hi = pts[0];
-  for (const auto& p : pts) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  for (size_t k = 0; k < n; ++k) lo = lo.cwiseMin(pts[k]), hi = hi.cwiseMax(pts[k]);
   return (hi - lo).norm();
 }
+double diagonal(const std::vector<Vector3d>& pts) { return diagonal(pts.data(), pts.size()); }
 
 // Fills `edges` from the face loops; false unless every directed edge has exactly one twin.
 bool edges_from_loops(ConvexPolytope& p) {
@@ -265,15 +267,19 @@ Status polytope_from_box(const Box& box, ConvexPolytope& out) {
   return edges_from_loops(out) ? Status::Ok : Status::InvalidBox;
 }
 
+Status check_triangle(const Triangle& t) {
+  const Vector3d pts[3] = {t.a, t.b, t.c};
+  if (const Status s = check_coordinates(pts, 3); s != Status::Ok) return s;
+  if (t.a == t.b || t.b == t.c || t.a == t.c) return Status::TooFewPoints;
+  const double D = diagonal(pts, 3);
+  if ((t.b - t.a).cross(t.c - t.a).norm() <= kLineTol * D * D) return Status::Collinear;
+  return Status::Ok;
+}
+
 Status polytope_from_triangle(const Triangle& t, ConvexPolytope& out) {
   out = ConvexPolytope{};
-  const std::vector<Vector3d> pts = {t.a, t.b, t.c};
-  if (const Status s = check_coordinates(pts); s != Status::Ok) return s;
-  if (t.a == t.b || t.b == t.c || t.a == t.c) return Status::TooFewPoints;
-  const Vector3d n = (t.b - t.a).cross(t.c - t.a);
-  const double D = diagonal(pts);
-  if (n.norm() <= kLineTol * D * D) return Status::Collinear;
-  return make_flat(pts, {0, 1, 2}, n.normalized(), out);
+  if (const Status s = check_triangle(t); s != Status::Ok) return s;
+  return make_flat({t.a, t.b, t.c}, {0, 1, 2}, (t.b - t.a).cross(t.c - t.a).normalized(), out);
 }
 
 double support(const ConvexPolytope& p, const Vector3d& n, int* argmax) {

@@ -6,6 +6,7 @@
 
 
 #include <minksum/kernels.hpp>
+#include <minksum/mesh.hpp>
 
 #include "box_pair.hpp"
 
@@ -261,18 +262,165 @@ Status proximity(const Box& a, const Box& b, Proximity& out, Want want) {
   return Status::Ok;
 }
 
+namespace {
+
+// Box-triangle and triangle-triangle proximity without building A (-) B, so without allocation
+// (a haptics tick may call them). A shape is read through fixed arrays: its vertices, its
+// surface as triangles, the normals of its faces and the directions of its edges.
+struct SmallShape {
+  Vector3d v[8];
+  int nv = 0;
+  int tri[12][3];
+  int nt = 0;
+  Vector3d out_normal[12];  // a box's surface triangles: outward normal and offset
+  double offset[12];
+  Vector3d normal[3], edge[3];  // box: its axes for both; triangle: its normal, its edges
+  int nn = 0, ne = 0;
+  const Box* box = nullptr;     // a solid box can contain a point; a triangle cannot
+};
+
+SmallShape shape_of(const Box& b) {
+  SmallShape s;
+  s.nv = 8;
+  for (int k = 0; k < 8; ++k) s.v[k] = box_corner(b, k);
+  // Each face as two triangles: the face of axis a on side `side` holds the corners whose bit a
+  // is `side`; the other two bits run around it.
+  for (int a = 0, t = 0; a < 3; ++a)
+    for (int side = 0; side < 2; ++side, t += 2) {
+      const int u = 1 << ((a + 1) % 3), w = 1 << ((a + 2) % 3), base = side << a;
+      s.tri[t][0] = base, s.tri[t][1] = base | u, s.tri[t][2] = base | u | w;
+      s.tri[t + 1][0] = base, s.tri[t + 1][1] = base | u | w, s.tri[t + 1][2] = base | w;
+      s.out_normal[t] = s.out_normal[t + 1] = (side ? 1.0 : -1.0) * b.rotation.col(a);
+      s.offset[t] = s.offset[t + 1] = s.out_normal[t].dot(s.v[base]);
+    }
+  s.nt = 12;
+  for (int a = 0; a < 3; ++a) s.normal[a] = s.edge[a] = b.rotation.col(a);
+  s.nn = s.ne = 3;
+  s.box = &b;
+  return s;
+}
+
+SmallShape shape_of(const Triangle& t) {
+  SmallShape s;
+  s.v[0] = t.a, s.v[1] = t.b, s.v[2] = t.c;
+  s.nv = 3;
+  s.tri[0][0] = 0, s.tri[0][1] = 1, s.tri[0][2] = 2;
+  s.nt = 1;
+  s.normal[0] = (t.b - t.a).cross(t.c - t.a).normalized();
+  s.nn = 1;
+  s.edge[0] = t.b - t.a, s.edge[1] = t.c - t.b, s.edge[2] = t.a - t.c;
+  s.ne = 3;
+  return s;
+}
+
+bool inside(const SmallShape& s, const Vector3d& p) {
+  if (!s.box) return false;
+  const Vector3d local = s.box->rotation.transpose() * (p - s.box->center);
+  return (local.cwiseAbs() - s.box->half_extents).maxCoeff() <= 0;
+}
+
+// The nearest points of A's and (B + shift)'s surfaces, over the pairs of surface triangles
+// (triangle_distance is exact and robust for near-parallel pairs). A box face with all of B
+// behind its plane (by more than `margin`) is skipped: the nearest point of a solid box to a
+// point outside it lies on a face that has the point in front. Infinity if all are skipped
+// (B inside the box).
+double surface_distance(const SmallShape& a, const SmallShape& b, const Vector3d& shift,
+                        double margin, Vector3d& pa, Vector3d& pb) {
+  double best = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < a.nt; ++i) {
+    if (a.box) {
+      double front = -std::numeric_limits<double>::infinity();
+      for (int k = 0; k < b.nv; ++k) front = std::max(front, a.out_normal[i].dot(b.v[k] + shift) - a.offset[i]);
+      if (front < -margin) continue;
+    }
+    const Vector3d s[3] = {a.v[a.tri[i][0]], a.v[a.tri[i][1]], a.v[a.tri[i][2]]};
+    for (int j = 0; j < b.nt; ++j) {
+      const Vector3d t[3] = {b.v[b.tri[j][0]] + shift, b.v[b.tri[j][1]] + shift, b.v[b.tri[j][2]] + shift};
+      Vector3d p, q;
+      const double d = triangle_distance(s, t, p, q);
+      if (d < best) best = d, pa = p, pb = q;
+    }
+  }
+  return best;
+}
+
+// h_M(n) = max_a n.a - min_b n.b for n and for -n.
+void support_pair(const SmallShape& a, const SmallShape& b, const Vector3d& n, double& plus, double& minus) {
+  double amax = -std::numeric_limits<double>::infinity(), amin = -amax, bmax = amax, bmin = amin;
+  for (int k = 0; k < a.nv; ++k) {
+    const double x = n.dot(a.v[k]);
+    amax = std::max(amax, x), amin = std::min(amin, x);
+  }
+  for (int k = 0; k < b.nv; ++k) {
+    const double x = n.dot(b.v[k]);
+    bmax = std::max(bmax, x), bmin = std::min(bmin, x);
+  }
+  plus = amax - bmin, minus = bmax - amin;
+}
+
+// Exact proximity of two small shapes. Distance: the nearest pair of surface triangles, or 0 if
+// the surfaces meet (within rounding of the coordinates) or one shape holds the other.
+// Penetration: every facet normal of M = A (-) B is a face normal of A or B or a cross product
+// of an edge of each (the Gauss map), and h_M(n) >= depth for every unit n, so the least h_M
+// over those candidates (both signs) is the depth; the deepest points are the nearest points of
+// A and of B moved by depth * n, where they touch.
+void small_proximity(const SmallShape& a, const SmallShape& b, Proximity& out) {
+  out = Proximity{};
+  double size = 0;
+  for (int i = 0; i < a.nv; ++i)
+    for (int j = 0; j < b.nv; ++j) {
+      const double d = (a.v[i] - b.v[j]).norm();
+      if (d > out.max_distance) out.max_distance = d, out.far_a = a.v[i], out.far_b = b.v[j];
+      size = std::max(size, (a.v[i] - b.v[j]).cwiseAbs().maxCoeff());
+    }
+  const double tol = 64 * std::numeric_limits<double>::epsilon() * size;
+  const double best = surface_distance(a, b, Vector3d::Zero(), 1e-9 * size, out.point_a, out.point_b);
+  if (best > tol && !inside(a, b.v[0]) && !inside(b, a.v[0])) {
+    out.distance = best;
+    return;
+  }
+  out.intersecting = true;
+  double depth = std::numeric_limits<double>::infinity();
+  Vector3d dir = Vector3d::UnitZ();
+  const auto consider = [&](const Vector3d& n) {
+    double plus, minus;
+    support_pair(a, b, n, plus, minus);
+    if (plus < depth) depth = plus, dir = n;
+    if (minus < depth) depth = minus, dir = -n;
+  };
+  for (int k = 0; k < a.nn; ++k) consider(a.normal[k]);
+  for (int k = 0; k < b.nn; ++k) consider(b.normal[k]);
+  for (int i = 0; i < a.ne; ++i)
+    for (int j = 0; j < b.ne; ++j) {
+      const Vector3d c = a.edge[i].cross(b.edge[j]);
+      const double len = c.norm();
+      if (len > 0 && std::isfinite(len)) consider(c / len);
+    }
+  out.penetration_depth = std::max(0.0, depth);
+  out.penetration_direction = dir;
+  if (out.penetration_depth > 0) {
+    const Vector3d shift = out.penetration_depth * dir;
+    surface_distance(a, b, shift, 1e-9 * size, out.point_a, out.point_b);
+    out.point_b -= shift;
+  }
+}
+
+}  // namespace
+
 Status proximity(const Box& a, const Triangle& b, Proximity& out) {
-  ConvexPolytope pa, pb;
-  Status s = polytope_from_box(a, pa);
-  if (s == Status::Ok) s = polytope_from_triangle(b, pb);
-  return s == Status::Ok ? proximity(pa, pb, out) : s;
+  out = Proximity{};
+  if (const Status s = check_box(a); s != Status::Ok) return s;
+  if (const Status s = check_triangle(b); s != Status::Ok) return s;
+  small_proximity(shape_of(a), shape_of(b), out);
+  return Status::Ok;
 }
 
 Status proximity(const Triangle& a, const Triangle& b, Proximity& out) {
-  ConvexPolytope pa, pb;
-  Status s = polytope_from_triangle(a, pa);
-  if (s == Status::Ok) s = polytope_from_triangle(b, pb);
-  return s == Status::Ok ? proximity(pa, pb, out) : s;
+  out = Proximity{};
+  for (const Triangle* t : {&a, &b})
+    if (const Status s = check_triangle(*t); s != Status::Ok) return s;
+  small_proximity(shape_of(a), shape_of(b), out);
+  return Status::Ok;
 }
 
 }  // namespace minksum

@@ -111,6 +111,64 @@ TEST_P(RandomQueries, PolytopePolytopeAgreesWithBruteForce) {
 
 INSTANTIATE_TEST_SUITE_P(Shards, RandomQueries, testing::Range(0, 10));
 
+// The allocation-free box-triangle and triangle-triangle paths against the general path, a
+// different algorithm (the origin's Voronoi region on the polytope A (-) B): random pairs, and
+// pairs made hard on purpose (a triangle in a box face's plane, inside the box, coplanar
+// triangles, near-parallel ones, far from the origin).
+TEST(SmallShapes, AgreeWithTheGeneralPath) {
+  std::mt19937_64 rng(77);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const auto agree = [](const Proximity& got, const Proximity& want, double size, const std::string& what) {
+    const double tol = 1e-9 * size;
+    if (want.distance > tol || want.penetration_depth > tol) ASSERT_EQ(got.intersecting, want.intersecting) << what;
+    EXPECT_NEAR(got.distance, want.distance, tol) << what;
+    EXPECT_NEAR(got.penetration_depth, want.penetration_depth, tol) << what;
+    EXPECT_NEAR(got.max_distance, want.max_distance, tol) << what;
+  };
+  int overlapping = 0;
+  for (int k = 0; k < test::scaled(20000); ++k) {
+    const double scale = k % 5 == 4 ? 1e6 : 1;
+    const Vector3d offset = k % 5 == 4 ? Vector3d(3e6, -2e6, 1e6) : Vector3d::Zero();
+    Box box = tools::random_box(rng, 1.5);
+    box.center = scale * box.center + offset, box.half_extents *= scale;
+    Triangle t = tools::random_triangle(rng, 1.5), s = tools::random_triangle(rng, 1.5);
+    for (Triangle* x : {&t, &s}) x->a = scale * x->a + offset, x->b = scale * x->b + offset, x->c = scale * x->c + offset;
+    if (k % 7 == 1) {  // t in the plane of the box's +x face
+      const Vector3d n = box.rotation.col(0), p = box.center + box.half_extents[0] * n;
+      for (Vector3d* c : {&t.a, &t.b, &t.c}) *c -= n.dot(*c - p) * n;
+    }
+    if (k % 7 == 2) {  // t inside the box
+      const Vector3d* c[3] = {&t.a, &t.b, &t.c};
+      for (int i = 0; i < 3; ++i)
+        *const_cast<Vector3d*>(c[i]) = box.center + box.rotation * (0.5 * box.half_extents.cwiseProduct(Vector3d(u(rng), u(rng), u(rng))));
+    }
+    if (k % 7 == 3) {  // s coplanar with t
+      const Vector3d n = (t.b - t.a).cross(t.c - t.a).normalized();
+      for (Vector3d* c : {&s.a, &s.b, &s.c}) *c -= n.dot(*c - t.a) * n;
+    }
+    if (k % 7 == 4) {  // s nearly parallel to t, 1e-3 above it
+      const Vector3d n = (t.b - t.a).cross(t.c - t.a).normalized();
+      for (Vector3d* c : {&s.a, &s.b, &s.c}) *c -= (n.dot(*c - t.a) - 1e-3 * scale * (1 + 1e-9 * u(rng))) * n;
+    }
+    if (check_triangle(t) != Status::Ok || check_triangle(s) != Status::Ok) continue;
+    ConvexPolytope B, T, S;
+    ASSERT_EQ(polytope_from_box(box, B), Status::Ok);
+    ASSERT_EQ(polytope_from_triangle(t, T), Status::Ok);
+    ASSERT_EQ(polytope_from_triangle(s, S), Status::Ok);
+    const double size = scale * 4 + offset.norm();
+    Proximity got, want;
+    ASSERT_EQ(proximity(box, t, got), Status::Ok);
+    ASSERT_EQ(proximity(B, T, want), Status::Ok);
+    agree(got, want, size, "box-triangle " + std::to_string(k));
+    overlapping += got.intersecting;
+    ASSERT_EQ(proximity(t, s, got), Status::Ok);
+    ASSERT_EQ(proximity(T, S, want), Status::Ok);
+    agree(got, want, size, "triangle-triangle " + std::to_string(k));
+    if (testing::Test::HasFailure()) return;
+  }
+  EXPECT_GT(overlapping, test::scaled(20000) / 10);
+}
+
 // --- Hard cases -----------------------------------------------------------------------------
 
 Box box_at(const Vector3d& c, const Vector3d& h = Vector3d::Ones(),

@@ -79,6 +79,10 @@ Status polytope_from_mesh(const std::vector<Eigen::Vector3d>& vertices,
 /// (to 1e-9).
 Status check_box(const Box& box);
 
+/// Ok for a valid triangle: finite, coordinates within kMaxCoordinate, three distinct corners
+/// (TooFewPoints) that are not collinear (Collinear, 1e-12 of its diagonal).
+Status check_triangle(const Triangle& t);
+
 /// Corner `code` of the box: bit a of code set means the +h_a side of axis a.
 Eigen::Vector3d box_corner(const Box& box, int code);
 
