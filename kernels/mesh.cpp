@@ -288,6 +288,8 @@ void make_workspace(const Octree& a, const Octree& b, MeshWorkspace& ws) {
   ws.seen_b.assign(b.triangles.size(), 0);
   for (auto* v : {&ws.near_b, &ws.hits}) v->assign(size_t(b.max_leaf), 0);
   for (auto* v : {&ws.near_x, &ws.near_y, &ws.near_z, &ws.near_r}) v->assign(size_t(b.max_leaf), 0.0);
+  ws.near_corners.assign(size_t(3 * b.max_leaf), Vector3d::Zero());
+  ws.near_normal.assign(size_t(b.max_leaf), Vector3d::Zero());
   ws.parts.assign(size_t(8 * kMaxContactTriangles), Vector3d::Zero());
   ws.part_start.assign(size_t(kMaxContactTriangles + 1), 0);
   ws.stamp = 0;
@@ -302,7 +304,8 @@ Status mesh_distance(const Octree& a, const Octree& b, const Pose& pose, MeshWor
   if (a.nodes.empty() || b.nodes.empty()) return Status::TooFewPoints;
   if (ws.seen_a.size() != a.triangles.size() || ws.seen_b.size() != b.triangles.size() ||
       ws.moved.size() != b.vertices.size() || ws.center_stamp.size() != b.triangles.size() ||
-      ws.hits.size() < size_t(b.max_leaf) || ws.near_r.size() < size_t(b.max_leaf) || ws.stack.size() < size_t(8 * (a.depth + b.depth) + 16))
+      ws.hits.size() < size_t(b.max_leaf) || ws.near_r.size() < size_t(b.max_leaf) ||
+      ws.near_normal.size() < size_t(b.max_leaf) || ws.near_corners.size() < size_t(3 * b.max_leaf) || ws.stack.size() < size_t(8 * (a.depth + b.depth) + 16))
     return Status::InvalidMesh;  // a workspace made for other octrees
   if (++ws.stamp == 0) {  // stamps wrapped: forget every old mark
     std::fill(ws.moved_stamp.begin(), ws.moved_stamp.end(), 0u);
@@ -373,6 +376,10 @@ Status mesh_distance(const Octree& a, const Octree& b, const Pose& pose, MeshWor
           ws.center_stamp[tb] = ws.stamp, ws.moved_center[tb] = R * b.spheres[tb].head<3>() + t;
         const Vector3d& c = ws.moved_center[tb];
         if (!sphere_near(c, b.spheres[tb][3], na)) continue;
+        // Corners and unit normal once per leaf pair, not once per triangle pair.
+        const Vector3d sb[3] = {moved(b.triangles[tb][0]), moved(b.triangles[tb][1]), moved(b.triangles[tb][2])};
+        for (int k = 0; k < 3; ++k) ws.near_corners[3 * near + k] = sb[k];
+        ws.near_normal[near] = unit_normal(sb);
         ws.near_b[near] = tb, ws.near_r[near] = b.spheres[tb][3];
         ws.near_x[near] = c.x(), ws.near_y[near] = c.y(), ws.near_z[near] = c.z();
         ++near;
@@ -394,19 +401,16 @@ Status mesh_distance(const Octree& a, const Octree& b, const Pose& pose, MeshWor
           hits += dx * dx + dy * dy + dz * dz < reach * reach;
         }
         for (int h = 0; h < hits; ++h) {
-          const int tb = ws.near_b[ws.hits[h]];
-          const Vector3d axis = ws.moved_center[tb] - ca;
-          const double len = axis.norm();
-          const Vector3d sb[3] = {moved(b.triangles[tb][0]), moved(b.triangles[tb][1]), moved(b.triangles[tb][2])};
-          // Separation along the centre line: a lower bound as tight as the triangles are flat.
-          if (len > 0) {
-            const double hi_a = std::max({axis.dot(sa[0]), axis.dot(sa[1]), axis.dot(sa[2])});
-            const double lo_b = std::min({axis.dot(sb[0]), axis.dot(sb[1]), axis.dot(sb[2])});
-            if (lo_b - hi_a >= best * len) continue;
-          }
+          const int y = ws.hits[h], tb = ws.near_b[y];
+          const Vector3d sb[3] = {ws.near_corners[3 * y], ws.near_corners[3 * y + 1], ws.near_corners[3 * y + 2]};
+          // Separation along the centre line: a lower bound as tight as the triangles are flat
+          // (squared, so no root: gap >= best |axis|).
+          const Vector3d axis(ws.near_x[y] - ca.x(), ws.near_y[y] - ca.y(), ws.near_z[y] - ca.z());
+          const double hi_a = std::max({axis.dot(sa[0]), axis.dot(sa[1]), axis.dot(sa[2])});
+          const double lo_b = std::min({axis.dot(sb[0]), axis.dot(sb[1]), axis.dot(sb[2])});
+          if (lo_b > hi_a && (lo_b - hi_a) * (lo_b - hi_a) >= best * best * axis.squaredNorm()) continue;
           if (plane_gap(na_unit, sa[0], sb) >= best) continue;
-          const Vector3d nb_unit = unit_normal(sb);
-          if (plane_gap(nb_unit, sb[0], sa) >= best) continue;
+          if (plane_gap(ws.near_normal[y], sb[0], sa) >= best) continue;
           if (ws.seen_a[ta] != ws.stamp) ws.seen_a[ta] = ws.stamp, ++out.candidates_a;
           if (ws.seen_b[tb] != ws.stamp) ws.seen_b[tb] = ws.stamp, ++out.candidates_b;
           Vector3d pa, pb;

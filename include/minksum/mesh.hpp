@@ -79,6 +79,8 @@ struct MeshWorkspace {
   std::vector<unsigned> seen_a, seen_b;      ///< query stamp per candidate triangle
   std::vector<int> near_b;                   ///< triangles of B's leaf near A's leaf
   std::vector<double> near_x, near_y, near_z, near_r;  ///< their spheres (A's frame)
+  std::vector<Eigen::Vector3d> near_corners; ///< their corners (A's frame), three each
+  std::vector<Eigen::Vector3d> near_normal;  ///< their unit normals (A's frame)
   std::vector<int> hits;                     ///< those near one triangle of A
   std::vector<Eigen::Vector3d> parts;        ///< mesh_contact: corners of the parts inside
   std::vector<int> part_start;               ///< mesh_contact: where each part's corners start
