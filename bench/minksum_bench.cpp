@@ -6,9 +6,17 @@
 //   qhull          libqhull_r on the |A||B| pairwise sums: merged facets (unit normal) with their
 //                  vertex loops ordered counter-clockwise (the pairwise sums are formed inside
 //                  the timed loop, as a user of the convex hull method must)
+//   cgal_quickhull CGAL convex_hull_3 (Epick) on the pairwise sums, formed in the loop too: a
+//                  Surface_mesh of triangles (coplanar triangles not merged)
+//   cgal_nef       CGAL minkowski_sum_3 on Nef polyhedra (Epeck): the exact sum, the Nef
+//                  polyhedra built in the loop from the operands' hulls
+// Scaling/<n>/<method>: random polytopes of n points on a sphere per operand (seeded), for
+// n = 8 ... 512, by osm_fast, qhull and cgal_quickhull: how the cost grows with |A| |B| and
+// with the output.
 #include <benchmark/benchmark.h>
 #include <minksum/minksum.hpp>
 
+#include "cgal_peer.hpp"
 #include "hull.hpp"
 #include "tools/shapes.hpp"
 
@@ -53,7 +61,62 @@ void Table1Qhull(benchmark::State& state, int row) {
   state.counters["facets"] = double(facets.size());
 }
 
+void Table1Cgal(benchmark::State& state, int row, bool nef) {
+  const Prepared p = prepare(row);
+  int count = 0;
+  for (auto _ : state) {
+    count = nef ? peers::cgal_nef_sum(p.A.vertices, p.B.vertices) : peers::cgal_quickhull(p.A.vertices, p.B.vertices);
+    benchmark::DoNotOptimize(count);
+  }
+  state.counters[nef ? "vertices" : "triangles"] = count;
+}
+
+// Two random polytopes of n points on the unit sphere (B rotated and seeded differently).
+Prepared scaling_pair(int n) {
+  Prepared p;
+  polytope_from_points(tools::sphere_points(n, 1000 + unsigned(n)), p.A);
+  polytope_from_points(tools::rotated(tools::sphere_points(n, 2000 + unsigned(n)), tools::table1_rotation()), p.B);
+  return p;
+}
+
+void ScalingOsm(benchmark::State& state, int n) {
+  const Prepared p = scaling_pair(n);
+  MinkowskiSum m;
+  for (auto _ : state) {
+    minkowski_sum(p.A, p.B, m, Method::Fast);
+    benchmark::DoNotOptimize(m.planes.data());
+  }
+  state.counters["facets"] = m.F;
+  state.counters["pairs"] = double(p.A.vertices.size() * p.B.vertices.size());
+}
+
+void ScalingPeer(benchmark::State& state, int n, bool cgal) {
+  const Prepared p = scaling_pair(n);
+  std::vector<detail::HullFacet> facets;
+  std::vector<Eigen::Vector3d> sums;
+  int count = 0;
+  for (auto _ : state) {
+    if (cgal) {
+      count = peers::cgal_quickhull(p.A.vertices, p.B.vertices);
+    } else {
+      sums.clear();
+      for (const auto& a : p.A.vertices)
+        for (const auto& b : p.B.vertices) sums.push_back(a + b);
+      detail::qhull_facets(sums, facets);
+      count = int(facets.size());
+    }
+    benchmark::DoNotOptimize(count);
+  }
+  state.counters["facets"] = count;
+}
+
 const int kRegistered = [] {
+  for (int n : {8, 16, 32, 64, 128, 256, 512}) {
+    const std::string base = "Scaling/" + std::to_string(n) + "/";
+    benchmark::RegisterBenchmark((base + "osm_fast").c_str(), ScalingOsm, n)->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark((base + "qhull").c_str(), ScalingPeer, n, false)->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark((base + "cgal_quickhull").c_str(), ScalingPeer, n, true)->Unit(benchmark::kMicrosecond);
+  }
   const auto pairs = tools::table1_pairs();
   for (int row = 0; row < int(pairs.size()); ++row) {
     const std::string base = "Table1/" + pairs[row].name + "/";
@@ -63,6 +126,10 @@ const int kRegistered = [] {
         ->Unit(benchmark::kMicrosecond);
     benchmark::RegisterBenchmark((base + "qhull").c_str(), Table1Qhull, row)
         ->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark((base + "cgal_quickhull").c_str(), Table1Cgal, row, false)
+        ->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark((base + "cgal_nef").c_str(), Table1Cgal, row, true)
+        ->Unit(benchmark::kMillisecond);
   }
   return 0;
 }();

@@ -1,0 +1,18 @@
+// CGAL as a peer of the Minkowski sums (benchmarks only).
+#pragma once
+
+#include <Eigen/Core>
+
+#include <vector>
+
+namespace minksum::peers {
+
+/// CGAL convex_hull_3 (Epick) on the |A| |B| pairwise sums, into a Surface_mesh of triangles
+/// (vertices, halfedges, faces); returns its face count.
+int cgal_quickhull(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b);
+
+/// CGAL's exact Minkowski sum of the two hulls as Nef polyhedra (Epeck, minkowski_sum_3, which
+/// decomposes into convex parts and unions their pairwise hulls); returns its vertex count.
+int cgal_nef_sum(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b);
+
+}  // namespace minksum::peers
