@@ -15,4 +15,14 @@ int cgal_quickhull(const std::vector<Eigen::Vector3d>& a, const std::vector<Eige
 /// decomposes into convex parts and unions their pairwise hulls); returns its vertex count.
 int cgal_nef_sum(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b);
 
+/// V, E, F of a convex polytope.
+struct ExactCounts {
+  int V = 0, E = 0, F = 0;
+};
+
+/// V, E, F of the hull of the pairwise sums a + s b computed exactly (Epeck, from the doubles
+/// as given), with exactly coplanar triangles merged: the exact structure of A (+) B (s = 1) or
+/// A (-) B (s = -1).
+ExactCounts exact_counts(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b, double s);
+
 }  // namespace minksum::peers

@@ -1,21 +1,16 @@
 // The exact oracle: CGAL's exact kernel (Epeck) builds the hull of the pairwise sums and merges
-// exactly coplanar triangles; its V, E, F must equal the fast path's. This is the only
-// translation unit that includes CGAL (it is slow to compile).
-#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+// exactly coplanar triangles (peers::exact_counts, in bench/cgal_peer.cpp); its V, E, F must
+// equal the fast path's. CGAL's exact polytope distance checks the queries.
 #include <CGAL/Gmpzf.h>
 #include <CGAL/Homogeneous.h>
 #include <CGAL/Polytope_distance_d.h>
 #include <CGAL/Polytope_distance_d_traits_3.h>
-#include <CGAL/Polyhedron_3.h>
-#include <CGAL/convex_hull_3.h>
 #include <gtest/gtest.h>
 #include <minksum/minksum.hpp>
 
-#include <map>
 #include <random>
-#include <numeric>
-#include <set>
 
+#include "cgal_peer.hpp"
 #include "checks.hpp"
 #include "tools/shapes.hpp"
 
@@ -23,54 +18,6 @@ namespace minksum {
 namespace {
 
 using Eigen::Vector3d;
-using K = CGAL::Exact_predicates_exact_constructions_kernel;
-using Polyhedron = CGAL::Polyhedron_3<K>;
-
-struct Counts {
-  int V, E, F;
-};
-
-// V, E, F of the exact hull of the pairwise sums a + s b, computed exactly (not rounded to
-// double first), with coplanar triangles merged (union-find over facets).
-Counts exact_counts(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, double s) {
-  std::vector<K::Point_3> p;
-  for (const auto& u : a)
-    for (const auto& v : b)
-      p.emplace_back(K::FT(u.x()) + K::FT(s) * K::FT(v.x()), K::FT(u.y()) + K::FT(s) * K::FT(v.y()),
-                     K::FT(u.z()) + K::FT(s) * K::FT(v.z()));
-  Polyhedron hull;
-  CGAL::convex_hull_3(p.begin(), p.end(), hull);
-  std::map<Polyhedron::Facet_const_handle, int> id;
-  for (auto f = hull.facets_begin(); f != hull.facets_end(); ++f) id.emplace(f, int(id.size()));
-  std::vector<int> parent(id.size());
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](int x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
-  for (auto h = hull.halfedges_begin(); h != hull.halfedges_end(); ++h) {
-    const auto& a = h->vertex()->point();
-    const auto& b = h->opposite()->vertex()->point();
-    const auto& c = h->next()->vertex()->point();
-    const auto& d = h->opposite()->next()->vertex()->point();
-    if (CGAL::coplanar(a, b, c, d)) parent[find(id[h->facet()])] = find(id[h->opposite()->facet()]);
-  }
-  std::set<int> classes;
-  std::set<std::pair<int, int>> adjacent;
-  for (auto h = hull.halfedges_begin(); h != hull.halfedges_end(); ++h) {
-    const int x = find(id[h->facet()]), y = find(id[h->opposite()->facet()]);
-    classes.insert(x);
-    if (x != y) adjacent.insert({std::min(x, y), std::max(x, y)});
-  }
-  int V = 0;  // a true vertex touches at least three merged facets
-  for (auto v = hull.vertices_begin(); v != hull.vertices_end(); ++v) {
-    std::set<int> around;
-    auto h = v->vertex_begin();
-    do around.insert(find(id[h->facet()])); while (++h != v->vertex_begin());
-    V += around.size() >= 3;
-  }
-  return {V, int(adjacent.size()), int(classes.size())};
-}
 
 // The paper's Table 1 solids with exactly representable, exactly planar faces: integer
 // coordinates, an icosahedron with phi ~ 89/55, a pyritohedron with h = 21/34 (combinatorially
@@ -118,7 +65,7 @@ void expect_matches_oracle(const std::vector<Vector3d>& a, const std::vector<Vec
   for (double s : {1.0, -1.0}) {
     MinkowskiSum m;
     ASSERT_EQ(s > 0 ? minkowski_sum(A, B, m) : minkowski_difference(A, B, m), Status::Ok);
-    const Counts exact = exact_counts(a, b, s);
+    const peers::ExactCounts exact = peers::exact_counts(a, b, s);
     EXPECT_EQ(m.F, exact.F) << "sign " << s;
     EXPECT_EQ(m.E, exact.E) << "sign " << s;
     EXPECT_EQ(m.V, exact.V) << "sign " << s;
@@ -320,7 +267,7 @@ TEST_P(Stability, EveryPathIsValidAndExactWhereDefined) {
   ASSERT_EQ(sa, Status::Ok);
   ASSERT_EQ(sb, Status::Ok);
   for (double s : {1.0, -1.0}) {
-    const Counts exact = c.exact ? exact_counts(c.a, c.b, s) : Counts{0, 0, 0};
+    const peers::ExactCounts exact = c.exact ? peers::exact_counts(c.a, c.b, s) : peers::ExactCounts{};
     for (Method method : {Method::Fast, Method::Reference, Method::Hull}) {
       SCOPED_TRACE(std::string(s > 0 ? "sum " : "difference ") + (method == Method::Fast ? "fast" : method == Method::Reference ? "reference" : "hull"));
       MinkowskiSum m;
