@@ -22,13 +22,21 @@ using Epick = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Epeck = CGAL::Exact_predicates_exact_constructions_kernel;
 }  // namespace
 
-int cgal_quickhull(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b) {
+int cgal_quickhull(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
+                   std::vector<Eigen::Vector3d>* vertices) {
   std::vector<Epick::Point_3> sums;
   sums.reserve(a.size() * b.size());
   for (const auto& p : a)
     for (const auto& q : b) sums.emplace_back(p.x() + q.x(), p.y() + q.y(), p.z() + q.z());
   CGAL::Surface_mesh<Epick::Point_3> hull;
   CGAL::convex_hull_3(sums.begin(), sums.end(), hull);
+  if (vertices) {
+    vertices->clear();
+    for (const auto v : hull.vertices()) {
+      const auto& p = hull.point(v);
+      vertices->emplace_back(p.x(), p.y(), p.z());
+    }
+  }
   return int(hull.number_of_faces());
 }
 

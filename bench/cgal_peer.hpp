@@ -8,8 +8,9 @@
 namespace minksum::peers {
 
 /// CGAL convex_hull_3 (Epick) on the |A| |B| pairwise sums, into a Surface_mesh of triangles
-/// (vertices, halfedges, faces); returns its face count.
-int cgal_quickhull(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b);
+/// (vertices, halfedges, faces); returns its face count, and its vertices if asked.
+int cgal_quickhull(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
+                   std::vector<Eigen::Vector3d>* vertices = nullptr);
 
 /// CGAL's exact Minkowski sum of the two hulls as Nef polyhedra (Epeck, minkowski_sum_3, which
 /// decomposes into convex parts and unions their pairwise hulls); returns its vertex count.

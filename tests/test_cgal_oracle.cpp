@@ -19,43 +19,8 @@ namespace {
 
 using Eigen::Vector3d;
 
-// The paper's Table 1 solids with exactly representable, exactly planar faces: integer
-// coordinates, an icosahedron with phi ~ 89/55, a pyritohedron with h = 21/34 (combinatorially
-// the dodecahedron; its pentagons stay exactly planar), and the rotation of the unit
-// quaternion (4, 1, 2, 3)/sqrt(30), whose matrix is an integer matrix / 30.
-std::vector<Vector3d> exact_rotated(const std::vector<Vector3d>& pts) {
-  const double w = 4, x = 1, y = 2, z = 3;
-  Eigen::Matrix3d M;
-  M << w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y),
-      2 * (x * y + w * z), w * w - x * x + y * y - z * z, 2 * (y * z - w * x),
-      2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z;
-  std::vector<Vector3d> out;
-  for (const auto& p : pts) out.push_back(M * p);  // inputs are multiples of 30: exact
-  return out;
-}
-
-std::vector<Vector3d> scaled(std::vector<Vector3d> pts, double s) {
-  for (auto& p : pts) p *= s;
-  return pts;
-}
-
-std::vector<Vector3d> integer_icosahedron() {
-  std::vector<Vector3d> p;
-  for (int s = 0; s < 4; ++s) {
-    const double a = (s & 1) ? -55 : 55, b = (s & 2) ? -89 : 89;
-    p.insert(p.end(), {{0, a, b}, {a, b, 0}, {b, 0, a}});
-  }
-  return p;
-}
-
-std::vector<Vector3d> pyritohedron() {
-  std::vector<Vector3d> p = scaled(tools::cube_points(), 1156);
-  for (int s = 0; s < 4; ++s) {
-    const double a = (s & 1) ? -1870 : 1870, b = (s & 2) ? -715 : 715;
-    p.insert(p.end(), {{0, a, b}, {a, b, 0}, {b, 0, a}});
-  }
-  return p;
-}
+using tools::exact_rotated;
+using tools::scaled;
 
 void expect_matches_oracle(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b,
                            int expected_F = -1) {
@@ -75,15 +40,10 @@ void expect_matches_oracle(const std::vector<Vector3d>& a, const std::vector<Vec
 }
 
 TEST(ExactOracle, Table1PairsWithExactCoordinates) {
-  const auto cube = scaled(tools::cube_points(), 30 * 7), ico = scaled(integer_icosahedron(), 30);
-  const auto dod = scaled(pyritohedron(), 30);
-  SCOPED_TRACE("cube_rotcube");
-  expect_matches_oracle(cube, exact_rotated(cube), 30);
-  expect_matches_oracle(cube, exact_rotated(ico));
-  expect_matches_oracle(ico, exact_rotated(ico));
-  expect_matches_oracle(cube, exact_rotated(dod));
-  expect_matches_oracle(dod, exact_rotated(dod));
-  expect_matches_oracle(ico, exact_rotated(dod));
+  for (const auto& pair : tools::exact_table1_pairs()) {
+    SCOPED_TRACE(pair.name);
+    expect_matches_oracle(pair.a, pair.b, pair.name == "cube_rotcube" ? 30 : -1);
+  }
 }
 
 std::vector<Vector3d> box(const Vector3d& h, const Eigen::Matrix3d& R = Eigen::Matrix3d::Identity()) {
@@ -108,7 +68,7 @@ TEST(ExactOracle, TrianglePlusTriangle) {
 }
 
 TEST(ExactOracle, IdenticalAndMirroredPolytopes) {
-  const auto d = exact_rotated(scaled(pyritohedron(), 30));
+  const auto d = exact_rotated(scaled(tools::exact_dodecahedron_points(), 30));
   expect_matches_oracle(d, d, 12);
   std::vector<Vector3d> mirrored;
   for (const auto& p : d) mirrored.push_back(Vector3d(-p.x(), p.y(), p.z()));
@@ -184,14 +144,11 @@ std::vector<Vector3d> offset(std::vector<Vector3d> pts, const Vector3d& by) {
 
 std::vector<HardCase> hard_cases() {
   const Vector3d generic = Vector3d(0.3, -0.5, 0.81).normalized();
-  const auto cube = scaled(tools::cube_points(), 30 * 7), ico = scaled(integer_icosahedron(), 30);
-  const auto dod = scaled(pyritohedron(), 30);
+  const auto cube = scaled(tools::cube_points(), 30 * 7), ico = scaled(tools::exact_icosahedron_points(), 30);
+  const auto dod = scaled(tools::exact_dodecahedron_points(), 30);
   const auto R = tools::table1_rotation();
   std::vector<HardCase> c;
-  const char* t1[] = {"cube_rotcube", "cube_icosa", "icosa_icosa", "cube_dodeca", "dodeca_dodeca", "icosa_dodeca"};
-  const std::vector<Vector3d>* t1a[] = {&cube, &cube, &ico, &cube, &dod, &ico};
-  const std::vector<Vector3d>* t1b[] = {&cube, &ico, &ico, &dod, &dod, &dod};
-  for (int k = 0; k < 6; ++k) c.push_back({std::string("table1_exact_") + t1[k], *t1a[k], exact_rotated(*t1b[k]), true});
+  for (const auto& pair : tools::exact_table1_pairs()) c.push_back({"table1_exact_" + pair.name, pair.a, pair.b, true});
   c.push_back({"aligned_boxes_123_plus_half", box({1, 2, 3}), box({0.5, 0.25, 4}), true});
   c.push_back({"aligned_boxes_equal", box({1, 1, 1}), box({1, 1, 1}), true});
   c.push_back({"aligned_boxes_one_thin", box({1, 1, 1e-7}), box({2, 3, 4}), true});

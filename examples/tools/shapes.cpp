@@ -62,6 +62,48 @@ std::vector<Table1Pair> table1_pairs() {
           {"dodeca_dodeca", dod, rotated(dod, R)},    {"icosa_dodeca", ico, rotated(dod, R)}};
 }
 
+std::vector<Vector3d> exact_icosahedron_points() {
+  std::vector<Vector3d> p;
+  for (int s = 0; s < 4; ++s) {
+    const double a = (s & 1) ? -55 : 55, b = (s & 2) ? -89 : 89;
+    p.insert(p.end(), {{0, a, b}, {a, b, 0}, {b, 0, a}});
+  }
+  return p;
+}
+
+std::vector<Vector3d> exact_dodecahedron_points() {
+  std::vector<Vector3d> p = scaled(cube_points(), 1156);
+  for (int s = 0; s < 4; ++s) {
+    const double a = (s & 1) ? -1870 : 1870, b = (s & 2) ? -715 : 715;
+    p.insert(p.end(), {{0, a, b}, {a, b, 0}, {b, 0, a}});
+  }
+  return p;
+}
+
+std::vector<Vector3d> exact_rotated(const std::vector<Vector3d>& pts) {
+  const double w = 4, x = 1, y = 2, z = 3;
+  Eigen::Matrix3d M;
+  M << w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y),
+      2 * (x * y + w * z), w * w - x * x + y * y - z * z, 2 * (y * z - w * x),
+      2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z;
+  std::vector<Vector3d> out;
+  for (const auto& p : pts) out.push_back(M * p);
+  return out;
+}
+
+std::vector<Vector3d> scaled(std::vector<Vector3d> pts, double s) {
+  for (auto& p : pts) p *= s;
+  return pts;
+}
+
+std::vector<Table1Pair> exact_table1_pairs() {
+  const auto cube = scaled(cube_points(), 30 * 7), ico = scaled(exact_icosahedron_points(), 30);
+  const auto dod = scaled(exact_dodecahedron_points(), 30);
+  return {{"cube_rotcube", cube, exact_rotated(cube)},   {"cube_icosa", cube, exact_rotated(ico)},
+          {"icosa_icosa", ico, exact_rotated(ico)},      {"cube_dodeca", cube, exact_rotated(dod)},
+          {"dodeca_dodeca", dod, exact_rotated(dod)},    {"icosa_dodeca", ico, exact_rotated(dod)}};
+}
+
 std::vector<Vector3d> sphere_points(int n, unsigned seed) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> g;

@@ -28,6 +28,25 @@ struct Table1Pair {
 /// The six pairs of Table 1, in the paper's order.
 std::vector<Table1Pair> table1_pairs();
 
+/// The Table 1 solids with exactly representable coordinates and exactly planar faces, for the
+/// exact oracle: an icosahedron (0, +-55, +-89) and cyclic permutations (phi ~ 89/55), and a
+/// pyritohedron with h = 21/34 (combinatorially the dodecahedron): 1156 (+-1, +-1, +-1) and
+/// (0, +-1870, +-715) and cyclic permutations.
+std::vector<Eigen::Vector3d> exact_icosahedron_points();
+/// See exact_icosahedron_points().
+std::vector<Eigen::Vector3d> exact_dodecahedron_points();
+
+/// The rotation of the unit quaternion (4, 1, 2, 3)/sqrt(30), scaled by 30: an integer matrix,
+/// so integer points stay exact.
+std::vector<Eigen::Vector3d> exact_rotated(const std::vector<Eigen::Vector3d>& pts);
+
+/// Every point times s.
+std::vector<Eigen::Vector3d> scaled(std::vector<Eigen::Vector3d> pts, double s);
+
+/// The six Table 1 pairs in exact coordinates: the cube times 210, the exact icosahedron and
+/// dodecahedron times 30, B turned by exact_rotated (the same structures as table1_pairs()).
+std::vector<Table1Pair> exact_table1_pairs();
+
 /// Applies R to every point.
 std::vector<Eigen::Vector3d> rotated(const std::vector<Eigen::Vector3d>& pts,
                                      const Eigen::Matrix3d& R);
