@@ -38,8 +38,12 @@ FclPair::FclPair(const Box& a, const Box& b) : impl_(std::make_unique<Impl>()) {
 }
 
 namespace {
-std::shared_ptr<fcl::TriangleP<double>> triangle(const Triangle& t) {
-  return std::make_shared<fcl::TriangleP<double>>(t.a, t.b, t.c);
+// FCL 0.7 has no distance for TriangleP against a box or a triangle ("not supported"): a
+// triangle goes in as a flat Convex.
+std::shared_ptr<fcl::Convexd> triangle(const Triangle& t) {
+  ConvexPolytope flat;
+  polytope_from_triangle(t, flat);
+  return convex(flat);
 }
 }  // namespace
 

@@ -28,9 +28,10 @@ class FclPair {
  public:
   /// Two boxes (their poses are set here too).
   FclPair(const Box& a, const Box& b);
-  /// A box and a triangle (fcl::TriangleP), at their poses.
+  /// A box and a triangle (a flat fcl::Convex: FCL has no distance for TriangleP), at their
+  /// poses.
   FclPair(const Box& a, const Triangle& b);
-  /// Two triangles (fcl::TriangleP).
+  /// Two triangles (flat fcl::Convex).
   FclPair(const Triangle& a, const Triangle& b);
   /// Two convex polytopes (fcl::Convex), at the identity pose.
   FclPair(const ConvexPolytope& a, const ConvexPolytope& b);

@@ -1,0 +1,76 @@
+"""Cuts the tables of bench/report out of one Google Benchmark JSON run (times in us).
+
+Usage: python3 bench/report_tables.py DIR   (reads DIR/bench.json, writes DIR/<table>.csv)
+"""
+import csv
+import json
+import sys
+
+SCALE = {"ns": 1e-3, "us": 1.0, "ms": 1e3, "s": 1e6}
+
+
+def us(run):
+    """Time per call, or per item where the benchmark processes items (the batched kernels)."""
+    if "items_per_second" in run:
+        return 1e6 / run["items_per_second"]
+    return run["real_time"] * SCALE[run["time_unit"]]
+
+
+def num(x):
+    """Counters that count things print as integers."""
+    return int(x) if isinstance(x, float) and x.is_integer() else x
+
+
+def table1(p, r):
+    return p[0] == "Table1" and [p[1], p[2], us(r)]
+
+
+def scaling(p, r):
+    return p[0] == "Scaling" and [p[1], p[2], us(r), r.get("facets", ""), r.get("pairs", "")]
+
+
+def speed_error(p, r):
+    return p[0] == "SpeedError" and p[1:5] + [r["s_per_case"], r["max_rel_error"], r["exact_structure"]]
+
+
+def near_parallel(p, r):
+    return p[0] == "NearParallel" and [p[1], p[2], us(r), r["facets"], r["exact_facets"], r["euler_ok"],
+                                       r["corrected"], r["max_rel_error"]]
+
+
+def queries(p, r):
+    wanted = p[0].endswith(("Distance", "Penetration", "Separation")) and p[0] != "MeshDistance"
+    return wanted and [r["name"], us(r) * 1e3]
+
+
+def mesh(p, r):
+    return p[0] in ("MeshDistance", "MeshBuild") and [
+        "/".join(p[:3]), r.get("median_us", ""), r.get("max_us", ""), r.get("min_culled_pct", ""), us(r)]
+
+
+TABLES = {
+    "table1": (["pair", "method", "time_us"], table1),
+    "scaling": (["n", "method", "time_us", "facets", "pairs"], scaling),
+    "speed_error": (["set", "method", "precision", "isa", "s_per_case", "max_rel_error", "exact_structure"],
+                    speed_error),
+    "near_parallel": (["k", "method", "time_us", "facets", "exact_facets", "euler_ok", "corrected",
+                       "max_rel_error"], near_parallel),
+    "queries": (["benchmark", "time_ns"], queries),
+    "mesh": (["benchmark", "median_us", "max_us", "min_culled_pct", "mean_us"], mesh),
+}
+
+
+def main(directory):
+    runs = json.load(open(directory + "/bench.json"))["benchmarks"]
+    for name, (header, row) in TABLES.items():
+        with open(f"{directory}/{name}.csv", "w", newline="") as f:
+            out = csv.writer(f, lineterminator="\n")
+            out.writerow(header)
+            for r in runs:
+                x = row(r["name"].split("/"), r)
+                if x:
+                    out.writerow([num(v) for v in x])
+
+
+if __name__ == "__main__":
+    main(sys.argv[1])
