@@ -3,6 +3,8 @@
 // polytope, facets and vertices:
 //   osm_fast       minkowski_sum, Method::Fast: planes with support pairs, vertices, facet loops
 //   osm_reference  minkowski_sum, Method::Reference: the same output, by the paper's plane push
+//   osm_kernel     minkowski_sum of two Boxes (cube_rotcube only): the box-box kernel's 30 planes
+//                  and the facet loops their support corners imply; the same output
 //   qhull          libqhull_r on the |A||B| pairwise sums: merged facets (unit normal) with their
 //                  vertex loops ordered counter-clockwise (the pairwise sums are formed inside
 //                  the timed loop, as a user of the convex hull method must)
@@ -45,6 +47,19 @@ void Table1Osm(benchmark::State& state, int row, Method method) {
   }
   state.counters["facets"] = m.F;
   state.counters["vertices"] = m.V;
+}
+
+void Table1Kernel(benchmark::State& state) {
+  Box a, b;
+  b.rotation = tools::table1_rotation();  // the unit cube [-1, 1]^3, and turned as in table1_pairs
+  MinkowskiSum m;
+  for (auto _ : state) {
+    minkowski_sum(a, b, m);
+    benchmark::DoNotOptimize(m.planes.data());
+  }
+  state.counters["facets"] = m.F;
+  state.counters["vertices"] = m.V;
+  state.counters["kernel"] = m.method == Method::Kernel;
 }
 
 void Table1Qhull(benchmark::State& state, int row) {
@@ -124,6 +139,8 @@ const int kRegistered = [] {
         ->Unit(benchmark::kMicrosecond);
     benchmark::RegisterBenchmark((base + "osm_fast").c_str(), Table1Osm, row, Method::Fast)
         ->Unit(benchmark::kMicrosecond);
+    if (pairs[row].name == "cube_rotcube")
+      benchmark::RegisterBenchmark((base + "osm_kernel").c_str(), Table1Kernel)->Unit(benchmark::kMicrosecond);
     benchmark::RegisterBenchmark((base + "qhull").c_str(), Table1Qhull, row)
         ->Unit(benchmark::kMicrosecond);
     benchmark::RegisterBenchmark((base + "cgal_quickhull").c_str(), Table1Cgal, row, false)

@@ -79,7 +79,7 @@ const char* kHelp =
 using cli::usage_error;
 
 const char* method_name(Method m) {
-  return m == Method::Fast ? "fast" : m == Method::Reference ? "reference" : "hull";
+  return m == Method::Fast ? "fast" : m == Method::Reference ? "reference" : m == Method::Hull ? "hull" : "kernel";
 }
 
 double now_us() {

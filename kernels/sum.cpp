@@ -3,6 +3,10 @@
 #include <cmath>
 #include <limits>
 
+#include <minksum/kernels.hpp>
+
+#include <array>
+
 #include "hull.hpp"
 #include "sum_internal.hpp"
 
@@ -155,7 +159,7 @@ Status sum_dispatch(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiS
     return s;
   }
   bool ok = true;
-  if (method == Method::Fast)
+  if (method == Method::Fast || method == Method::Kernel)
     ok = detail::sum_fast(a, b, out);
   else
     detail::sum_reference(a, b, out);
@@ -191,6 +195,52 @@ Status minkowski_sum(const ConvexPolytope& a, const ConvexPolytope& b, Minkowski
 Status minkowski_difference(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out,
                             Method method) {
   return sum_dispatch(a, negated(b), out, method);
+}
+
+Status minkowski_sum(const Box& a, const Box& b, MinkowskiSum& out) {
+  out = MinkowskiSum{};
+  ConvexPolytope pa, pb;  // vertex k is box_corner(k), as the kernel's corner codes number them
+  for (auto [box, poly] : {std::pair{&a, &pa}, std::pair{&b, &pb}})
+    if (const Status s = polytope_from_box(*box, *poly); s != Status::Ok) return s;
+  BoxBoxPair planes;
+  box_box_planes(a, b, false, planes);
+  bool all_valid = true;  // an axis of parallel edges: coplanar features merge; general path
+  for (int q = 0; q < 15; ++q) all_valid = all_valid && planes.valid[q];
+  if (!all_valid) return minkowski_sum(pa, pb, out, Method::Fast);
+  // Each of the 30 planes is a facet, its loop implied by the support corners (symmetry and
+  // index tracking): a face of A plus B's corner, A's corner plus a face of B, or the
+  // parallelogram of an edge of each.
+  std::vector<detail::FacetLoop> facets;
+  facets.reserve(30);
+  const auto face = [](int q, int corner) {  // the face of axis q holding `corner`, as a cycle
+    const int u = 1 << ((q + 1) % 3), w = 1 << ((q + 2) % 3), base = corner & ~(u | w);
+    return std::array<int, 4>{base, base | u, base | u | w, base | w};
+  };
+  for (int p = 0; p < 30; ++p) {
+    const int q = p % 15;
+    const Vector3d n = (p < 15 ? 1.0 : -1.0) * Vector3d(planes.n[0][q], planes.n[1][q], planes.n[2][q]);
+    const int code = p < 15 ? int(planes.code[q]) : 63 - int(planes.code[q]);
+    const int ca = code & 7, cb = code >> 3;
+    detail::FacetLoop f{n, {}};
+    if (q < 3) {
+      for (int c : face(q, ca)) f.loop.emplace_back(c, cb);
+    } else if (q < 6) {
+      for (int c : face(q - 3, cb)) f.loop.emplace_back(ca, c);
+    } else {
+      const int i = 1 << ((q - 6) / 3), j = 1 << ((q - 6) % 3);
+      f.loop = {{ca & ~i, cb & ~j}, {ca | i, cb & ~j}, {ca | i, cb | j}, {ca & ~i, cb | j}};
+    }
+    // Counter-clockwise seen from outside.
+    const auto P = [&](int k) { return pa.vertices[f.loop[k].first] + pb.vertices[f.loop[k].second]; };
+    if ((P(1) - P(0)).cross(P(2) - P(1)).dot(n) < 0) std::reverse(f.loop.begin(), f.loop.end());
+    facets.push_back(std::move(f));
+  }
+  out.method = Method::Kernel;
+  detail::assemble(pa, pb, facets, out);
+  // Rounding can pick a wrong support corner between nearly parallel features: then the
+  // general path, as for any inconsistent result.
+  if (!out.euler_ok || !planes_support(pa, pb, out)) return minkowski_sum(pa, pb, out, Method::Fast);
+  return Status::Ok;
 }
 
 }  // namespace minksum

@@ -114,6 +114,34 @@ std::vector<Vector3d> box_points(const Vector3d& h, const Eigen::Matrix3d& R = E
 
 const Vector3d kGeneric = Vector3d(0.3, -0.5, 0.81).normalized();
 
+// The box-box kernel path against the general fast path (and both against brute force):
+// random pairs, aligned ones (parallel edges: the general path), tiny rotations, and boxes far
+// from the origin.
+TEST(BoxSum, KernelPathEqualsTheGeneralPath) {
+  std::mt19937_64 rng(12);
+  int kernel = 0, generic = 0;
+  for (int k = 0; k < test::scaled(2000); ++k) {
+    Box a = tools::random_box(rng, 2), b = tools::random_box(rng, 2);
+    if (k % 10 == 1) b.rotation = a.rotation;
+    if (k % 10 == 2) b.rotation = tools::axis_angle(kGeneric, std::pow(10.0, -1 - k % 12)) * a.rotation;
+    if (k % 10 == 3) a.center += Vector3d(1e6, -2e6, 3e5), b.center += Vector3d(-1e6, 1e6, 1e6);
+    ConvexPolytope A, B;
+    ASSERT_EQ(polytope_from_box(a, A), Status::Ok);
+    ASSERT_EQ(polytope_from_box(b, B), Status::Ok);
+    MinkowskiSum got, want;
+    ASSERT_EQ(minkowski_sum(a, b, got), Status::Ok);
+    ASSERT_EQ(minkowski_sum(A, B, want), Status::Ok);
+    ASSERT_TRUE(same_sum(got, want, 1e-9)) << "pair " << k;
+    if (k % 10 != 1 && k % 10 != 2) ++generic, kernel += got.method == Method::Kernel;
+    if (k % 50 == 0) ASSERT_TRUE(valid_sum(A.vertices, B.vertices, 1, A, B, got, 1e-12, 1e-12, 200)) << "pair " << k;
+  }
+  EXPECT_EQ(kernel, generic);  // the kernel's result stands for every generic pair
+  Box bad;
+  bad.half_extents.x() = -1;
+  MinkowskiSum m;
+  EXPECT_EQ(minkowski_sum(bad, Box{}, m), Status::InvalidBox);
+}
+
 TEST(HardCases, AlignedBoxes) {
   MinkowskiSum m;
   check_all(make(box_points({1, 2, 3}), box_points({0.5, 0.25, 4})), 1e-12, true, &m);

@@ -10,6 +10,7 @@ enum class Method {
   Fast,       ///< separable supports + Gauss-map arc test with exact predicates (default)
   Reference,  ///< the paper as written: push candidate planes over all pairwise sums
   Hull,       ///< the convex hull method: Qhull on all pairwise sums (the paper's comparator)
+  Kernel,     ///< the box-box kernel (minkowski_sum of two boxes reports it); as a request: Fast
 };
 
 /// A vertex of the sum: the pair (i in A, j in B) and its coordinates a_i + b_j (or a_i - b_j).
@@ -39,6 +40,11 @@ struct MinkowskiSum {
 /// A (+) B. Facets of coplanar support features are merged into one polygon.
 Status minkowski_sum(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out,
                      Method method = Method::Fast);
+
+/// A (+) B of two boxes through the box-box kernel (active ISA): its 30 planes, and the facet
+/// loops their support corners imply (vertex i, j: box_corner codes); boxes with parallel
+/// edges, or an inconsistent result, take the general path.
+Status minkowski_sum(const Box& a, const Box& b, MinkowskiSum& out);
 
 /// A (-) B = A (+) (-B), the configuration-space obstacle; index j refers to B's vertex j.
 Status minkowski_difference(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out,
