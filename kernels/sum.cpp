@@ -18,12 +18,15 @@ namespace detail {
 
 void assemble(const ConvexPolytope& a, const ConvexPolytope& b, std::vector<FacetLoop>& facets,
               MinkowskiSum& out) {
-  const Method method = out.method;
-  out = MinkowskiSum{};
-  out.method = method;
+  // The output's vectors keep their capacity (a caller that reuses `out` allocates once), and
+  // the scratch tables are per thread: a sum allocates only while it grows.
+  out.planes.clear(), out.vertices.clear();
+  out.V = out.E = out.F = 0;
+  out.euler_ok = out.corrected = false;
+  thread_local std::vector<int> index, start, head, fill;
   // Vertex numbers by pair code i * |B| + j: a dense table, since |A| |B| is small.
   const int nb = int(b.vertices.size());
-  std::vector<int> index(a.vertices.size() * b.vertices.size(), -1);
+  index.assign(a.vertices.size() * b.vertices.size(), -1);
   size_t kept = 0;
   for (auto& f : facets) {
     // Consecutive repeats come from zero-length arcs of flat operands; drop them, then drop
@@ -45,12 +48,12 @@ void assemble(const ConvexPolytope& a, const ConvexPolytope& b, std::vector<Face
     const int i = code / nb, j = code % nb;
     out.vertices.push_back(SumVertex{i, j, a.vertices[i] + b.vertices[j]});
   }
-  out.planes.reserve(facets.size());
-  out.facets.reserve(facets.size());
+  out.facets.resize(facets.size());
   size_t directed = 0;  // directed edges, one per loop step
-  for (const auto& f : facets) {
-    std::vector<int> loop;
-    loop.reserve(f.loop.size());
+  for (size_t k = 0; k < facets.size(); ++k) {
+    const FacetLoop& f = facets[k];
+    std::vector<int>& loop = out.facets[k];
+    loop.clear();
     SumPlane plane{f.normal.normalized(), -std::numeric_limits<double>::infinity(),
                    f.loop[0].first, f.loop[0].second};
     for (const auto& p : f.loop) {
@@ -60,16 +63,16 @@ void assemble(const ConvexPolytope& a, const ConvexPolytope& b, std::vector<Face
     }
     directed += loop.size();
     out.planes.push_back(plane);
-    out.facets.push_back(std::move(loop));
   }
   // A closed 2-manifold: every directed edge u -> v once, and v -> u once. Outgoing edges are
   // grouped per vertex (a few per vertex), so each check is a short scan.
   const size_t V = out.vertices.size();
-  std::vector<int> start(V + 1, 0), head(directed);
+  start.assign(V + 1, 0);
+  head.resize(directed);
   for (const auto& loop : out.facets)
     for (int u : loop) ++start[u + 1];
   for (size_t v = 0; v < V; ++v) start[v + 1] += start[v];
-  std::vector<int> fill(start.begin(), start.end() - 1);
+  fill.assign(start.begin(), start.end() - 1);
   for (const auto& loop : out.facets)
     for (size_t k = 0; k < loop.size(); ++k) head[fill[loop[k]]++] = loop[(k + 1) % loop.size()];
   auto count = [&](int u, int v) {
@@ -147,12 +150,17 @@ bool usable(const ConvexPolytope& p) {
 
 Status sum_dispatch(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out,
                     Method method) {
-  out = MinkowskiSum{};
-  out.method = method;
-  if (!usable(a) || !usable(b)) return Status::TooFewPoints;
+  if (method == Method::Kernel) method = Method::Fast;  // the kernel takes two boxes
+  // An error leaves an empty result; a result reuses the capacity of `out` (see assemble).
+  const auto fail = [&out](Status s) {
+    out = MinkowskiSum{};
+    return s;
+  };
+  out.method = method, out.corrected = false;
+  if (!usable(a) || !usable(b)) return fail(Status::TooFewPoints);
   // Two coplanar flat operands have a flat sum; the result type describes solids only.
   if (a.flat && b.flat && a.faces[0].normal.cross(b.faces[0].normal).norm() <= 1e-12)
-    return Status::DegenerateResult;
+    return fail(Status::DegenerateResult);
   if (method == Method::Hull) {
     const Status s = detail::hull_corrector(a, b, out);
     out.corrected = false;  // the hull is the method here, not a correction
@@ -198,10 +206,12 @@ Status minkowski_difference(const ConvexPolytope& a, const ConvexPolytope& b, Mi
 }
 
 Status minkowski_sum(const Box& a, const Box& b, MinkowskiSum& out) {
-  out = MinkowskiSum{};
   ConvexPolytope pa, pb;  // vertex k is box_corner(k), as the kernel's corner codes number them
   for (auto [box, poly] : {std::pair{&a, &pa}, std::pair{&b, &pb}})
-    if (const Status s = polytope_from_box(*box, *poly); s != Status::Ok) return s;
+    if (const Status s = polytope_from_box(*box, *poly); s != Status::Ok) {
+      out = MinkowskiSum{};
+      return s;
+    }
   BoxBoxPair planes;
   box_box_planes(a, b, false, planes);
   bool all_valid = true;  // an axis of parallel edges: coplanar features merge; general path
@@ -235,7 +245,7 @@ Status minkowski_sum(const Box& a, const Box& b, MinkowskiSum& out) {
     if ((P(1) - P(0)).cross(P(2) - P(1)).dot(n) < 0) std::reverse(f.loop.begin(), f.loop.end());
     facets.push_back(std::move(f));
   }
-  out.method = Method::Kernel;
+  out.method = Method::Kernel, out.corrected = false;
   detail::assemble(pa, pb, facets, out);
   // Rounding can pick a wrong support corner between nearly parallel features: then the
   // general path, as for any inconsistent result.
