@@ -236,8 +236,24 @@ Status build_octree(const std::vector<Vector3d>& vertices,
   // Breadth first, so that every node's children are contiguous.
   std::vector<std::vector<int>> lists(1);
   std::vector<int> level(1, 0);
-  lists[0].resize(triangles.size());
-  for (size_t k = 0; k < triangles.size(); ++k) lists[0][k] = int(k);
+  // A triangle with exactly the corners of an earlier one is left out of the leaves: it cannot
+  // be nearer, and a mesh of many copies would make leaf pairs quadratic in the copies.
+  std::vector<std::array<double, 9>> key(triangles.size());
+  for (size_t k = 0; k < triangles.size(); ++k) {
+    std::array<Vector3d, 3> c = {vertices[triangles[k][0]], vertices[triangles[k][1]], vertices[triangles[k][2]]};
+    std::sort(c.begin(), c.end(), [](const Vector3d& x, const Vector3d& y) {
+      return std::lexicographical_compare(x.data(), x.data() + 3, y.data(), y.data() + 3);
+    });
+    for (int i = 0; i < 3; ++i)
+      for (int d = 0; d < 3; ++d) key[k][3 * i + d] = c[i][d];
+  }
+  std::vector<int> order(triangles.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = int(k);
+  std::stable_sort(order.begin(), order.end(), [&](int x, int y) { return key[x] < key[y]; });
+  std::vector<char> copy(triangles.size(), 0);
+  for (size_t k = 1; k < order.size(); ++k) copy[order[k]] = key[order[k]] == key[order[k - 1]];
+  for (size_t k = 0; k < triangles.size(); ++k)
+    if (!copy[k]) lists[0].push_back(int(k));
   out.nodes.emplace_back();
   out.nodes[0].center = center, out.nodes[0].half = root_half;
   for (size_t i = 0; i < out.nodes.size(); ++i) {

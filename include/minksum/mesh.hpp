@@ -52,7 +52,8 @@ struct Octree {
 
 /// Builds the octree of a mesh. Unused vertices, boundary and non-manifold edges and
 /// degenerate triangles are accepted; NaN/Inf coordinates (NonFinite), indices out of range
-/// (InvalidMesh) and meshes without triangles (TooFewPoints) are rejected.
+/// (InvalidMesh) and meshes without triangles (TooFewPoints) are rejected. A triangle with
+/// exactly the corners of an earlier one is not listed in the leaves (it cannot be nearer).
 Status build_octree(const std::vector<Eigen::Vector3d>& vertices,
                     const std::vector<std::array<int, 3>>& triangles, Octree& out,
                     const OctreeOptions& options = {});
