@@ -81,10 +81,17 @@ bool pierces(const Vector3d& p, const Vector3d& q, const Vector3d (&t)[3], const
 
 double triangle_distance(const Vector3d (&s_in)[3], const Vector3d (&t_in)[3], Vector3d& ps,
                          Vector3d& pt) {
-  // Work relative to one corner: coordinates far from the origin keep their precision.
+  // Work relative to one corner (coordinates far from the origin keep their precision), scaled
+  // by a power of two to about 1 (exact): the segment test multiplies four coordinates, which
+  // would overflow beyond 1e77 (a fuzz finding: an infinite distance at 1e86) or underflow.
   const Vector3d o = s_in[0];
-  const Vector3d s[3] = {s_in[0] - o, s_in[1] - o, s_in[2] - o};
-  const Vector3d t[3] = {t_in[0] - o, t_in[1] - o, t_in[2] - o};
+  double size = 0;
+  for (const Vector3d* v : {&s_in[1], &s_in[2], &t_in[0], &t_in[1], &t_in[2]}) size = std::max(size, (*v - o).cwiseAbs().maxCoeff());
+  int exponent = 0;
+  std::frexp(size, &exponent);
+  const double shrink = size > 0 ? std::ldexp(1.0, -exponent) : 1.0;
+  const Vector3d s[3] = {Vector3d::Zero(), shrink * (s_in[1] - o), shrink * (s_in[2] - o)};
+  const Vector3d t[3] = {shrink * (t_in[0] - o), shrink * (t_in[1] - o), shrink * (t_in[2] - o)};
   const Vector3d ns = (s[1] - s[0]).cross(s[2] - s[0]), nt = (t[1] - t[0]).cross(t[2] - t[0]);
   // Degenerate (zero-area) triangles have no face region; their edges cover them.
   const auto flat = [](const Vector3d& n, const Vector3d (&v)[3]) {
@@ -102,11 +109,11 @@ double triangle_distance(const Vector3d (&s_in)[3], const Vector3d (&t_in)[3], V
   Vector3d x;
   for (int k = 0; k < 3 && !apart; ++k) {
     if (!t_flat && pierces(s[k], s[(k + 1) % 3], t, nt, x)) {
-      ps = pt = x + o;
+      ps = pt = x / shrink + o;
       return 0;
     }
     if (!s_flat && pierces(t[k], t[(k + 1) % 3], s, ns, x)) {
-      ps = pt = x + o;
+      ps = pt = x / shrink + o;
       return 0;
     }
   }
@@ -128,8 +135,8 @@ double triangle_distance(const Vector3d (&s_in)[3], const Vector3d (&t_in)[3], V
       if (const double d2 = (t[k] - cp).squaredNorm(); d2 < best) best = d2, bs = cp, bt = t[k];
     }
   }
-  ps = bs + o, pt = bt + o;
-  return std::sqrt(best);
+  ps = bs / shrink + o, pt = bt / shrink + o;
+  return std::sqrt(best) / shrink;
 }
 
 namespace {

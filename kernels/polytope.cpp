@@ -272,7 +272,8 @@ Status check_triangle(const Triangle& t) {
   if (const Status s = check_coordinates(pts, 3); s != Status::Ok) return s;
   if (t.a == t.b || t.b == t.c || t.a == t.c) return Status::TooFewPoints;
   const double D = diagonal(pts, 3);
-  if ((t.b - t.a).cross(t.c - t.a).norm() <= kLineTol * D * D) return Status::Collinear;
+  // Relative to the diagonal first: the cross product of raw edges overflows beyond 1e154.
+  if (((t.b - t.a) / D).cross((t.c - t.a) / D).norm() <= kLineTol) return Status::Collinear;
   return Status::Ok;
 }
 

@@ -306,9 +306,11 @@ SmallShape shape_of(const Triangle& t) {
   s.nv = 3;
   s.tri[0][0] = 0, s.tri[0][1] = 1, s.tri[0][2] = 2;
   s.nt = 1;
-  s.normal[0] = (t.b - t.a).cross(t.c - t.a).normalized();
+  // Unit edges first: products of raw coordinates up to 1e100 would overflow.
+  s.edge[0] = (t.b - t.a).stableNormalized(), s.edge[1] = (t.c - t.b).stableNormalized();
+  s.edge[2] = (t.a - t.c).stableNormalized();
+  s.normal[0] = s.edge[0].cross(s.edge[1]).stableNormalized();
   s.nn = 1;
-  s.edge[0] = t.b - t.a, s.edge[1] = t.c - t.b, s.edge[2] = t.a - t.c;
   s.ne = 3;
   return s;
 }

@@ -132,14 +132,42 @@ TEST(TriangleDistance, AgreesWithTheGeneralPath) {
     }
     const Vector3d far = k % 8 == 3 ? Vector3d(1e5, -1e5, 1e5) : Vector3d::Zero();
     for (Triangle* x : {&s, &t}) x->a += far, x->b += far, x->c += far;
+    // The general path (A (-) B of the two flat polytopes), not the triangle query, which is
+    // built on triangle_distance.
+    ConvexPolytope S, T;
+    if (polytope_from_triangle(s, S) != Status::Ok || polytope_from_triangle(t, T) != Status::Ok) continue;
     Proximity want;
-    if (proximity(s, t, want) != Status::Ok) continue;  // a degenerate random triangle
+    ASSERT_EQ(proximity(S, T, want), Status::Ok) << "pair " << k;
     const Vector3d vs[3] = {s.a, s.b, s.c}, vt[3] = {t.a, t.b, t.c};
     Vector3d ps, pt;
     const double got = triangle_distance(vs, vt, ps, pt);
     const double tol = 1e-9 * (1 + far.norm());
     ASSERT_NEAR(got, want.distance, tol) << "pair " << k;
     ASSERT_NEAR((ps - pt).norm(), got, tol) << "pair " << k;
+  }
+}
+
+// Found by fuzzing: triangles at 1e86 got an infinite distance (the segment test multiplies four
+// coordinates). Scaling both triangles by a power of two scales the answer exactly: checked at
+// 2^280 (about 1e84) and 2^-900 (about 1e-271), against the same pair near 1; the triangle
+// query (its own path) gives the same distance.
+TEST(TriangleDistance, HugeAndTinyCoordinates) {
+  std::mt19937_64 rng(21);
+  for (int k = 0; k < test::scaled(2000); ++k) {
+    const Triangle a = tools::random_triangle(rng, 1.2), b = tools::random_triangle(rng, 1.2);
+    const Vector3d s[3] = {a.a, a.b, a.c}, t[3] = {b.a, b.b, b.c};
+    Vector3d p, q;
+    const double d = triangle_distance(s, t, p, q);
+    for (int e : {280, -900}) {
+      const double f = std::ldexp(1.0, e);
+      const Vector3d fs[3] = {f * s[0], f * s[1], f * s[2]}, ft[3] = {f * t[0], f * t[1], f * t[2]};
+      Vector3d fp, fq;
+      ASSERT_NEAR(triangle_distance(fs, ft, fp, fq) / f, d, 1e-12 * (1 + d)) << "pair " << k << " scale 2^" << e;
+      EXPECT_NEAR((fp - fq).stableNorm() / f, d, 1e-12 * (1 + d));  // norm() underflows at 2^-900
+      Proximity prox;
+      ASSERT_EQ(proximity(Triangle{fs[0], fs[1], fs[2]}, Triangle{ft[0], ft[1], ft[2]}, prox), Status::Ok);
+      ASSERT_NEAR(prox.distance / f, d, 1e-12 * (1 + d)) << "pair " << k << " scale 2^" << e;
+    }
   }
 }
 
