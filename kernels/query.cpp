@@ -140,55 +140,6 @@ double penetration_along(const MinkowskiSum& m, const Vector3d& u) {
 
 namespace {
 
-// Two coplanar flat operands: M is a flat polygon, which the result type does not describe.
-// Its proximity is that of the polygon of the pairwise differences (a flat polytope).
-Status flat_proximity(const ConvexPolytope& a, const ConvexPolytope& b, Proximity& out) {
-  std::vector<Vector3d> diffs;
-  for (const auto& p : a.vertices)
-    for (const auto& q : b.vertices) diffs.push_back(p - q);
-  ConvexPolytope poly;
-  const Status s = polytope_from_points(diffs, poly);
-  if (s != Status::Ok) return s;
-  // Present the polygon as a two-sided "sum" so that the facet routines apply unchanged.
-  MinkowskiSum m;
-  const int nb = int(b.vertices.size());
-  for (size_t k = 0; k < poly.vertices.size(); ++k)
-    m.vertices.push_back({poly.input_index[k] / nb, poly.input_index[k] % nb, poly.vertices[k]});
-  m.V = int(m.vertices.size());
-  for (const auto& f : poly.faces) {
-    m.facets.push_back(f.loop);
-    m.planes.push_back({f.normal, f.offset, -1, -1});
-  }
-  m.F = int(m.facets.size());
-  out = Proximity{};
-  farthest(m, a, b, out);
-  const Witness w = closest_on_facet(m, m.facets[0], m.planes[0].normal);
-  witness_points(m, a, b, w, out.point_a, out.point_b);
-  // On the polygon (to rounding): they touch; any move along the normal separates them.
-  double size = 0;
-  for (const auto& v : m.vertices) size = std::max(size, v.point.cwiseAbs().maxCoeff());
-  if (std::sqrt(w.dist2) <= 1e-12 * size) {
-    out.intersecting = true;
-    out.penetration_direction = m.planes[0].normal;
-  } else {
-    out.distance = std::sqrt(w.dist2);
-  }
-  return Status::Ok;
-}
-
-}  // namespace
-
-Status proximity(const ConvexPolytope& a, const ConvexPolytope& b, Proximity& out) {
-  MinkowskiSum m;
-  const Status s = minkowski_difference(a, b, m);
-  if (s == Status::DegenerateResult) return flat_proximity(a, b, out);
-  if (s != Status::Ok) return s;
-  out = proximity(m, a, b);
-  return Status::Ok;
-}
-
-namespace {
-
 // The farthest pair of two boxes: the farthest vertex of M = c + G t. For a fixed corner t_A of
 // A, |p + G_B t_B|^2 with p = c + G_A t_A separates into one term per axis of B (its axes are
 // orthogonal), so the best t_B has the signs of g_Bj . p; compare the 8 corners of A by
@@ -264,39 +215,50 @@ Status proximity(const Box& a, const Box& b, Proximity& out, Want want) {
 
 namespace {
 
-// Box-triangle and triangle-triangle proximity without building A (-) B, so without allocation
-// (a haptics tick may call them). A shape is read through fixed arrays: its vertices, its
-// surface as triangles, the normals of its faces and the directions of its edges.
+// Exact proximity without building A (-) B, so without allocation (a haptics tick may call
+// it). A shape is read through a view: its vertices, its faces (a vertex loop, the outward
+// normal and offset; a flat shape has one face and no inside), and its edge directions.
+
+// A box or a triangle in fixed arrays.
 struct SmallShape {
   Vector3d v[8];
   int nv = 0;
-  int tri[12][3];
-  int nt = 0;
-  Vector3d out_normal[12];  // a box's surface triangles: outward normal and offset
-  double offset[12];
-  Vector3d normal[3], edge[3];  // box: its axes for both; triangle: its normal, its edges
-  int nn = 0, ne = 0;
-  const Box* box = nullptr;     // a solid box can contain a point; a triangle cannot
+  int face[6][4];
+  int face_size = 0, nf = 0;
+  Vector3d normal[6];
+  double offset[6];
+  Vector3d edge[3];  // unit directions: a box's axes, a triangle's edges
+  int ne = 0;
+  bool solid = false;
+  int size() const { return nv; }
+  const Vector3d& vertex(int k) const { return v[k]; }
+  int faces() const { return nf; }
+  int loop_size(int) const { return face_size; }
+  const Vector3d& loop_vertex(int f, int k) const { return v[face[f][k]]; }
+  const Vector3d& face_normal(int f) const { return normal[f]; }
+  double face_offset(int f) const { return offset[f]; }
+  int edges() const { return ne; }
+  Vector3d edge_direction(int k) const { return edge[k]; }
 };
 
 SmallShape shape_of(const Box& b) {
   SmallShape s;
   s.nv = 8;
   for (int k = 0; k < 8; ++k) s.v[k] = box_corner(b, k);
-  // Each face as two triangles: the face of axis a on side `side` holds the corners whose bit a
-  // is `side`; the other two bits run around it.
-  for (int a = 0, t = 0; a < 3; ++a)
-    for (int side = 0; side < 2; ++side, t += 2) {
+  // The face of axis a on side `side` holds the corners whose bit a is `side`; the other two
+  // bits run around it.
+  for (int a = 0, f = 0; a < 3; ++a)
+    for (int side = 0; side < 2; ++side, ++f) {
       const int u = 1 << ((a + 1) % 3), w = 1 << ((a + 2) % 3), base = side << a;
-      s.tri[t][0] = base, s.tri[t][1] = base | u, s.tri[t][2] = base | u | w;
-      s.tri[t + 1][0] = base, s.tri[t + 1][1] = base | u | w, s.tri[t + 1][2] = base | w;
-      s.out_normal[t] = s.out_normal[t + 1] = (side ? 1.0 : -1.0) * b.rotation.col(a);
-      s.offset[t] = s.offset[t + 1] = s.out_normal[t].dot(s.v[base]);
+      const int loop[4] = {base, base | u, base | u | w, base | w};
+      for (int k = 0; k < 4; ++k) s.face[f][k] = loop[k];
+      s.normal[f] = (side ? 1.0 : -1.0) * b.rotation.col(a);
+      s.offset[f] = s.normal[f].dot(s.v[base]);
     }
-  s.nt = 12;
-  for (int a = 0; a < 3; ++a) s.normal[a] = s.edge[a] = b.rotation.col(a);
-  s.nn = s.ne = 3;
-  s.box = &b;
+  s.nf = 6, s.face_size = 4;
+  for (int a = 0; a < 3; ++a) s.edge[a] = b.rotation.col(a);
+  s.ne = 3;
+  s.solid = true;
   return s;
 }
 
@@ -304,80 +266,142 @@ SmallShape shape_of(const Triangle& t) {
   SmallShape s;
   s.v[0] = t.a, s.v[1] = t.b, s.v[2] = t.c;
   s.nv = 3;
-  s.tri[0][0] = 0, s.tri[0][1] = 1, s.tri[0][2] = 2;
-  s.nt = 1;
+  for (int k = 0; k < 3; ++k) s.face[0][k] = k;
+  s.nf = 1, s.face_size = 3;
   // Unit edges first: products of raw coordinates up to 1e100 would overflow.
   s.edge[0] = (t.b - t.a).stableNormalized(), s.edge[1] = (t.c - t.b).stableNormalized();
   s.edge[2] = (t.a - t.c).stableNormalized();
   s.normal[0] = s.edge[0].cross(s.edge[1]).stableNormalized();
-  s.nn = 1;
+  s.offset[0] = s.normal[0].dot(t.a);
   s.ne = 3;
   return s;
 }
 
-bool inside(const SmallShape& s, const Vector3d& p) {
-  if (!s.box) return false;
-  const Vector3d local = s.box->rotation.transpose() * (p - s.box->center);
-  return (local.cwiseAbs() - s.box->half_extents).maxCoeff() <= 0;
+// A convex polytope, read in place.
+struct PolytopeShape {
+  const ConvexPolytope& p;
+  bool solid = !p.flat;
+  int size() const { return int(p.vertices.size()); }
+  const Vector3d& vertex(int k) const { return p.vertices[k]; }
+  int faces() const { return p.flat ? 1 : int(p.faces.size()); }  // a flat one: one side
+  int loop_size(int f) const { return int(p.faces[f].loop.size()); }
+  const Vector3d& loop_vertex(int f, int k) const { return p.vertices[p.faces[f].loop[k]]; }
+  const Vector3d& face_normal(int f) const { return p.faces[f].normal; }
+  double face_offset(int f) const { return p.faces[f].offset; }
+  int edges() const { return int(p.edges.size()); }
+  Vector3d edge_direction(int k) const {
+    return (p.vertices[p.edges[k].v1] - p.vertices[p.edges[k].v0]).stableNormalized();
+  }
+};
+
+// |d| without underflow or overflow (coordinates of 1e-271 square to zero).
+double length(const Vector3d& d) {
+  const double m = d.cwiseAbs().maxCoeff();
+  return m > 0 && std::isfinite(m) ? m * (d / m).norm() : m;
 }
 
-// The nearest points of A's and (B + shift)'s surfaces, over the pairs of surface triangles
-// (triangle_distance is exact and robust for near-parallel pairs). A box face with all of B
-// behind its plane (by more than `margin`) is skipped: the nearest point of a solid box to a
-// point outside it lies on a face that has the point in front. Infinity if all are skipped
-// (B inside the box).
-double surface_distance(const SmallShape& a, const SmallShape& b, const Vector3d& shift,
-                        double margin, Vector3d& pa, Vector3d& pb) {
+template <class S>
+bool inside(const S& s, const Vector3d& q) {
+  if (!s.solid) return false;
+  for (int f = 0; f < s.faces(); ++f)
+    if (s.face_normal(f).dot(q) > s.face_offset(f)) return false;
+  return true;
+}
+
+// Whether every vertex of `other` (moved by shift) lies behind face f of s by more than
+// margin: then f cannot hold the nearest point of the solid s to `other`, which lies on a face
+// that has that point in front.
+template <class S, class T>
+bool behind(const S& s, int f, const T& other, const Vector3d& shift, double margin) {
+  if (!s.solid) return false;
+  for (int k = 0; k < other.size(); ++k)
+    if (s.face_normal(f).dot(other.vertex(k) + shift) - s.face_offset(f) >= -margin) return false;
+  return true;
+}
+
+// The nearest points of A's and (B + shift)'s surfaces, over the pairs of faces that can hold
+// them, each face fanned into triangles (triangle_distance is exact and robust for
+// near-parallel pairs). When one solid holds the other, no face pair qualifies and the answer
+// is the nearest vertex pair (the caller tests containment).
+template <class A, class B>
+double surface_distance(const A& a, const B& b, const Vector3d& shift, double margin,
+                        Vector3d& pa, Vector3d& pb) {
+  // The nearest pair of vertices bounds the distance from above, so that far face pairs are
+  // skipped from the start.
   double best = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < a.nt; ++i) {
-    if (a.box) {
-      double front = -std::numeric_limits<double>::infinity();
-      for (int k = 0; k < b.nv; ++k) front = std::max(front, a.out_normal[i].dot(b.v[k] + shift) - a.offset[i]);
-      if (front < -margin) continue;
+  for (int i = 0; i < a.size(); ++i)
+    for (int j = 0; j < b.size(); ++j)
+      if (const double d = length(a.vertex(i) - b.vertex(j) - shift); d < best)
+        best = d, pa = a.vertex(i), pb = b.vertex(j) + shift;
+  // How far the points x_k (k < count) all lie on one side of the plane n . x = offset: a lower
+  // bound of the distance between the face on that plane and their face.
+  const auto gap = [](const Vector3d& n, double offset, int count, const auto& x) {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (int k = 0; k < count; ++k) {
+      const double h = n.dot(x(k)) - offset;
+      lo = std::min(lo, h), hi = std::max(hi, h);
     }
-    const Vector3d s[3] = {a.v[a.tri[i][0]], a.v[a.tri[i][1]], a.v[a.tri[i][2]]};
-    for (int j = 0; j < b.nt; ++j) {
-      const Vector3d t[3] = {b.v[b.tri[j][0]] + shift, b.v[b.tri[j][1]] + shift, b.v[b.tri[j][2]] + shift};
-      Vector3d p, q;
-      const double d = triangle_distance(s, t, p, q);
-      if (d < best) best = d, pa = p, pb = q;
+    return std::max({lo, -hi, 0.0});
+  };
+  for (int f = 0; f < a.faces(); ++f) {
+    if (behind(a, f, b, shift, margin)) continue;
+    for (int g = 0; g < b.faces(); ++g) {
+      if (behind(b, g, a, -shift, margin)) continue;
+      const Vector3d& nf = a.face_normal(f);
+      const Vector3d& ng = b.face_normal(g);
+      const double apart = std::max(
+          gap(nf, a.face_offset(f), b.loop_size(g), [&](int k) { return Vector3d(b.loop_vertex(g, k) + shift); }),
+          gap(ng, b.face_offset(g) + ng.dot(shift), a.loop_size(f), [&](int k) { return a.loop_vertex(f, k); }));
+      if (apart >= best) continue;
+      for (int i = 1; i + 1 < a.loop_size(f); ++i) {
+        const Vector3d s[3] = {a.loop_vertex(f, 0), a.loop_vertex(f, i), a.loop_vertex(f, i + 1)};
+        for (int j = 1; j + 1 < b.loop_size(g); ++j) {
+          const Vector3d t[3] = {b.loop_vertex(g, 0) + shift, b.loop_vertex(g, j) + shift, b.loop_vertex(g, j + 1) + shift};
+          Vector3d p, q;
+          const double d = triangle_distance(s, t, p, q);
+          if (d < best) best = d, pa = p, pb = q;
+        }
+      }
     }
   }
   return best;
 }
 
 // h_M(n) = max_a n.a - min_b n.b for n and for -n.
-void support_pair(const SmallShape& a, const SmallShape& b, const Vector3d& n, double& plus, double& minus) {
+template <class A, class B>
+void support_pair(const A& a, const B& b, const Vector3d& n, double& plus, double& minus) {
   double amax = -std::numeric_limits<double>::infinity(), amin = -amax, bmax = amax, bmin = amin;
-  for (int k = 0; k < a.nv; ++k) {
-    const double x = n.dot(a.v[k]);
+  for (int k = 0; k < a.size(); ++k) {
+    const double x = n.dot(a.vertex(k));
     amax = std::max(amax, x), amin = std::min(amin, x);
   }
-  for (int k = 0; k < b.nv; ++k) {
-    const double x = n.dot(b.v[k]);
+  for (int k = 0; k < b.size(); ++k) {
+    const double x = n.dot(b.vertex(k));
     bmax = std::max(bmax, x), bmin = std::min(bmin, x);
   }
   plus = amax - bmin, minus = bmax - amin;
 }
 
-// Exact proximity of two small shapes. Distance: the nearest pair of surface triangles, or 0 if
-// the surfaces meet (within rounding of the coordinates) or one shape holds the other.
-// Penetration: every facet normal of M = A (-) B is a face normal of A or B or a cross product
+// Exact proximity of two shapes. Distance: the nearest pair of surface points, or 0 if the
+// surfaces meet (within rounding of the coordinates) or one shape holds the other.
+// Penetration: every facet normal of M = A (-) B is a face normal of A or B or the cross product
 // of an edge of each (the Gauss map), and h_M(n) >= depth for every unit n, so the least h_M
 // over those candidates (both signs) is the depth; the deepest points are the nearest points of
 // A and of B moved by depth * n, where they touch.
-void small_proximity(const SmallShape& a, const SmallShape& b, Proximity& out) {
+template <class A, class B>
+void exact_proximity(const A& a, const B& b, Proximity& out) {
   out = Proximity{};
   double size = 0;
-  for (int i = 0; i < a.nv; ++i)
-    for (int j = 0; j < b.nv; ++j) {
-      const double d = (a.v[i] - b.v[j]).norm();
-      if (d > out.max_distance) out.max_distance = d, out.far_a = a.v[i], out.far_b = b.v[j];
-      size = std::max(size, (a.v[i] - b.v[j]).cwiseAbs().maxCoeff());
+  for (int i = 0; i < a.size(); ++i)
+    for (int j = 0; j < b.size(); ++j) {
+      const Vector3d d = a.vertex(i) - b.vertex(j);
+      const double len = length(d);
+      if (len > out.max_distance) out.max_distance = len, out.far_a = a.vertex(i), out.far_b = b.vertex(j);
+      size = std::max(size, d.cwiseAbs().maxCoeff());
     }
   const double tol = 64 * std::numeric_limits<double>::epsilon() * size;
   const double best = surface_distance(a, b, Vector3d::Zero(), 1e-9 * size, out.point_a, out.point_b);
-  if (best > tol && !inside(a, b.v[0]) && !inside(b, a.v[0])) {
+  if (best > tol && !inside(a, b.vertex(0)) && !inside(b, a.vertex(0))) {
     out.distance = best;
     return;
   }
@@ -390,14 +414,16 @@ void small_proximity(const SmallShape& a, const SmallShape& b, Proximity& out) {
     if (plus < depth) depth = plus, dir = n;
     if (minus < depth) depth = minus, dir = -n;
   };
-  for (int k = 0; k < a.nn; ++k) consider(a.normal[k]);
-  for (int k = 0; k < b.nn; ++k) consider(b.normal[k]);
-  for (int i = 0; i < a.ne; ++i)
-    for (int j = 0; j < b.ne; ++j) {
-      const Vector3d c = a.edge[i].cross(b.edge[j]);
+  for (int f = 0; f < a.faces(); ++f) consider(a.face_normal(f));
+  for (int f = 0; f < b.faces(); ++f) consider(b.face_normal(f));
+  for (int i = 0; i < a.edges(); ++i) {
+    const Vector3d ea = a.edge_direction(i);
+    for (int j = 0; j < b.edges(); ++j) {
+      const Vector3d c = ea.cross(b.edge_direction(j));
       const double len = c.norm();
       if (len > 0 && std::isfinite(len)) consider(c / len);
     }
+  }
   out.penetration_depth = std::max(0.0, depth);
   out.penetration_direction = dir;
   if (out.penetration_depth > 0) {
@@ -409,11 +435,18 @@ void small_proximity(const SmallShape& a, const SmallShape& b, Proximity& out) {
 
 }  // namespace
 
+Status proximity(const ConvexPolytope& a, const ConvexPolytope& b, Proximity& out) {
+  out = Proximity{};
+  if (a.vertices.empty() || b.vertices.empty() || a.faces.empty() || b.faces.empty()) return Status::TooFewPoints;
+  exact_proximity(PolytopeShape{a}, PolytopeShape{b}, out);
+  return Status::Ok;
+}
+
 Status proximity(const Box& a, const Triangle& b, Proximity& out) {
   out = Proximity{};
   if (const Status s = check_box(a); s != Status::Ok) return s;
   if (const Status s = check_triangle(b); s != Status::Ok) return s;
-  small_proximity(shape_of(a), shape_of(b), out);
+  exact_proximity(shape_of(a), shape_of(b), out);
   return Status::Ok;
 }
 
@@ -421,7 +454,7 @@ Status proximity(const Triangle& a, const Triangle& b, Proximity& out) {
   out = Proximity{};
   for (const Triangle* t : {&a, &b})
     if (const Status s = check_triangle(*t); s != Status::Ok) return s;
-  small_proximity(shape_of(a), shape_of(b), out);
+  exact_proximity(shape_of(a), shape_of(b), out);
   return Status::Ok;
 }
 

@@ -1,6 +1,5 @@
-// Real-time guarantees: no heap allocation inside the kernel calls, the box and triangle
-// queries and the mesh queries (the calls a haptics tick makes; the polytope-polytope query
-// builds A (-) B and allocates, as documented). This executable replaces operator new and malloc to count them.
+// Real-time guarantees: no heap allocation inside the kernel calls, the proximity queries of
+// boxes, triangles and polytopes, and the mesh queries (the calls a haptics tick makes). This executable replaces operator new and malloc to count them.
 #include <gtest/gtest.h>
 #include <minksum/minksum.hpp>
 
@@ -106,6 +105,24 @@ TEST(RealTime, KernelsAndQueriesDoNotAllocate) {
                   proximity(boxes[k], tris[k], p);
                   proximity(tris[k], tris[k + 1], p);
                 }
+              }),
+              0);
+    // Polytopes built at set-up (B overlapping, then apart); the query reads them in place.
+    ConvexPolytope P, Q[2];
+    polytope_from_points(tools::icosahedron_points(), P);
+    for (int k = 0; k < 2; ++k) {
+      std::vector<Eigen::Vector3d> moved;
+      for (const auto& v : tools::rotated(tools::dodecahedron_points(), tools::table1_rotation()))
+        moved.push_back(v + Eigen::Vector3d(k == 0 ? 0.5 : 5.0, 0.2, 0));
+      polytope_from_points(moved, Q[k]);
+    }
+    MinkowskiSum m;  // and the queries on a difference built at set-up
+    minkowski_difference(P, Q[0], m);
+    EXPECT_EQ(allocations([&] {
+                for (const ConvexPolytope& q : Q) proximity(P, q, p);
+                p = proximity(m, P, Q[0]);
+                p.intersecting = contains(m, Eigen::Vector3d::Zero());
+                p.penetration_depth = penetration_along(m, Eigen::Vector3d::UnitX());
               }),
               0);
   }
