@@ -22,18 +22,6 @@ Triangle triangle(fuzz::Bytes& in) {
   return t;
 }
 
-void check(const Proximity& p) {
-  for (double x : {p.distance, p.max_distance, p.penetration_depth})
-    if (!std::isfinite(x) || x < 0) fuzz::fail("distance, max distance or depth not finite and >= 0");
-  for (const auto* v : {&p.point_a, &p.point_b, &p.far_a, &p.far_b, &p.penetration_direction})
-    if (!fuzz::finite(*v)) fuzz::fail("non-finite point or direction");
-  if (p.intersecting && p.distance != 0) fuzz::fail("intersecting with a positive distance");
-  // Rounding is relative to the largest coordinate involved (the farthest pair bounds it).
-  const double scale = 1 + p.max_distance + p.point_a.cwiseAbs().maxCoeff() + p.point_b.cwiseAbs().maxCoeff();
-  if (!p.intersecting && std::abs((p.point_a - p.point_b).norm() - p.distance) > 1e-6 * scale)
-    fuzz::fail("the closest points do not realise the distance");
-}
-
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -51,6 +39,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const Triangle a = triangle(in);
     s = proximity(a, triangle(in), p);
   }
-  if (s == Status::Ok) check(p);
+  if (s == Status::Ok) fuzz::check(p);
   return 0;
 }

@@ -1,5 +1,6 @@
 // minkowski_sum / minkowski_difference on arbitrary point sets: a clear status, or a valid
-// polytope (Euler, finite planes, every pairwise sum inside every plane within the bound).
+// polytope (Euler, finite planes, every pairwise sum inside every plane within the bound); and
+// the proximity of the two polytopes: finite and consistent.
 #include "fuzz_common.hpp"
 
 using namespace minksum;
@@ -13,6 +14,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   for (int k = 0; k < nb; ++k) b.emplace_back(in.number(), in.number(), in.number());
   ConvexPolytope A, B;
   if (polytope_from_points(a, A) != Status::Ok || polytope_from_points(b, B) != Status::Ok) return 0;
+  Proximity prox;
+  if (proximity(A, B, prox) == Status::Ok) fuzz::check(prox);
   const Method method = flags % 3 == 0 ? Method::Fast : flags % 3 == 1 ? Method::Reference : Method::Hull;
   const bool diff = flags & 4;
   MinkowskiSum m;
