@@ -191,10 +191,43 @@ Status box_box_exhaustive(const Box& a, const Box& b, Proximity& out) {
 
 }  // namespace
 
+namespace {
+
+void box_box_proximity(const Box& a, const Box& b, Proximity& out, Want want);
+
+}  // namespace
+
 Status proximity(const Box& a, const Box& b, Proximity& out, Want want) {
   out = Proximity{};
   for (const Box* x : {&a, &b})
     if (const Status s = check_box(*x); s != Status::Ok) return s;
+  // Lengths far from 1 over- or underflow in the products of the pair computation (fuzz
+  // findings: NaN for a box of 1e-312 next to one of 200): then it works relative to A's
+  // centre, scaled by a power of two (exact), with half extents below 2^-100 (1e-30) of the
+  // pair's size raised to that (the answer moves by less), and the answer is scaled back.
+  const Vector3d o = a.center;
+  const double big = std::max({(b.center - o).cwiseAbs().maxCoeff(), a.half_extents.maxCoeff(), b.half_extents.maxCoeff()});
+  const double speck = std::ldexp(big, -100);
+  if (big > 1e-60 && big < 1e60 && a.half_extents.minCoeff() >= speck && b.half_extents.minCoeff() >= speck) {
+    box_box_proximity(a, b, out, want);
+    return Status::Ok;
+  }
+  int exponent = 0;
+  std::frexp(big, &exponent);
+  const double k = std::ldexp(1.0, -exponent);
+  Box sa = a, sb = b;
+  sa.center.setZero(), sb.center = k * (b.center - o);
+  for (Box* x : {&sa, &sb}) x->half_extents = (k * x->half_extents).cwiseMax(std::ldexp(1.0, -100));
+  box_box_proximity(sa, sb, out, want);
+  out.distance /= k, out.penetration_depth /= k, out.max_distance /= k;
+  for (Vector3d* p : {&out.point_a, &out.point_b, &out.far_a, &out.far_b}) *p = *p / k + o;
+  return Status::Ok;
+}
+
+namespace {
+
+// The box pair query on valid boxes whose lengths are near 1.
+void box_box_proximity(const Box& a, const Box& b, Proximity& out, Want want) {
   detail::BoxPair<double> pair;
   detail::PairAnswer<double> r;
   detail::box_pair_proximity(a, b, want & kWantContact, pair, r);
@@ -210,8 +243,9 @@ Status proximity(const Box& a, const Box& b, Proximity& out, Want want) {
     }
   }
   if (want & kWantMaxDistance) box_box_farthest(pair, out);
-  return Status::Ok;
 }
+
+}  // namespace
 
 namespace {
 

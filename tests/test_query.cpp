@@ -237,6 +237,38 @@ TEST(QueryHardCases, CoordinatesAtAMillion) {
   EXPECT_NEAR(p.distance, 0.5, 1e-9);
 }
 
+// Found by fuzzing: a box with half extents of 1e-312 (at 1e-300 from the origin) next to a box
+// of 200 got a NaN distance (its generators square to zero). A speck's distance to a box is
+// the point's (analytic, by clamping in the box's frame); a pair at 1e90 answers as the same
+// pair scaled by 2^-300.
+TEST(QueryHardCases, SpecksAndHugeBoxes) {
+  std::mt19937_64 rng(44);
+  std::uniform_real_distribution<double> u(-3, 3);
+  for (int k = 0; k < test::scaled(2000); ++k) {
+    Box big = tools::random_box(rng, 0.5);
+    big.center += Vector3d(u(rng), u(rng), u(rng));
+    Box speck;  // valid: its extents are not small next to its own coordinates
+    speck.center = Vector3d(1e-300, -2e-300, 0);
+    speck.half_extents = Vector3d(1e-312, 2e-312, 1e-311);
+    const Vector3d local = big.rotation.transpose() * (speck.center - big.center);
+    const double want = (local.cwiseAbs() - big.half_extents).cwiseMax(0.0).norm();
+    Proximity p;
+    ASSERT_EQ(proximity(speck, big, p), Status::Ok);
+    ASSERT_NEAR(p.distance, want, 1e-12) << "pair " << k;
+    ASSERT_TRUE(p.point_a.allFinite() && p.point_b.allFinite() && std::isfinite(p.max_distance));
+    Box a = tools::random_box(rng, 1), b = tools::random_box(rng, 1);
+    Proximity small, huge;
+    ASSERT_EQ(proximity(a, b, small), Status::Ok);
+    const double f = std::ldexp(1.0, 300);
+    for (Box* x : {&a, &b}) x->center *= f, x->half_extents *= f;
+    ASSERT_EQ(proximity(a, b, huge), Status::Ok);
+    ASSERT_EQ(huge.intersecting, small.intersecting) << "pair " << k;
+    ASSERT_NEAR(huge.distance / f, small.distance, 1e-12) << "pair " << k;
+    ASSERT_NEAR(huge.penetration_depth / f, small.penetration_depth, 1e-12) << "pair " << k;
+    ASSERT_NEAR(huge.max_distance / f, small.max_distance, 1e-12) << "pair " << k;
+  }
+}
+
 TEST(QueryHardCases, CoplanarTriangles) {
   Proximity p;
   ASSERT_EQ(proximity(Triangle{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, Triangle{{2, 0, 0}, {3, 0, 0}, {2, 1, 0}}, p),
