@@ -6,10 +6,6 @@
 #include "commands.hpp"
 #include "haptics/loop.hpp"
 
-namespace minksum::haptics {
-long allocation_count();
-}
-
 namespace minksum::cli {
 
 int cmd_haptics(int argc, char** argv) {

@@ -33,6 +33,10 @@ struct Report {
   std::vector<double> force_up;          ///< force . +y (the press is straight down along -y)
 };
 
+/// Heap allocations of this executable so far, counted by alloc_count.cpp (which replaces
+/// malloc and operator new when linked in), or -1 where they are not counted (sanitizer builds).
+long allocation_count();
+
 /// Runs the loop. `allocations` reads the executable's allocation counter (it replaces
 /// operator new and malloc). False with a one-line `error` for bad options or files.
 bool run(const Options& options, long (*allocations)(), Report& report, std::string& error);
