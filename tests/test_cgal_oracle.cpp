@@ -198,7 +198,7 @@ std::vector<HardCase> hard_cases() {
     const auto copy = a;
     for (const auto& p : copy) a.push_back(p * (1 + eps));
     c.push_back({eps == 0 ? "duplicated_vertices" : "near_duplicated_vertices_" + std::string(eps == 1e-15 ? "1e-15" : "1e-9"),
-                 a, tools::rotated(tools::cube_points(), R), eps == 0 ? false : false, eps == 1e-9 ? 1e-8 : 1e-12});
+                 a, tools::rotated(tools::cube_points(), R), false, eps == 1e-9 ? 1e-8 : 1e-12});
   }
   for (double bad : {std::nan(""), std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()}) {
     auto pts = tools::cube_points();
