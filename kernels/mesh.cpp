@@ -206,7 +206,8 @@ bool finite(const Vector3d& v) { return std::isfinite(v.x()) && std::isfinite(v.
 }  // namespace
 
 size_t Octree::bytes() const {
-  return vertices.capacity() * sizeof(Vector3d) + triangles.capacity() * sizeof(triangles[0]) +
+  return (vertices.capacity() + normals.capacity() + corners.capacity()) * sizeof(Vector3d) +
+         triangles.capacity() * sizeof(triangles[0]) + spheres.capacity() * sizeof(spheres[0]) +
          nodes.capacity() * sizeof(Node) + items.capacity() * sizeof(int);
 }
 
@@ -217,7 +218,7 @@ Status build_octree(const std::vector<Vector3d>& vertices,
   if (triangles.empty()) return Status::TooFewPoints;
   if (options.max_depth < -1 || options.max_depth > 24 || options.leaf_size < 1) return Status::InvalidMesh;
   const int max_depth = options.max_depth >= 0 ? options.max_depth
-                        : std::max(1, int(std::floor(std::log(triangles.size() / 32.0) / std::log(4.0))));
+                        : std::max(1, int(std::floor(std::log(triangles.size() / 128.0) / std::log(4.0))));
   for (const auto& v : vertices)
     if (!finite(v)) return Status::NonFinite;
   for (const auto& v : vertices)
@@ -235,6 +236,8 @@ Status build_octree(const std::vector<Vector3d>& vertices,
     double r = 0;
     for (int k : t) r = std::max(r, (vertices[k] - m).norm());
     out.spheres.emplace_back(m.x(), m.y(), m.z(), r * (1 + 1e-12) + 1e-15 * (m.norm() + r));
+    const Vector3d corners[3] = {vertices[t[0]], vertices[t[1]], vertices[t[2]]};
+    out.normals.push_back(unit_normal(corners));
   }
   // The root: the bounding cube of the used vertices, a little larger so nothing sits on it.
   const Vector3d center = (lo + hi) / 2;
@@ -271,6 +274,13 @@ Status build_octree(const std::vector<Vector3d>& vertices,
       out.nodes[i].first = int(out.items.size());
       out.nodes[i].count = int(list.size());
       out.items.insert(out.items.end(), list.begin(), list.end());
+      std::vector<int> used;
+      for (int t : list) used.insert(used.end(), triangles[t].begin(), triangles[t].end());
+      std::sort(used.begin(), used.end());
+      used.erase(std::unique(used.begin(), used.end()), used.end());
+      out.nodes[i].corner_first = int(out.corners.size());
+      out.nodes[i].corner_count = int(used.size());
+      for (int k : used) out.corners.push_back(vertices[k]);
       ++out.leaves;
       out.max_leaf = std::max(out.max_leaf, int(list.size()));
       continue;
@@ -310,7 +320,9 @@ void make_workspace(const Octree& a, const Octree& b, MeshWorkspace& ws) {
   ws.seen_a.assign(a.triangles.size(), 0);
   ws.seen_b.assign(b.triangles.size(), 0);
   for (auto* v : {&ws.near_b, &ws.hits}) v->assign(size_t(b.max_leaf), 0);
-  for (auto* v : {&ws.near_x, &ws.near_y, &ws.near_z, &ws.near_r}) v->assign(size_t(b.max_leaf), 0.0);
+  for (auto* v : {&ws.near_x, &ws.near_y, &ws.near_z, &ws.near_r, &ws.near_lo, &ws.proj_b}) v->assign(size_t(b.max_leaf), 0.0);
+  ws.proj_a.assign(size_t(a.max_leaf), 0.0);
+  ws.pass_a.assign(size_t(a.max_leaf), 0);
   ws.near_corners.assign(size_t(3 * b.max_leaf), Vector3d::Zero());
   ws.near_normal.assign(size_t(b.max_leaf), Vector3d::Zero());
   ws.parts.assign(size_t(8 * kMaxContactTriangles), Vector3d::Zero());
@@ -328,6 +340,7 @@ Status mesh_distance(const Octree& a, const Octree& b, const Pose& pose, MeshWor
   if (ws.seen_a.size() != a.triangles.size() || ws.seen_b.size() != b.triangles.size() ||
       ws.moved.size() != b.vertices.size() || ws.center_stamp.size() != b.triangles.size() ||
       ws.hits.size() < size_t(b.max_leaf) || ws.near_r.size() < size_t(b.max_leaf) ||
+      ws.near_lo.size() < size_t(b.max_leaf) || ws.proj_b.size() < size_t(b.max_leaf) || ws.proj_a.size() < size_t(a.max_leaf) || ws.pass_a.size() < size_t(a.max_leaf) ||
       ws.near_normal.size() < size_t(b.max_leaf) || ws.near_corners.size() < size_t(3 * b.max_leaf) || ws.stack.size() < size_t(8 * (a.depth + b.depth) + 16))
     return Status::InvalidMesh;  // a workspace made for other octrees
   if (++ws.stamp == 0) {  // stamps wrapped: forget every old mark
@@ -384,44 +397,96 @@ Status mesh_distance(const Octree& a, const Octree& b, const Pose& pose, MeshWor
         out.first_bound = p.max_distance;
         first_leaf_pair = false;
       }
-      // Triangles whose spheres are nearer than `best` to the other node's box, pairwise: the
-      // sphere distance, then the separation along the centre line, then the exact distance.
-      // (A sphere's centre c in the node's own frame: its distance to the node's box and slab.)
+      // Triangles nearer than `best` to the other node's box and slab, pairwise: the sphere
+      // distance, then the separation along the centre line, then the exact distance. A
+      // triangle's sphere (centre c in the node's own frame) is tested against the node's box
+      // and slab first, then its corners against the slab: exact for the flat patches that
+      // face each other, where the spheres overlap for every pair.
       const auto sphere_near = [&best](const Vector3d& c, double r, const Octree::Node& n) {
         const double d = n.normal.dot(c), reach = best + r;
         if (d - n.slab_hi >= reach || n.slab_lo - d >= reach) return false;
         return ((c - n.box_center).cwiseAbs() - n.box_half).cwiseMax(0.0).squaredNorm() < reach * reach;
       };
+      // Corners x against the slab of `n` whose normal is `normal` in x's frame, `shift` = the
+      // normal's offset between the frames.
+      const auto slab_near = [&best](const Vector3d& normal, double shift, const Octree::Node& n,
+                                     const Vector3d (&x)[3]) {
+        const double d0 = normal.dot(x[0]) - shift, d1 = normal.dot(x[1]) - shift, d2 = normal.dot(x[2]) - shift;
+        return std::min({d0, d1, d2}) - n.slab_hi < best && n.slab_lo - std::max({d0, d1, d2}) < best;
+      };
+      // The leaves' separation along the line between their boxes' centres, from their
+      // distinct corners (B's projected in B's frame): nearly their distance for two patches
+      // facing each other, where boxes and slabs are loose by a leaf's size. Then per
+      // triangle (A's highest corner, B's lowest), to prune triangles and pairs behind.
+      const Vector3d axis = R * nb.box_center + t - na.box_center, axis_b = R.transpose() * axis;
+      const double axis_len = axis.norm(), shift = axis.dot(t);
+      double hi_a = -std::numeric_limits<double>::infinity(), lo_b = -hi_a;
+      for (int k = na.corner_first; k < na.corner_first + na.corner_count; ++k) hi_a = std::max(hi_a, axis.dot(a.corners[k]));
+      for (int k = nb.corner_first; k < nb.corner_first + nb.corner_count; ++k) lo_b = std::min(lo_b, axis_b.dot(b.corners[k]));
+      lo_b += shift;
+      // Pruned where the separation exceeds best * |axis| (NaN while best is infinite and the
+      // axis zero: then nothing is pruned; for a zero axis every separation is 0).
+      if (lo_b - hi_a > best * axis_len) continue;
+      for (int x = 0; x < na.count; ++x) {
+        const auto& c = a.triangles[a.items[na.first + x]];
+        ws.proj_a[x] = std::max({axis.dot(a.vertices[c[0]]), axis.dot(a.vertices[c[1]]), axis.dot(a.vertices[c[2]])});
+      }
+      for (int y = 0; y < nb.count; ++y) {
+        const auto& c = b.triangles[b.items[nb.first + y]];
+        ws.proj_b[y] = shift + std::min({axis_b.dot(b.vertices[c[0]]), axis_b.dot(b.vertices[c[1]]), axis_b.dot(b.vertices[c[2]])});
+      }
       int near = 0;
-      for (int y = nb.first; y < nb.first + nb.count; ++y) {
-        const int tb = b.items[y];
+      for (int y = 0; y < nb.count; ++y) {
+        if (ws.proj_b[y] - hi_a > best * axis_len) continue;
+        const int tb = b.items[nb.first + y];
         if (ws.center_stamp[tb] != ws.stamp)
           ws.center_stamp[tb] = ws.stamp, ws.moved_center[tb] = R * b.spheres[tb].head<3>() + t;
         const Vector3d& c = ws.moved_center[tb];
         if (!sphere_near(c, b.spheres[tb][3], na)) continue;
-        // Corners and unit normal once per leaf pair, not once per triangle pair.
         const Vector3d sb[3] = {moved(b.triangles[tb][0]), moved(b.triangles[tb][1]), moved(b.triangles[tb][2])};
+        if (!slab_near(na.normal, 0, na, sb)) continue;
+        // Corners and unit normal once per leaf pair, not once per triangle pair.
         for (int k = 0; k < 3; ++k) ws.near_corners[3 * near + k] = sb[k];
-        ws.near_normal[near] = unit_normal(sb);
-        ws.near_b[near] = tb, ws.near_r[near] = b.spheres[tb][3];
+        ws.near_normal[near] = R * b.normals[tb];
+        ws.near_b[near] = tb, ws.near_r[near] = b.spheres[tb][3], ws.near_lo[near] = ws.proj_b[y];
         ws.near_x[near] = c.x(), ws.near_y[near] = c.y(), ws.near_z[near] = c.z();
         ++near;
       }
-      for (int x = na.first; x < na.first + na.count && best > 0 && near > 0; ++x) {
-        const int ta = a.items[x];
-        const Vector3d ca = a.spheres[ta].head<3>();
-        const double rad_a = a.spheres[ta][3];
-        if (!sphere_near(R.transpose() * (ca - t), rad_a, nb)) continue;
+      const Vector3d slab_b = R * nb.normal;  // B's slab normal in A's frame
+      const double shift_b = slab_b.dot(t);
+      // A's triangles that pass, nearest to B along the line first: a near pair found early
+      // prunes the rest.
+      int pass = 0;
+      for (int x = 0; x < na.count && near > 0; ++x) {
+        if (lo_b - ws.proj_a[x] > best * axis_len) continue;
+        const int ta = a.items[na.first + x];
+        if (!sphere_near(R.transpose() * (a.spheres[ta].head<3>() - t), a.spheres[ta][3], nb)) continue;
         const Vector3d sa[3] = {a.vertices[a.triangles[ta][0]], a.vertices[a.triangles[ta][1]],
                                 a.vertices[a.triangles[ta][2]]};
-        const Vector3d na_unit = unit_normal(sa);
-        // The sphere test over the whole list first (branch-free, vectorisable), then the rest.
+        if (!slab_near(slab_b, shift_b, nb, sa)) continue;
+        int k = pass++;
+        for (; k > 0 && ws.proj_a[ws.pass_a[k - 1]] < ws.proj_a[x]; --k) ws.pass_a[k] = ws.pass_a[k - 1];
+        ws.pass_a[k] = x;
+      }
+      for (int p = 0; p < pass && best > 0; ++p) {
+        const int x = ws.pass_a[p];
+        const double top_a = ws.proj_a[x];
+        if (lo_b - top_a > best * axis_len) break;  // and so are the rest, lower along the line
+        const int ta = a.items[na.first + x];
+        const Vector3d ca = a.spheres[ta].head<3>();
+        const double rad_a = a.spheres[ta][3];
+        const Vector3d sa[3] = {a.vertices[a.triangles[ta][0]], a.vertices[a.triangles[ta][1]],
+                                a.vertices[a.triangles[ta][2]]};
+        const Vector3d& na_unit = a.normals[ta];
+        // The sphere and projection tests over the whole list first (branch-free,
+        // vectorisable), then the rest.
         int hits = 0;
+        const double along = best * axis_len;
         for (int y = 0; y < near; ++y) {
           const double dx = ws.near_x[y] - ca.x(), dy = ws.near_y[y] - ca.y(), dz = ws.near_z[y] - ca.z();
           const double reach = best + rad_a + ws.near_r[y];
           ws.hits[hits] = y;
-          hits += dx * dx + dy * dy + dz * dz < reach * reach;
+          hits += (dx * dx + dy * dy + dz * dz < reach * reach) & !(ws.near_lo[y] - top_a > along);
         }
         for (int h = 0; h < hits; ++h) {
           const int y = ws.hits[h], tb = ws.near_b[y];

@@ -14,8 +14,8 @@ namespace minksum {
 
 /// How an octree is built. Defaults suit meshes of 10^3 - 10^5 triangles.
 struct OctreeOptions {
-  /// Levels below the root, at most; -1 (the default): floor(log4(triangles / 32)), at least 1,
-  /// which puts about 16-64 triangles in a leaf of a surface mesh (measured best on the bunnies).
+  /// Levels below the root, at most; -1 (the default): floor(log4(triangles / 128)), at least 1,
+  /// which puts about 64-256 triangles in a leaf of a surface mesh (measured best on the bunnies).
   int max_depth = -1;
   int leaf_size = 16;  ///< a node with more triangles than this is split (until max_depth)
 };
@@ -38,12 +38,16 @@ struct Octree {
     int child_count = 0;     ///< number of children
     int first = 0;           ///< leaf: first entry in `items`
     int count = 0;           ///< leaf: number of triangles listed
+    int corner_first = 0;    ///< leaf: first of its triangles' distinct corners in `corners`
+    int corner_count = 0;    ///< leaf: number of distinct corners
   };
   std::vector<Eigen::Vector3d> vertices;         ///< the mesh's vertices (a copy)
   std::vector<std::array<int, 3>> triangles;     ///< the mesh's triangles (a copy)
   std::vector<Eigen::Vector4d> spheres;          ///< per triangle: bounding sphere centre, radius
+  std::vector<Eigen::Vector3d> normals;          ///< per triangle: unit normal (zero if degenerate)
   std::vector<Node> nodes;                       ///< nodes[0] is the root
   std::vector<int> items;                        ///< triangle indices of the leaves
+  std::vector<Eigen::Vector3d> corners;          ///< per leaf: its triangles' distinct corners
   int depth = 0;                                 ///< deepest level reached
   int leaves = 0;                                ///< number of leaves
   int max_leaf = 0;                              ///< most triangles in one leaf
@@ -80,6 +84,9 @@ struct MeshWorkspace {
   std::vector<unsigned> seen_a, seen_b;      ///< query stamp per candidate triangle
   std::vector<int> near_b;                   ///< triangles of B's leaf near A's leaf
   std::vector<double> near_x, near_y, near_z, near_r;  ///< their spheres (A's frame)
+  std::vector<double> near_lo;               ///< their lowest corners along the leaves' line
+  std::vector<double> proj_a, proj_b;        ///< per leaf triangle: A's highest, B's lowest corner there
+  std::vector<int> pass_a;                   ///< A's leaf triangles near B's leaf, nearest first
   std::vector<Eigen::Vector3d> near_corners; ///< their corners (A's frame), three each
   std::vector<Eigen::Vector3d> near_normal;  ///< their unit normals (A's frame)
   std::vector<int> hits;                     ///< those near one triangle of A
