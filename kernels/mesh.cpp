@@ -206,7 +206,7 @@ bool finite(const Vector3d& v) { return std::isfinite(v.x()) && std::isfinite(v.
 }  // namespace
 
 size_t Octree::bytes() const {
-  return (vertices.capacity() + normals.capacity() + corners.capacity()) * sizeof(Vector3d) +
+  return (vertices.capacity() + normals.capacity() + corners.capacity() + item_corners.capacity()) * sizeof(Vector3d) +
          triangles.capacity() * sizeof(triangles[0]) + spheres.capacity() * sizeof(spheres[0]) +
          nodes.capacity() * sizeof(Node) + items.capacity() * sizeof(int);
 }
@@ -274,6 +274,8 @@ Status build_octree(const std::vector<Vector3d>& vertices,
       out.nodes[i].first = int(out.items.size());
       out.nodes[i].count = int(list.size());
       out.items.insert(out.items.end(), list.begin(), list.end());
+      for (int t : list)
+        for (int k : triangles[t]) out.item_corners.push_back(vertices[k]);
       std::vector<int> used;
       for (int t : list) used.insert(used.end(), triangles[t].begin(), triangles[t].end());
       std::sort(used.begin(), used.end());
@@ -313,8 +315,6 @@ void make_workspace(const Octree& a, const Octree& b, MeshWorkspace& ws) {
   // Depth first, each split pops one pair and pushes at most 8: the stack never holds more than
   // 7 per level of the current path plus one.
   ws.stack.assign(size_t(8 * (a.depth + b.depth) + 16), MeshWorkspace::Entry{});
-  ws.moved.assign(b.vertices.size(), Vector3d::Zero());
-  ws.moved_stamp.assign(b.vertices.size(), 0);
   ws.moved_center.assign(b.triangles.size(), Vector3d::Zero());
   ws.center_stamp.assign(b.triangles.size(), 0);
   ws.seen_a.assign(a.triangles.size(), 0);
@@ -338,13 +338,12 @@ Status mesh_distance(const Octree& a, const Octree& b, const Pose& pose, MeshWor
   if (const Status s = check_box(check); s != Status::Ok) return s;
   if (a.nodes.empty() || b.nodes.empty()) return Status::TooFewPoints;
   if (ws.seen_a.size() != a.triangles.size() || ws.seen_b.size() != b.triangles.size() ||
-      ws.moved.size() != b.vertices.size() || ws.center_stamp.size() != b.triangles.size() ||
+      ws.center_stamp.size() != b.triangles.size() ||
       ws.hits.size() < size_t(b.max_leaf) || ws.near_r.size() < size_t(b.max_leaf) ||
       ws.near_lo.size() < size_t(b.max_leaf) || ws.proj_b.size() < size_t(b.max_leaf) || ws.proj_a.size() < size_t(a.max_leaf) || ws.pass_a.size() < size_t(a.max_leaf) ||
       ws.near_normal.size() < size_t(b.max_leaf) || ws.near_corners.size() < size_t(3 * b.max_leaf) || ws.stack.size() < size_t(8 * (a.depth + b.depth) + 16))
     return Status::InvalidMesh;  // a workspace made for other octrees
   if (++ws.stamp == 0) {  // stamps wrapped: forget every old mark
-    std::fill(ws.moved_stamp.begin(), ws.moved_stamp.end(), 0u);
     std::fill(ws.center_stamp.begin(), ws.center_stamp.end(), 0u);
     std::fill(ws.seen_a.begin(), ws.seen_a.end(), 0u);
     std::fill(ws.seen_b.begin(), ws.seen_b.end(), 0u);
@@ -372,10 +371,6 @@ Status mesh_distance(const Octree& a, const Octree& b, const Pose& pose, MeshWor
     const double ca = nba.dot(na.box_center - t), ra = nba.cwiseAbs().dot(na.box_half);
     const double sb = std::max({ca - ra - nb.slab_hi, nb.slab_lo - ca - ra, 0.0});
     return std::max({ga.squaredNorm(), gb.squaredNorm(), sa * sa, sb * sb});
-  };
-  const auto moved = [&](int v) -> const Vector3d& {
-    if (ws.moved_stamp[v] != ws.stamp) ws.moved_stamp[v] = ws.stamp, ws.moved[v] = R * b.vertices[v] + t;
-    return ws.moved[v];
   };
   double best = std::numeric_limits<double>::infinity();
   bool first_leaf_pair = true;
@@ -427,13 +422,15 @@ Status mesh_distance(const Octree& a, const Octree& b, const Pose& pose, MeshWor
       // Pruned where the separation exceeds best * |axis| (NaN while best is infinite and the
       // axis zero: then nothing is pruned; for a zero axis every separation is 0).
       if (lo_b - hi_a > best * axis_len) continue;
+      const Vector3d* corners_a = &a.item_corners[size_t(3) * size_t(na.first)];
+      const Vector3d* corners_b = &b.item_corners[size_t(3) * size_t(nb.first)];
       for (int x = 0; x < na.count; ++x) {
-        const auto& c = a.triangles[a.items[na.first + x]];
-        ws.proj_a[x] = std::max({axis.dot(a.vertices[c[0]]), axis.dot(a.vertices[c[1]]), axis.dot(a.vertices[c[2]])});
+        const Vector3d* c = corners_a + 3 * x;
+        ws.proj_a[x] = std::max({axis.dot(c[0]), axis.dot(c[1]), axis.dot(c[2])});
       }
       for (int y = 0; y < nb.count; ++y) {
-        const auto& c = b.triangles[b.items[nb.first + y]];
-        ws.proj_b[y] = shift + std::min({axis_b.dot(b.vertices[c[0]]), axis_b.dot(b.vertices[c[1]]), axis_b.dot(b.vertices[c[2]])});
+        const Vector3d* c = corners_b + 3 * y;
+        ws.proj_b[y] = shift + std::min({axis_b.dot(c[0]), axis_b.dot(c[1]), axis_b.dot(c[2])});
       }
       int near = 0;
       for (int y = 0; y < nb.count; ++y) {
@@ -443,7 +440,8 @@ Status mesh_distance(const Octree& a, const Octree& b, const Pose& pose, MeshWor
           ws.center_stamp[tb] = ws.stamp, ws.moved_center[tb] = R * b.spheres[tb].head<3>() + t;
         const Vector3d& c = ws.moved_center[tb];
         if (!sphere_near(c, b.spheres[tb][3], na)) continue;
-        const Vector3d sb[3] = {moved(b.triangles[tb][0]), moved(b.triangles[tb][1]), moved(b.triangles[tb][2])};
+        const Vector3d* cb = corners_b + 3 * y;
+        const Vector3d sb[3] = {R * cb[0] + t, R * cb[1] + t, R * cb[2] + t};
         if (!slab_near(na.normal, 0, na, sb)) continue;
         // Corners and unit normal once per leaf pair, not once per triangle pair.
         for (int k = 0; k < 3; ++k) ws.near_corners[3 * near + k] = sb[k];
@@ -461,8 +459,8 @@ Status mesh_distance(const Octree& a, const Octree& b, const Pose& pose, MeshWor
         if (lo_b - ws.proj_a[x] > best * axis_len) continue;
         const int ta = a.items[na.first + x];
         if (!sphere_near(R.transpose() * (a.spheres[ta].head<3>() - t), a.spheres[ta][3], nb)) continue;
-        const Vector3d sa[3] = {a.vertices[a.triangles[ta][0]], a.vertices[a.triangles[ta][1]],
-                                a.vertices[a.triangles[ta][2]]};
+        const Vector3d* ca3 = corners_a + 3 * x;
+        const Vector3d sa[3] = {ca3[0], ca3[1], ca3[2]};
         if (!slab_near(slab_b, shift_b, nb, sa)) continue;
         int k = pass++;
         for (; k > 0 && ws.proj_a[ws.pass_a[k - 1]] < ws.proj_a[x]; --k) ws.pass_a[k] = ws.pass_a[k - 1];
@@ -475,8 +473,8 @@ Status mesh_distance(const Octree& a, const Octree& b, const Pose& pose, MeshWor
         const int ta = a.items[na.first + x];
         const Vector3d ca = a.spheres[ta].head<3>();
         const double rad_a = a.spheres[ta][3];
-        const Vector3d sa[3] = {a.vertices[a.triangles[ta][0]], a.vertices[a.triangles[ta][1]],
-                                a.vertices[a.triangles[ta][2]]};
+        const Vector3d* ca3 = corners_a + 3 * x;
+        const Vector3d sa[3] = {ca3[0], ca3[1], ca3[2]};
         const Vector3d& na_unit = a.normals[ta];
         // The sphere and projection tests over the whole list first (branch-free,
         // vectorisable), then the rest.

@@ -48,6 +48,7 @@ struct Octree {
   std::vector<Node> nodes;                       ///< nodes[0] is the root
   std::vector<int> items;                        ///< triangle indices of the leaves
   std::vector<Eigen::Vector3d> corners;          ///< per leaf: its triangles' distinct corners
+  std::vector<Eigen::Vector3d> item_corners;     ///< per entry of `items`: its triangle's 3 corners
   int depth = 0;                                 ///< deepest level reached
   int leaves = 0;                                ///< number of leaves
   int max_leaf = 0;                              ///< most triangles in one leaf
@@ -77,8 +78,6 @@ struct MeshWorkspace {
     double bound2 = 0;   ///< lower bound of their squared distance
   };
   std::vector<Entry> stack;                  ///< node pairs still to visit
-  std::vector<Eigen::Vector3d> moved;        ///< B's vertices in A's frame, filled on demand
-  std::vector<unsigned> moved_stamp;         ///< query stamp per vertex of B
   std::vector<Eigen::Vector3d> moved_center; ///< B's sphere centres in A's frame, on demand
   std::vector<unsigned> center_stamp;        ///< query stamp per triangle of B
   std::vector<unsigned> seen_a, seen_b;      ///< query stamp per candidate triangle
