@@ -23,11 +23,9 @@ void assemble(const ConvexPolytope& a, const ConvexPolytope& b, std::vector<Face
   out.planes.clear(), out.vertices.clear();
   out.V = out.E = out.F = 0;
   out.euler_ok = out.corrected = false;
-  thread_local std::vector<int> index, start, head, fill;
-  // Vertex numbers by pair code i * |B| + j: a dense table, since |A| |B| is small.
-  const int nb = int(b.vertices.size());
-  index.assign(a.vertices.size() * b.vertices.size(), -1);
-  size_t kept = 0;
+  thread_local std::vector<int> start, head, fill, number;
+  thread_local std::vector<long long> slots, distinct;
+  size_t kept = 0, entries = 0;
   for (auto& f : facets) {
     // Consecutive repeats come from zero-length arcs of flat operands; drop them, then drop
     // facets that collapse to fewer than three pairs (they have zero area).
@@ -37,17 +35,40 @@ void assemble(const ConvexPolytope& a, const ConvexPolytope& b, std::vector<Face
     if (l.size() < 3) continue;
     // Start each loop at its smallest pair so that the plane's pair does not depend on the path.
     std::rotate(l.begin(), std::min_element(l.begin(), l.end()), l.end());
-    for (const auto& p : l) index[p.first * nb + p.second] = 0;
+    entries += l.size();
     if (&facets[kept] != &f) facets[kept] = std::move(f);
     ++kept;
   }
   facets.resize(kept);
-  for (int code = 0; code < int(index.size()); ++code) {  // numbered in (i, j) order
-    if (index[code] < 0) continue;
-    index[code] = int(out.vertices.size());
-    const int i = code / nb, j = code % nb;
-    out.vertices.push_back(SumVertex{i, j, a.vertices[i] + b.vertices[j]});
+  // Vertices are the distinct pairs (i, j), numbered in (i, j) order, found through a hash
+  // table of codes i |B| + j (linear probing; a dense |A| |B| table would make the sum
+  // quadratic in the operands' sizes) and ordered by a counting sort on i.
+  const long long nb = (long long)(b.vertices.size());
+  size_t cap = 16;
+  while (cap < 2 * entries) cap *= 2;
+  slots.assign(cap, -1), number.resize(cap), distinct.clear();
+  const auto slot = [&](long long code) {
+    size_t h = size_t((unsigned long long)(code) * 0x9E3779B97F4A7C15ull >> 20) & (cap - 1);
+    while (slots[h] != -1 && slots[h] != code) h = (h + 1) & (cap - 1);
+    return h;
+  };
+  for (const auto& f : facets)
+    for (const auto& p : f.loop)
+      if (const size_t h = slot(p.first * nb + p.second); slots[h] == -1) slots[h] = p.first * nb + p.second, distinct.push_back(slots[h]);
+  start.assign(a.vertices.size() + 1, 0);
+  for (long long code : distinct) ++start[code / nb + 1];
+  for (size_t i = 0; i < a.vertices.size(); ++i) start[i + 1] += start[i];
+  fill.assign(start.begin(), start.end() - 1);
+  out.vertices.resize(distinct.size());
+  for (long long code : distinct) {
+    const int i = int(code / nb), j = int(code % nb);
+    // Within one i, insertion by j (a vertex of A meets a few of B).
+    int k = fill[i]++;
+    for (; k > start[i] && out.vertices[k - 1].j > j; --k) out.vertices[k] = out.vertices[k - 1];
+    out.vertices[k] = SumVertex{i, j, a.vertices[i] + b.vertices[j]};
   }
+  for (int v = 0; v < int(out.vertices.size()); ++v) number[slot(out.vertices[v].i * nb + out.vertices[v].j)] = v;
+  const auto index = [&](const std::pair<int, int>& p) { return number[slot(p.first * nb + p.second)]; };
   out.facets.resize(facets.size());
   size_t directed = 0;  // directed edges, one per loop step
   for (size_t k = 0; k < facets.size(); ++k) {
@@ -57,7 +78,7 @@ void assemble(const ConvexPolytope& a, const ConvexPolytope& b, std::vector<Face
     SumPlane plane{f.normal.normalized(), -std::numeric_limits<double>::infinity(),
                    f.loop[0].first, f.loop[0].second};
     for (const auto& p : f.loop) {
-      loop.push_back(index[p.first * nb + p.second]);
+      loop.push_back(index(p));
       // The offset is the largest over the facet's vertices, so no vertex is ever cut off.
       plane.offset = std::max(plane.offset, plane.normal.dot(out.vertices[loop.back()].point));
     }
@@ -119,27 +140,34 @@ namespace {
 // cheap proof that each plane supports A (+) B, which Euler's formula alone is not (a fuzzed
 // needle-and-triangle pair once gave a consistent topology with a wrong plane).
 bool planes_support(const ConvexPolytope& a, const ConvexPolytope& b, const MinkowskiSum& m) {
-  const auto neighbours = [](const ConvexPolytope& p) {
-    std::vector<std::vector<int>> n(p.vertices.size());
-    for (const auto& e : p.edges) n[e.v0].push_back(e.v1), n[e.v1].push_back(e.v0);
-    return n;
+  // Neighbours of each vertex from the edges, in compressed lists (per-thread scratch).
+  thread_local std::vector<int> start_a, list_a, start_b, list_b, fill;
+  const auto neighbours = [](const ConvexPolytope& p, std::vector<int>& start, std::vector<int>& list) {
+    start.assign(p.vertices.size() + 1, 0);
+    for (const auto& e : p.edges) ++start[e.v0 + 1], ++start[e.v1 + 1];
+    for (size_t v = 0; v < p.vertices.size(); ++v) start[v + 1] += start[v];
+    list.resize(2 * p.edges.size());
+    fill.assign(start.begin(), start.end() - 1);
+    for (const auto& e : p.edges) list[fill[e.v0]++] = e.v1, list[fill[e.v1]++] = e.v0;
   };
-  const auto na = neighbours(a), nb = neighbours(b);
+  neighbours(a, start_a, list_a), neighbours(b, start_b, list_b);
   double size = 0;
   for (const auto* p : {&a, &b})
     for (const auto& v : p->vertices) size = std::max(size, v.cwiseAbs().maxCoeff());
   const double tol = 1e-12 * size;
-  const auto extreme = [&](const ConvexPolytope& p, const std::vector<std::vector<int>>& n, int i,
-                           const Eigen::Vector3d& dir) {
+  const auto extreme = [&](const ConvexPolytope& p, const std::vector<int>& start, const std::vector<int>& list,
+                           int i, const Eigen::Vector3d& dir) {
     const double top = dir.dot(p.vertices[i]);
-    for (int k : n[i])
-      if (dir.dot(p.vertices[k]) > top + tol) return false;
+    for (int k = start[i]; k < start[i + 1]; ++k)
+      if (dir.dot(p.vertices[list[k]]) > top + tol) return false;
     return true;
   };
   for (int f = 0; f < m.F; ++f)
     for (int v : m.facets[f]) {
       const auto& x = m.vertices[v];
-      if (!extreme(a, na, x.i, m.planes[f].normal) || !extreme(b, nb, x.j, m.planes[f].normal)) return false;
+      if (!extreme(a, start_a, list_a, x.i, m.planes[f].normal) ||
+          !extreme(b, start_b, list_b, x.j, m.planes[f].normal))
+        return false;
     }
   return true;
 }

@@ -11,7 +11,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include <minksum/kernels.hpp>
 
 #include "predicates.hpp"
 #include "sum_internal.hpp"
@@ -130,24 +129,8 @@ bool classify(const GaussMap& g, const Vector3d& n, int c, Feature& f, int& exit
   return true;
 }
 
-// The cell of the support vertex of g in each of the normals `dirs`: the separable support
-// h_(A+B)(n) = h_A(n) + h_B(n) needs |B| dot products per normal of A, done by the SIMD
-// support-push kernel (all normals at once) over g's cell points in structure of arrays.
-std::vector<int> support_cells(const GaussMap& g, const std::vector<Vector3d>& dirs) {
-  const int n = int(g.point.size()), k = int(dirs.size());
-  std::vector<double> soa(3 * n + 3 * k), best(k);
-  for (int c = 0; c < n; ++c)
-    for (int d = 0; d < 3; ++d) soa[d * n + c] = g.point[c][d];
-  double* dir = soa.data() + 3 * n;
-  for (int q = 0; q < k; ++q)
-    for (int d = 0; d < 3; ++d) dir[d * k + q] = dirs[q][d];
-  std::vector<int> cells(k);
-  support_push(soa.data(), soa.data() + n, soa.data() + 2 * n, n, dir, dir + k, dir + 2 * k, k,
-               best.data(), cells.data());
-  return cells;
-}
-
-// Locates n by walking from the support cell c across the arcs n lies beyond.
+// Locates n by walking from cell c across the arcs n lies beyond: hill climbing on the
+// polytope's vertices along n (each step raises n . p), so it ends, at the support.
 bool locate(const GaussMap& g, const Vector3d& n, int c, Feature& f) {
   int exit_arc = -1;
   for (size_t step = 0; step <= g.point.size(); ++step) {
@@ -158,6 +141,33 @@ bool locate(const GaussMap& g, const Vector3d& n, int c, Feature& f) {
   for (c = 0; c < int(g.point.size()); ++c)  // the walk cycled: only bad input gets here
     if (classify(g, n, c, f, exit_arc)) return true;
   return false;
+}
+
+// Locates every face normal of `from` in g, walking from where a neighbouring face's normal
+// was found (a few steps), in breadth-first order over the faces: linear in the sizes rather
+// than |from| |g| support evaluations. The first walk starts at the support vertex.
+bool locate_all(const GaussMap& from, const GaussMap& g, std::vector<Feature>& out) {
+  const int F = int(from.normal.size());
+  out.assign(F, Feature{Feature::Cell, -1});
+  int top = 0;
+  for (int c = 1; c < int(g.point.size()); ++c)
+    if (from.normal[0].dot(g.point[c]) > from.normal[0].dot(g.point[top])) top = c;
+  std::vector<int> queue = {0}, start(F, -1);
+  start[0] = top;
+  for (size_t k = 0; k < queue.size(); ++k) {
+    const int f = queue[k];
+    if (!locate(g, from.normal[f], start[f], out[f])) return false;
+    // A cell of the feature found: where the neighbours' walks begin.
+    const Feature& x = out[f];
+    const int cell = x.kind == Feature::Cell ? x.id
+                     : x.kind == Feature::Arc ? g.arcs[x.id].u
+                                              : g.arcs[*g.face_arcs.begin(x.id)].u;
+    for (const int* e = from.face_arcs.begin(f); e != from.face_arcs.end(f); ++e) {
+      const int next = from.arcs[*e].L == f ? from.arcs[*e].R : from.arcs[*e].L;
+      if (start[next] < 0) start[next] = cell, queue.push_back(next);
+    }
+  }
+  return int(queue.size()) == F;
 }
 
 // A direction leaving the facet normal n along an arc towards normal m; `after` is the cell
@@ -227,26 +237,12 @@ FacetLoop sector_loop(const GaussMap& ga, const Feature& fa, const GaussMap& gb,
 
 // Gregorius's arc-crossing test with strict signs: a facet iff the arcs cross at inner points.
 // On success, fills the parallelogram facet e_A (+) e_B.
-// side[f][e]: the sign of orient(normal f of one map, great circle of arc e of the other),
-// computed once per (normal, arc) instead of once per pair of arcs.
-struct Sides {
-  int arcs;
-  std::vector<signed char> sign;
-  Sides(const GaussMap& normals, const GaussMap& circles) : arcs(int(circles.arcs.size())) {
-    sign.resize(normals.normal.size() * circles.arcs.size());
-    for (size_t f = 0; f < normals.normal.size(); ++f)
-      for (int e = 0; e < arcs; ++e) sign[f * arcs + e] = static_cast<signed char>(orient(normals.normal[f], circles.great[e]));
-  }
-  int operator()(int f, int e) const { return sign[size_t(f) * arcs + e]; }
-};
-
-bool crossing_facet(const GaussMap& ga, int ea, const GaussMap& gb, int eb, const Sides& b_vs_a,
-                    const Sides& a_vs_b, FacetLoop& f) {
+bool crossing_facet(const GaussMap& ga, int ea, const GaussMap& gb, int eb, FacetLoop& f) {
   const auto &A = ga.arcs[ea], &B = gb.arcs[eb];
   const Vector3d &a1 = ga.normal[A.L], &a2 = ga.normal[A.R];
-  const int s1 = b_vs_a(B.L, ea), s2 = b_vs_a(B.R, ea);
+  const int s1 = orient(gb.normal[B.L], ga.great[ea]), s2 = orient(gb.normal[B.R], ga.great[ea]);
   if (s1 * s2 >= 0) return false;
-  const int s3 = a_vs_b(A.L, eb), s4 = a_vs_b(A.R, eb);
+  const int s3 = orient(a1, gb.great[eb]), s4 = orient(a2, gb.great[eb]);
   if (s3 * s4 >= 0 || s1 * s4 <= 0) return false;
   // The facet is the parallelogram e_A (+) e_B, so its normal is +-(d_A x d_B). The crossing
   // point p = |a2.g_B| a1 + |a1.g_B| a2 always lies on A's arc and fixes the sign; it is the
@@ -269,6 +265,71 @@ bool crossing_facet(const GaussMap& ga, int ea, const GaussMap& gb, int eb, cons
   return true;
 }
 
+// A uniform grid over [-1, 1]^3 holding each arc in every cell its bounding box meets. Two arcs
+// that cross share a point, so their boxes share a cell: testing the pairs that share a cell
+// (each pair once: in the lowest cell of the two boxes' overlap) finds every crossing, in time
+// about linear in the arcs and the crossings for arcs short against the sphere.
+struct ArcGrid {
+  struct Range {
+    int lo[3], hi[3];
+  };
+  int n = 1;  // cells per axis
+  std::vector<Range> ra, rb;
+  Incidence cells_b;  // per cell: the arcs of B in it
+
+  // The arc from p to q (< 180 deg) lies in the triangle of p, q and the meeting point of its
+  // end tangents, (p + q) / (1 + p . q), and on the unit sphere: the box of both, padded.
+  Range range(const Vector3d& p, const Vector3d& q) const {
+    const double c = 1 + p.dot(q);
+    Vector3d lo = p.cwiseMin(q), hi = p.cwiseMax(q);
+    if (c > 1e-6) {
+      const Vector3d t = (p + q) / c;
+      lo = lo.cwiseMin(t), hi = hi.cwiseMax(t);
+    } else {  // nearly antipodal ends (not on a valid polytope): anywhere
+      lo.setConstant(-1), hi.setConstant(1);
+    }
+    Range r;
+    for (int d = 0; d < 3; ++d) {
+      r.lo[d] = std::clamp(int(std::floor((lo[d] - 1e-9 + 1) / 2 * n)), 0, n - 1);
+      r.hi[d] = std::clamp(int(std::floor((hi[d] + 1e-9 + 1) / 2 * n)), 0, n - 1);
+    }
+    return r;
+  }
+
+  void build(const GaussMap& ga, const GaussMap& gb) {
+    // About one arc of each map per cell the arcs occupy (a band of ~6 n^2 cells); one cell
+    // (every pair) while there are few pairs.
+    const double arcs = double(ga.arcs.size() + gb.arcs.size());
+    n = double(ga.arcs.size()) * double(gb.arcs.size()) <= 256 ? 1 : std::max(1, int(std::sqrt(arcs / 6)));
+    for (auto [g, r] : {std::pair{&ga, &ra}, std::pair{&gb, &rb}}) {
+      r->clear();
+      for (const auto& a : g->arcs) r->push_back(range(g->normal[a.L], g->normal[a.R]));
+    }
+    std::vector<std::pair<int, int>> in;
+    for (int e = 0; e < int(rb.size()); ++e)
+      for (int x = rb[e].lo[0]; x <= rb[e].hi[0]; ++x)
+        for (int y = rb[e].lo[1]; y <= rb[e].hi[1]; ++y)
+          for (int z = rb[e].lo[2]; z <= rb[e].hi[2]; ++z) in.emplace_back((x * n + y) * n + z, e);
+    cells_b.build(n * n * n, in);
+  }
+
+  template <class F>
+  void for_each_pair(F&& f) const {
+    for (int ea = 0; ea < int(ra.size()); ++ea) {
+      const Range& a = ra[ea];
+      for (int x = a.lo[0]; x <= a.hi[0]; ++x)
+        for (int y = a.lo[1]; y <= a.hi[1]; ++y)
+          for (int z = a.lo[2]; z <= a.hi[2]; ++z)
+            for (const int* e = cells_b.begin((x * n + y) * n + z); e != cells_b.end((x * n + y) * n + z); ++e) {
+              const Range& b = rb[*e];
+              if (x == std::max(a.lo[0], b.lo[0]) && y == std::max(a.lo[1], b.lo[1]) &&
+                  z == std::max(a.lo[2], b.lo[2]))
+                f(ea, *e);
+            }
+    }
+  }
+};
+
 }  // namespace
 
 bool sum_fast(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out) {
@@ -276,26 +337,23 @@ bool sum_fast(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& ou
   std::vector<FacetLoop> facets;
   facets.reserve(ga.normal.size() + gb.normal.size() + ga.arcs.size());
   SectorScratch scratch;
-  Feature fa, fb;
-  const std::vector<int> start_b = support_cells(gb, ga.normal);
-  const std::vector<int> start_a = support_cells(ga, gb.normal);
+  std::vector<Feature> in_b, in_a;
+  if (!locate_all(ga, gb, in_b) || !locate_all(gb, ga, in_a)) return false;
   // Face normals of A: F_A(n) is the face, F_B(n) is wherever n lies in B's Gauss map.
-  for (int f = 0; f < int(ga.normal.size()); ++f) {
-    if (!locate(gb, ga.normal[f], start_b[f], fb)) return false;
-    facets.push_back(sector_loop(ga, {Feature::Face, f}, gb, fb, ga.normal[f], scratch));
-  }
+  for (int f = 0; f < int(ga.normal.size()); ++f)
+    facets.push_back(sector_loop(ga, {Feature::Face, f}, gb, in_b[f], ga.normal[f], scratch));
   // Face normals of B, except those that coincide with a face normal of A (done above).
-  for (int f = 0; f < int(gb.normal.size()); ++f) {
-    if (!locate(ga, gb.normal[f], start_a[f], fa)) return false;
-    if (fa.kind != Feature::Face)
-      facets.push_back(sector_loop(ga, fa, gb, {Feature::Face, f}, gb.normal[f], scratch));
-  }
-  // Edge-edge facets: every crossing of an arc of A with an arc of B.
-  const Sides b_vs_a(gb, ga), a_vs_b(ga, gb);
+  for (int f = 0; f < int(gb.normal.size()); ++f)
+    if (in_a[f].kind != Feature::Face)
+      facets.push_back(sector_loop(ga, in_a[f], gb, {Feature::Face, f}, gb.normal[f], scratch));
+  // Edge-edge facets: every crossing of an arc of A with an arc of B, tested only for arcs
+  // that share a cell of the grid (output-sensitive rather than |E_A| |E_B|).
   FacetLoop f;
-  for (int ea = 0; ea < int(ga.arcs.size()); ++ea)
-    for (int eb = 0; eb < int(gb.arcs.size()); ++eb)
-      if (crossing_facet(ga, ea, gb, eb, b_vs_a, a_vs_b, f)) facets.push_back(f);
+  ArcGrid grid;
+  grid.build(ga, gb);
+  grid.for_each_pair([&](int ea, int eb) {
+    if (crossing_facet(ga, ea, gb, eb, f)) facets.push_back(f);
+  });
   assemble(a, b, facets, out);
   return true;
 }

@@ -45,10 +45,22 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (build_octree(mesh.vertices, mesh.triangles, tree) != Status::Ok) return 0;  // e.g. NaN
   MeshWorkspace ws;
   make_workspace(tree, tree, ws);
+  // B: a copy turned about a generic axis and moved by a fraction of the mesh's size that the
+  // input picks (overlapping through apart), so that every bound of the query is exercised.
+  double extent = 0;
+  for (const auto& t : mesh.triangles)
+    for (int k : t) extent = std::max(extent, mesh.vertices[k].cwiseAbs().maxCoeff());
   Pose pose;
-  pose.translation.x() = 0.5;
+  pose.rotation = Eigen::AngleAxisd(0.1 + data[0] / 40.0, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  pose.translation = Eigen::Vector3d(0.3, -0.2, 0.1) * extent * (data[size - 1] % 8) / 2.0;
   MeshDistance d;
-  if (mesh_distance(tree, tree, pose, ws, d) == Status::Ok && !(d.distance >= 0 && std::isfinite(d.distance)))
-    fuzz::fail("mesh distance not finite and >= 0");
+  if (mesh_distance(tree, tree, pose, ws, d) != Status::Ok) return 0;
+  if (!(d.distance >= 0 && std::isfinite(d.distance))) fuzz::fail("mesh distance not finite and >= 0");
+  // The octree prunes with lower bounds only: it must find what all pairs find.
+  if (mesh.triangles.size() <= 300) {
+    const MeshDistance want = tools::brute_distance(mesh, mesh, pose);
+    if (!(std::abs(d.distance - want.distance) <= 1e-12 * (1 + 4 * extent)))
+      fuzz::fail("mesh distance differs from all pairs");
+  }
   return 0;
 }
