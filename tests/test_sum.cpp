@@ -103,6 +103,23 @@ TEST_P(RandomPairs, FastEqualsReferenceAndBruteForce) {
 
 INSTANTIATE_TEST_SUITE_P(Shards, RandomPairs, testing::Range(0, 10));
 
+// The sizes of the Scaling benchmark, where the fast path finds arc crossings through a grid
+// on the sphere and locates normals by walking: no crossing missed (the corrector would run),
+// and the same polytope as the hull of the pairwise sums (Qhull; random points on spheres are
+// far from degenerate).
+TEST(LargePairs, FastEqualsTheHullWithoutTheCorrector) {
+  for (int n : {128, 256, 512}) {
+    SCOPED_TRACE("n = " + std::to_string(n));
+    const Operands o = make(tools::sphere_points(n, 7u * unsigned(n)), tools::sphere_points(n, 7u * unsigned(n) + 1));
+    MinkowskiSum fast, hull;
+    ASSERT_EQ(minkowski_sum(o.A, o.B, fast), Status::Ok);
+    ASSERT_EQ(minkowski_sum(o.A, o.B, hull, Method::Hull), Status::Ok);
+    EXPECT_FALSE(fast.corrected);
+    EXPECT_TRUE(same_sum(fast, hull, 1e-9));
+    EXPECT_TRUE(valid_sum(o.a, o.b, 1, o.A, o.B, fast, 1e-9, 1e-12, 300));
+  }
+}
+
 // --- The hard cases of GUIDE.md section 3 -------------------------------------------------
 
 std::vector<Vector3d> box_points(const Vector3d& h, const Eigen::Matrix3d& R = Eigen::Matrix3d::Identity(),
