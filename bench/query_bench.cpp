@@ -152,6 +152,32 @@ void SmallDistance(benchmark::State& state, bool two_triangles, bool fcl) {
   }
 }
 
+// The exact triangle-triangle distance alone (no penetration, no max distance), as the octree
+// calls it: the scalar path one pair at a time, and the batched kernel (the active ISA), per
+// pair, over the same 256 pairs.
+void TriangleDistanceOnly(benchmark::State& state, bool batched) {
+  const SmallPairs ps = small_pairs(true);
+  if (!batched) {
+    size_t k = 0;
+    Vector3d pa, pb;
+    for (auto _ : state) {
+      const size_t i = k++ & 255;
+      const Vector3d a[3] = {ps.s[i].a, ps.s[i].b, ps.s[i].c}, b[3] = {ps.t[i].a, ps.t[i].b, ps.t[i].c};
+      benchmark::DoNotOptimize(triangle_distance(a, b, pa, pb));
+    }
+    return;
+  }
+  auto S = std::make_unique<TriangleBatch<double, 256>>(), T = std::make_unique<TriangleBatch<double, 256>>();
+  auto out = std::make_unique<TriangleDistances<double, 256>>();
+  for (int k = 0; k < 256; ++k) S->set(k, ps.s[k]), T->set(k, ps.t[k]);
+  S->count = T->count = 256;
+  for (auto _ : state) {
+    triangle_distance(*S, *T, *out);
+    benchmark::DoNotOptimize(out->distance[255]);
+  }
+  state.SetItemsProcessed(state.iterations() * 256);
+}
+
 void PolytopeDistance(benchmark::State& state, int row, bool fcl) {
   const auto pair = tools::table1_pairs()[row];
   ConvexPolytope A, B;
@@ -184,6 +210,8 @@ const int kRegistered = [] {
   benchmark::RegisterBenchmark("BoxTriangleDistance/fcl_gjk", SmallDistance, false, true);
   benchmark::RegisterBenchmark("TriangleTriangleDistance/minksum", SmallDistance, true, false);
   benchmark::RegisterBenchmark("TriangleTriangleDistance/fcl_gjk", SmallDistance, true, true);
+  benchmark::RegisterBenchmark("TriangleDistanceOnly/scalar", TriangleDistanceOnly, false);
+  benchmark::RegisterBenchmark("TriangleDistanceOnly/batch", TriangleDistanceOnly, true);
   const auto pairs = tools::table1_pairs();
   for (int row = 0; row < int(pairs.size()); ++row) {
     const std::string base = "PolytopeDistance/" + pairs[row].name + "/";

@@ -1,7 +1,9 @@
 // ISA dispatch (chosen once at start-up), the single-pair API and the topology tables.
 #include <minksum/kernels.hpp>
+#include <minksum/mesh.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <xsimd/config/xsimd_cpuid.hpp>
@@ -116,6 +118,35 @@ void box_triangle_overlap(BoxLanes<float> box, const float* tri, int count, int 
 void box_triangle_overlap(BoxLanes<double> box, const double* tri, int count, int stride,
                           std::int64_t* hit) {
   dispatch().box_triangle_overlap_d(box, tri, count, stride, hit);
+}
+
+namespace {
+
+// The batched triangle distance: the active ISA's kernel, then the scalar path (double) for
+// the lanes it leaves NaN (a span beyond its range, or non-finite input).
+template <class T>
+void triangle_lanes(const T* s, const T* t, int count, int stride, T* distance, T* ps, T* pt,
+                    void (*kernel)(const T*, const T*, int, int, T*, T*, T*)) {
+  kernel(s, t, count, stride, distance, ps, pt);
+  for (int k = 0; k < count; ++k) {
+    if (!std::isnan(distance[k])) continue;
+    Eigen::Vector3d a[3], b[3], pa, pb;
+    for (int i = 0; i < 3; ++i)
+      for (int d = 0; d < 3; ++d) a[i][d] = s[(3 * i + d) * stride + k], b[i][d] = t[(3 * i + d) * stride + k];
+    distance[k] = T(minksum::triangle_distance(a, b, pa, pb));
+    for (int d = 0; d < 3; ++d) ps[d * stride + k] = T(pa[d]), pt[d * stride + k] = T(pb[d]);
+  }
+}
+
+}  // namespace
+
+void triangle_distance(const float* s, const float* t, int count, int stride, float* distance,
+                       float* point_s, float* point_t) {
+  triangle_lanes(s, t, count, stride, distance, point_s, point_t, dispatch().tri_tri_f);
+}
+void triangle_distance(const double* s, const double* t, int count, int stride, double* distance,
+                       double* point_s, double* point_t) {
+  triangle_lanes(s, t, count, stride, distance, point_s, point_t, dispatch().tri_tri_d);
 }
 
 void pack_box_pair(const Box& a, const Box& b, double (&in)[30]) {

@@ -105,7 +105,8 @@ double triangle_distance(const Vector3d (&s_in)[3], const Vector3d (&t_in)[3], V
     const double d0 = n.dot(q[0] - p), d1 = n.dot(q[1] - p), d2 = n.dot(q[2] - p);
     return (d0 > 0 && d1 > 0 && d2 > 0) || (d0 < 0 && d1 < 0 && d2 < 0);
   };
-  const bool apart = one_side(ns, s[0], t) || one_side(nt, t[0], s);
+  // (A flat triangle's normal is rounding noise: it separates nothing.)
+  const bool apart = (!s_flat && one_side(ns, s[0], t)) || (!t_flat && one_side(nt, t[0], s));
   Vector3d x;
   for (int k = 0; k < 3 && !apart; ++k) {
     if (!t_flat && pierces(s[k], s[(k + 1) % 3], t, nt, x)) {

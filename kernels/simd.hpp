@@ -25,6 +25,7 @@ struct Simd {
   static B abs(const B& a) { return xsimd::abs(a); }
   static B sqrt(const B& a) { return xsimd::sqrt(a); }
   static B max(const B& a, const B& b) { return xsimd::max(a, b); }
+  static B min(const B& a, const B& b) { return xsimd::min(a, b); }
   /// 1 / sqrt(x) to the precision of T, for x in [1e-30, 1e30]: a hardware estimate refined by
   /// Newton steps y <- y (3/2 - x y^2 / 2), each of which doubles the correct bits. (Not
   /// xsimd::rsqrt: on AVX-512 it emits AVX-512ER instructions that only Xeon Phi has.)
@@ -67,6 +68,7 @@ struct Simd<T, ScalarArch> {
   static B abs(B a) { return std::abs(a); }
   static B sqrt(B a) { return std::sqrt(a); }
   static B max(B a, B b) { return a > b ? a : b; }
+  static B min(B a, B b) { return a < b ? a : b; }
   static B rsqrt(B x) { return T(1) / std::sqrt(x); }
   static B select(bool m, B a, B b) { return m ? a : b; }
   static bool any(bool m) { return m; }
@@ -96,6 +98,8 @@ struct KernelTable {
   void (*box_triangle_overlap_f)(BoxLanes<float>, const float*, int, int, std::int32_t*);
   void (*box_triangle_overlap_d)(BoxLanes<double>, const double*, int, int, std::int64_t*);
   void (*box_pair_d)(const double (&)[30], bool, BoxPair<double>&, PairAnswer<double>&);
+  void (*tri_tri_f)(const float*, const float*, int, int, float*, float*, float*);
+  void (*tri_tri_d)(const double*, const double*, int, int, double*, double*, double*);
 };
 
 // One constant-initialised table per ISA translation unit (no static-initialisation order

@@ -2,7 +2,10 @@
 // (brute force over corners and vertices), plus the topology tables and the ISA dispatch.
 #include <gtest/gtest.h>
 #include <minksum/kernels.hpp>
+#include <minksum/mesh.hpp>
 
+#include <cmath>
+#include <iomanip>
 #include <memory>
 #include <random>
 
@@ -313,6 +316,111 @@ void check_support(Isa isa) {
 TEST_P(Kernels, SupportPushMatchesBruteForce) {
   check_support<float>(GetParam());
   check_support<double>(GetParam());
+}
+
+// Triangle pairs for the batched distance: random ones (apart and meeting), near-parallel
+// ones (1e-3 ... 1e-9 rad) just apart, coplanar ones, small triangles at 1e6, flat ones
+// (collinear corners, a point), piercing ones, and pairs spanning `huge` and `tiny` (beyond
+// the kernel's range: the scalar path's lanes).
+std::vector<std::pair<Triangle, Triangle>> triangle_pairs(int n, unsigned seed, double huge, double tiny) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const auto vec = [&] { return Vector3d(u(rng), u(rng), u(rng)); };
+  std::vector<std::pair<Triangle, Triangle>> out;
+  for (int k = 0; out.size() < size_t(n); ++k) {
+    Triangle s{vec(), vec(), vec()}, t{vec(), vec(), vec()};
+    const Vector3d shift = vec() * (k % 3);
+    t = {t.a + shift, t.b + shift, t.c + shift};
+    switch (k % 9) {
+      case 1: {  // near-parallel: t is s turned by a tiny angle and lifted along its normal
+        const Eigen::Matrix3d R = tools::axis_angle(vec(), std::pow(10.0, -3 - k % 7));
+        const Vector3d n = (s.b - s.a).cross(s.c - s.a).normalized() * 1e-3 * (1 + u(rng));
+        t = {R * s.a + n + 0.3 * vec(), R * s.b + n, R * s.c + n};
+        break;
+      }
+      case 2: {  // coplanar
+        const Vector3d e = 0.5 * (s.b - s.a) + 0.3 * (s.c - s.a);
+        t = {s.a + e, s.b + 2 * e, s.c + e};
+        break;
+      }
+      case 3:  // small triangles far out
+        for (Triangle* x : {&s, &t}) {
+          const Vector3d far(1e6, -2e6, 3e6);
+          *x = {far + 1e-3 * x->a, far + 1e-3 * x->b, far + 1e-3 * x->c};
+        }
+        break;
+      case 4:  // flat: collinear corners, and a point
+        s.c = s.a + 0.5 * (s.b - s.a);
+        if (k % 2) t.b = t.c = t.a;
+        break;
+      case 5: {  // an edge of t through s's interior
+        const Vector3d in = (s.a + s.b + s.c) / 3, n = (s.b - s.a).cross(s.c - s.a);
+        t.a = in + 0.5 * n, t.b = in - 0.5 * n + 0.01 * vec();
+        break;
+      }
+      case 6:  // spanning far beyond the kernel's range, and far below it
+        for (Triangle* x : {&s, &t}) {
+          const double f = k % 2 ? huge : tiny;
+          *x = {f * x->a, f * x->b, f * x->c};
+        }
+        break;
+      default: break;
+    }
+    out.emplace_back(s, t);
+  }
+  return out;
+}
+
+// Distance of point p from triangle t (the scalar path with a point as the other triangle).
+double off(const Triangle& t, const Vector3d& p) {
+  const Vector3d a[3] = {t.a, t.b, t.c}, q[3] = {p, p, p};
+  Vector3d x, y;
+  return triangle_distance(a, q, x, y);
+}
+
+template <class T>
+void check_triangle_distance(Isa isa, unsigned seed) {
+  ASSERT_TRUE(force_isa(isa));
+  const bool single = std::is_same_v<T, float>;
+  const auto pairs = triangle_pairs(kN, seed, single ? 1e30 : 1e80, single ? 1e-30 : 1e-70);
+  auto S = std::make_unique<TriangleBatch<T, kN>>(), U = std::make_unique<TriangleBatch<T, kN>>();
+  auto out = std::make_unique<TriangleDistances<T, kN>>();
+  for (int k = 0; k < kN; ++k) S->set(k, pairs[k].first), U->set(k, pairs[k].second);
+  S->count = U->count = kN;
+  triangle_distance(*S, *U, *out);
+  // Relative error against the scalar double path on the same (rounded) corners: a few ulps
+  // of the pair's span, more in float, where near-parallel edges lose more.
+  const double eps = std::is_same_v<T, float> ? 2e-4 : 1e-12;
+  int zero = 0;
+  for (int k = 0; k < kN; ++k) {
+    Triangle s, t;
+    for (auto [batch, tri] : {std::pair{S.get(), &s}, std::pair{U.get(), &t}})
+      for (int i = 0; i < 3; ++i)
+        for (int d = 0; d < 3; ++d) (i == 0 ? tri->a : i == 1 ? tri->b : tri->c)[d] = double(batch->v[i][d][k]);
+    const Vector3d a[3] = {s.a, s.b, s.c}, b[3] = {t.a, t.b, t.c};
+    Vector3d pa, pb;
+    const double want = triangle_distance(a, b, pa, pb);
+    double span = 0;
+    for (const Vector3d* v : {&s.b, &s.c, &t.a, &t.b, &t.c}) span = std::max(span, (*v - s.a).cwiseAbs().maxCoeff());
+    const double got = double(out->distance[k]);
+    ASSERT_NEAR(got, want, eps * span) << "lane " << k << std::setprecision(17) << " s " << s.a.transpose() << " / " << s.b.transpose() << " / " << s.c.transpose() << " t " << t.a.transpose() << " / " << t.b.transpose() << " / " << t.c.transpose();
+    // The points are absolute: also a few ulps of the corner's coordinates.
+    const double at = 4 * eps * span + 8 * std::numeric_limits<T>::epsilon() * s.a.cwiseAbs().maxCoeff();
+    const Vector3d ps(out->point_s[0][k], out->point_s[1][k], out->point_s[2][k]);
+    const Vector3d pt(out->point_t[0][k], out->point_t[1][k], out->point_t[2][k]);
+    ASSERT_NEAR((ps - pt).norm(), got, 2 * at) << "lane " << k;
+    ASSERT_LE(off(s, ps), at) << "lane " << k;
+    ASSERT_LE(off(t, pt), at) << "lane " << k;
+    zero += want == 0;
+  }
+  EXPECT_GT(zero, kN / 20);  // meeting pairs were part of the test
+}
+
+TEST_P(Kernels, TriangleDistanceMatchesTheScalarPath) {
+  for (unsigned seed = 31; seed < 39; ++seed) {  // 8 x 1024 pairs in each type
+    check_triangle_distance<double>(GetParam(), seed);
+    check_triangle_distance<float>(GetParam(), seed);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Isa, Kernels, testing::ValuesIn(kIsas),

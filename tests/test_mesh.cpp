@@ -179,6 +179,22 @@ TEST(TriangleDistance, DegenerateTriangles) {
   EXPECT_NEAR(triangle_distance(seg, point, p, q), 1, 1e-15);
   EXPECT_NEAR(triangle_distance(seg, tri, p, q), 1, 1e-15);
   EXPECT_NEAR(triangle_distance(point, tri, p, q), 3, 1e-15);  // onto the corner (3, 1, 0)
+  // A flat triangle whose rounded normal is not zero, through the other's interior (found by
+  // the batched kernel's test: this path reported 0.156, taking the noise normal as a
+  // separating plane). Where its line crosses the other's plane, the crossing is inside.
+  const Vector3d a(0.39706835965566656, -0.37874288836664127, -0.16360182120071276),
+      b(0.69917564238213692, 0.38752137874385473, -0.89811582873594342);
+  const Vector3d thin[3] = {a, b, a + 0.5 * (b - a)};
+  const Vector3d other[3] = {{-0.21181114053935213, 0.046572801986883627, 0.035790152041531798},
+                             {0.95607882776826059, -0.15778320336505658, -0.40568363894261927},
+                             {-0.23479936340708651, -0.37508253016353221, -0.90307042131578441}};
+  const Vector3d n = (other[1] - other[0]).cross(other[2] - other[0]);
+  const double ha = n.dot(a - other[0]), hb = n.dot(b - other[0]);
+  ASSERT_LT(ha * hb, 0);  // a and b on either side of the plane
+  const Vector3d x = a + ha / (ha - hb) * (b - a);
+  for (int k = 0; k < 3; ++k) ASSERT_GT((other[(k + 1) % 3] - other[k]).cross(x - other[k]).dot(n), 0);
+  EXPECT_EQ(triangle_distance(thin, other, p, q), 0);
+  EXPECT_LE((p - x).norm(), 1e-15);
 }
 
 TEST(Octree, RejectsBadMeshes) {

@@ -43,13 +43,17 @@ TEST(RealTime, KernelsAndQueriesDoNotAllocate) {
   auto prox = std::make_unique<BoxBoxProximity<float, 64>>();
   auto sep = std::make_unique<BoxBoxSeparation<float, 64>>();
   auto overlap = std::make_unique<BoxTriangleOverlap<float, 64>>();
+  auto T2 = std::make_unique<TriangleBatch<float, 64>>();
+  auto tri_dist = std::make_unique<TriangleDistances<float, 64>>();
   std::vector<Box> boxes;
   std::vector<Triangle> tris;
   for (int k = 0; k < 64; ++k) {
     boxes.push_back(tools::random_box(rng, 2)), tris.push_back(tools::random_triangle(rng, 2));
     A->set(k, boxes.back()), B->set(k, tools::random_box(rng, 2)), T->set(k, tris.back());
+    // Lane 0 spans 1e30: the scalar path's lane, which must not allocate either.
+    T2->set(k, k == 0 ? Triangle{{0, 0, 0}, {1e30, 0, 0}, {0, 1e30, 0}} : tools::random_triangle(rng, 2));
   }
-  A->count = B->count = T->count = 64;
+  A->count = B->count = T->count = T2->count = 64;
   std::vector<float> x(100, 1.f), y(100, 2.f), z(100, 3.f), d(8, 0.5f), best(8);
   std::vector<int> arg(8);
   for (Isa isa : {Isa::Scalar, Isa::Sse4_2, Isa::Avx2, Isa::Avx512}) {
@@ -60,6 +64,7 @@ TEST(RealTime, KernelsAndQueriesDoNotAllocate) {
     EXPECT_EQ(allocations([&] { box_box_proximity(*A, *B, *prox); }), 0);
     EXPECT_EQ(allocations([&] { box_box_separation(*A, *B, *sep); }), 0);
     EXPECT_EQ(allocations([&] { box_triangle_overlap(*A, *T, *overlap); }), 0);
+    EXPECT_EQ(allocations([&] { triangle_distance(*T, *T2, *tri_dist); }), 0);
     EXPECT_EQ(allocations([&] {
                 support_push(x.data(), y.data(), z.data(), 100, d.data(), d.data(), d.data(), 8,
                              best.data(), arg.data());

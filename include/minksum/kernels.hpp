@@ -176,6 +176,10 @@ void box_triangle_overlap(BoxLanes<float> box, const float* tri, int count, int 
                           std::int32_t* hit);
 void box_triangle_overlap(BoxLanes<double> box, const double* tri, int count, int stride,
                           std::int64_t* hit);
+void triangle_distance(const float* s, const float* t, int count, int stride, float* distance,
+                       float* point_s, float* point_t);
+void triangle_distance(const double* s, const double* t, int count, int stride, double* distance,
+                       double* point_s, double* point_t);
 /// Packs a box pair for the single-pair kernels: c_A, c_B, the axes of A then of B (each
 /// column-major), h_A, h_B.
 void pack_box_pair(const Box& a, const Box& b, double (&in)[30]);
@@ -246,6 +250,26 @@ template <class T, int N>
 void box_triangle_overlap(const BoxBatch<T, N>& box, const TriangleBatch<T, N>& tri,
                           BoxTriangleOverlap<T, N>& out) {
   detail::box_triangle_overlap(detail::lanes(box), &tri.v[0][0][0], box.count, kRow<N>, out.hit);
+}
+
+/// Exact distances of N triangle pairs, one per lane.
+template <class T, int N>
+struct alignas(64) TriangleDistances {
+  alignas(64) T distance[kRow<N>];    ///< exact distance; 0 when the triangles meet
+  alignas(64) T point_s[3][kRow<N>];  ///< closest point on s (component d of lane k at [d][k])
+  alignas(64) T point_t[3][kRow<N>];  ///< closest point on t
+};
+
+/// Exact distance and closest points of every pair s[k], t[k] (k < s.count; pad() both), the
+/// batched form of the scalar triangle_distance (minksum/mesh.hpp): edge pairs, vertex-face
+/// and edge-face crossings, relative to a corner (so large coordinates keep their precision).
+/// A pair spanning beyond 1e+-60 (float: 1e+-6) of its corner takes the scalar path; NaN or
+/// Inf coordinates give NaN. No allocation.
+template <class T, int N>
+void triangle_distance(const TriangleBatch<T, N>& s, const TriangleBatch<T, N>& t,
+                       TriangleDistances<T, N>& out) {
+  detail::triangle_distance(&s.v[0][0][0], &t.v[0][0][0], s.count, kRow<N>, out.distance,
+                            &out.point_s[0][0], &out.point_t[0][0]);
 }
 
 /// One plane of a kernel result, for callers with one pair.
