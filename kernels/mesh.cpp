@@ -352,12 +352,24 @@ Status mesh_distance(const Octree& a, const Octree& b, const Pose& pose, MeshWor
   }
   const Eigen::Matrix3d& R = pose.rotation;
   const Vector3d& t = pose.translation;
-  // Topological invariance: every cube of B has the rotation R in A's frame, so the widths of
-  // a unit cube of B along A's axes (and of A's along B's) are the same for every node pair.
-  // Lower bound of the squared distance of two nodes' contents, the largest of four: their
-  // boxes apart along A's axes (B's box inside its axis-aligned bounding box in A's frame) or
-  // along B's, and each slab apart from the other's box along the slab's normal.
+  // Topological invariance (Section 4): every box of B has the rotation R in A's frame, so all
+  // node pairs share the 15 separating axes (A's axes e_i, B's R_j, and the crosses e_i x R_j)
+  // and each axis's support widths per unit half extent, |L . e_i| and |L . R_j|: one table per
+  // query, then O(15) per node pair. Lower bound of the squared distance of two nodes'
+  // contents, the largest of: their boxes apart along A's axes (B's box inside its bounding
+  // box in A's frame) or B's, along a cross axis, and each slab apart from the other's box.
+  double best = std::numeric_limits<double>::infinity();
   const Eigen::Matrix3d absR = R.cwiseAbs();
+  struct CrossAxes {
+    double L[3][9], wa[3][9], wb[3][9];  // unit axis, widths along A's and B's axes (SoA)
+  } X{};
+  for (int k = 0; k < 9; ++k) {
+    const Vector3d axis = Vector3d::Unit(k / 3).cross(R.col(k % 3));
+    const double len = axis.norm();
+    if (len < 1e-6) continue;  // nearly parallel axes: no reliable direction (a zero row)
+    const Vector3d L = axis / len, LR = (R.transpose() * L).cwiseAbs();
+    for (int d = 0; d < 3; ++d) X.L[d][k] = L[d], X.wa[d][k] = std::abs(L[d]), X.wb[d][k] = LR[d];
+  }
   const auto bound2 = [&](int i, int j) {
     const Octree::Node &na = a.nodes[i], &nb = b.nodes[j];
     const Vector3d delta = R * nb.box_center + t - na.box_center;
@@ -371,9 +383,17 @@ Status mesh_distance(const Octree& a, const Octree& b, const Pose& pose, MeshWor
     const Vector3d nba = R * nb.normal;
     const double ca = nba.dot(na.box_center - t), ra = nba.cwiseAbs().dot(na.box_half);
     const double sb = std::max({ca - ra - nb.slab_hi, nb.slab_lo - ca - ra, 0.0});
-    return std::max({ga.squaredNorm(), gb.squaredNorm(), sa * sa, sb * sb});
+    const double cheap = std::max({ga.squaredNorm(), gb.squaredNorm(), sa * sa, sb * sb});
+    if (cheap >= best * best) return cheap;  // pruned already: the cross axes cannot matter
+    double gx = 0;
+    for (int k = 0; k < 9; ++k) {
+      const double along = X.L[0][k] * delta.x() + X.L[1][k] * delta.y() + X.L[2][k] * delta.z();
+      const double width = X.wa[0][k] * na.box_half.x() + X.wa[1][k] * na.box_half.y() + X.wa[2][k] * na.box_half.z() +
+                           X.wb[0][k] * nb.box_half.x() + X.wb[1][k] * nb.box_half.y() + X.wb[2][k] * nb.box_half.z();
+      gx = std::max(gx, std::abs(along) - width);
+    }
+    return std::max(cheap, gx * gx);
   };
-  double best = std::numeric_limits<double>::infinity();
   bool first_leaf_pair = true;
   size_t top = 0;
   ws.stack[top++] = {0, 0, bound2(0, 0)};
