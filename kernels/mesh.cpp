@@ -89,7 +89,8 @@ double triangle_distance(const Vector3d (&s_in)[3], const Vector3d (&t_in)[3], V
   for (const Vector3d* v : {&s_in[1], &s_in[2], &t_in[0], &t_in[1], &t_in[2]}) size = std::max(size, (*v - o).cwiseAbs().maxCoeff());
   int exponent = 0;
   std::frexp(size, &exponent);
-  const double shrink = size > 0 ? std::ldexp(1.0, -exponent) : 1.0;
+  // (At most 2^1000: a subnormal size's 2^-exponent would overflow; 2^1000 makes it normal.)
+  const double shrink = size > 0 ? std::ldexp(1.0, std::min(-exponent, 1000)) : 1.0;
   const Vector3d s[3] = {Vector3d::Zero(), shrink * (s_in[1] - o), shrink * (s_in[2] - o)};
   const Vector3d t[3] = {shrink * (t_in[0] - o), shrink * (t_in[1] - o), shrink * (t_in[2] - o)};
   const Vector3d ns = (s[1] - s[0]).cross(s[2] - s[0]), nt = (t[1] - t[0]).cross(t[2] - t[0]);

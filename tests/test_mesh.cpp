@@ -169,6 +169,14 @@ TEST(TriangleDistance, HugeAndTinyCoordinates) {
       ASSERT_NEAR(prox.distance / f, d, 1e-12 * (1 + d)) << "pair " << k << " scale 2^" << e;
     }
   }
+  // Subnormal spans (a fuzz finding: 2^-exponent overflowed to inf and the distance was NaN).
+  const double tiny = 3e-309;
+  const Vector3d point[3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+  const Vector3d off[3] = {{tiny, 0, 0}, {tiny, 1e-310, 0}, {tiny, 0, 1e-310}};
+  const Vector3d touching[3] = {{0, 0, 0}, {1.3906711615669959e-309, 0, 0}, {0, 0, 0}};
+  Vector3d p, q;
+  EXPECT_DOUBLE_EQ(triangle_distance(point, off, p, q), tiny);
+  EXPECT_EQ(triangle_distance(point, touching, p, q), 0);
 }
 
 TEST(TriangleDistance, DegenerateTriangles) {

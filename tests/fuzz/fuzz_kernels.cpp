@@ -1,6 +1,9 @@
-// The batched box-box and box-triangle kernels on arbitrary floats, on every ISA this CPU has:
-// no crash or sanitizer report for any input, and for valid boxes (finite, positive extents,
-// a rotation) finite planes and proximities, equal across ISAs within float rounding.
+// The batched box-box, box-triangle and triangle-triangle kernels on arbitrary floats, on every
+// ISA this CPU has: no crash or sanitizer report for any input, for valid boxes (finite,
+// positive extents, a rotation) finite planes and proximities, equal across ISAs within float
+// rounding, and for finite triangles the double triangle distance equal to the scalar path.
+#include <minksum/mesh.hpp>
+
 #include "fuzz_common.hpp"
 
 #include <memory>
@@ -12,6 +15,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   constexpr int N = kLaneMultiple;
   auto A = std::make_unique<BoxBatch<float, N>>(), B = std::make_unique<BoxBatch<float, N>>();
   auto T = std::make_unique<TriangleBatch<float, N>>();
+  auto S2 = std::make_unique<TriangleBatch<double, N>>(), T2 = std::make_unique<TriangleBatch<double, N>>();
+  Triangle tris[N][2];
   bool valid[N];
   const int count = 1 + in.take<uint8_t>() % N;
   for (int k = 0; k < count; ++k) {
@@ -30,9 +35,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       valid[k] = valid[k] && check_box(x) == Status::Ok && x.center.cwiseAbs().maxCoeff() < 1e6 &&
                  x.half_extents.minCoeff() > 1e-3 && x.half_extents.maxCoeff() < 1e6;
     A->set(k, b[0]), B->set(k, b[1]), T->set(k, t);
+    // A second triangle, from the next numbers (or the box's corners when they run out).
+    Triangle u{b[0].center, b[1].center, Eigen::Vector3d(in.number(), in.number(), in.number())};
+    tris[k][0] = t, tris[k][1] = u;
+    S2->set(k, t), T2->set(k, u);
   }
-  A->count = B->count = T->count = count;
-  A->pad(), B->pad(), T->pad();
+  A->count = B->count = T->count = S2->count = T2->count = count;
+  A->pad(), B->pad(), T->pad(), S2->pad(), T2->pad();
+  auto dist = std::make_unique<TriangleDistances<double, N>>();
   auto planes = std::make_unique<BoxBoxPlanes<float, N>>();
   auto prox = std::make_unique<BoxBoxProximity<float, N>>(), first = std::make_unique<BoxBoxProximity<float, N>>();
   auto tri = std::make_unique<BoxTrianglePlanes<float, N>>();
@@ -43,7 +53,25 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     box_box_planes(*A, *B, true, *planes);
     box_triangle_planes(*A, *T, false, *tri);
     box_box_proximity(*A, *B, *prox);
+    triangle_distance(*S2, *T2, *dist);
     for (int k = 0; k < count; ++k) {
+      const Eigen::Vector3d s3[3] = {tris[k][0].a, tris[k][0].b, tris[k][0].c}, t3[3] = {tris[k][1].a, tris[k][1].b, tris[k][1].c};
+      double span = 0;
+      bool finite = true;
+      for (const auto* x : {&s3[1], &s3[2], &t3[0], &t3[1], &t3[2]}) {
+        span = std::max(span, (*x - s3[0]).cwiseAbs().maxCoeff());
+        finite = finite && fuzz::finite(*x);
+      }
+      if (finite && fuzz::finite(s3[0]) && std::isfinite(span)) {
+        Eigen::Vector3d pa, pb;
+        const double want = triangle_distance(s3, t3, pa, pb);
+        if (!(std::abs(dist->distance[k] - want) <= 1e-9 * span + 1e-300)) {
+          std::fprintf(stderr, "isa %s lane %d: %.17g vs %.17g (span %g)\n", to_string(isa), k, dist->distance[k], want, span);
+          for (const auto* x : {&s3[0], &s3[1], &s3[2], &t3[0], &t3[1], &t3[2]})
+            std::fprintf(stderr, "  %.17g %.17g %.17g\n", x->x(), x->y(), x->z());
+          fuzz::fail("the batched triangle distance differs from the scalar path");
+        }
+      }
       if (!valid[k]) continue;
       for (int p = 0; p < 30; ++p)
         if (!std::isfinite(planes->offset[p][k])) fuzz::fail("non-finite plane offset for valid boxes");
