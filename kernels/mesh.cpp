@@ -2,11 +2,13 @@
 // prunes with lower bounds only, and every triangle pair that could hold the closest points gets
 // the exact triangle-triangle distance.
 #include <minksum/mesh.hpp>
+#include <minksum/kernels.hpp>
 #include <minksum/query.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 namespace minksum {
 
@@ -143,26 +145,6 @@ double triangle_distance(const Vector3d (&s_in)[3], const Vector3d (&t_in)[3], V
 
 namespace {
 
-// Triangle against the axis-aligned cube (c, h), separating axis test over the cube's axes,
-// the triangle's normal and the 9 edge crosses (Akenine-Moller, "Fast 3D triangle-box overlap
-// testing", JGT 2001). Conservative: the cube is slightly inflated by the caller.
-bool triangle_overlaps_cube(const Vector3d (&v_in)[3], const Vector3d& c, double h) {
-  const Vector3d v[3] = {v_in[0] - c, v_in[1] - c, v_in[2] - c};
-  for (int d = 0; d < 3; ++d)
-    if (std::min({v[0][d], v[1][d], v[2][d]}) > h || std::max({v[0][d], v[1][d], v[2][d]}) < -h) return false;
-  const Vector3d e[3] = {v[1] - v[0], v[2] - v[1], v[0] - v[2]};
-  const auto separated = [&](const Vector3d& axis) {
-    const double p0 = axis.dot(v[0]), p1 = axis.dot(v[1]), p2 = axis.dot(v[2]);
-    const double r = h * axis.cwiseAbs().sum();
-    return std::min({p0, p1, p2}) > r || std::max({p0, p1, p2}) < -r;
-  };
-  if (separated(e[0].cross(e[1]))) return false;
-  for (int i = 0; i < 3; ++i)
-    for (int k = 0; k < 3; ++k)
-      if (separated(Vector3d::Unit(i).cross(e[k]))) return false;
-  return true;
-}
-
 // The node's tight box (its cube clipped to its triangles' bounding box) and its slab along the
 // triangles' area-weighted mean normal (any unit normal gives a valid slab; a flat patch a thin
 // one). Both hold the parts of the triangles inside the cube, since they hold the triangles.
@@ -268,6 +250,10 @@ Status build_octree(const std::vector<Vector3d>& vertices,
     if (!copy[k]) lists[0].push_back(int(k));
   out.nodes.emplace_back();
   out.nodes[0].center = center, out.nodes[0].half = root_half;
+  auto cubes = std::make_unique<BoxBatch<double, 64>>();
+  auto batch = std::make_unique<TriangleBatch<double, 64>>();
+  auto hits = std::make_unique<BoxTriangleOverlap<double, 64>>();
+  cubes->count = batch->count = 64;
   for (size_t i = 0; i < out.nodes.size(); ++i) {
     std::vector<int> list = std::move(lists[i]);
     out.depth = std::max(out.depth, level[i]);
@@ -291,20 +277,34 @@ Status build_octree(const std::vector<Vector3d>& vertices,
     }
     const Vector3d c = out.nodes[i].center;
     const double h = out.nodes[i].half / 2;
+    // Which triangles meet each child cube: the box-triangle overlap kernel (Akenine-Moller's
+    // 13 axes, relative to the cube's centre), 8 triangles x 8 cubes per call (lane = 8
+    // triangle + octant). Cubes are inflated by a few ulps of the coordinates, so that a
+    // triangle on a cube face goes to both sides.
+    for (int lane = 0; lane < 64; ++lane) {
+      Box cube;
+      cube.center = c + h * Vector3d(lane & 1 ? 1 : -1, lane & 2 ? 1 : -1, lane & 4 ? 1 : -1);
+      cube.half_extents.setConstant(h * (1 + 1e-9) + 1e-13 * size);
+      cubes->set(lane, cube);
+    }
+    std::vector<int> sub[8];
+    for (size_t first = 0; first < list.size(); first += 8) {
+      const int n = int(std::min<size_t>(8, list.size() - first));
+      for (int lane = 0; lane < 64; ++lane) {
+        const auto& tri = triangles[list[first + std::min(lane / 8, n - 1)]];
+        batch->set(lane, Triangle{vertices[tri[0]], vertices[tri[1]], vertices[tri[2]]});
+      }
+      box_triangle_overlap(*cubes, *batch, *hits);
+      for (int lane = 0; lane < 8 * n; ++lane)
+        if (hits->hit[lane]) sub[lane % 8].push_back(list[first + lane / 8]);
+    }
     const int first_child = int(out.nodes.size());
     for (int octant = 0; octant < 8; ++octant) {
-      const Vector3d cc = c + h * Vector3d(octant & 1 ? 1 : -1, octant & 2 ? 1 : -1, octant & 4 ? 1 : -1);
-      std::vector<int> sub;
-      for (int t : list) {
-        const auto& tri = triangles[t];
-        const Vector3d v[3] = {vertices[tri[0]], vertices[tri[1]], vertices[tri[2]]};
-        // Inflated by a few ulps of the coordinates: a triangle on a cube face goes to both sides.
-        if (triangle_overlaps_cube(v, cc, h * (1 + 1e-9) + 1e-13 * size)) sub.push_back(t);
-      }
-      if (sub.empty()) continue;
+      if (sub[octant].empty()) continue;
       out.nodes.emplace_back();
-      out.nodes.back().center = cc, out.nodes.back().half = h;
-      lists.push_back(std::move(sub));
+      out.nodes.back().center = c + h * Vector3d(octant & 1 ? 1 : -1, octant & 2 ? 1 : -1, octant & 4 ? 1 : -1);
+      out.nodes.back().half = h;
+      lists.push_back(std::move(sub[octant]));
       level.push_back(level[i] + 1);
     }
     out.nodes[i].first_child = first_child;
