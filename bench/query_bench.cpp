@@ -210,8 +210,8 @@ const int kRegistered = [] {
   benchmark::RegisterBenchmark("BoxTriangleDistance/fcl_gjk", SmallDistance, false, true);
   benchmark::RegisterBenchmark("TriangleTriangleDistance/minksum", SmallDistance, true, false);
   benchmark::RegisterBenchmark("TriangleTriangleDistance/fcl_gjk", SmallDistance, true, true);
-  benchmark::RegisterBenchmark("TriangleDistanceOnly/scalar", TriangleDistanceOnly, false);
-  benchmark::RegisterBenchmark("TriangleDistanceOnly/batch", TriangleDistanceOnly, true);
+  benchmark::RegisterBenchmark("TriangleExactDistance/scalar", TriangleDistanceOnly, false);
+  benchmark::RegisterBenchmark("TriangleExactDistance/batch", TriangleDistanceOnly, true);
   const auto pairs = tools::table1_pairs();
   for (int row = 0; row < int(pairs.size()); ++row) {
     const std::string base = "PolytopeDistance/" + pairs[row].name + "/";

@@ -377,6 +377,34 @@ double surface_distance(const A& a, const B& b, const Vector3d& shift, double ma
     }
     return std::max({lo, -hi, 0.0});
   };
+  // Triangle pairs go to the batched kernel 16 at a time (on the stack: no allocation); the
+  // face-pair bound is checked against the best distance of the batches done so far.
+  struct Batch {
+    TriangleBatch<double, 16> s, t;
+    TriangleDistances<double, 16> d;
+  } batch;
+  const auto flush = [&] {
+    if (batch.s.count < 4) {  // a few pairs: the scalar path is faster than one SIMD pass
+      for (int k = 0; k < batch.s.count; ++k) {
+        Vector3d s[3], t[3], p, q;
+        for (int i = 0; i < 3; ++i)
+          for (int d = 0; d < 3; ++d) s[i][d] = batch.s.v[i][d][k], t[i][d] = batch.t.v[i][d][k];
+        if (const double d = triangle_distance(s, t, p, q); d < best) best = d, pa = p, pb = q;
+      }
+      batch.s.count = 0;
+      return;
+    }
+    batch.t.count = batch.s.count;
+    batch.s.pad(), batch.t.pad();
+    triangle_distance(batch.s, batch.t, batch.d);
+    for (int k = 0; k < batch.s.count; ++k)
+      if (batch.d.distance[k] < best) {
+        best = batch.d.distance[k];
+        pa = Vector3d(batch.d.point_s[0][k], batch.d.point_s[1][k], batch.d.point_s[2][k]);
+        pb = Vector3d(batch.d.point_t[0][k], batch.d.point_t[1][k], batch.d.point_t[2][k]);
+      }
+    batch.s.count = 0;
+  };
   for (int f = 0; f < a.faces(); ++f) {
     if (behind(a, f, b, shift, margin)) continue;
     for (int g = 0; g < b.faces(); ++g) {
@@ -387,17 +415,16 @@ double surface_distance(const A& a, const B& b, const Vector3d& shift, double ma
           gap(nf, a.face_offset(f), b.loop_size(g), [&](int k) { return Vector3d(b.loop_vertex(g, k) + shift); }),
           gap(ng, b.face_offset(g) + ng.dot(shift), a.loop_size(f), [&](int k) { return a.loop_vertex(f, k); }));
       if (apart >= best) continue;
-      for (int i = 1; i + 1 < a.loop_size(f); ++i) {
-        const Vector3d s[3] = {a.loop_vertex(f, 0), a.loop_vertex(f, i), a.loop_vertex(f, i + 1)};
+      for (int i = 1; i + 1 < a.loop_size(f); ++i)
         for (int j = 1; j + 1 < b.loop_size(g); ++j) {
-          const Vector3d t[3] = {b.loop_vertex(g, 0) + shift, b.loop_vertex(g, j) + shift, b.loop_vertex(g, j + 1) + shift};
-          Vector3d p, q;
-          const double d = triangle_distance(s, t, p, q);
-          if (d < best) best = d, pa = p, pb = q;
+          const int k = batch.s.count++;
+          batch.s.set(k, Triangle{a.loop_vertex(f, 0), a.loop_vertex(f, i), a.loop_vertex(f, i + 1)});
+          batch.t.set(k, Triangle{b.loop_vertex(g, 0) + shift, b.loop_vertex(g, j) + shift, b.loop_vertex(g, j + 1) + shift});
+          if (batch.s.count == 16) flush();
         }
-      }
     }
   }
+  flush();
   return best;
 }
 
