@@ -212,12 +212,14 @@ Status proximity(const Box& a, const Box& b, Proximity& out, Want want) {
     box_box_proximity(a, b, out, want);
     return Status::Ok;
   }
+  // (The scale is at most 2^1000: for a subnormal pair 2^-exponent would overflow to inf, a
+  // fuzz finding; 2^1000 makes it normal.)
   int exponent = 0;
   std::frexp(big, &exponent);
-  const double k = std::ldexp(1.0, -exponent);
+  const double k = std::ldexp(1.0, std::min(-exponent, 1000));
   Box sa = a, sb = b;
   sa.center.setZero(), sb.center = k * (b.center - o);
-  for (Box* x : {&sa, &sb}) x->half_extents = (k * x->half_extents).cwiseMax(std::ldexp(1.0, -100));
+  for (Box* x : {&sa, &sb}) x->half_extents = (k * x->half_extents).cwiseMax(std::ldexp(k * big, -100));
   box_box_proximity(sa, sb, out, want);
   out.distance /= k, out.penetration_depth /= k, out.max_distance /= k;
   for (Vector3d* p : {&out.point_a, &out.point_b, &out.far_a, &out.far_b}) *p = *p / k + o;
