@@ -310,6 +310,9 @@ Status build_octree(const std::vector<Vector3d>& vertices,
     out.nodes[i].first_child = first_child;
     out.nodes[i].child_count = int(out.nodes.size()) - first_child;
   }
+  // The arrays grew by doubling: give back what they do not use (up to half of each).
+  out.nodes.shrink_to_fit(), out.items.shrink_to_fit(), out.corners.shrink_to_fit();
+  out.item_corners.shrink_to_fit(), out.spheres.shrink_to_fit(), out.normals.shrink_to_fit();
   return Status::Ok;
 }
 
