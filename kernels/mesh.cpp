@@ -45,26 +45,24 @@ double segment_segment(const Vector3d& p0, const Vector3d& p1, const Vector3d& q
   return (cp - cq).squaredNorm();
 }
 
-// Closest point of triangle (a, b, c) to p by Voronoi regions (Ericson, section 5.1.5); the
-// caller handles degenerate triangles (their edges suffice).
+// Closest point of triangle (a, b, c) to p: its projection onto the triangle's plane where
+// that lies inside (edge tests against the normal), else the nearest point of an edge. (The
+// barycentric region tests of Ericson, section 5.1.5, cancel on slivers: a vertex lying in a
+// 0.06-wide, 700-long triangle was put 9e-7 away, a fuzz finding.) The caller handles
+// degenerate triangles (their edges suffice).
 Vector3d point_triangle(const Vector3d& p, const Vector3d& a, const Vector3d& b, const Vector3d& c) {
-  const Vector3d ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-  const Vector3d bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + d1 / (d1 - d3) * ab;
-  const Vector3d cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + d2 / (d2 - d6) * ac;
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
-  const double denom = 1 / (va + vb + vc);
-  return a + ab * (vb * denom) + ac * (vc * denom);
+  const Vector3d n = (b - a).cross(c - a);
+  const Vector3d q = p - n * (n.dot(p - a) / n.squaredNorm());
+  if ((b - a).cross(q - a).dot(n) >= 0 && (c - b).cross(q - b).dot(n) >= 0 && (a - c).cross(q - c).dot(n) >= 0)
+    return q;
+  Vector3d best = a;
+  for (const auto& [u, v] : {std::pair{&a, &b}, std::pair{&b, &c}, std::pair{&c, &a}}) {
+    const Vector3d e = *v - *u;
+    const double len2 = e.squaredNorm();
+    const Vector3d x = *u + (len2 > 0 ? std::clamp(e.dot(p - *u) / len2, 0.0, 1.0) : 0.0) * e;
+    if ((x - p).squaredNorm() < (best - p).squaredNorm()) best = x;
+  }
+  return best;
 }
 
 // Where the segment p-q crosses the interior of triangle t (normal n, not degenerate), if it

@@ -205,6 +205,17 @@ TEST(TriangleDistance, DegenerateTriangles) {
   EXPECT_LE((p - x).norm(), 1e-15);
 }
 
+// A vertex lying in a sliver 700 long and 0.06 wide (a fuzz finding: the barycentric region
+// tests cancelled and put it 9.3e-7 away). The sliver is in the plane x = y, which holds the
+// vertex, and at the vertex's height along the sliver it spans z in [120.457, 120.502].
+TEST(TriangleDistance, VertexInsideASliver) {
+  const Vector3d s[3] = {{465.8125, 124.46875, 120.46875}, {120.46875, 120.46875, 120.46875}, {12, 0, 0}};
+  const Vector3d t[3] = {{405.578125, 405.578125, 405.578125}, {0, 0, 0.046875}, {0, 0, -0.015625}};
+  Vector3d p, q;
+  EXPECT_LE(triangle_distance(s, t, p, q), 1e-13);
+  EXPECT_LE((p - s[1]).norm(), 1e-12);
+}
+
 TEST(Octree, RejectsBadMeshes) {
   Octree o;
   const std::vector<Vector3d> v = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
