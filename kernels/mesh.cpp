@@ -45,24 +45,16 @@ double segment_segment(const Vector3d& p0, const Vector3d& p1, const Vector3d& q
   return (cp - cq).squaredNorm();
 }
 
-// Closest point of triangle (a, b, c) to p: its projection onto the triangle's plane where
-// that lies inside (edge tests against the normal), else the nearest point of an edge. (The
-// barycentric region tests of Ericson, section 5.1.5, cancel on slivers: a vertex lying in a
-// 0.06-wide, 700-long triangle was put 9e-7 away, a fuzz finding.) The caller handles
-// degenerate triangles (their edges suffice).
-Vector3d point_triangle(const Vector3d& p, const Vector3d& a, const Vector3d& b, const Vector3d& c) {
-  const Vector3d n = (b - a).cross(c - a);
-  const Vector3d q = p - n * (n.dot(p - a) / n.squaredNorm());
-  if ((b - a).cross(q - a).dot(n) >= 0 && (c - b).cross(q - b).dot(n) >= 0 && (a - c).cross(q - c).dot(n) >= 0)
-    return q;
-  Vector3d best = a;
-  for (const auto& [u, v] : {std::pair{&a, &b}, std::pair{&b, &c}, std::pair{&c, &a}}) {
-    const Vector3d e = *v - *u;
-    const double len2 = e.squaredNorm();
-    const Vector3d x = *u + (len2 > 0 ? std::clamp(e.dot(p - *u) / len2, 0.0, 1.0) : 0.0) * e;
-    if ((x - p).squaredNorm() < (best - p).squaredNorm()) best = x;
-  }
-  return best;
+// The projection of p onto the plane of triangle v (normal n, not flat; inv = 1 / |n|^2), if it
+// lies inside:
+// edge tests against the normal. Elsewhere an edge of v holds p's closest point, which the
+// edge pairs of triangle_distance cover. (Ericson's barycentric region tests, section 5.1.5,
+// cancel on slivers: a vertex lying in a 0.06-wide, 700-long triangle was put 9e-7 away, a
+// fuzz finding.)
+bool onto_face(const Vector3d& p, const Vector3d (&v)[3], const Vector3d& n, double inv, Vector3d& q) {
+  q = p - n * (n.dot(p - v[0]) * inv);
+  return (v[1] - v[0]).cross(q - v[0]).dot(n) >= 0 && (v[2] - v[1]).cross(q - v[1]).dot(n) >= 0 &&
+         (v[0] - v[2]).cross(q - v[2]).dot(n) >= 0;
 }
 
 // Where the segment p-q crosses the interior of triangle t (normal n, not degenerate), if it
@@ -127,15 +119,12 @@ double triangle_distance(const Vector3d (&s_in)[3], const Vector3d (&t_in)[3], V
       const double d2 = segment_segment(s[i], s[(i + 1) % 3], t[j], t[(j + 1) % 3], cp, cq);
       if (d2 < best) best = d2, bs = cp, bt = cq;
     }
+  const double inv_s = s_flat ? 0.0 : 1 / ns.squaredNorm(), inv_t = t_flat ? 0.0 : 1 / nt.squaredNorm();
   for (int k = 0; k < 3; ++k) {
-    if (!t_flat) {
-      cq = point_triangle(s[k], t[0], t[1], t[2]);
+    if (!t_flat && onto_face(s[k], t, nt, inv_t, cq))
       if (const double d2 = (s[k] - cq).squaredNorm(); d2 < best) best = d2, bs = s[k], bt = cq;
-    }
-    if (!s_flat) {
-      cp = point_triangle(t[k], s[0], s[1], s[2]);
+    if (!s_flat && onto_face(t[k], s, ns, inv_s, cp))
       if (const double d2 = (t[k] - cp).squaredNorm(); d2 < best) best = d2, bs = cp, bt = t[k];
-    }
   }
   ps = bs / shrink + o, pt = bt / shrink + o;
   return std::sqrt(best) / shrink;
