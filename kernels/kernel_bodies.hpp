@@ -192,14 +192,27 @@ struct Kernels {
   // Exactly parallel generators span no facet, and the facets of the other pairs then cover
   // the merged ones between them; nearly parallel ones (below kSliverThreshold) span slivers
   // that are skipped, which moves the distance by at most that fraction of a half extent.
+  // Most lanes need one facet: the fast path (proximity_fast) solves only the separating axis
+  // test's choice and keeps it where a certificate proves it; the rest take all 15.
 
+  using Mask = decltype(B(T(0)) < B(T(0)));
   // The facet's generator pair (I, J), known at compile time (one pair per lane group).
   template <int I, int J>
   struct FixedPair {
     static constexpr bool is_i(int q) { return q == I; }
     static constexpr bool is_j(int q) { return q == J; }
+    static constexpr bool skip(int q) { return q == I || q == J; }  // statically one of the pair
+  };
+  // A pair per lane (the fast path's chosen facet): is_i(q), is_j(q) are lane masks.
+  struct LanePair {
+    Mask i[6], j[6];
+    const Mask& is_i(int q) const { return i[q]; }
+    const Mask& is_j(int q) const { return j[q]; }
+    static constexpr bool skip(int) { return false; }
   };
   static B pick(bool m, const B& a, const B& b) { return m ? a : b; }
+  template <class M, class = std::enable_if_t<!std::is_same_v<M, bool>>>
+  static B pick(const M& m, const B& a, const B& b) { return S::select(m, a, b); }
   static V3 axpy(const B& s, const V3& x, const V3& y) {
     return V3{S::fma(s, x.x, y.x), S::fma(s, x.y, y.y), S::fma(s, x.z, y.z)};
   }
@@ -218,7 +231,7 @@ struct Kernels {
   };
 
   template <class Role>
-  static FacetEval facet(const Role& role, const V3& c, const V3& ca, const V3 (&g)[6],
+  [[gnu::always_inline]] static FacetEval facet(const Role& role, const V3& c, const V3& ca, const V3 (&g)[6],
                          const B (&g2)[6], const V3& gi, const V3& gj) {
     const B zero(T(0)), one(T(1)), inf(std::numeric_limits<T>::infinity());
     auto sgn = [&](const B& v) { return S::select(v < zero, -one, one); };
@@ -247,13 +260,14 @@ struct Kernels {
     V3 F0 = c;
     for (int q = 0; q < 6; ++q) {
       extreme[q] = sgn(sigma * dots[q]);
-      if (role.is_i(q) || role.is_j(q)) continue;
-      inplane[q] = dots[q] * dots[q] <= sliver2 * x2 * g2[q];
+      if (role.skip(q)) continue;
+      const B own = pick(role.is_i(q), zero, pick(role.is_j(q), zero, one));  // 0: i or j
+      inplane[q] = (dots[q] * dots[q] <= sliver2 * x2 * g2[q]) && (own > zero);
       any_inplane = any_inplane || S::any(inplane[q]);
-      F0 = axpy(S::select(inplane[q], zero, extreme[q]), g[q], F0);
+      F0 = axpy(S::select(inplane[q], zero, own * extreme[q]), g[q], F0);
     }
     for (int q = 0; q < 6 && any_inplane; ++q) {
-      if (role.is_i(q) || role.is_j(q)) continue;
+      if (role.skip(q)) continue;
       extreme[q] = S::select(inplane[q], zero - sgn(dot(g[q], F0)), extreme[q]);
       F0 = axpy(S::select(inplane[q], extreme[q], zero), g[q], F0);
     }
@@ -322,33 +336,153 @@ struct Kernels {
     (fold_pair<P>(fold, c, ca, g, g2), ...);
   }
 
-  // One pair per lane.
-  static void box_box_proximity(BoxLanes<T> a, BoxLanes<T> b, int count, int N,
-                                ProximityLanes<T> out) {
-    const B zero(T(0)), one(T(1)), inf(std::numeric_limits<T>::infinity());
-    for (int k = 0; k < count; k += S::size) {
-      V3 ua[3], ub[3], g[6];
-      B ha[3], hb[3];
+  // Loads one register of box pairs: unit axes, half extents, A's centre, c = c_A - c_B, the
+  // generators and their squared lengths.
+  struct PairRegister {
+    V3 ua[3], ub[3], g[6], ca, c;
+    B ha[3], hb[3], g2[6];
+    PairRegister(BoxLanes<T> a, BoxLanes<T> b, int N, int k) {
       for (int i = 0; i < 3; ++i) {
         ua[i] = load3(a.u + 3 * i * N, N, k), ub[i] = load3(b.u + 3 * i * N, N, k);
         ha[i] = S::load(a.h + i * N + k), hb[i] = S::load(b.h + i * N + k);
       }
       generators(ua, ha, ub, hb, g);
-      const V3 ca = load3(a.c, N, k), cb = load3(b.c, N, k);
-      const V3 c{ca.x - cb.x, ca.y - cb.y, ca.z - cb.z};
-      B g2[6];  // |g_q|^2
+      ca = load3(a.c, N, k);
+      const V3 cb = load3(b.c, N, k);
+      c = V3{ca.x - cb.x, ca.y - cb.y, ca.z - cb.z};
       for (int q = 0; q < 6; ++q) g2[q] = dot(g[q], g[q]);
-      Fold fold;
-      fold_all(fold, c, ca, g, g2, std::make_integer_sequence<int, 15>{});
-      const auto separated = fold.best2 < inf;
-      S::store(out.distance + k, S::select(separated, S::sqrt(fold.best2), zero));
-      S::store(out.depth + k, S::select(separated, zero, fold.depth));
-      store3(out.direction, N, k, scaled(fold.dir, S::select(separated, zero, one)));
-      const V3 pa = pick3(separated, fold.best_pa, fold.deep_pa);
-      const V3 p = pick3(separated, fold.best_p, fold.deep_p);
-      store3(out.point_a, N, k, pa);
-      store3(out.point_b, N, k, V3{pa.x - p.x, pa.y - p.y, pa.z - p.z});
     }
+  };
+
+  static void store_proximity(ProximityLanes<T> out, int N, int k, const B& separated,
+                              const B& distance, const B& depth, const V3& dir, const V3& pa,
+                              const V3& p) {
+    S::store(out.distance + k, distance);
+    S::store(out.depth + k, depth);
+    store3(out.direction, N, k, scaled(dir, B(T(1)) - separated));
+    store3(out.point_a, N, k, pa);
+    store3(out.point_b, N, k, V3{pa.x - p.x, pa.y - p.y, pa.z - p.z});
+  }
+
+  // All 15 facet pairs of one register of lanes (k .. k + S::size).
+  static void proximity_all_facets(BoxLanes<T> a, BoxLanes<T> b, int N, int k,
+                                   ProximityLanes<T> out) {
+    const B zero(T(0)), one(T(1)), inf(std::numeric_limits<T>::infinity());
+    const PairRegister r(a, b, N, k);
+    Fold fold;
+    fold_all(fold, r.c, r.ca, r.g, r.g2, std::make_integer_sequence<int, 15>{});
+    const auto separated = fold.best2 < inf;
+    store_proximity(out, N, k, S::select(separated, one, zero),
+                    S::select(separated, S::sqrt(fold.best2), zero),
+                    S::select(separated, zero, fold.depth), fold.dir,
+                    pick3(separated, fold.best_pa, fold.deep_pa), pick3(separated, fold.best_p, fold.deep_p));
+  }
+
+  // The fast path for one register: the separating axis test picks each lane's facet (the axis
+  // of largest separation, or of smallest overlap), that one facet is solved, and the answer is
+  // kept where it proves itself: separated, the plane through the closest point P normal to P
+  // supports M (min over M of P . y = P . c - sum |P . g_q| >= |P|^2, up to rounding); overlapping,
+  // the origin's projection onto the facet's plane lies in the facet. Elsewhere (the closest
+  // point on another facet, a facet split between parallel generator pairs) the distance is
+  // written as NaN for the caller to redo the lane over all facets.
+  static void proximity_fast(BoxLanes<T> a, BoxLanes<T> b, int N, int k, ProximityLanes<T> out) {
+    constexpr int kI[15] = {0, 0, 1, 3, 3, 4, 0, 0, 0, 1, 1, 1, 2, 2, 2};
+    constexpr int kJ[15] = {1, 2, 2, 4, 5, 5, 3, 4, 5, 3, 4, 5, 3, 4, 5};
+    const B zero(T(0)), one(T(1)), inf(std::numeric_limits<T>::infinity());
+    const PairRegister r(a, b, N, k);
+    // The separation of each axis from C = U_A^T U_B and c in A's frame (OBBTree's form, as
+    // in box_box_separation but with the C shortcuts: it only chooses the facet).
+    B C[3][3], absC[3][3], cA[3], cB[3];
+    for (int i = 0; i < 3; ++i) {
+      cA[i] = dot(r.ua[i], r.c), cB[i] = dot(r.ub[i], r.c);
+      for (int j = 0; j < 3; ++j) C[i][j] = dot(r.ua[i], r.ub[j]), absC[i][j] = S::abs(C[i][j]);
+    }
+    B best(-inf), best_i(zero), best_j(zero);  // the best axis and its generator pair
+    const auto keep = [&](const B& sep, int p) {
+      const auto better = sep > best;
+      best = S::select(better, sep, best);
+      best_i = S::select(better, B(T(kI[p])), best_i), best_j = S::select(better, B(T(kJ[p])), best_j);
+    };
+#pragma GCC unroll 3
+    for (int i = 0; i < 3; ++i) {  // face axis i of A is spanned by pair 2 - i, of B by 5 - i
+      keep(S::abs(cA[i]) - (r.ha[i] + S::fma(r.hb[0], absC[i][0], S::fma(r.hb[1], absC[i][1], r.hb[2] * absC[i][2]))), 2 - i);
+      keep(S::abs(cB[i]) - (r.hb[i] + S::fma(r.ha[0], absC[0][i], S::fma(r.ha[1], absC[1][i], r.ha[2] * absC[2][i]))), 5 - i);
+    }
+    const B sliver2(kSliverThreshold<T> * kSliverThreshold<T>);
+#pragma GCC unroll 3
+    for (int i = 0; i < 3; ++i) {
+      const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+#pragma GCC unroll 3
+      for (int j = 0; j < 3; ++j) {
+        const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+        // L = u_Ai x u_Bj: |L|^2 = C_i1j^2 + C_i2j^2, L . c = cA_i1 C_i2j - cA_i2 C_i1j, and
+        // the radius from the rows and columns of |C| (right-handed frames).
+        const B len2 = S::fma(C[i1][j], C[i1][j], C[i2][j] * C[i2][j]);
+        const B rad = S::fma(r.ha[i1], absC[i2][j], S::fma(r.ha[i2], absC[i1][j],
+                             S::fma(r.hb[j1], absC[i][j2], r.hb[j2] * absC[i][j1])));
+        const B lc = cA[i1] * C[i2][j] - cA[i2] * C[i1][j];
+        const auto ok = len2 > sliver2;
+        keep(S::select(ok, (S::abs(lc) - rad) * S::rsqrt(S::select(ok, len2, one)), -inf), 6 + 3 * i + j);
+      }
+    }
+    LanePair role;
+    V3 gi{zero, zero, zero}, gj = gi;
+#pragma GCC unroll 6
+    for (int q = 0; q < 6; ++q) {
+      role.i[q] = best_i == B(T(q)), role.j[q] = best_j == B(T(q));
+      gi = pick3(role.i[q], r.g[q], gi), gj = pick3(role.j[q], r.g[q], gj);
+    }
+    const FacetEval f = facet(role, r.c, r.ca, r.g, r.g2, gi, gj);
+    // Rounding scale of the certificates: the sizes of c and of the generators (|g_q|_1 <=
+    // sqrt(3) h_q).
+    B scale = S::abs(r.c.x) + S::abs(r.c.y) + S::abs(r.c.z);
+    for (int q = 0; q < 3; ++q) scale = S::fma(B(T(2)), r.ha[q] + r.hb[q], scale);
+    const B tol = B(T(64) * std::numeric_limits<T>::epsilon()) * scale;
+    B low = dot(f.P, r.c);  // min over M of P . y; |P|^2 = dist2 on a separated lane
+    for (int q = 0; q < 6; ++q) low = low - S::abs(dot(f.P, r.g[q]));
+    const auto separated = best > zero && f.dist2 < inf;
+    const B dist = S::sqrt(S::select(separated, f.dist2, zero));
+    const auto proven = (separated && low >= f.dist2 - dist * tol) ||
+                        (best <= zero && f.overlap < inf && f.err <= tol * tol);
+    const B nan(std::numeric_limits<T>::quiet_NaN());
+    store_proximity(out, N, k, S::select(separated, one, zero), S::select(proven, dist, nan),
+                    S::select(separated, zero, f.overlap), f.n_out, f.pa, f.P);
+  }
+
+  // One pair per lane: the fast path, then the lanes it could not prove through all facets,
+  // gathered S::size at a time into local lanes.
+  static void box_box_proximity(BoxLanes<T> a, BoxLanes<T> b, int count, int N,
+                                ProximityLanes<T> out) {
+    for (int k = 0; k < count; k += S::size) proximity_fast(a, b, N, k, out);
+    constexpr int L = S::size;
+    alignas(64) T in[2][15 * L], res[11 * L];
+    int lane[L], n = 0;
+    const auto redo = [&] {
+      for (int m = n; m < L; ++m) lane[m] = lane[0];  // pad with copies of a redone lane
+      for (int s = 0; s < 2; ++s) {
+        const BoxLanes<T>& box = s ? b : a;
+        for (int m = 0; m < L; ++m)
+          for (int d = 0; d < 3; ++d) {
+            in[s][d * L + m] = box.c[d * N + lane[m]];
+            in[s][(12 + d) * L + m] = box.h[d * N + lane[m]];
+            for (int e = 0; e < 3; ++e) in[s][(3 + 3 * e + d) * L + m] = box.u[(3 * e + d) * N + lane[m]];
+          }
+      }
+      const BoxLanes<T> la{in[0], in[0] + 3 * L, in[0] + 12 * L}, lb{in[1], in[1] + 3 * L, in[1] + 12 * L};
+      proximity_all_facets(la, lb, L, 0, {res, res + L, res + 2 * L, res + 5 * L, res + 8 * L});
+      for (int m = 0; m < n; ++m) {
+        out.distance[lane[m]] = res[m], out.depth[lane[m]] = res[L + m];
+        for (int d = 0; d < 3; ++d) {
+          out.direction[d * N + lane[m]] = res[(2 + d) * L + m];
+          out.point_a[d * N + lane[m]] = res[(5 + d) * L + m];
+          out.point_b[d * N + lane[m]] = res[(8 + d) * L + m];
+        }
+      }
+      n = 0;
+    };
+    for (int k = 0; k < count; ++k)
+      if (!(out.distance[k] == out.distance[k]) && (lane[n++] = k, n == L)) redo();
+    if (n > 0) redo();
   }
 
   // The separating axis test fused into one pass, no planes written: is the origin inside

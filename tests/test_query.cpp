@@ -451,7 +451,8 @@ INSTANTIATE_TEST_SUITE_P(Isa, BatchedProximity,
                          [](const auto& info) { return std::string(to_string(info.param)); });
 
 // The single-pair query (separating axis, then the active set on A (-) B) of every ISA against
-// the batched kernel's evaluation of all 15 facet pairs (a different algorithm), on random pairs
+// the batched kernel (a different algorithm: one facet with an optimality certificate, else all
+// 15 facet pairs), on random pairs
 // and on near-degenerate ones (aligned, nearly parallel, touching): the active set settles every
 // time, so its fallback never runs.
 TEST_P(BatchedProximity, SinglePairActiveSetAgreesWithAllFacets) {

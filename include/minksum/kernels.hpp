@@ -213,7 +213,8 @@ struct alignas(64) BoxBoxProximity {
 };
 
 /// Exact distance with closest points, or penetration depth and direction, of every pair
-/// a[k], b[k] (k < a.count; pad() the batches), on the zonotope A (-) B. No allocation.
+/// a[k], b[k] (k < a.count; pad() the batches), on the zonotope A (-) B: the facet the
+/// separating axis test picks, proven optimal per lane, else all 15 facets. No allocation.
 template <class T, int N>
 void box_box_proximity(const BoxBatch<T, N>& a, const BoxBatch<T, N>& b,
                        BoxBoxProximity<T, N>& out) {
