@@ -25,6 +25,11 @@ struct BoxPair {
   T uc[6];    // u_k . c
 };
 
+/// One box as plain pointers into it: centre, rotation (column-major), half extents.
+struct BoxView {
+  const double *c, *u, *h;
+};
+
 template <class T>
 struct SatResult {
   T separation;     // largest separation over the axes (negative: the smallest overlap)
@@ -48,20 +53,23 @@ template <class T, class Arch>
 struct BoxPairQuery {
   static T dot3(const T* x, const T* y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; }
 
-  // The zonotope A (-) B from the packed pair (pack_box_pair: c_A, c_B, A's axes, B's axes, each
-  // column-major, h_A, h_B).
-  static void load(const double (&in)[30], BoxPair<T>& p) {
-    for (int d = 0; d < 3; ++d) p.ca[d] = T(in[d]), p.c[d] = T(in[d] - in[3 + d]);
-    for (int k = 0; k < 6; ++k) {
-      p.h[k] = T(in[24 + k]);
-      for (int d = 0; d < 3; ++d) {
-        p.u[k][d] = T(in[6 + 3 * k + d]);
-        p.g[k][d] = (k < 3 ? p.h[k] : -p.h[k]) * p.u[k][d];
-      }
-      p.uc[k] = dot3(p.u[k], p.c);
+  // The zonotope A (-) B of boxes a and b, computed from locals and stored once: reading back
+  // what was just stored element by element with wider loads stalls (store forwarding fails).
+  static void load(const BoxView& a, const BoxView& b, BoxPair<T>& p) {
+    T u[6][3], h[6], c[3];
+    for (int d = 0; d < 3; ++d) c[d] = T(a.c[d] - b.c[d]), p.ca[d] = T(a.c[d]);
+    for (int k = 0; k < 3; ++k) {
+      h[k] = T(a.h[k]), h[3 + k] = T(b.h[k]);
+      for (int d = 0; d < 3; ++d) u[k][d] = T(a.u[3 * k + d]), u[3 + k][d] = T(b.u[3 * k + d]);
     }
+    for (int k = 0; k < 6; ++k) {
+      p.h[k] = h[k];
+      p.uc[k] = dot3(u[k], c);
+      for (int d = 0; d < 3; ++d) p.u[k][d] = u[k][d], p.g[k][d] = (k < 3 ? h[k] : -h[k]) * u[k][d];
+    }
+    for (int d = 0; d < 3; ++d) p.c[d] = c[d];
     for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) p.C[i][j] = dot3(p.u[i], p.u[3 + j]);
+      for (int j = 0; j < 3; ++j) p.C[i][j] = dot3(u[i], u[3 + j]);
   }
 
   // The separating axis test over the 15 axes (Gottschalk, Lin & Manocha, "OBBTree", SIGGRAPH
@@ -72,33 +80,32 @@ struct BoxPairQuery {
     // u_Bj = column j of C and c = (u_A . c): L = e_i x C_j, L . c = c_i2 C_i1j - c_i1 C_i2j,
     // |L|^2 = C_i1j^2 + C_i2j^2, and for right-handed frames L . u_A(i+1) = -C_i2j,
     // L . u_A(i+2) = C_i1j, L . u_B(j+1) = C_ij2, L . u_B(j+2) = -C_ij1.
-    T absC[3][3], num[15], len2[15];
+    // Each separation is formed and compared where it is computed: arrays of them read back as
+    // vectors stall on store forwarding.
+    T absC[3][3];
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) absC[i][j] = std::abs(p.C[i][j]);
-    for (int i = 0; i < 3; ++i) {
-      num[i] = std::abs(p.uc[i]) - (p.h[i] + p.h[3] * absC[i][0] + p.h[4] * absC[i][1] + p.h[5] * absC[i][2]);
-      num[3 + i] = std::abs(p.uc[3 + i]) - (p.h[3 + i] + p.h[0] * absC[0][i] + p.h[1] * absC[1][i] + p.h[2] * absC[2][i]);
-      len2[i] = len2[3 + i] = 1;
-    }
+    T best = -std::numeric_limits<T>::infinity(), best_len2 = 1;
+    int w = 0;
+    const auto keep = [&](T sep, T len2, int k) {
+      if (sep > best) best = sep, best_len2 = len2, w = k;
+    };
+    for (int i = 0; i < 3; ++i)
+      keep(std::abs(p.uc[i]) - (p.h[i] + p.h[3] * absC[i][0] + p.h[4] * absC[i][1] + p.h[5] * absC[i][2]), 1, i);
+    for (int i = 0; i < 3; ++i)
+      keep(std::abs(p.uc[3 + i]) - (p.h[3 + i] + p.h[0] * absC[0][i] + p.h[1] * absC[1][i] + p.h[2] * absC[2][i]), 1, 3 + i);
     const T sliver2 = kSliverThreshold<T> * kSliverThreshold<T>;
     for (int i = 0; i < 3; ++i) {
       const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
       for (int j = 0; j < 3; ++j) {
-        const int j1 = (j + 1) % 3, j2 = (j + 2) % 3, k = 6 + 3 * i + j;
+        const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+        const T len2 = p.C[i1][j] * p.C[i1][j] + p.C[i2][j] * p.C[i2][j];
+        if (!(len2 > sliver2)) continue;  // a sliver axis
         const T r = p.h[i1] * absC[i2][j] + p.h[i2] * absC[i1][j] + p.h[3 + j1] * absC[i][j2] +
                     p.h[3 + j2] * absC[i][j1];
-        len2[k] = p.C[i1][j] * p.C[i1][j] + p.C[i2][j] * p.C[i2][j];
-        // A sliver axis: separation -inf (len2 stays > 0 for the division).
-        num[k] = len2[k] > sliver2 ? std::abs(p.uc[i2] * p.C[i1][j] - p.uc[i1] * p.C[i2][j]) - r
-                                   : -std::numeric_limits<T>::infinity();
-        len2[k] = len2[k] > sliver2 ? len2[k] : T(1);
+        keep((std::abs(p.uc[i2] * p.C[i1][j] - p.uc[i1] * p.C[i2][j]) - r) / std::sqrt(len2), len2, 6 + 3 * i + j);
       }
     }
-    T sep[16];
-    sep[15] = -std::numeric_limits<T>::infinity();
-    for (int k = 0; k < 15; ++k) sep[k] = num[k] / std::sqrt(len2[k]);  // vectorised
-    int w = 0;
-    for (int k = 1; k < 15; ++k) w = sep[k] > sep[w] ? k : w;
     SatResult<T> out;
     T n[3];
     if (w < 6) {
@@ -110,8 +117,8 @@ struct BoxPairQuery {
       n[0] = a[1] * b[2] - a[2] * b[1], n[1] = a[2] * b[0] - a[0] * b[2], n[2] = a[0] * b[1] - a[1] * b[0];
       out.free_mask = (1u << (w - 6) / 3) | (8u << (w - 6) % 3);
     }
-    const T inv = T(1) / std::sqrt(len2[w]);
-    out.separation = sep[w];
+    const T inv = T(1) / std::sqrt(best_len2);
+    out.separation = best;
     // Outward facet normal on the origin's side: against c.
     const T s = dot3(n, p.c) > 0 ? -inv : inv;
     for (int d = 0; d < 3; ++d) out.normal[d] = s * n[d];
@@ -228,14 +235,17 @@ struct BoxPairQuery {
     return false;
   }
 
-  static void box_pair(const double (&in)[30], bool answer, BoxPair<T>& p, PairAnswer<T>& out) {
-    load(in, p);
-    if (answer) out = run(p);
+  static void box_pair(const BoxView& a, const BoxView& b, bool answer, BoxPair<T>& p,
+                       PairAnswer<T>& out) {
+    load(a, b, p);
+    if (answer) run(p, out);
   }
 
-  /// The exact proximity of one box pair.
-  static PairAnswer<T> run(const BoxPair<T>& p) {
-    PairAnswer<T> out{};
+  /// The exact proximity of one box pair, written field by field into out (a struct copy
+  /// would read back the fields just stored, with wide loads that stall).
+  static void run(const BoxPair<T>& p, PairAnswer<T>& out) {
+    out.distance = out.depth = 0;
+    for (int d = 0; d < 3; ++d) out.direction[d] = 0;
     const SatResult<T> sat = separating_axis(p);
     T t[6];
     for (int k = 0; k < 6; ++k) t[k] = dot3(sat.normal, p.g[k]) >= 0 ? T(1) : T(-1);
@@ -255,7 +265,6 @@ struct BoxPairQuery {
       out.point_b[d] = out.point_a[d] - m[d];
     }
     if (!out.intersecting) out.distance = std::sqrt(dot3(m, m));
-    return out;
   }
 };
 

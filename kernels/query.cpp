@@ -207,7 +207,7 @@ Status proximity(const Box& a, const Box& b, Proximity& out, Want want) {
   // pair's size raised to that (the answer moves by less), and the answer is scaled back.
   const Vector3d o = a.center;
   const double big = std::max({(b.center - o).cwiseAbs().maxCoeff(), a.half_extents.maxCoeff(), b.half_extents.maxCoeff()});
-  const double speck = std::ldexp(big, -100);
+  const double speck = big * 0x1p-100;  // exact (big is normal here or the test fails anyway)
   if (big > 1e-60 && big < 1e60 && a.half_extents.minCoeff() >= speck && b.half_extents.minCoeff() >= speck) {
     box_box_proximity(a, b, out, want);
     return Status::Ok;
