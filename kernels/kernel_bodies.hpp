@@ -50,13 +50,16 @@ struct Kernels {
   // n . u_k > 0). All three terms are evaluated, even for an edge-cross axis that is
   // perpendicular to one box axis in exact arithmetic: the rounded normal is not, and its
   // small term keeps the offset exact to a few ulp for nearly parallel edges too.
-  static void box_support(const V3& n, const V3 (&u)[3], const B (&h)[3], B& s, B& code) {
+  // The code leaves out bit `own` (an edge-cross axis is perpendicular to its own edges: a tie,
+  // left clear as for the face axes; -1: none).
+  static void box_support(const V3& n, const V3 (&u)[3], const B (&h)[3], B& s, B& code,
+                          int own = -1) {
     s = B(T(0));
     code = B(T(0));
     for (int k = 0; k < 3; ++k) {
       const B d = dot(n, u[k]);
       s = S::fma(h[k], S::abs(d), s);
-      code = S::select(d > B(T(0)), code + B(T(1 << k)), code);  // a masked add
+      if (k != own) code = S::select(d > B(T(0)), code + B(T(1 << k)), code);  // a masked add
     }
   }
 
@@ -67,8 +70,9 @@ struct Kernels {
   // emitted unit normal itself: going through C would divide C's rounding error by
   // |u_i x v_j|, which is small for nearly parallel edges.
   static void box_box(BoxLanes<T> a, BoxLanes<T> b, int count, int N, bool difference,
-                      PlaneLanes<T> out) {
+                      PlaneLanes<T> out, SumLanes<T> sum) {
     const B sign(difference ? T(-1) : T(1)), zero(0), one(1);
+    const bool whole = sum.loop && !difference;  // the whole polytope too (sums only)
     auto bit = [&](const auto& m, int k) { return S::select(m, B(T(1 << k)), zero); };
     for (int k = 0; k < count; k += S::size) {
       V3 ua[3], ub[3];
@@ -90,6 +94,7 @@ struct Kernels {
       const B flip(difference ? T(-1) : T(1)), bias(difference ? T(7) : T(0));
       auto emit = [&](int p, const V3& n, const B& sa, const B& sb, const B& codea,
                       const B& codeb) {
+        if (whole) sum_loops(p, codea, codeb, sum.loop + k, N);
         const B s = sa + sb, m = dot(n, c);
         store3(out.n + 3 * p * N, N, k, n);
         S::store(out.offset + p * N + k, s + m);
@@ -110,13 +115,60 @@ struct Kernels {
           const int p = 6 + 3 * i + j;
           const V3 n = unit_or_zero(cross(ua[i], ub[j]), one, valid, T(1 << p));
           B sa, codea, sb, codeb;
-          box_support(n, ua, ha, sa, codea);
-          box_support(n, ub, hb, sb, codeb);
+          box_support(n, ua, ha, sa, codea, i);
+          box_support(n, ub, hb, sb, codeb, j);
           emit(p, n, sa, sb, codea, codeb);
         }
       }
       S::store_code(out.valid + k, valid);
+      if (whole) {
+        B least = A[0][0];  // general position: no C entry near 0 (three coplanar edges)
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) least = S::min(least, A[i][j]);
+        const auto general = valid == B(T((1 << 15) - 1)) && least > B(kParallelThreshold<T>);
+        S::store_code(sum.general + k, S::select(general, one, zero));
+        box_corners(load3(a.c, N, k), ua, ha, sum.corner_a + k, N);
+        box_corners(load3(b.c, N, k), ub, hb, sum.corner_b + k, N);
+      }
     }
+  }
+
+  // The vertex loops of the parallelogram facets q and q + 15 of a box-box sum in general
+  // position, from the + plane's support corners (tie bits clear): facet p moves from its first vertex v0
+  // along the facet's two edges, e then f, with e x f along the outward normal; the opposite
+  // facet p + 15 starts at the complemented corners and goes f then e. A loop packs four 6-bit
+  // vertex codes a | b << 3 (a 24-bit integer: exact in float).
+  static void sum_loops(int q, const B& code_a, const B& code_b, CodeOf<T>* loop, int N) {
+    const T K = T(1 + 64 + 4096 + 262144);  // v0 in all four slots
+    const auto pack = [](int e, int f) { return T(e * 64 + (e + f) * 4096 + f * 262144); };
+    // The facet's edges as code increments: A's axis bits count 1, 2, 4, B's 8, 16, 32.
+    int e, f;
+    if (q < 6) {
+      const int base = q < 3 ? 1 : 8, axis = q % 3;
+      e = base << ((axis + 1) % 3), f = base << ((axis + 2) % 3);
+    } else {
+      e = 1 << ((q - 6) / 3), f = 8 << ((q - 6) % 3);
+    }
+    // v0 of the + facet: the support corners with the edges' bits clear (a face axis's own bit
+    // is set on the + side); of the - facet: the complement, the edges' bits clear too.
+    const B v0 = S::fma(code_b, B(T(8)), code_a);
+    const B w0 = B(T(63 - e - f)) - v0;
+    S::store_code(loop + q * N, S::fma(v0, B(K), B(pack(e, f))));
+    S::store_code(loop + (q + 15) * N, S::fma(w0, B(K), B(pack(f, e))));
+  }
+
+  // The eight corners c + sum_a (+-h_a) u_a of a box, corner i with bit a set on the + side.
+  static void box_corners(const V3& c, const V3 (&u)[3], const B (&h)[3], T* corner, int N) {
+    // Level by level, each into a new array (GCC 12 -O3 miscompiled an in-place version for
+    // scalar floats).
+    const auto step = [&](const V3& x, int a, bool plus) {
+      const B s = plus ? h[a] : B(T(0)) - h[a];
+      return V3{S::fma(s, u[a].x, x.x), S::fma(s, u[a].y, x.y), S::fma(s, u[a].z, x.z)};
+    };
+    const V3 x[2] = {step(c, 0, false), step(c, 0, true)};
+    V3 y[4];
+    for (int i = 0; i < 4; ++i) y[i] = step(x[i & 1], 1, i & 2);
+    for (int i = 0; i < 8; ++i) store3(corner + 3 * i * N, N, 0, step(y[i & 3], 2, i & 4));
   }
 
   // One box pair with its 15 axes in the lanes (16 with a padding lane): the single-pair API,

@@ -78,12 +78,12 @@ bool force_isa(Isa isa) {
 namespace detail {
 
 void box_box(BoxLanes<float> a, BoxLanes<float> b, int count, int stride, bool difference,
-             PlaneLanes<float> out) {
-  dispatch().box_box_f(a, b, count, stride, difference, out);
+             PlaneLanes<float> out, SumLanes<float> sum) {
+  dispatch().box_box_f(a, b, count, stride, difference, out, sum);
 }
 void box_box(BoxLanes<double> a, BoxLanes<double> b, int count, int stride, bool difference,
-             PlaneLanes<double> out) {
-  dispatch().box_box_d(a, b, count, stride, difference, out);
+             PlaneLanes<double> out, SumLanes<double> sum) {
+  dispatch().box_box_d(a, b, count, stride, difference, out, sum);
 }
 void box_triangle(BoxLanes<float> box, const float* tri, int count, int stride, bool difference,
                   PlaneLanes<float> out) {

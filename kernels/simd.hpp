@@ -83,8 +83,8 @@ struct BoxView;
 
 /// The kernels of one ISA, as plain function pointers (one table per ISA translation unit).
 struct KernelTable {
-  void (*box_box_f)(BoxLanes<float>, BoxLanes<float>, int, int, bool, PlaneLanes<float>);
-  void (*box_box_d)(BoxLanes<double>, BoxLanes<double>, int, int, bool, PlaneLanes<double>);
+  void (*box_box_f)(BoxLanes<float>, BoxLanes<float>, int, int, bool, PlaneLanes<float>, SumLanes<float>);
+  void (*box_box_d)(BoxLanes<double>, BoxLanes<double>, int, int, bool, PlaneLanes<double>, SumLanes<double>);
   void (*box_tri_f)(BoxLanes<float>, const float*, int, int, bool, PlaneLanes<float>);
   void (*box_tri_d)(BoxLanes<double>, const double*, int, int, bool, PlaneLanes<double>);
   void (*support_f)(const float*, const float*, const float*, int, const float*, const float*,

@@ -45,6 +45,7 @@ TEST(RealTime, KernelsAndQueriesDoNotAllocate) {
   auto overlap = std::make_unique<BoxTriangleOverlap<float, 64>>();
   auto T2 = std::make_unique<TriangleBatch<float, 64>>();
   auto tri_dist = std::make_unique<TriangleDistances<float, 64>>();
+  auto whole = std::make_unique<BoxBoxSum<float, 64>>();
   std::vector<Box> boxes;
   std::vector<Triangle> tris;
   for (int k = 0; k < 64; ++k) {
@@ -60,6 +61,7 @@ TEST(RealTime, KernelsAndQueriesDoNotAllocate) {
     if (!force_isa(isa)) continue;
     SCOPED_TRACE(to_string(isa));
     EXPECT_EQ(allocations([&] { box_box_planes(*A, *B, true, *planes); }), 0);
+    EXPECT_EQ(allocations([&] { box_box_sum(*A, *B, *whole); }), 0);
     EXPECT_EQ(allocations([&] { box_triangle_planes(*A, *T, false, *tri_planes); }), 0);
     EXPECT_EQ(allocations([&] { box_box_proximity(*A, *B, *prox); }), 0);
     EXPECT_EQ(allocations([&] { box_box_separation(*A, *B, *sep); }), 0);

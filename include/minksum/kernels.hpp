@@ -137,6 +137,14 @@ struct PlaneLanes {
   CodeOf<T>* code;    ///< code[p * N + k]
   CodeOf<T>* valid;   ///< valid[k]
 };
+/// Extra output arrays of the box-box sum kernel (row stride kRow<N>); all null for planes only.
+template <class T>
+struct SumLanes {
+  CodeOf<T>* loop = nullptr;     ///< loop[p * N + k]
+  T* corner_a = nullptr;         ///< corner_a[(i * 3 + d) * N + k]
+  T* corner_b = nullptr;         ///< corner_b[(j * 3 + d) * N + k]
+  CodeOf<T>* general = nullptr;  ///< general[k]
+};
 /// Output arrays of the box-box proximity kernel (row stride kRow<N>).
 template <class T>
 struct ProximityLanes {
@@ -157,9 +165,9 @@ PlaneLanes<T> lanes(P& p) {
 // Type-erased entry points behind the templates below (stride: the row length); they
 // dispatch on the active ISA.
 void box_box(BoxLanes<float> a, BoxLanes<float> b, int count, int stride, bool difference,
-             PlaneLanes<float> out);
+             PlaneLanes<float> out, SumLanes<float> sum = {});
 void box_box(BoxLanes<double> a, BoxLanes<double> b, int count, int stride, bool difference,
-             PlaneLanes<double> out);
+             PlaneLanes<double> out, SumLanes<double> sum = {});
 void box_triangle(BoxLanes<float> box, const float* tri, int count, int stride, bool difference,
                   PlaneLanes<float> out);
 void box_triangle(BoxLanes<double> box, const double* tri, int count, int stride,
@@ -192,6 +200,33 @@ void box_box_planes(const BoxBatch<T, N>& a, const BoxBatch<T, N>& b, bool diffe
                     BoxBoxPlanes<T, N>& out) {
   detail::box_box(detail::lanes(a), detail::lanes(b), a.count, kRow<N>, difference,
                   detail::lanes<T, N>(out));
+}
+
+/// The whole polytope A (+) B of each of N box pairs, index-tracked: the 30 facet planes with
+/// their support corners (as box_box_planes), each facet's vertex loop, and the boxes' corners.
+/// A vertex is a support pair (i, j), coded i | j << 3 with corner codes as in box_corner; its
+/// point is corner_a[i] + corner_b[j]. In general position (general = 1: every |u_Ai x u_Bj|
+/// and every |u_Ai . u_Bj| above tau = kParallelThreshold, so no two edges are parallel and no
+/// three coplanar) the sum is a zonotope with 30 parallelogram facets, 60 edges and 32 vertices: facet p is the
+/// plane p of `planes` with the loop of four vertex codes loop[p] = v0 | v1 << 6 | v2 << 12 |
+/// v3 << 18, counter-clockwise seen from outside. Lanes with general = 0 have merged facets:
+/// take them through minkowski_sum (their loops are not meaningful).
+template <class T, int N>
+struct alignas(64) BoxBoxSum {
+  BoxBoxPlanes<T, N> planes;                ///< the 30 facet planes
+  alignas(64) CodeOf<T> loop[30][kRow<N>];  ///< facet p's vertex loop, four 6-bit codes
+  alignas(64) T corner_a[8][3][kRow<N>];    ///< corner i of A, component d of lane k
+  alignas(64) T corner_b[8][3][kRow<N>];    ///< corner j of B
+  alignas(64) CodeOf<T> general[kRow<N>];   ///< 1 if the lane is in general position
+};
+
+/// A[k] (+) B[k] for every lane k < a.count (pad() both), as a whole polytope (see
+/// BoxBoxSum). No allocation, no exception, no lock.
+template <class T, int N>
+void box_box_sum(const BoxBatch<T, N>& a, const BoxBatch<T, N>& b, BoxBoxSum<T, N>& out) {
+  detail::box_box(detail::lanes(a), detail::lanes(b), a.count, kRow<N>, false,
+                  detail::lanes<T, N>(out.planes),
+                  {&out.loop[0][0], &out.corner_a[0][0][0], &out.corner_b[0][0][0], out.general});
 }
 
 /// The planes of box[k] (+) tri[k] (or box[k] (-) tri[k]) for every lane k < box.count.
