@@ -1,7 +1,8 @@
 // The batched box-box, box-triangle and triangle-triangle kernels on arbitrary floats, on every
 // ISA this CPU has: no crash or sanitizer report for any input, for valid boxes (finite,
 // positive extents, a rotation) finite planes and proximities, equal across ISAs within float
-// rounding, and for finite triangles the double triangle distance equal to the scalar path.
+// rounding and to the exact double query, the whole sum's loops on their planes and its planes
+// supporting it, and for finite triangles the double triangle distance equal to the scalar path.
 #include <minksum/mesh.hpp>
 
 #include "fuzz_common.hpp"
@@ -17,6 +18,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   auto T = std::make_unique<TriangleBatch<float, N>>();
   auto S2 = std::make_unique<TriangleBatch<double, N>>(), T2 = std::make_unique<TriangleBatch<double, N>>();
   Triangle tris[N][2];
+  Box boxes[N][2];
   bool valid[N];
   const int count = 1 + in.take<uint8_t>() % N;
   for (int k = 0; k < count; ++k) {
@@ -35,6 +37,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       valid[k] = valid[k] && check_box(x) == Status::Ok && x.center.cwiseAbs().maxCoeff() < 1e6 &&
                  x.half_extents.minCoeff() > 1e-3 && x.half_extents.maxCoeff() < 1e6;
     A->set(k, b[0]), B->set(k, b[1]), T->set(k, t);
+    boxes[k][0] = b[0], boxes[k][1] = b[1];
     // A second triangle, from the next numbers (or the box's corners when they run out).
     Triangle u{b[0].center, b[1].center, Eigen::Vector3d(in.number(), in.number(), in.number())};
     tris[k][0] = t, tris[k][1] = u;
@@ -46,6 +49,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   auto planes = std::make_unique<BoxBoxPlanes<float, N>>();
   auto prox = std::make_unique<BoxBoxProximity<float, N>>(), first = std::make_unique<BoxBoxProximity<float, N>>();
   auto tri = std::make_unique<BoxTrianglePlanes<float, N>>();
+  auto whole = std::make_unique<BoxBoxSum<float, N>>();
   const Isa best = active_isa();
   bool have_first = false;
   for (Isa isa : {Isa::Scalar, Isa::Sse4_2, Isa::Avx2, Isa::Avx512}) {
@@ -53,6 +57,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     box_box_planes(*A, *B, true, *planes);
     box_triangle_planes(*A, *T, false, *tri);
     box_box_proximity(*A, *B, *prox);
+    box_box_sum(*A, *B, *whole);
     triangle_distance(*S2, *T2, *dist);
     for (int k = 0; k < count; ++k) {
       const Eigen::Vector3d s3[3] = {tris[k][0].a, tris[k][0].b, tris[k][0].c}, t3[3] = {tris[k][1].a, tris[k][1].b, tris[k][1].c};
@@ -76,10 +81,34 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       for (int p = 0; p < 30; ++p)
         if (!std::isfinite(planes->offset[p][k])) fuzz::fail("non-finite plane offset for valid boxes");
       if (!std::isfinite(prox->distance[k]) || !std::isfinite(prox->depth[k])) fuzz::fail("non-finite proximity for valid boxes");
-      if (have_first) {
-        const float scale = 1 + std::abs(first->distance[k]) + std::abs(first->depth[k]) + 4 * float(A->h[0][k] + B->h[0][k] + A->h[1][k] + B->h[1][k] + A->h[2][k] + B->h[2][k]) +
-                            std::abs(A->c[0][k]) + std::abs(B->c[0][k]) + std::abs(A->c[1][k]) + std::abs(B->c[1][k]) + std::abs(A->c[2][k]) + std::abs(B->c[2][k]);
-        if (std::abs(prox->distance[k] - first->distance[k]) > 1e-3f * scale) fuzz::fail("ISAs disagree on a distance");
+      const float scale = 1 + 4 * float(A->h[0][k] + B->h[0][k] + A->h[1][k] + B->h[1][k] + A->h[2][k] + B->h[2][k]) +
+                          std::abs(A->c[0][k]) + std::abs(B->c[0][k]) + std::abs(A->c[1][k]) + std::abs(B->c[1][k]) + std::abs(A->c[2][k]) + std::abs(B->c[2][k]);
+      if (have_first && std::abs(prox->distance[k] - first->distance[k]) > 1e-3f * (scale + std::abs(first->distance[k])))
+        fuzz::fail("ISAs disagree on a distance");
+      // The batched answer (one facet with a certificate, or all 15) against the exact
+      // single-pair query in double (separating axis test and an active-set walk).
+      Proximity exact;
+      if (proximity(boxes[k][0], boxes[k][1], exact) != Status::Ok) fuzz::fail("the exact query rejects a valid box pair");
+      if (std::abs(prox->distance[k] - exact.distance) > 1e-4f * scale || std::abs(prox->depth[k] - exact.penetration_depth) > 1e-4f * scale)
+        fuzz::fail("the batched proximity differs from the exact query");
+      // The whole sum: every loop vertex on its facet's plane, every pairwise corner sum inside
+      // every plane.
+      if (!whole->general[k]) continue;
+      for (int p = 0; p < 30; ++p) {
+        const int q = p % 15;
+        const float sgn = p < 15 ? 1.f : -1.f;
+        const auto along = [&](int i, int j) {
+          float v = 0;
+          for (int d = 0; d < 3; ++d) v += sgn * whole->planes.n[q][d][k] * (whole->corner_a[i][d][k] + whole->corner_b[j][d][k]);
+          return v;
+        };
+        for (int m = 0; m < 4; ++m) {
+          const int v = int(whole->loop[p][k] >> (6 * m) & 63);
+          if (std::abs(along(v & 7, v >> 3) - whole->planes.offset[p][k]) > 1e-4f * scale) fuzz::fail("a sum vertex off its facet's plane");
+        }
+        for (int i = 0; i < 8; ++i)
+          for (int j = 0; j < 8; ++j)
+            if (along(i, j) > whole->planes.offset[p][k] + 1e-4f * scale) fuzz::fail("a facet plane cuts the sum");
       }
     }
     if (!have_first) std::swap(prox, first), have_first = true;
