@@ -89,8 +89,16 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       // single-pair query in double (separating axis test and an active-set walk).
       Proximity exact;
       if (proximity(boxes[k][0], boxes[k][1], exact) != Status::Ok) fuzz::fail("the exact query rejects a valid box pair");
-      if (std::abs(prox->distance[k] - exact.distance) > 1e-4f * scale || std::abs(prox->depth[k] - exact.penetration_depth) > 1e-4f * scale)
+      if (std::abs(prox->distance[k] - exact.distance) > 1e-4f * scale || std::abs(prox->depth[k] - exact.penetration_depth) > 1e-4f * scale) {
+        std::fprintf(stderr, "isa %s lane %d: distance %.9g vs %.17g, depth %.9g vs %.17g (scale %g)\n", to_string(isa), k,
+                     prox->distance[k], exact.distance, prox->depth[k], exact.penetration_depth, scale);
+        for (const Box& x : boxes[k])
+          std::fprintf(stderr, "  box c %.17g %.17g %.17g h %.17g %.17g %.17g\n  R %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n",
+                       x.center.x(), x.center.y(), x.center.z(), x.half_extents.x(), x.half_extents.y(), x.half_extents.z(),
+                       x.rotation(0, 0), x.rotation(0, 1), x.rotation(0, 2), x.rotation(1, 0), x.rotation(1, 1), x.rotation(1, 2),
+                       x.rotation(2, 0), x.rotation(2, 1), x.rotation(2, 2));
         fuzz::fail("the batched proximity differs from the exact query");
+      }
       // The whole sum: every loop vertex on its facet's plane, every pairwise corner sum inside
       // every plane.
       if (!whole->general[k]) continue;
