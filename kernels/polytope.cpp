@@ -214,24 +214,28 @@ Status polytope_from_mesh(const std::vector<Vector3d>& vertices,
 }
 
 Status check_box(const Box& box) {
-  // Finite iff x * 0 == 0 for every entry (NaN and Inf give NaN); one sum, no branch per entry.
-  double zero = 0;
-  for (int k = 0; k < 3; ++k) zero += 0 * box.center[k] + 0 * box.half_extents[k];
-  for (int k = 0; k < 9; ++k) zero += 0 * box.rotation.data()[k];
+  // One pass over the 15 numbers (a proximity query checks two boxes per call): finite iff
+  // x * 0 == 0 for every entry (NaN and Inf give NaN), summed without a branch per entry.
+  const double *c = box.center.data(), *h = box.half_extents.data(), *r = box.rotation.data();
+  double zero = 0, cmax = 0, hmax = 0;
+  for (int k = 0; k < 3; ++k) {
+    zero += 0 * c[k] + 0 * h[k] + 0 * r[k] + 0 * r[3 + k] + 0 * r[6 + k];
+    cmax = std::max(cmax, std::abs(c[k])), hmax = std::max(hmax, h[k]);
+  }
   if (!(zero == 0)) return Status::NonFinite;
-  if (!(box.center.cwiseAbs().maxCoeff() <= kMaxCoordinate && box.half_extents.maxCoeff() <= kMaxCoordinate))
-    return Status::OutOfRange;
-  const Vector3d& h = box.half_extents;
+  if (!(cmax <= kMaxCoordinate && hmax <= kMaxCoordinate)) return Status::OutOfRange;
   // Positive, and not so small against the box's coordinates that its corners coincide in
   // double (1e-13 relative: about 450 ulps).
-  const double floor = 1e-13 * (box.center.cwiseAbs().maxCoeff() + h.maxCoeff());
+  const double floor = 1e-13 * (cmax + hmax);
   if (!(h[0] > floor && h[1] > floor && h[2] > floor)) return Status::InvalidBox;
-  // A proper rotation: orthonormal columns (to 1e-9) and a right-handed frame.
-  const Eigen::Matrix3d& R = box.rotation;
-  const Vector3d x = R.col(0), y = R.col(1), z = R.col(2);
-  const double worst = std::max({std::abs(x.dot(x) - 1), std::abs(y.dot(y) - 1), std::abs(z.dot(z) - 1),
-                                 std::abs(x.dot(y)), std::abs(x.dot(z)), std::abs(y.dot(z))});
-  if (!(worst <= 1e-9) || x.cross(y).dot(z) < 0) return Status::InvalidBox;
+  // A proper rotation: orthonormal columns x, y, z (to 1e-9) and a right-handed frame.
+  const auto dot = [r](int i, int j) { return r[i] * r[j] + r[i + 1] * r[j + 1] + r[i + 2] * r[j + 2]; };
+  const double worst = std::max(std::max(std::abs(dot(0, 0) - 1), std::abs(dot(3, 3) - 1)),
+                                std::max(std::max(std::abs(dot(6, 6) - 1), std::abs(dot(0, 3))),
+                                         std::max(std::abs(dot(0, 6)), std::abs(dot(3, 6)))));
+  const double det = (r[1] * r[5] - r[2] * r[4]) * r[6] + (r[2] * r[3] - r[0] * r[5]) * r[7] +
+                     (r[0] * r[4] - r[1] * r[3]) * r[8];
+  if (!(worst <= 1e-9) || det < 0) return Status::InvalidBox;
   return Status::Ok;
 }
 
