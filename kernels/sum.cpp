@@ -5,7 +5,7 @@
 
 #include <minksum/kernels.hpp>
 
-#include <array>
+#include <memory>
 
 #include "hull.hpp"
 #include "sum_internal.hpp"
@@ -240,38 +240,26 @@ Status minkowski_sum(const Box& a, const Box& b, MinkowskiSum& out) {
       out = MinkowskiSum{};
       return s;
     }
-  BoxBoxPair planes;
-  box_box_planes(a, b, false, planes);
-  bool all_valid = true;  // an axis of parallel edges: coplanar features merge; general path
-  for (int q = 0; q < 15; ++q) all_valid = all_valid && planes.valid[q];
-  if (!all_valid) return minkowski_sum(pa, pb, out, Method::Fast);
-  // Each of the 30 planes is a facet, its loop implied by the support corners (symmetry and
-  // index tracking): a face of A plus B's corner, A's corner plus a face of B, or the
-  // parallelogram of an edge of each.
-  std::vector<detail::FacetLoop> facets;
-  facets.reserve(30);
-  const auto face = [](int q, int corner) {  // the face of axis q holding `corner`, as a cycle
-    const int u = 1 << ((q + 1) % 3), w = 1 << ((q + 2) % 3), base = corner & ~(u | w);
-    return std::array<int, 4>{base, base | u, base | u | w, base | w};
-  };
+  // The kernel's whole-polytope path on one lane: 30 planes and their vertex loops (symmetry
+  // and index tracking; see box_box_sum). Out of general position (parallel edges, three
+  // coplanar ones) facets merge: the general path.
+  // Default-initialised (new T, not make_unique): the kernel writes what is read.
+  using Batch = BoxBatch<double, kLaneMultiple>;
+  const std::unique_ptr<Batch> A(new Batch), B(new Batch);
+  const std::unique_ptr<BoxBoxSum<double, kLaneMultiple>> sum(new BoxBoxSum<double, kLaneMultiple>);
+  A->set(0, a), B->set(0, b);
+  A->count = B->count = 1;
+  A->pad(), B->pad();
+  box_box_sum(*A, *B, *sum);
+  if (!sum->general[0]) return minkowski_sum(pa, pb, out, Method::Fast);
+  std::vector<detail::FacetLoop> facets(30);
   for (int p = 0; p < 30; ++p) {
     const int q = p % 15;
-    const Vector3d n = (p < 15 ? 1.0 : -1.0) * Vector3d(planes.n[0][q], planes.n[1][q], planes.n[2][q]);
-    const int code = p < 15 ? int(planes.code[q]) : 63 - int(planes.code[q]);
-    const int ca = code & 7, cb = code >> 3;
-    detail::FacetLoop f{n, {}};
-    if (q < 3) {
-      for (int c : face(q, ca)) f.loop.emplace_back(c, cb);
-    } else if (q < 6) {
-      for (int c : face(q - 3, cb)) f.loop.emplace_back(ca, c);
-    } else {
-      const int i = 1 << ((q - 6) / 3), j = 1 << ((q - 6) % 3);
-      f.loop = {{ca & ~i, cb & ~j}, {ca | i, cb & ~j}, {ca | i, cb | j}, {ca & ~i, cb | j}};
+    facets[p].normal = (p < 15 ? 1.0 : -1.0) * Vector3d(sum->planes.n[q][0][0], sum->planes.n[q][1][0], sum->planes.n[q][2][0]);
+    for (int m = 0; m < 4; ++m) {
+      const int v = int(sum->loop[p][0] >> (6 * m) & 63);
+      facets[p].loop.emplace_back(v & 7, v >> 3);
     }
-    // Counter-clockwise seen from outside.
-    const auto P = [&](int k) { return pa.vertices[f.loop[k].first] + pb.vertices[f.loop[k].second]; };
-    if ((P(1) - P(0)).cross(P(2) - P(1)).dot(n) < 0) std::reverse(f.loop.begin(), f.loop.end());
-    facets.push_back(std::move(f));
   }
   out.method = Method::Kernel, out.corrected = false;
   detail::assemble(pa, pb, facets, out);
