@@ -58,12 +58,9 @@ void Table1Osm(benchmark::State& state, int row, Method method) {
 template <class T>
 void Table1KernelBatch(benchmark::State& state) {
   constexpr int N = 32;
-  Box a, b;
-  b.rotation = tools::table1_rotation();
   auto A = std::make_unique<BoxBatch<T, N>>(), B = std::make_unique<BoxBatch<T, N>>();
   auto out = std::make_unique<BoxBoxSum<T, N>>();
-  for (int k = 0; k < N; ++k) A->set(k, a), B->set(k, b);
-  A->count = B->count = N;
+  tools::fill_table1_cubes(*A, *B);
   for (auto _ : state) {
     box_box_sum(*A, *B, *out);
     benchmark::DoNotOptimize(out->loop[29][N - 1]);

@@ -254,12 +254,9 @@ double time_us(F&& f, double budget_us = 20000) {
 template <class T>
 double kernel_sum_ns(bool& general) {
   constexpr int N = 32, kCalls = 16;
-  Box a, b;
-  b.rotation = tools::table1_rotation();
   auto A = std::make_unique<BoxBatch<T, N>>(), B = std::make_unique<BoxBatch<T, N>>();
   auto out = std::make_unique<BoxBoxSum<T, N>>();
-  for (int k = 0; k < N; ++k) A->set(k, a), B->set(k, b);
-  A->count = B->count = N;
+  tools::fill_table1_cubes(*A, *B);
   const double us = time_us([&] {
     for (int call = 0; call < kCalls; ++call) box_box_sum(*A, *B, *out);
   });

@@ -1,6 +1,7 @@
 // Test and benchmark shapes: the paper's Table 1 solids and seeded random polytopes.
 #pragma once
 
+#include <minksum/kernels.hpp>
 #include <minksum/model.hpp>
 
 #include <random>
@@ -27,6 +28,16 @@ struct Table1Pair {
 
 /// The six pairs of Table 1, in the paper's order.
 std::vector<Table1Pair> table1_pairs();
+
+/// Every lane of A and B: Table 1's cube pair as boxes (the unit cube, and B turned by
+/// table1_rotation()).
+template <class T, int N>
+void fill_table1_cubes(BoxBatch<T, N>& A, BoxBatch<T, N>& B) {
+  Box b;
+  b.rotation = table1_rotation();
+  for (int k = 0; k < N; ++k) A.set(k, Box{}), B.set(k, b);
+  A.count = B.count = N;
+}
 
 /// The Table 1 solids with exactly representable coordinates and exactly planar faces, for the
 /// exact oracle: an icosahedron (0, +-55, +-89) and cyclic permutations (phi ~ 89/55), and a
