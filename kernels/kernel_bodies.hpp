@@ -35,12 +35,14 @@ struct Kernels {
     S::store(p + 2 * stride + k, v.z);
   }
   // 1 / |c| for the cross product c of two edges, or 0 (and the valid bit clear) when
-  // |c|^2 <= tau^2 * scale2: nearly parallel edges give no reliable direction.
-  static B inv_len_or_zero(const V3& c, const B& scale2, B& valid_bit, T bit) {
-    const B len2 = dot(c, c);
+  // |c|^2 = len2 <= tau^2 * scale2: nearly parallel edges give no reliable direction.
+  static B inv_len_or_zero(const B& len2, const B& scale2, B& valid_bit, T bit) {
     const auto ok = len2 > B(kParallelThreshold<T> * kParallelThreshold<T>) * scale2;
     valid_bit = valid_bit + S::select(ok, B(bit), B(T(0)));
     return S::select(ok, S::rsqrt(S::select(ok, len2, B(T(1)))), B(T(0)));
+  }
+  static B inv_len_or_zero(const V3& c, const B& scale2, B& valid_bit, T bit) {
+    return inv_len_or_zero(dot(c, c), scale2, valid_bit, bit);
   }
   // The unit axis of c, or the zero vector (see inv_len_or_zero).
   static V3 unit_or_zero(const V3& c, const B& scale2, B& valid_bit, T bit) {
@@ -63,12 +65,14 @@ struct Kernels {
     }
   }
 
-  // Box-box: 15 axes, 30 planes (see BoxBoxPlanes). For the six face axes, the dot products
-  // with the other box's axes are the entries of C = U_A^T U_B (the OBB separating-axis
-  // formulation of Gottschalk, Lin and Manocha, "OBBTree", SIGGRAPH 1996) and those with the own
-  // axes are 0 or 1 (tie bits clear). The nine edge axes take their dot products from the
-  // emitted unit normal itself: going through C would divide C's rounding error by
-  // |u_i x v_j|, which is small for nearly parallel edges.
+  // Box-box: 15 axes, 30 planes (see BoxBoxPlanes), worked in A's frame, where A's axes are
+  // e_0, e_1, e_2 and B's are the columns of C = U_A^T U_B (the OBB separating-axis formulation
+  // of Gottschalk, Lin and Manocha, "OBBTree", SIGGRAPH 1996). The edge axis e_i x C_j then has
+  // two nonzero components, (C[i2][j], -C[i1][j]) up to order, and every dot product the plane
+  // needs is formed from those same two numbers: the normal and its offset stay consistent
+  // (no rounding error divided by |u_i x v_j| for nearly parallel edges), and all of it is linear
+  // in the unnormalised axis, so the dot products run while 1/|axis| is computed. The normal is
+  // taken back to the world frame as U_A times the A-frame axis.
   static void box_box(BoxLanes<T> a, BoxLanes<T> b, int count, int N, bool difference,
                       PlaneLanes<T> out, SumLanes<T> sum) {
     const B sign(difference ? T(-1) : T(1)), zero(0), one(1);
@@ -86,38 +90,48 @@ struct Kernels {
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) C[i][j] = dot(ua[i], ub[j]), A[i][j] = S::abs(C[i][j]);
       const V3 ca = load3(a.c, N, k), cb = load3(b.c, N, k);
-      // The sum's reference point: c_A + c_B (or c_A - c_B for the difference).
+      // The sum's reference point: c_A + c_B (or c_A - c_B for the difference), and in A's frame.
       const V3 c{S::fma(sign, cb.x, ca.x), S::fma(sign, cb.y, ca.y), S::fma(sign, cb.z, ca.z)};
+      const B cA[3] = {dot(ua[0], c), dot(ua[1], c), dot(ua[2], c)};
       B valid(T(63));  // the six face axes are always valid
-      // Writes axis p: normal n, support radii sa + sb about c, corner codes.
-      // For the difference, B's support in n is its corner opposite to the one in +n: 7 - code.
-      const B flip(difference ? T(-1) : T(1)), bias(difference ? T(7) : T(0));
-      auto emit = [&](int p, const V3& n, const B& sa, const B& sb, const B& codea,
-                      const B& codeb) {
-        if (whole) sum_loops(p, codea, codeb, sum.loop + k, N);
-        const B s = sa + sb, m = dot(n, c);
+      // Writes axis p: normal n, support radius s about c, n . c, corner codes (B's already
+      // shifted to bits 3-5). For the difference, B's support in n is its corner opposite to the
+      // one in +n: 7 - code.
+      auto emit = [&](int p, const V3& n, const B& s, const B& m, const B& codea, const B& codeb8) {
+        const B code = codea + (difference ? B(T(56)) - codeb8 : codeb8);
+        if (whole) sum_loops(p, code, sum.loop + k, N);
         store3(out.n + 3 * p * N, N, k, n);
         S::store(out.offset + p * N + k, s + m);
         S::store(out.offset + (p + 15) * N + k, s - m);
-        S::store_code(out.code + p * N + k, S::fma(S::fma(codeb, flip, bias), B(T(8)), codea));
+        S::store_code(out.code + p * N + k, code);
       };
 #pragma GCC unroll 3
       for (int p = 0; p < 3; ++p) {
-        emit(p, ua[p], ha[p], S::fma(hb[0], A[p][0], S::fma(hb[1], A[p][1], hb[2] * A[p][2])),
-             B(T(1 << p)), bit(C[p][0] > zero, 0) + bit(C[p][1] > zero, 1) + bit(C[p][2] > zero, 2));
-        emit(3 + p, ub[p], S::fma(ha[0], A[0][p], S::fma(ha[1], A[1][p], ha[2] * A[2][p])), hb[p],
-             bit(C[0][p] > zero, 0) + bit(C[1][p] > zero, 1) + bit(C[2][p] > zero, 2), B(T(1 << p)));
+        emit(p, ua[p], ha[p] + S::fma(hb[0], A[p][0], S::fma(hb[1], A[p][1], hb[2] * A[p][2])), cA[p],
+             B(T(1 << p)), bit(C[p][0] > zero, 3) + bit(C[p][1] > zero, 4) + bit(C[p][2] > zero, 5));
+        emit(3 + p, ub[p], hb[p] + S::fma(ha[0], A[0][p], S::fma(ha[1], A[1][p], ha[2] * A[2][p])),
+             dot(ub[p], c), bit(C[0][p] > zero, 0) + bit(C[1][p] > zero, 1) + bit(C[2][p] > zero, 2),
+             B(T(8 << p)));
       }
 #pragma GCC unroll 3
       for (int i = 0; i < 3; ++i) {
+        const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
 #pragma GCC unroll 3
         for (int j = 0; j < 3; ++j) {
-          const int p = 6 + 3 * i + j;
-          const V3 n = unit_or_zero(cross(ua[i], ub[j]), one, valid, T(1 << p));
-          B sa, codea, sb, codeb;
-          box_support(n, ua, ha, sa, codea, i);
-          box_support(n, ub, hb, sb, codeb, j);
-          emit(p, n, sa, sb, codea, codeb);
+          const int p = 6 + 3 * i + j, j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+          // v = e_i x C_j: v_i = 0, v_i1 = -C[i2][j], v_i2 = C[i1][j].
+          const B v1 = B(T(0)) - C[i2][j], v2 = C[i1][j];
+          const B inv = inv_len_or_zero(S::fma(v1, v1, v2 * v2), one, valid, T(1 << p));
+          // v . C_k for B's other two axes (its own is 0).
+          const B x1 = S::fma(v1, C[i1][j1], v2 * C[i2][j1]), x2 = S::fma(v1, C[i1][j2], v2 * C[i2][j2]);
+          const B s = S::fma(ha[i1], A[i2][j], S::fma(ha[i2], A[i1][j],
+                             S::fma(hb[j1], S::abs(x1), hb[j2] * S::abs(x2))));
+          const B w1 = v1 * inv, w2 = v2 * inv;
+          const V3 n{S::fma(w1, ua[i1].x, w2 * ua[i2].x), S::fma(w1, ua[i1].y, w2 * ua[i2].y),
+                     S::fma(w1, ua[i1].z, w2 * ua[i2].z)};
+          // Corner codes from the signs (all clear for an invalid axis, as its zero normal).
+          emit(p, n, s * inv, S::fma(w1, cA[i1], w2 * cA[i2]), bit(w1 > zero, i1) + bit(w2 > zero, i2),
+               S::select(inv > zero, bit(x1 > zero, 3 + j1) + bit(x2 > zero, 3 + j2), zero));
         }
       }
       S::store_code(out.valid + k, valid);
@@ -127,18 +141,18 @@ struct Kernels {
           for (int j = 0; j < 3; ++j) least = S::min(least, A[i][j]);
         const auto general = valid == B(T((1 << 15) - 1)) && least > B(kParallelThreshold<T>);
         S::store_code(sum.general + k, S::select(general, one, zero));
-        box_corners(load3(a.c, N, k), ua, ha, sum.corner_a + k, N);
-        box_corners(load3(b.c, N, k), ub, hb, sum.corner_b + k, N);
+        box_corners(ca, ua, ha, sum.corner_a + k, N);
+        box_corners(cb, ub, hb, sum.corner_b + k, N);
       }
     }
   }
 
   // The vertex loops of the parallelogram facets q and q + 15 of a box-box sum in general
-  // position, from the + plane's support corners (tie bits clear): facet p moves from its first vertex v0
-  // along the facet's two edges, e then f, with e x f along the outward normal; the opposite
-  // facet p + 15 starts at the complemented corners and goes f then e. A loop packs four 6-bit
-  // vertex codes a | b << 3 (a 24-bit integer: exact in float).
-  static void sum_loops(int q, const B& code_a, const B& code_b, CodeOf<T>* loop, int N) {
+  // position, from the + plane's support pair v0 = code_a | code_b << 3 (tie bits clear): facet
+  // p moves from its first vertex v0 along the facet's two edges, e then f, with e x f along the
+  // outward normal; the opposite facet p + 15 starts at the complemented corners and goes f then
+  // e. A loop packs four 6-bit vertex codes a | b << 3 (a 24-bit integer: exact in float).
+  static void sum_loops(int q, const B& v0, CodeOf<T>* loop, int N) {
     const T K = T(1 + 64 + 4096 + 262144);  // v0 in all four slots
     const auto pack = [](int e, int f) { return T(e * 64 + (e + f) * 4096 + f * 262144); };
     // The facet's edges as code increments: A's axis bits count 1, 2, 4, B's 8, 16, 32.
@@ -151,19 +165,21 @@ struct Kernels {
     }
     // v0 of the + facet: the support corners with the edges' bits clear (a face axis's own bit
     // is set on the + side); of the - facet: the complement, the edges' bits clear too.
-    const B v0 = S::fma(code_b, B(T(8)), code_a);
-    const B w0 = B(T(63 - e - f)) - v0;
-    S::store_code(loop + q * N, S::fma(v0, B(K), B(pack(e, f))));
-    S::store_code(loop + (q + 15) * N, S::fma(w0, B(K), B(pack(f, e))));
+    const B v0K = v0 * B(K);  // (63 - e - f - v0) K + pack(f, e) for the - facet
+    S::store_code(loop + q * N, v0K + B(pack(e, f)));
+    S::store_code(loop + (q + 15) * N, B(T(63 - e - f) * K + pack(f, e)) - v0K);
   }
 
-  // The eight corners c + sum_a (+-h_a) u_a of a box, corner i with bit a set on the + side.
+  // The eight corners c + sum_a (+-h_a) u_a of a box, corner i with bit a set on the + side:
+  // the three half-edge vectors once, then sums (adds, not multiplies: the multiplier ports are
+  // the box-box kernel's bottleneck).
   static void box_corners(const V3& c, const V3 (&u)[3], const B (&h)[3], T* corner, int N) {
+    const V3 g[3] = {scaled(u[0], h[0]), scaled(u[1], h[1]), scaled(u[2], h[2])};
     // Level by level, each into a new array (GCC 12 -O3 miscompiled an in-place version for
     // scalar floats).
     const auto step = [&](const V3& x, int a, bool plus) {
-      const B s = plus ? h[a] : B(T(0)) - h[a];
-      return V3{S::fma(s, u[a].x, x.x), S::fma(s, u[a].y, x.y), S::fma(s, u[a].z, x.z)};
+      return plus ? V3{x.x + g[a].x, x.y + g[a].y, x.z + g[a].z}
+                  : V3{x.x - g[a].x, x.y - g[a].y, x.z - g[a].z};
     };
     const V3 x[2] = {step(c, 0, false), step(c, 0, true)};
     V3 y[4];
@@ -420,7 +436,7 @@ struct Kernels {
   // All 15 facet pairs of one register of lanes (k .. k + S::size).
   static void proximity_all_facets(BoxLanes<T> a, BoxLanes<T> b, int N, int k,
                                    ProximityLanes<T> out) {
-    const B zero(T(0)), one(T(1)), inf(std::numeric_limits<T>::infinity());
+    const B zero(T(0)), one(T(1));
     const PairRegister r(a, b, N, k);
     Fold fold;
     fold_all(fold, r.c, r.ca, r.g, r.g2, std::make_integer_sequence<int, 15>{});
