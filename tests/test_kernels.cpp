@@ -70,15 +70,17 @@ void compare(const KernelPlane& got, const KernelPlane& ref, const Expected& e,
       << what << " plane " << p << " offset " << got.offset << " vs " << e.h;
 }
 
-template <class T>
+// Cap: the batch capacity; 1024 takes the kernel body for any row stride, 32 one compiled for
+// that stride (see with_row_stride).
+template <class T, int Cap = kN>
 void check_box_box(Isa isa, const std::vector<std::pair<Box, Box>>& pairs, bool difference) {
   ASSERT_TRUE(force_isa(isa));
-  auto A = std::make_unique<BoxBatch<T, kN>>(), B = std::make_unique<BoxBatch<T, kN>>();
-  auto out = std::make_unique<BoxBoxPlanes<T, kN>>();
+  auto A = std::make_unique<BoxBatch<T, Cap>>(), B = std::make_unique<BoxBatch<T, Cap>>();
+  auto out = std::make_unique<BoxBoxPlanes<T, Cap>>();
   const double eps = std::numeric_limits<T>::epsilon();
   const double ulps = std::is_same_v<T, float> ? 8 : 1e-12 / eps;  // float 8 ulp; double 1e-12
-  for (size_t base = 0; base < pairs.size(); base += kN) {
-    A->count = B->count = int(std::min<size_t>(kN, pairs.size() - base));
+  for (size_t base = 0; base < pairs.size(); base += Cap) {
+    A->count = B->count = int(std::min<size_t>(Cap, pairs.size() - base));
     for (int k = 0; k < A->count; ++k) A->set(k, pairs[base + k].first), B->set(k, pairs[base + k].second);
     A->pad(), B->pad();
     box_box_planes(*A, *B, difference, *out);
@@ -165,6 +167,7 @@ TEST_P(Kernels, BoxBoxFloatMatchesTheReference) {
   for (bool diff : {false, true}) {
     check_box_box<float>(GetParam(), random_box_pairs(50000, 5, 11 + diff), diff);
     check_box_box<float>(GetParam(), hard_box_pairs(), diff);
+    check_box_box<float, 32>(GetParam(), random_box_pairs(5000, 5, 31 + diff), diff);
   }
 }
 
@@ -172,6 +175,7 @@ TEST_P(Kernels, BoxBoxDoubleMatchesTheReference) {
   for (bool diff : {false, true}) {
     check_box_box<double>(GetParam(), random_box_pairs(50000, 5, 21 + diff), diff);
     check_box_box<double>(GetParam(), hard_box_pairs(), diff);
+    check_box_box<double, 32>(GetParam(), random_box_pairs(5000, 5, 41 + diff), diff);
   }
 }
 
@@ -506,6 +510,52 @@ TEST_P(Kernels, BoxBoxSumIsTheHullOfThePairwiseSums) {
   EXPECT_EQ(check_box_box_sum<float>(GetParam(), special), 2);
   check_box_box_sum<double>(GetParam(), hard_box_pairs());
   check_box_box_sum<float>(GetParam(), hard_box_pairs());
+}
+
+// The box-box kernel body compiled for a fixed row stride (capacity 32) and the one for any
+// stride (capacity 48) give the same bits, sum and difference.
+template <class T>
+void check_row_strides(Isa isa) {
+  ASSERT_TRUE(force_isa(isa));
+  auto A = std::make_unique<BoxBatch<T, 32>>(), B = std::make_unique<BoxBatch<T, 32>>();
+  auto A48 = std::make_unique<BoxBatch<T, 48>>(), B48 = std::make_unique<BoxBatch<T, 48>>();
+  auto out = std::make_unique<BoxBoxSum<T, 32>>();
+  auto out48 = std::make_unique<BoxBoxSum<T, 48>>();
+  const auto pairs = random_box_pairs(32, 5, 51);
+  for (int k = 0; k < 32; ++k) {
+    A->set(k, pairs[k].first), B->set(k, pairs[k].second);
+    A48->set(k, pairs[k].first), B48->set(k, pairs[k].second);
+  }
+  A->count = B->count = A48->count = B48->count = 32;
+  A48->pad(), B48->pad();
+  box_box_sum(*A, *B, *out);
+  box_box_sum(*A48, *B48, *out48);
+  for (int k = 0; k < 32; ++k) {
+    ASSERT_EQ(out->general[k], out48->general[k]);
+    ASSERT_EQ(out->planes.valid[k], out48->planes.valid[k]);
+    for (int p = 0; p < 30; ++p) {
+      ASSERT_EQ(out->planes.offset[p][k], out48->planes.offset[p][k]) << "plane " << p << " lane " << k;
+      ASSERT_EQ(out->loop[p][k], out48->loop[p][k]);
+    }
+    for (int p = 0; p < 15; ++p) {
+      ASSERT_EQ(out->planes.code[p][k], out48->planes.code[p][k]);
+      for (int d = 0; d < 3; ++d) ASSERT_EQ(out->planes.n[p][d][k], out48->planes.n[p][d][k]);
+    }
+    for (int i = 0; i < 8; ++i)
+      for (int d = 0; d < 3; ++d) {
+        ASSERT_EQ(out->corner_a[i][d][k], out48->corner_a[i][d][k]);
+        ASSERT_EQ(out->corner_b[i][d][k], out48->corner_b[i][d][k]);
+      }
+  }
+  box_box_planes(*A, *B, true, out->planes);
+  box_box_planes(*A48, *B48, true, out48->planes);
+  for (int k = 0; k < 32; ++k)
+    for (int p = 0; p < 30; ++p) ASSERT_EQ(out->planes.offset[p][k], out48->planes.offset[p][k]);
+}
+
+TEST_P(Kernels, BoxBoxSameBitsAtEveryRowStride) {
+  check_row_strides<float>(GetParam());
+  check_row_strides<double>(GetParam());
 }
 
 TEST_P(Kernels, TriangleDistanceMatchesTheScalarPath) {
