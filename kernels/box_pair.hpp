@@ -46,6 +46,15 @@ struct PairAnswer {
   bool converged;  // false: the active set ran out of iterations (distance is an upper bound)
 };
 
+// Scalar code on small arrays: GCC's straight-line (SLP) vectoriser packs neighbouring
+// elements into vector loads of data that was just stored element by element, and such loads
+// stall (store forwarding fails); this code is kept scalar.
+#if defined(__GNUC__) && !defined(__clang__)
+#define MINKSUM_SCALAR_CODE __attribute__((optimize("no-tree-slp-vectorize")))
+#else
+#define MINKSUM_SCALAR_CODE
+#endif
+
 /// The box-pair query, compiled once per ISA translation unit. Arch tells the copies apart:
 /// every function here is a member, so no inline function is shared between translation units
 /// compiled with different instruction sets (the linker would keep any one copy of it).
@@ -55,7 +64,7 @@ struct BoxPairQuery {
 
   // The zonotope A (-) B of boxes a and b, computed from locals and stored once: reading back
   // what was just stored element by element with wider loads stalls (store forwarding fails).
-  static void load(const BoxView& a, const BoxView& b, BoxPair<T>& p) {
+  MINKSUM_SCALAR_CODE static void load(const BoxView& a, const BoxView& b, BoxPair<T>& p) {
     T u[6][3], h[6], c[3];
     for (int d = 0; d < 3; ++d) c[d] = T(a.c[d] - b.c[d]), p.ca[d] = T(a.c[d]);
     for (int k = 0; k < 3; ++k) {
@@ -75,7 +84,7 @@ struct BoxPairQuery {
   // The separating axis test over the 15 axes (Gottschalk, Lin & Manocha, "OBBTree", SIGGRAPH
   // 1996): the axis with the largest separation |n . c| - sum_k |n . g_k| (negative: overlap).
   // Edge crosses closer to parallel than kSliverThreshold are skipped (see box_box_proximity).
-  static SatResult<T> separating_axis(const BoxPair<T>& p) {
+  MINKSUM_SCALAR_CODE static SatResult<T> separating_axis(const BoxPair<T>& p) {
     // Separation of axis k = num[k] / sqrt(len2[k]); edge crosses in A's frame, where u_Ai = e_i,
     // u_Bj = column j of C and c = (u_A . c): L = e_i x C_j, L . c = c_i2 C_i1j - c_i1 C_i2j,
     // |L|^2 = C_i1j^2 + C_i2j^2, and for right-handed frames L . u_A(i+1) = -C_i2j,
@@ -85,25 +94,34 @@ struct BoxPairQuery {
     T absC[3][3];
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) absC[i][j] = std::abs(p.C[i][j]);
-    T best = -std::numeric_limits<T>::infinity(), best_len2 = 1;
+    // An edge axis's separation is d / sqrt(len2) with d = |L . c| - r. Without a square root or
+    // a division per axis, axes are compared by the signed square d |d| / len2 (monotone in the
+    // separation), cross-multiplied: axis (d, len2) beats the best (bd, bl) iff
+    // d |d| bl > bd |bd| len2. The winner's separation is formed once at the end.
+    T bd = -std::numeric_limits<T>::infinity(), bl = 1;
     int w = 0;
-    const auto keep = [&](T sep, T len2, int k) {
-      if (sep > best) best = sep, best_len2 = len2, w = k;
-    };
-    for (int i = 0; i < 3; ++i)
-      keep(std::abs(p.uc[i]) - (p.h[i] + p.h[3] * absC[i][0] + p.h[4] * absC[i][1] + p.h[5] * absC[i][2]), 1, i);
-    for (int i = 0; i < 3; ++i)
-      keep(std::abs(p.uc[3 + i]) - (p.h[3 + i] + p.h[0] * absC[0][i] + p.h[1] * absC[1][i] + p.h[2] * absC[2][i]), 1, 3 + i);
+    for (int i = 0; i < 3; ++i) {
+      const T d = std::abs(p.uc[i]) - (p.h[i] + p.h[3] * absC[i][0] + p.h[4] * absC[i][1] + p.h[5] * absC[i][2]);
+      if (d > bd) bd = d, w = i;
+    }
+    for (int i = 0; i < 3; ++i) {
+      const T d = std::abs(p.uc[3 + i]) - (p.h[3 + i] + p.h[0] * absC[0][i] + p.h[1] * absC[1][i] + p.h[2] * absC[2][i]);
+      if (d > bd) bd = d, w = 3 + i;
+    }
+    T bkey = bd * std::abs(bd);
     const T sliver2 = kSliverThreshold<T> * kSliverThreshold<T>;
     for (int i = 0; i < 3; ++i) {
       const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
       for (int j = 0; j < 3; ++j) {
         const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
         const T len2 = p.C[i1][j] * p.C[i1][j] + p.C[i2][j] * p.C[i2][j];
-        if (!(len2 > sliver2)) continue;  // a sliver axis
         const T r = p.h[i1] * absC[i2][j] + p.h[i2] * absC[i1][j] + p.h[3 + j1] * absC[i][j2] +
                     p.h[3 + j2] * absC[i][j1];
-        keep((std::abs(p.uc[i2] * p.C[i1][j] - p.uc[i1] * p.C[i2][j]) - r) / std::sqrt(len2), len2, 6 + 3 * i + j);
+        const T d = std::abs(p.uc[i2] * p.C[i1][j] - p.uc[i1] * p.C[i2][j]) - r;
+        const T key = d * std::abs(d);
+        // (A sliver axis, closer to parallel than kSliverThreshold, is skipped: see
+        // box_box_proximity.)
+        if (len2 > sliver2 && key * bl > bkey * len2) bd = d, bkey = key, bl = len2, w = 6 + 3 * i + j;
       }
     }
     SatResult<T> out;
@@ -117,8 +135,8 @@ struct BoxPairQuery {
       n[0] = a[1] * b[2] - a[2] * b[1], n[1] = a[2] * b[0] - a[0] * b[2], n[2] = a[0] * b[1] - a[1] * b[0];
       out.free_mask = (1u << (w - 6) / 3) | (8u << (w - 6) % 3);
     }
-    const T inv = T(1) / std::sqrt(best_len2);
-    out.separation = best;
+    const T inv = T(1) / std::sqrt(bl);
+    out.separation = bd * inv;
     // Outward facet normal on the origin's side: against c.
     const T s = dot3(n, p.c) > 0 ? -inv : inv;
     for (int d = 0; d < 3; ++d) out.normal[d] = s * n[d];
@@ -131,7 +149,7 @@ struct BoxPairQuery {
   /// with t at a vertex and `free_mask` free. At most 3 generators are free at a time: three
   /// independent ones reach q. Returns false if it did not settle within its iteration budget
   /// (never seen; the caller then has a feasible t, i.e. an upper bound).
-  static bool nearest_point(const BoxPair<T>& p, const T (&q)[3], T (&t)[6], unsigned free_mask) {
+  MINKSUM_SCALAR_CODE static bool nearest_point(const BoxPair<T>& p, const T (&q)[3], T (&t)[6], unsigned free_mask) {
     const T eps = std::is_same_v<T, float> ? T(1e-5) : T(1e-12);
     T base[3];  // c - q
     for (int d = 0; d < 3; ++d) base[d] = p.c[d] - q[d];
@@ -235,7 +253,7 @@ struct BoxPairQuery {
     return false;
   }
 
-  static void box_pair(const BoxView& a, const BoxView& b, bool answer, BoxPair<T>& p,
+  MINKSUM_SCALAR_CODE static void box_pair(const BoxView& a, const BoxView& b, bool answer, BoxPair<T>& p,
                        PairAnswer<T>& out) {
     load(a, b, p);
     if (answer) run(p, out);
@@ -243,7 +261,7 @@ struct BoxPairQuery {
 
   /// The exact proximity of one box pair, written field by field into out (a struct copy
   /// would read back the fields just stored, with wide loads that stall).
-  static void run(const BoxPair<T>& p, PairAnswer<T>& out) {
+  MINKSUM_SCALAR_CODE static void run(const BoxPair<T>& p, PairAnswer<T>& out) {
     out.distance = out.depth = 0;
     for (int d = 0; d < 3; ++d) out.direction[d] = 0;
     const SatResult<T> sat = separating_axis(p);
