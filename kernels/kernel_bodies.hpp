@@ -37,7 +37,15 @@ struct Kernels {
   // 1 / |c| for the cross product c of two edges, or 0 (and the valid bit clear) when
   // |c|^2 = len2 <= tau^2 * scale2: nearly parallel edges give no reliable direction.
   static B inv_len_or_zero(const B& len2, const B& scale2, B& valid_bit, T bit) {
-    const auto ok = len2 > B(kParallelThreshold<T> * kParallelThreshold<T>) * scale2;
+    return inv_len_where(len2 > B(kParallelThreshold<T> * kParallelThreshold<T>) * scale2, len2,
+                         valid_bit, bit);
+  }
+  // The same for unit edge directions (scale 1).
+  static B inv_len_or_zero(const B& len2, B& valid_bit, T bit) {
+    return inv_len_where(len2 > B(kParallelThreshold<T> * kParallelThreshold<T>), len2, valid_bit, bit);
+  }
+  template <class M>
+  static B inv_len_where(const M& ok, const B& len2, B& valid_bit, T bit) {
     valid_bit = valid_bit + S::select(ok, B(bit), B(T(0)));
     return S::select(ok, S::rsqrt(S::select(ok, len2, B(T(1)))), B(T(0)));
   }
@@ -144,7 +152,7 @@ struct Kernels {
           const int p = 6 + 3 * i + j, j1 = (j + 1) % 3, j2 = (j + 2) % 3;
           // v = e_i x C_j: v_i = 0, v_i1 = -C[i2][j], v_i2 = C[i1][j].
           const B v1 = B(T(0)) - C[i2][j], v2 = C[i1][j];
-          const B inv = inv_len_or_zero(S::fma(v1, v1, v2 * v2), one, valid, T(1 << p));
+          const B inv = inv_len_or_zero(S::fma(v1, v1, v2 * v2), valid, T(1 << p));
           // v . C_k for B's other two axes (its own is 0).
           const B x1 = S::fma(v1, C[i1][j1], v2 * C[i2][j1]), x2 = S::fma(v1, C[i1][j2], v2 * C[i2][j2]);
           const B s = S::fma(ha[i1], A[i2][j], S::fma(ha[i2], A[i1][j],

@@ -42,8 +42,16 @@ struct Simd {
       y = xsimd::rsqrt(x);  // _mm_rsqrt_ps, on doubles through float: 12 bits
       bits = 12;
     }
+    constexpr int digits = std::numeric_limits<T>::digits;
+    if (2 * bits < digits && 4 * bits > digits + 2) {
+      // One third-order step instead of two Newton steps (a multiply fewer): with e = 1 - x y^2,
+      // 1 / sqrt(x) = y (1 - e)^(-1/2) = y (1 + e/2 + 3e^2/8 + 5e^3/16 + O(e^4)), |e| <= 2^(1-bits).
+      const B e = xsimd::fnma(x * y, y, B(T(1)));
+      const B p = fma(fma(e, B(T(5.0 / 16)), B(T(3.0 / 8))), e, B(T(0.5)));
+      return fma(y, p * e, y);
+    }
     const B half_x = x * B(T(0.5));
-    for (; bits < std::numeric_limits<T>::digits; bits *= 2) y = y * (B(T(1.5)) - half_x * y * y);
+    for (; bits < digits; bits *= 2) y = y * (B(T(1.5)) - half_x * y * y);
     return y;
   }
   template <class M>
