@@ -202,8 +202,7 @@ struct Kernels {
   }
 
   // The eight corners c + sum_a (+-h_a) u_a of a box, corner i with bit a set on the + side:
-  // the three half-edge vectors once, then sums (adds, not multiplies: the multiplier ports are
-  // the box-box kernel's bottleneck).
+  // the three half-edge vectors once, then sums.
   static void box_corners(const V3& c, const V3 (&u)[3], const B (&h)[3], T* corner, int N) {
     const V3 g[3] = {scaled(u[0], h[0]), scaled(u[1], h[1]), scaled(u[2], h[2])};
     // Level by level, each into a new array (GCC 12 -O3 miscompiled an in-place version for
