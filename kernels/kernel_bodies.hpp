@@ -60,16 +60,13 @@ struct Kernels {
   // n . u_k > 0). All three terms are evaluated, even for an edge-cross axis that is
   // perpendicular to one box axis in exact arithmetic: the rounded normal is not, and its
   // small term keeps the offset exact to a few ulp for nearly parallel edges too.
-  // The code leaves out bit `own` (an edge-cross axis is perpendicular to its own edges: a tie,
-  // left clear as for the face axes; -1: none).
-  static void box_support(const V3& n, const V3 (&u)[3], const B (&h)[3], B& s, B& code,
-                          int own = -1) {
+  static void box_support(const V3& n, const V3 (&u)[3], const B (&h)[3], B& s, B& code) {
     s = B(T(0));
     code = B(T(0));
     for (int k = 0; k < 3; ++k) {
       const B d = dot(n, u[k]);
       s = S::fma(h[k], S::abs(d), s);
-      if (k != own) code = S::select(d > B(T(0)), code + B(T(1 << k)), code);  // a masked add
+      code = S::select(d > B(T(0)), code + B(T(1 << k)), code);  // a masked add
     }
   }
 
@@ -92,11 +89,11 @@ struct Kernels {
   // Box-box: 15 axes, 30 planes (see BoxBoxPlanes), worked in A's frame, where A's axes are
   // e_0, e_1, e_2 and B's are the columns of C = U_A^T U_B (the OBB separating-axis formulation
   // of Gottschalk, Lin and Manocha, "OBBTree", SIGGRAPH 1996). The edge axis e_i x C_j then has
-  // two nonzero components, (C[i2][j], -C[i1][j]) up to order, and every dot product the plane
-  // needs is formed from those same two numbers: the normal and its offset stay consistent
-  // (no rounding error divided by |u_i x v_j| for nearly parallel edges), and all of it is linear
-  // in the unnormalised axis, so the dot products run while 1/|axis| is computed. The normal is
-  // taken back to the world frame as U_A times the A-frame axis.
+  // two nonzero components, -C[i2][j] and C[i1][j] (i1, i2 = i + 1, i + 2 mod 3), and every dot
+  // product the plane needs is formed from those same two numbers: the normal and its offset
+  // stay consistent (no rounding error divided by |u_i x v_j| for nearly parallel edges), and all
+  // of it is linear in the unnormalised axis, so the dot products run while 1/|axis| is
+  // computed. The normal is taken back to the world frame as U_A times the A-frame axis.
   static void box_box(BoxLanes<T> a, BoxLanes<T> b, int count, int N, bool difference,
                       PlaneLanes<T> out, SumLanes<T> sum) {
     with_row_stride(N, [&](auto R) { box_box_rows<R.value>(a, b, count, N, difference, out, sum); });
