@@ -35,22 +35,20 @@ struct Kernels {
     S::store(p + 2 * stride + k, v.z);
   }
   // 1 / |c| for the cross product c of two edges, or 0 (and the valid bit clear) when
-  // |c|^2 = len2 <= tau^2 * scale2: nearly parallel edges give no reliable direction.
-  static B inv_len_or_zero(const B& len2, const B& scale2, B& valid_bit, T bit) {
-    return inv_len_where(len2 > B(kParallelThreshold<T> * kParallelThreshold<T>) * scale2, len2,
-                         valid_bit, bit);
+  // |c|^2 <= tau^2 * scale2: nearly parallel edges give no reliable direction.
+  static B inv_len_or_zero(const V3& c, const B& scale2, B& valid_bit, T bit) {
+    const B len2 = dot(c, c);
+    return inv_len_where(len2 > B(kTau2) * scale2, len2, valid_bit, bit);
   }
-  // The same for unit edge directions (scale 1).
+  // The same from |c|^2, for the cross of two unit edge directions (scale 1).
   static B inv_len_or_zero(const B& len2, B& valid_bit, T bit) {
-    return inv_len_where(len2 > B(kParallelThreshold<T> * kParallelThreshold<T>), len2, valid_bit, bit);
+    return inv_len_where(len2 > B(kTau2), len2, valid_bit, bit);
   }
+  static constexpr T kTau2 = kParallelThreshold<T> * kParallelThreshold<T>;
   template <class M>
   static B inv_len_where(const M& ok, const B& len2, B& valid_bit, T bit) {
     valid_bit = valid_bit + S::select(ok, B(bit), B(T(0)));
     return S::select(ok, S::rsqrt(S::select(ok, len2, B(T(1)))), B(T(0)));
-  }
-  static B inv_len_or_zero(const V3& c, const B& scale2, B& valid_bit, T bit) {
-    return inv_len_or_zero(dot(c, c), scale2, valid_bit, bit);
   }
   // The unit axis of c, or the zero vector (see inv_len_or_zero).
   static V3 unit_or_zero(const V3& c, const B& scale2, B& valid_bit, T bit) {
