@@ -445,6 +445,135 @@ void support_pair(const A& a, const B& b, const Vector3d& n, double& plus, doubl
   plus = amax - bmin, minus = bmax - amin;
 }
 
+// The point of the simplex w[0..n) (n <= 4) nearest the origin, as barycentric weights (zero
+// outside the nearest feature), by Voronoi regions (Ericson, "Real-Time Collision Detection",
+// 2005, sections 5.1.2, 5.1.5 and 5.1.6). False if the origin lies inside the tetrahedron.
+bool nearest_on_simplex(const Vector3d* w, int n, double (&lambda)[4]) {
+  for (double& l : lambda) l = 0;
+  if (n == 1) return lambda[0] = 1, true;
+  if (n == 2) {
+    const Vector3d e = w[1] - w[0];
+    const double len2 = e.squaredNorm();
+    const double t = len2 > 0 ? std::clamp(-w[0].dot(e) / len2, 0.0, 1.0) : 0.0;
+    return lambda[0] = 1 - t, lambda[1] = t, true;
+  }
+  // Triangle (i, j, k) of w: Ericson's ClosestPtPointTriangle with the query point at the origin.
+  const auto triangle = [&](int i, int j, int k, double (&l)[4]) {
+    for (double& x : l) x = 0;
+    const Vector3d &a = w[i], ab = w[j] - a, ac = w[k] - a;
+    const double d1 = -ab.dot(a), d2 = -ac.dot(a);
+    if (d1 <= 0 && d2 <= 0) return void(l[i] = 1);
+    const double d3 = -ab.dot(w[j]), d4 = -ac.dot(w[j]);
+    if (d3 >= 0 && d4 <= d3) return void(l[j] = 1);
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+      const double v = d1 / (d1 - d3);
+      return void((l[i] = 1 - v, l[j] = v));
+    }
+    const double d5 = -ab.dot(w[k]), d6 = -ac.dot(w[k]);
+    if (d6 >= 0 && d5 <= d6) return void(l[k] = 1);
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+      const double t = d2 / (d2 - d6);
+      return void((l[i] = 1 - t, l[k] = t));
+    }
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) {
+      const double t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+      return void((l[j] = 1 - t, l[k] = t));
+    }
+    const double denom = va + vb + vc;
+    const double v = vb / denom, t = vc / denom;
+    l[i] = 1 - v - t, l[j] = v, l[k] = t;
+  };
+  const auto dist2 = [&](const double (&l)[4]) {
+    Vector3d p = Vector3d::Zero();
+    for (int k = 0; k < n; ++k) p += l[k] * w[k];
+    return p.squaredNorm();
+  };
+  if (n == 3) return triangle(0, 1, 2, lambda), true;
+  // Tetrahedron: the nearest of the faces whose plane has the origin on the far side from the
+  // fourth point (a flat tetrahedron has every face so; none: the origin is inside).
+  static constexpr int kFace[4][4] = {{0, 1, 2, 3}, {0, 2, 3, 1}, {0, 3, 1, 2}, {1, 3, 2, 0}};
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& f : kFace) {
+    const Vector3d nf = (w[f[1]] - w[f[0]]).cross(w[f[2]] - w[f[0]]);
+    if (-w[f[0]].dot(nf) * (w[f[3]] - w[f[0]]).dot(nf) > 0) continue;
+    double l[4];
+    triangle(f[0], f[1], f[2], l);
+    if (const double d = dist2(l); d < best) best = d, std::copy(l, l + 4, lambda);
+  }
+  return best < std::numeric_limits<double>::infinity();
+}
+
+// The nearest features of separated shapes by GJK (Gilbert, Johnson & Keerthi, "A fast
+// procedure for computing the distance between complex objects in three-dimensional space",
+// IEEE J. Robotics and Automation 4(2), 1988) on M = A (-) B: up to three vertices of A (fa)
+// and of B (fb) whose hulls hold the nearest points. False if it finds the origin in M. Its
+// answer is a guess, rounding and all: certified_distance proves it or the caller does the
+// exhaustive search. M's points are scaled by `scale`, a power of two near 1 / the coordinates'
+// magnitude, so that their products neither overflow nor underflow.
+template <class A, class B>
+bool gjk_features(const A& a, const B& b, double scale, int (&fa)[3], int (&fb)[3]) {
+  Vector3d w[4] = {scale * (a.vertex(0) - b.vertex(0))};
+  int ia[4] = {0}, ib[4] = {0}, n = 1;
+  Vector3d v = w[0];
+  for (int iter = 0; iter < 64; ++iter) {
+    // M's support point in -v: A's lowest vertex along v minus B's highest.
+    int ka = 0, kb = 0;
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (int k = 0; k < a.size(); ++k)
+      if (const double x = v.dot(a.vertex(k)); x < lo) lo = x, ka = k;
+    for (int k = 0; k < b.size(); ++k)
+      if (const double x = v.dot(b.vertex(k)); x > hi) hi = x, kb = k;
+    const double vv = v.squaredNorm();
+    // Stop when M reaches no further towards the origin than v does (to rounding), or repeats.
+    if (!(vv - scale * (lo - hi) > 1e-13 * vv)) break;
+    bool repeat = false;
+    for (int j = 0; j < n; ++j) repeat |= ia[j] == ka && ib[j] == kb;
+    if (repeat) break;
+    w[n] = scale * (a.vertex(ka) - b.vertex(kb)), ia[n] = ka, ib[n] = kb, ++n;
+    double lambda[4];
+    if (!nearest_on_simplex(w, n, lambda)) return false;
+    // Keep the nearest feature's points only.
+    Vector3d next = Vector3d::Zero();
+    int m = 0;
+    for (int j = 0; j < n; ++j)
+      if (lambda[j] > 0) next += lambda[j] * w[j], w[m] = w[j], ia[m] = ia[j], ib[m] = ib[j], ++m;
+    if (m == 0) return false;  // no weight left (NaN from a degenerate simplex)
+    n = m;
+    if (!(next.squaredNorm() < vv)) break;  // no progress: rounding has the last word
+    v = next;
+  }
+  for (int j = 0; j < 3; ++j) fa[j] = ia[std::min(j, n - 1)], fb[j] = ib[std::min(j, n - 1)];
+  return true;
+}
+
+// The distance of separated shapes from the features GJK settles on, proven: the exact nearest
+// points p, q of the two features' hulls (triangle_distance, repeated vertices allowed), and
+// the planes through p and q normal to n = (q - p) / |q - p|. If every vertex of A is at most
+// s_A above p's plane and every vertex of B at most s_B below q's, no pair of points is nearer
+// than n . (q - p) - s_A - s_B, so |q - p| is the distance to within s_A + s_B (rounding makes
+// n slightly off, so they are not zero): kept if that is below `slack`, and the shapes are
+// farther apart than `touching` plus it. False otherwise: the caller searches exhaustively.
+template <class A, class B>
+bool certified_distance(const A& a, const B& b, double scale, double slack, double touching, Proximity& out) {
+  int fa[3], fb[3];
+  if (!gjk_features(a, b, scale, fa, fb)) return false;
+  const Vector3d s[3] = {a.vertex(fa[0]), a.vertex(fa[1]), a.vertex(fa[2])};
+  const Vector3d t[3] = {b.vertex(fb[0]), b.vertex(fb[1]), b.vertex(fb[2])};
+  Vector3d p, q;
+  const double d = triangle_distance(s, t, p, q);
+  if (!(d > touching + slack)) return false;
+  const Vector3d n = (q - p) / d;
+  double above = 0, below = 0;
+  for (int k = 0; k < a.size(); ++k) above = std::max(above, n.dot(a.vertex(k) - p));
+  for (int k = 0; k < b.size(); ++k) below = std::max(below, n.dot(q - b.vertex(k)));
+  if (!(above + below <= slack)) return false;
+  out.distance = d, out.point_a = p, out.point_b = q;
+  return true;
+}
+
 // Exact proximity of two shapes. Distance: the nearest pair of surface points, or 0 if the
 // surfaces meet (within rounding of the coordinates) or one shape holds the other.
 // Penetration: every facet normal of M = A (-) B is a face normal of A or B or the cross product
@@ -454,15 +583,26 @@ void support_pair(const A& a, const B& b, const Vector3d& n, double& plus, doubl
 template <class A, class B>
 void exact_proximity(const A& a, const B& b, Proximity& out) {
   out = Proximity{};
-  double size = 0;
+  // Squared lengths of the vertex differences, scaled by a power of two near 1 / the largest
+  // coordinate (exact) so that they neither overflow nor underflow.
+  double reach = 0;
+  for (int i = 0; i < a.size(); ++i) reach = std::max(reach, a.vertex(i).cwiseAbs().maxCoeff());
+  for (int j = 0; j < b.size(); ++j) reach = std::max(reach, b.vertex(j).cwiseAbs().maxCoeff());
+  int exponent = 0;
+  std::frexp(reach, &exponent);
+  const double k = reach > 0 ? std::ldexp(1.0, std::min(-exponent, 1000)) : 1.0;
+  double size = 0, far2 = -1;
   for (int i = 0; i < a.size(); ++i)
     for (int j = 0; j < b.size(); ++j) {
       const Vector3d d = a.vertex(i) - b.vertex(j);
-      const double len = length(d);
-      if (len > out.max_distance) out.max_distance = len, out.far_a = a.vertex(i), out.far_b = b.vertex(j);
+      if (const double d2 = (k * d).squaredNorm(); d2 > far2) far2 = d2, out.far_a = a.vertex(i), out.far_b = b.vertex(j);
       size = std::max(size, d.cwiseAbs().maxCoeff());
     }
-  const double tol = 64 * std::numeric_limits<double>::epsilon() * size;
+  out.max_distance = length(out.far_a - out.far_b);
+  const double eps = std::numeric_limits<double>::epsilon();
+  const double tol = 64 * eps * size;
+  // Separated (the common case): GJK's features, proven; otherwise the exhaustive search.
+  if (certified_distance(a, b, k, 64 * eps * reach, tol, out)) return;
   const double best = surface_distance(a, b, Vector3d::Zero(), 1e-9 * size, out.point_a, out.point_b);
   if (best > tol && !inside(a, b.vertex(0)) && !inside(b, a.vertex(0))) {
     out.distance = best;
