@@ -555,23 +555,25 @@ bool gjk_features(const A& a, const B& b, double scale, int (&fa)[3], int (&fb)[
 // s_A above p's plane and every vertex of B at most s_B below q's, no pair of points is nearer
 // than n . (q - p) - s_A - s_B, so |q - p| is the distance to within s_A + s_B (rounding makes
 // n slightly off, so they are not zero): kept if that is below `slack`, and the shapes are
-// farther apart than `touching` plus it. False otherwise: the caller searches exhaustively.
+// farther apart than `touching` plus it. Otherwise the caller searches exhaustively, told
+// which way GJK leant.
+enum class Guess { Proven, Separated, Overlapping };
 template <class A, class B>
-bool certified_distance(const A& a, const B& b, double scale, double slack, double touching, Proximity& out) {
+Guess certified_distance(const A& a, const B& b, double scale, double slack, double touching, Proximity& out) {
   int fa[3], fb[3];
-  if (!gjk_features(a, b, scale, fa, fb)) return false;
+  if (!gjk_features(a, b, scale, fa, fb)) return Guess::Overlapping;
   const Vector3d s[3] = {a.vertex(fa[0]), a.vertex(fa[1]), a.vertex(fa[2])};
   const Vector3d t[3] = {b.vertex(fb[0]), b.vertex(fb[1]), b.vertex(fb[2])};
   Vector3d p, q;
   const double d = triangle_distance(s, t, p, q);
-  if (!(d > touching + slack)) return false;
+  if (!(d > touching + slack)) return Guess::Separated;
   const Vector3d n = (q - p) / d;
   double above = 0, below = 0;
   for (int k = 0; k < a.size(); ++k) above = std::max(above, n.dot(a.vertex(k) - p));
   for (int k = 0; k < b.size(); ++k) below = std::max(below, n.dot(q - b.vertex(k)));
-  if (!(above + below <= slack)) return false;
+  if (!(above + below <= slack)) return Guess::Separated;
   out.distance = d, out.point_a = p, out.point_b = q;
-  return true;
+  return Guess::Proven;
 }
 
 // Exact proximity of two shapes. Distance: the nearest pair of surface points, or 0 if the
@@ -601,32 +603,42 @@ void exact_proximity(const A& a, const B& b, Proximity& out) {
   out.max_distance = length(out.far_a - out.far_b);
   const double eps = std::numeric_limits<double>::epsilon();
   const double tol = 64 * eps * size;
-  // Separated (the common case): GJK's features, proven; otherwise the exhaustive search.
-  if (certified_distance(a, b, k, 64 * eps * reach, tol, out)) return;
-  const double best = surface_distance(a, b, Vector3d::Zero(), 1e-9 * size, out.point_a, out.point_b);
-  if (best > tol && !inside(a, b.vertex(0)) && !inside(b, a.vertex(0))) {
-    out.distance = best;
-    return;
-  }
-  out.intersecting = true;
+  // Separated (the common case): GJK's features, proven.
+  const Guess guess = certified_distance(a, b, k, 64 * eps * reach, tol, out);
+  if (guess == Guess::Proven) return;
   double depth = std::numeric_limits<double>::infinity();
   Vector3d dir = Vector3d::UnitZ();
-  const auto consider = [&](const Vector3d& n) {
-    double plus, minus;
-    support_pair(a, b, n, plus, minus);
-    if (plus < depth) depth = plus, dir = n;
-    if (minus < depth) depth = minus, dir = -n;
-  };
-  for (int f = 0; f < a.faces(); ++f) consider(a.face_normal(f));
-  for (int f = 0; f < b.faces(); ++f) consider(b.face_normal(f));
-  for (int i = 0; i < a.edges(); ++i) {
-    const Vector3d ea = a.edge_direction(i);
-    for (int j = 0; j < b.edges(); ++j) {
-      const Vector3d c = ea.cross(b.edge_direction(j));
-      const double len = c.norm();
-      if (len > 0 && std::isfinite(len)) consider(c / len);
+  const auto deepest = [&] {
+    const auto consider = [&](const Vector3d& n) {
+      double plus, minus;
+      support_pair(a, b, n, plus, minus);
+      if (plus < depth) depth = plus, dir = n;
+      if (minus < depth) depth = minus, dir = -n;
+    };
+    for (int f = 0; f < a.faces(); ++f) consider(a.face_normal(f));
+    for (int f = 0; f < b.faces(); ++f) consider(b.face_normal(f));
+    for (int i = 0; i < a.edges(); ++i) {
+      const Vector3d ea = a.edge_direction(i);
+      for (int j = 0; j < b.edges(); ++j) {
+        const Vector3d c = ea.cross(b.edge_direction(j));
+        const double len = c.norm();
+        if (len > 0 && std::isfinite(len)) consider(c / len);
+      }
     }
+  };
+  // Overlapping by GJK: the depth first. Positive along every candidate axis (face normals,
+  // edge crosses), it proves the overlap by the separating axis theorem, and the search for
+  // the nearest surface points is not needed.
+  if (guess == Guess::Overlapping) deepest();
+  if (guess == Guess::Separated || !(depth > tol)) {
+    const double best = surface_distance(a, b, Vector3d::Zero(), 1e-9 * size, out.point_a, out.point_b);
+    if (best > tol && !inside(a, b.vertex(0)) && !inside(b, a.vertex(0))) {
+      out.distance = best;
+      return;
+    }
+    if (guess != Guess::Overlapping) deepest();
   }
+  out.intersecting = true;
   out.penetration_depth = std::max(0.0, depth);
   out.penetration_direction = dir;
   if (out.penetration_depth > 0) {
