@@ -1,8 +1,9 @@
 // Queries against FCL 0.7 on the same seeded poses: BoxBoxDistance/<method>,
 // BoxBoxPenetration/<method>, BoxTriangleDistance/<method>, TriangleTriangleDistance/<method>
 // (every other pair overlapping; minksum answers penetration there, FCL's distance call only
-// reports the collision), PolytopeDistance/<pair>/<method>. Distance runs use 256 box pairs,
-// half of them overlapping; penetration runs use overlapping pairs only.
+// reports the collision), PolytopeDistance/<pair>/<method> and PolytopePenetration/<pair>/<method>
+// (one separated and one overlapping pose of each Table 1 pair). Distance runs use 256 box
+// pairs, half of them overlapping; penetration runs use overlapping pairs only.
 #include <benchmark/benchmark.h>
 #include <minksum/minksum.hpp>
 
@@ -180,18 +181,30 @@ void TriangleDistanceOnly(benchmark::State& state, bool batched) {
   state.SetItemsProcessed(state.iterations() * 256);
 }
 
-void PolytopeDistance(benchmark::State& state, int row, bool fcl) {
+// One Table 1 pair, B moved clear of A (distance) or into it (penetration: minksum's depth,
+// direction and witness points; FCL's collide with one contact).
+void PolytopeQuery(benchmark::State& state, int row, bool fcl, bool overlapping) {
   const auto pair = tools::table1_pairs()[row];
   ConvexPolytope A, B;
   std::vector<Vector3d> moved;
-  for (const auto& p : pair.b) moved.push_back(p + Vector3d(4.5, 0.3, 0.2));  // separated
+  const Vector3d shift = overlapping ? Vector3d(0.9, 0.3, 0.2) : Vector3d(4.5, 0.3, 0.2);
+  for (const auto& p : pair.b) moved.push_back(p + shift);
   polytope_from_points(pair.a, A);
   polytope_from_points(moved, B);
+  Proximity p;
+  if (proximity(A, B, p) != Status::Ok || p.intersecting != overlapping) {
+    state.SkipWithError("the pose is not what the benchmark says");
+    return;
+  }
   if (fcl) {
     peers::FclPair peer(A, B);
-    for (auto _ : state) benchmark::DoNotOptimize(peer.distance(peers::FclSolver::Gjk));
+    peers::FclAnswer answer;
+    for (auto _ : state) {
+      if (overlapping) peer.penetration(peers::FclSolver::Gjk, answer);
+      else answer.depth = peer.distance(peers::FclSolver::Gjk);
+      benchmark::DoNotOptimize(answer.depth);
+    }
   } else {
-    Proximity p;
     for (auto _ : state) {
       proximity(A, B, p);
       benchmark::DoNotOptimize(p.distance);
@@ -217,11 +230,13 @@ const int kRegistered = [] {
   benchmark::RegisterBenchmark("TriangleExactDistance/batch", TriangleDistanceOnly, true);
   const auto pairs = tools::table1_pairs();
   for (int row = 0; row < int(pairs.size()); ++row) {
-    const std::string base = "PolytopeDistance/" + pairs[row].name + "/";
-    benchmark::RegisterBenchmark((base + "minksum").c_str(), PolytopeDistance, row, false)
-        ->Unit(benchmark::kMicrosecond);
-    benchmark::RegisterBenchmark((base + "fcl_gjk").c_str(), PolytopeDistance, row, true)
-        ->Unit(benchmark::kMicrosecond);
+    for (const bool overlapping : {false, true}) {
+      const std::string base = (overlapping ? "PolytopePenetration/" : "PolytopeDistance/") + pairs[row].name + "/";
+      benchmark::RegisterBenchmark((base + "minksum").c_str(), PolytopeQuery, row, false, overlapping)
+          ->Unit(benchmark::kMicrosecond);
+      benchmark::RegisterBenchmark((base + "fcl_gjk").c_str(), PolytopeQuery, row, true, overlapping)
+          ->Unit(benchmark::kMicrosecond);
+    }
   }
   return 0;
 }();

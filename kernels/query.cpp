@@ -275,6 +275,7 @@ struct SmallShape {
   double face_offset(int f) const { return offset[f]; }
   int edges() const { return ne; }
   Vector3d edge_direction(int k) const { return edge[k]; }
+  bool arc(int, Vector3d&, Vector3d&) const { return false; }  // directions only: no Gauss map
 };
 
 SmallShape shape_of(const Box& b) {
@@ -328,7 +329,23 @@ struct PolytopeShape {
   Vector3d edge_direction(int k) const {
     return (p.vertices[p.edges[k].v1] - p.vertices[p.edges[k].v0]).stableNormalized();
   }
+  // Edge k's arc in the Gauss map: the normals of its two faces (a flat one has none).
+  bool arc(int k, Vector3d& n0, Vector3d& n1) const {
+    if (p.flat) return false;
+    n0 = p.faces[p.edges[k].left].normal, n1 = p.faces[p.edges[k].right].normal;
+    return true;
+  }
 };
+
+// Whether the Gauss-map arcs a0-a1 (an edge of A) and c0-c1 (an edge of -B, its face normals
+// negated) cross: only then is the cross product of the two edges a facet normal of A (-) B
+// (Gregorius, "The separating axis test between convex polyhedra", GDC 2013). Arcs that only
+// touch give no new normal: the touching point is a face normal, a candidate anyway.
+bool arcs_cross(const Vector3d& a0, const Vector3d& a1, const Vector3d& c0, const Vector3d& c1) {
+  const Vector3d na = a1.cross(a0), nc = c1.cross(c0);
+  const double c0a = c0.dot(na), c1a = c1.dot(na), a0c = a0.dot(nc), a1c = a1.dot(nc);
+  return c0a * c1a < 0 && a0c * a1c < 0 && c0a * a1c > 0;
+}
 
 // |d| without underflow or overflow (coordinates of 1e-271 square to zero).
 double length(const Vector3d& d) {
@@ -617,9 +634,13 @@ void exact_proximity(const A& a, const B& b, Proximity& out) {
     };
     for (int f = 0; f < a.faces(); ++f) consider(a.face_normal(f));
     for (int f = 0; f < b.faces(); ++f) consider(b.face_normal(f));
+    // Edge crosses, skipping pairs whose Gauss-map arcs do not cross (not facets of M).
     for (int i = 0; i < a.edges(); ++i) {
       const Vector3d ea = a.edge_direction(i);
+      Vector3d a0, a1, b0, b1;
+      const bool arc_a = a.arc(i, a0, a1);
       for (int j = 0; j < b.edges(); ++j) {
+        if (arc_a && b.arc(j, b0, b1) && !arcs_cross(a0, a1, -b0, -b1)) continue;
         const Vector3d c = ea.cross(b.edge_direction(j));
         const double len = c.norm();
         if (len > 0 && std::isfinite(len)) consider(c / len);
