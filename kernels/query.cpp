@@ -375,17 +375,29 @@ bool behind(const S& s, int f, const T& other, const Vector3d& shift, double mar
 // The nearest points of A's and (B + shift)'s surfaces, over the pairs of faces that can hold
 // them, each face fanned into triangles (triangle_distance is exact and robust for
 // near-parallel pairs). When one solid holds the other, no face pair qualifies and the answer
-// is the nearest vertex pair (the caller tests containment).
+// is the nearest vertex pair (the caller tests containment). Given a `contact` direction n
+// along which A and B + shift touch (the plane n . x = max n . A supports both), only the
+// vertices and faces of A within margin of that plane, and of B + shift, can hold the points.
 template <class A, class B>
 double surface_distance(const A& a, const B& b, const Vector3d& shift, double margin,
-                        Vector3d& pa, Vector3d& pb) {
+                        Vector3d& pa, Vector3d& pb, const Vector3d* contact = nullptr) {
+  double top = -std::numeric_limits<double>::infinity(), bottom = -top;
+  if (contact) {
+    for (int i = 0; i < a.size(); ++i) top = std::max(top, contact->dot(a.vertex(i)));
+    for (int j = 0; j < b.size(); ++j) bottom = std::min(bottom, contact->dot(b.vertex(j)));
+    bottom += contact->dot(shift);
+  }
+  const auto near_a = [&](const Vector3d& v) { return !contact || contact->dot(v) >= top - margin; };
+  const auto near_b = [&](const Vector3d& v) { return !contact || contact->dot(v) <= bottom + margin; };
   // The nearest pair of vertices bounds the distance from above, so that far face pairs are
   // skipped from the start.
   double best = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < a.size(); ++i)
+  for (int i = 0; i < a.size(); ++i) {
+    if (!near_a(a.vertex(i))) continue;
     for (int j = 0; j < b.size(); ++j)
-      if (const double d = length(a.vertex(i) - b.vertex(j) - shift); d < best)
-        best = d, pa = a.vertex(i), pb = b.vertex(j) + shift;
+      if (const Vector3d v = b.vertex(j) + shift; near_b(v))
+        if (const double d = length(a.vertex(i) - v); d < best) best = d, pa = a.vertex(i), pb = v;
+  }
   // How far the points x_k (k < count) all lie on one side of the plane n . x = offset: a lower
   // bound of the distance between the face on that plane and their face.
   const auto gap = [](const Vector3d& n, double offset, int count, const auto& x) {
@@ -424,9 +436,17 @@ double surface_distance(const A& a, const B& b, const Vector3d& shift, double ma
       }
     batch.s.count = 0;
   };
+  // Whether a face has a vertex near the contact plane.
+  const auto touches = [](int size, const auto& near, const auto& x) {
+    for (int k = 0; k < size; ++k)
+      if (near(x(k))) return true;
+    return false;
+  };
   for (int f = 0; f < a.faces(); ++f) {
+    if (!touches(a.loop_size(f), near_a, [&](int k) { return a.loop_vertex(f, k); })) continue;
     if (behind(a, f, b, shift, margin)) continue;
     for (int g = 0; g < b.faces(); ++g) {
+      if (!touches(b.loop_size(g), near_b, [&](int k) { return Vector3d(b.loop_vertex(g, k) + shift); })) continue;
       if (behind(b, g, a, -shift, margin)) continue;
       const Vector3d& nf = a.face_normal(f);
       const Vector3d& ng = b.face_normal(g);
@@ -434,13 +454,18 @@ double surface_distance(const A& a, const B& b, const Vector3d& shift, double ma
           gap(nf, a.face_offset(f), b.loop_size(g), [&](int k) { return Vector3d(b.loop_vertex(g, k) + shift); }),
           gap(ng, b.face_offset(g) + ng.dot(shift), a.loop_size(f), [&](int k) { return a.loop_vertex(f, k); }));
       if (apart >= best) continue;
-      for (int i = 1; i + 1 < a.loop_size(f); ++i)
+      // Each face fanned from its first vertex (with a contact plane: the triangles that reach it).
+      for (int i = 1; i + 1 < a.loop_size(f); ++i) {
+        const Triangle s{a.loop_vertex(f, 0), a.loop_vertex(f, i), a.loop_vertex(f, i + 1)};
+        if (!near_a(s.a) && !near_a(s.b) && !near_a(s.c)) continue;
         for (int j = 1; j + 1 < b.loop_size(g); ++j) {
+          const Triangle t{b.loop_vertex(g, 0) + shift, b.loop_vertex(g, j) + shift, b.loop_vertex(g, j + 1) + shift};
+          if (!near_b(t.a) && !near_b(t.b) && !near_b(t.c)) continue;
           const int k = batch.s.count++;
-          batch.s.set(k, Triangle{a.loop_vertex(f, 0), a.loop_vertex(f, i), a.loop_vertex(f, i + 1)});
-          batch.t.set(k, Triangle{b.loop_vertex(g, 0) + shift, b.loop_vertex(g, j) + shift, b.loop_vertex(g, j + 1) + shift});
+          batch.s.set(k, s), batch.t.set(k, t);
           if (batch.s.count == 16) flush();
         }
+      }
     }
   }
   flush();
@@ -664,7 +689,7 @@ void exact_proximity(const A& a, const B& b, Proximity& out) {
   out.penetration_direction = dir;
   if (out.penetration_depth > 0) {
     const Vector3d shift = out.penetration_depth * dir;
-    surface_distance(a, b, shift, 1e-9 * size, out.point_a, out.point_b);
+    surface_distance(a, b, shift, 1e-9 * size, out.point_a, out.point_b, &dir);
     out.point_b -= shift;
   }
 }
