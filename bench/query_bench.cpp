@@ -2,8 +2,10 @@
 // BoxBoxPenetration/<method>, BoxTriangleDistance/<method>, TriangleTriangleDistance/<method>
 // (every other pair overlapping; minksum answers penetration there, FCL's distance call only
 // reports the collision), PolytopeDistance/<pair>/<method> and PolytopePenetration/<pair>/<method>
-// (one separated and one overlapping pose of each Table 1 pair). Distance runs use 256 box
-// pairs, half of them overlapping; penetration runs use overlapping pairs only.
+// (one separated and one overlapping pose of each Table 1 pair, and of two hulls of 64 and of
+// 256 points on a sphere). minksum skips the farthest pair (kWantContact) as FCL has none,
+// except in BoxBoxDistance/minksum_with_max. Distance runs use 256 box pairs, half of them
+// overlapping; penetration runs use overlapping pairs only.
 #include <benchmark/benchmark.h>
 #include <minksum/minksum.hpp>
 
@@ -148,8 +150,8 @@ void SmallDistance(benchmark::State& state, bool two_triangles, bool fcl) {
     if (fcl) {
       benchmark::DoNotOptimize(ps.fcl[i]->distance(peers::FclSolver::Gjk));
     } else {
-      if (two_triangles) proximity(ps.s[i], ps.t[i], p);
-      else proximity(ps.boxes[i], ps.t[i], p);
+      if (two_triangles) proximity(ps.s[i], ps.t[i], p, kWantContact);
+      else proximity(ps.boxes[i], ps.t[i], p, kWantContact);
       benchmark::DoNotOptimize(p.distance);
     }
   }
@@ -181,16 +183,22 @@ void TriangleDistanceOnly(benchmark::State& state, bool batched) {
   state.SetItemsProcessed(state.iterations() * 256);
 }
 
-// One Table 1 pair, B moved clear of A (distance) or into it (penetration: minksum's depth,
-// direction and witness points; FCL's collide with one contact).
+// Two polytopes, B moved clear of A (distance) or into it (penetration: minksum's depth,
+// direction and witness points; FCL's collide with one contact): a Table 1 pair (row >= 0), or
+// hulls of n seeded points on the unit sphere (row < 0, n = -row).
 void PolytopeQuery(benchmark::State& state, int row, bool fcl, bool overlapping) {
-  const auto pair = tools::table1_pairs()[row];
-  ConvexPolytope A, B;
-  std::vector<Vector3d> moved;
+  std::vector<Vector3d> a, b;
+  if (row >= 0) {
+    const auto pair = tools::table1_pairs()[row];
+    a = pair.a, b = pair.b;
+  } else {
+    a = tools::sphere_points(-row, 1), b = tools::sphere_points(-row, 2);
+  }
   const Vector3d shift = overlapping ? Vector3d(0.9, 0.3, 0.2) : Vector3d(4.5, 0.3, 0.2);
-  for (const auto& p : pair.b) moved.push_back(p + shift);
-  polytope_from_points(pair.a, A);
-  polytope_from_points(moved, B);
+  for (auto& p : b) p += shift;
+  ConvexPolytope A, B;
+  polytope_from_points(a, A);
+  polytope_from_points(b, B);
   Proximity p;
   if (proximity(A, B, p) != Status::Ok || p.intersecting != overlapping) {
     state.SkipWithError("the pose is not what the benchmark says");
@@ -206,7 +214,7 @@ void PolytopeQuery(benchmark::State& state, int row, bool fcl, bool overlapping)
     }
   } else {
     for (auto _ : state) {
-      proximity(A, B, p);
+      proximity(A, B, p, kWantContact);
       benchmark::DoNotOptimize(p.distance);
     }
   }
@@ -229,9 +237,10 @@ const int kRegistered = [] {
   benchmark::RegisterBenchmark("TriangleExactDistance/scalar", TriangleDistanceOnly, false);
   benchmark::RegisterBenchmark("TriangleExactDistance/batch", TriangleDistanceOnly, true);
   const auto pairs = tools::table1_pairs();
-  for (int row = 0; row < int(pairs.size()); ++row) {
+  for (int row = -256; row < int(pairs.size()); row = row == -256 ? -64 : row == -64 ? 0 : row + 1) {
+    const std::string name = row >= 0 ? pairs[row].name : "sphere" + std::to_string(-row);
     for (const bool overlapping : {false, true}) {
-      const std::string base = (overlapping ? "PolytopePenetration/" : "PolytopeDistance/") + pairs[row].name + "/";
+      const std::string base = (overlapping ? "PolytopePenetration/" : "PolytopeDistance/") + name + "/";
       benchmark::RegisterBenchmark((base + "minksum").c_str(), PolytopeQuery, row, false, overlapping)
           ->Unit(benchmark::kMicrosecond);
       benchmark::RegisterBenchmark((base + "fcl_gjk").c_str(), PolytopeQuery, row, true, overlapping)

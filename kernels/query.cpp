@@ -625,24 +625,30 @@ Guess certified_distance(const A& a, const B& b, double scale, double slack, dou
 // over those candidates (both signs) is the depth; the deepest points are the nearest points of
 // A and of B moved by depth * n, where they touch.
 template <class A, class B>
-void exact_proximity(const A& a, const B& b, Proximity& out) {
+void exact_proximity(const A& a, const B& b, Proximity& out, Want want) {
   out = Proximity{};
-  // Squared lengths of the vertex differences, scaled by a power of two near 1 / the largest
-  // coordinate (exact) so that they neither overflow nor underflow.
-  double reach = 0;
-  for (int i = 0; i < a.size(); ++i) reach = std::max(reach, a.vertex(i).cwiseAbs().maxCoeff());
-  for (int j = 0; j < b.size(); ++j) reach = std::max(reach, b.vertex(j).cwiseAbs().maxCoeff());
+  // The bounding boxes: the largest coordinate (reach) and the largest |a_i - b_j| component
+  // (size), which sets the tolerances.
+  Vector3d alo = a.vertex(0), ahi = alo, blo = b.vertex(0), bhi = blo;
+  for (int i = 1; i < a.size(); ++i) alo = alo.cwiseMin(a.vertex(i)), ahi = ahi.cwiseMax(a.vertex(i));
+  for (int j = 1; j < b.size(); ++j) blo = blo.cwiseMin(b.vertex(j)), bhi = bhi.cwiseMax(b.vertex(j));
+  const double reach = std::max({alo.cwiseAbs().maxCoeff(), ahi.cwiseAbs().maxCoeff(),
+                                 blo.cwiseAbs().maxCoeff(), bhi.cwiseAbs().maxCoeff()});
+  const double size = std::max((ahi - blo).maxCoeff(), (bhi - alo).maxCoeff());
+  // Squared lengths scaled by a power of two near 1 / reach (exact), so that they neither
+  // overflow nor underflow.
   int exponent = 0;
   std::frexp(reach, &exponent);
   const double k = reach > 0 ? std::ldexp(1.0, std::min(-exponent, 1000)) : 1.0;
-  double size = 0, far2 = -1;
-  for (int i = 0; i < a.size(); ++i)
-    for (int j = 0; j < b.size(); ++j) {
-      const Vector3d d = a.vertex(i) - b.vertex(j);
-      if (const double d2 = (k * d).squaredNorm(); d2 > far2) far2 = d2, out.far_a = a.vertex(i), out.far_b = b.vertex(j);
-      size = std::max(size, d.cwiseAbs().maxCoeff());
-    }
-  out.max_distance = length(out.far_a - out.far_b);
+  if (want & kWantMaxDistance) {
+    double far2 = -1;
+    for (int i = 0; i < a.size(); ++i)
+      for (int j = 0; j < b.size(); ++j)
+        if (const double d2 = (k * (a.vertex(i) - b.vertex(j))).squaredNorm(); d2 > far2)
+          far2 = d2, out.far_a = a.vertex(i), out.far_b = b.vertex(j);
+    out.max_distance = length(out.far_a - out.far_b);
+  }
+  if (!(want & kWantContact)) return;
   const double eps = std::numeric_limits<double>::epsilon();
   const double tol = 64 * eps * size;
   // Separated (the common case): GJK's features, proven.
@@ -696,26 +702,26 @@ void exact_proximity(const A& a, const B& b, Proximity& out) {
 
 }  // namespace
 
-Status proximity(const ConvexPolytope& a, const ConvexPolytope& b, Proximity& out) {
+Status proximity(const ConvexPolytope& a, const ConvexPolytope& b, Proximity& out, Want want) {
   out = Proximity{};
   if (a.vertices.empty() || b.vertices.empty() || a.faces.empty() || b.faces.empty()) return Status::TooFewPoints;
-  exact_proximity(PolytopeShape{a}, PolytopeShape{b}, out);
+  exact_proximity(PolytopeShape{a}, PolytopeShape{b}, out, want);
   return Status::Ok;
 }
 
-Status proximity(const Box& a, const Triangle& b, Proximity& out) {
+Status proximity(const Box& a, const Triangle& b, Proximity& out, Want want) {
   out = Proximity{};
   if (const Status s = check_box(a); s != Status::Ok) return s;
   if (const Status s = check_triangle(b); s != Status::Ok) return s;
-  exact_proximity(shape_of(a), shape_of(b), out);
+  exact_proximity(shape_of(a), shape_of(b), out, want);
   return Status::Ok;
 }
 
-Status proximity(const Triangle& a, const Triangle& b, Proximity& out) {
+Status proximity(const Triangle& a, const Triangle& b, Proximity& out, Want want) {
   out = Proximity{};
   for (const Triangle* t : {&a, &b})
     if (const Status s = check_triangle(*t); s != Status::Ok) return s;
-  exact_proximity(shape_of(a), shape_of(b), out);
+  exact_proximity(shape_of(a), shape_of(b), out, want);
   return Status::Ok;
 }
 

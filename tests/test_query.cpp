@@ -111,6 +111,47 @@ TEST_P(RandomQueries, PolytopePolytopeAgreesWithBruteForce) {
 
 INSTANTIATE_TEST_SUITE_P(Shards, RandomQueries, testing::Range(0, 10));
 
+// `want` selects what is computed: the contact fields alone (kWantContact) equal those of
+// kWantAll and leave the farthest pair at its defaults, and the other way round.
+TEST(Query, WantSelectsTheFields) {
+  std::mt19937_64 rng(91);
+  const auto same_contact = [](const Proximity& got, const Proximity& all) {
+    return got.intersecting == all.intersecting && got.distance == all.distance &&
+           got.point_a == all.point_a && got.point_b == all.point_b &&
+           got.penetration_depth == all.penetration_depth &&
+           got.penetration_direction == all.penetration_direction;
+  };
+  const auto same_far = [](const Proximity& got, const Proximity& all) {
+    return got.max_distance == all.max_distance && got.far_a == all.far_a && got.far_b == all.far_b;
+  };
+  int overlapping = 0;
+  for (int k = 0; k < 400; ++k) {
+    const Box box = tools::random_box(rng, 1.0), other = tools::random_box(rng, 1.0);
+    const Triangle s = tools::random_triangle(rng, 1.0), t = tools::random_triangle(rng, 1.0);
+    ConvexPolytope A, B;
+    ASSERT_EQ(polytope_from_box(box, A), Status::Ok);
+    ASSERT_EQ(polytope_from_box(other, B), Status::Ok);
+    const auto check = [&](const auto& query, const char* what) {
+      Proximity all, contact, far;
+      ASSERT_EQ(query(all, kWantAll), Status::Ok);
+      ASSERT_EQ(query(contact, kWantContact), Status::Ok);
+      ASSERT_EQ(query(far, kWantMaxDistance), Status::Ok);
+      const Proximity none;
+      EXPECT_TRUE(same_contact(contact, all) && same_far(contact, none)) << what << " pair " << k;
+      EXPECT_TRUE(same_far(far, all) && same_contact(far, none)) << what << " pair " << k;
+      EXPECT_GT(all.max_distance, 0) << what << " pair " << k;
+      overlapping += all.intersecting;
+    };
+    check([&](Proximity& p, Want w) { return proximity(box, other, p, w); }, "box-box");
+    check([&](Proximity& p, Want w) { return proximity(box, t, p, w); }, "box-triangle");
+    check([&](Proximity& p, Want w) { return proximity(s, t, p, w); }, "triangle-triangle");
+    check([&](Proximity& p, Want w) { return proximity(A, B, p, w); }, "polytope");
+    if (testing::Test::HasFailure()) return;
+  }
+  EXPECT_GT(overlapping, 200);  // both kinds of answer are covered
+  EXPECT_LT(overlapping, 1400);
+}
+
 // The allocation-free box-triangle and triangle-triangle paths against the general path, a
 // different algorithm (the origin's Voronoi region on the polytope A (-) B): random pairs, and
 // pairs made hard on purpose (a triangle in a box face's plane, inside the box, coplanar

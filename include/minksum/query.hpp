@@ -34,15 +34,16 @@ bool contains(const MinkowskiSum& m, const Eigen::Vector3d& p);
 /// support pairs of that feature give the closest points on A and B.
 Proximity proximity(const MinkowskiSum& m, const ConvexPolytope& a, const ConvexPolytope& b);
 
-/// The proximity of two convex polytopes (exact).
-Status proximity(const ConvexPolytope& a, const ConvexPolytope& b, Proximity& out);
+/// The proximity of two convex polytopes (exact). The farthest pair (kWantMaxDistance) looks at
+/// every vertex pair: skip it with kWantContact when the polytopes are large.
+Status proximity(const ConvexPolytope& a, const ConvexPolytope& b, Proximity& out, Want want = kWantAll);
 /// The proximity of two boxes, exact without building A (-) B: the separating axis test, then
 /// an active-set walk on A (-) B's generators from the nearest facet.
 Status proximity(const Box& a, const Box& b, Proximity& out, Want want = kWantAll);
 /// The proximity of a box and a triangle.
-Status proximity(const Box& a, const Triangle& b, Proximity& out);
+Status proximity(const Box& a, const Triangle& b, Proximity& out, Want want = kWantAll);
 /// The proximity of two triangles (coplanar triangles included).
-Status proximity(const Triangle& a, const Triangle& b, Proximity& out);
+Status proximity(const Triangle& a, const Triangle& b, Proximity& out, Want want = kWantAll);
 
 /// How far B must move along the unit direction u for A and B to stop overlapping (0 if they
 /// are separated, or already would be after any move along u).
