@@ -275,7 +275,7 @@ struct SmallShape {
   double face_offset(int f) const { return offset[f]; }
   int edges() const { return ne; }
   Vector3d edge_direction(int k) const { return edge[k]; }
-  bool arc(int, Vector3d&, Vector3d&) const { return false; }  // directions only: no Gauss map
+  bool arc(int, Vector3d&, Vector3d&, Vector3d&) const { return false; }  // directions only: no Gauss map
 };
 
 SmallShape shape_of(const Box& b) {
@@ -329,10 +329,12 @@ struct PolytopeShape {
   Vector3d edge_direction(int k) const {
     return (p.vertices[p.edges[k].v1] - p.vertices[p.edges[k].v0]).stableNormalized();
   }
-  // Edge k's arc in the Gauss map: the normals of its two faces (a flat one has none).
-  bool arc(int k, Vector3d& n0, Vector3d& n1) const {
+  // Edge k's arc in the Gauss map: the normals of its two faces (a flat one has none), and a
+  // point of the edge.
+  bool arc(int k, Vector3d& n0, Vector3d& n1, Vector3d& on) const {
     if (p.flat) return false;
     n0 = p.faces[p.edges[k].left].normal, n1 = p.faces[p.edges[k].right].normal;
+    on = p.vertices[p.edges[k].v0];
     return true;
   }
 };
@@ -665,16 +667,26 @@ void exact_proximity(const A& a, const B& b, Proximity& out, Want want) {
     };
     for (int f = 0; f < a.faces(); ++f) consider(a.face_normal(f));
     for (int f = 0; f < b.faces(); ++f) consider(b.face_normal(f));
-    // Edge crosses, skipping pairs whose Gauss-map arcs do not cross (not facets of M).
+    // Edge crosses, skipping pairs whose Gauss-map arcs do not cross (not facets of M). Where
+    // they cross at n, edge i of A and edge j of B are the supports along n and -n, so
+    // n . (a - b) for points a, b of the edges is h_M(n); it is a point of M, so never above
+    // h_M(n) whatever the rounding: no less than the depth so far, it cannot lower it, and the
+    // scan is skipped.
     for (int i = 0; i < a.edges(); ++i) {
       const Vector3d ea = a.edge_direction(i);
-      Vector3d a0, a1, b0, b1;
-      const bool arc_a = a.arc(i, a0, a1);
+      Vector3d a0 = Vector3d::Zero(), a1 = a0, b0 = a0, b1 = a0, pa = a0, pb = a0;
+      const bool arc_a = a.arc(i, a0, a1, pa);
       for (int j = 0; j < b.edges(); ++j) {
-        if (arc_a && b.arc(j, b0, b1) && !arcs_cross(a0, a1, -b0, -b1)) continue;
+        const bool arcs = arc_a && b.arc(j, b0, b1, pb);
+        if (arcs && !arcs_cross(a0, a1, -b0, -b1)) continue;
         const Vector3d c = ea.cross(b.edge_direction(j));
         const double len = c.norm();
-        if (len > 0 && std::isfinite(len)) consider(c / len);
+        if (!(len > 0 && std::isfinite(len))) continue;
+        if (arcs) {  // n towards the crossing
+          const Vector3d n = (c.dot(a0 + a1) < 0 ? -1 : 1) * c / len;
+          if (n.dot(pa - pb) >= depth) continue;
+        }
+        consider(c / len);
       }
     }
   };
