@@ -552,13 +552,14 @@ bool nearest_on_simplex(const Vector3d* w, int n, double (&lambda)[4]) {
 
 // The nearest features of separated shapes by GJK (Gilbert, Johnson & Keerthi, "A fast
 // procedure for computing the distance between complex objects in three-dimensional space",
-// IEEE J. Robotics and Automation 4(2), 1988) on M = A (-) B: up to three vertices of A (fa)
-// and of B (fb) whose hulls hold the nearest points. False if it finds the origin in M. Its
-// answer is a guess, rounding and all: certified_distance proves it or the caller does the
-// exhaustive search. M's points are scaled by `scale`, a power of two near 1 / the coordinates'
+// IEEE J. Robotics and Automation 4(2), 1988) on M = A (-) B: returns 3 with up to three
+// vertices of A (fa) and of B (fb) whose hulls hold the nearest points, 4 with the four pairs
+// of a tetrahedron of M around the origin, or 0 (NaN). Its answer is a guess, rounding and
+// all: certified_distance and certified_depth prove it or the caller does the exhaustive
+// search. M's points are scaled by `scale`, a power of two near 1 / the coordinates'
 // magnitude, so that their products neither overflow nor underflow.
 template <class A, class B>
-bool gjk_features(const A& a, const B& b, double scale, int (&fa)[3], int (&fb)[3]) {
+int gjk_features(const A& a, const B& b, double scale, int (&fa)[4], int (&fb)[4]) {
   Vector3d w[4] = {scale * (a.vertex(0) - b.vertex(0))};
   int ia[4] = {0}, ib[4] = {0}, n = 1;
   Vector3d v = w[0];
@@ -578,19 +579,22 @@ bool gjk_features(const A& a, const B& b, double scale, int (&fa)[3], int (&fb)[
     if (repeat) break;
     w[n] = scale * (a.vertex(ka) - b.vertex(kb)), ia[n] = ka, ib[n] = kb, ++n;
     double lambda[4];
-    if (!nearest_on_simplex(w, n, lambda)) return false;
+    if (!nearest_on_simplex(w, n, lambda)) {
+      std::copy(ia, ia + 4, fa), std::copy(ib, ib + 4, fb);
+      return 4;
+    }
     // Keep the nearest feature's points only.
     Vector3d next = Vector3d::Zero();
     int m = 0;
     for (int j = 0; j < n; ++j)
       if (lambda[j] > 0) next += lambda[j] * w[j], w[m] = w[j], ia[m] = ia[j], ib[m] = ib[j], ++m;
-    if (m == 0) return false;  // no weight left (NaN from a degenerate simplex)
+    if (m == 0) return 0;  // no weight left (NaN from a degenerate simplex)
     n = m;
     if (!(next.squaredNorm() < vv)) break;  // no progress: rounding has the last word
     v = next;
   }
   for (int j = 0; j < 3; ++j) fa[j] = ia[std::min(j, n - 1)], fb[j] = ib[std::min(j, n - 1)];
-  return true;
+  return 3;
 }
 
 // The distance of separated shapes from the features GJK settles on, proven: the exact nearest
@@ -599,25 +603,128 @@ bool gjk_features(const A& a, const B& b, double scale, int (&fa)[3], int (&fb)[
 // s_A above p's plane and every vertex of B at most s_B below q's, no pair of points is nearer
 // than n . (q - p) - s_A - s_B, so |q - p| is the distance to within s_A + s_B (rounding makes
 // n slightly off, so they are not zero): kept if that is below `slack`, and the shapes are
-// farther apart than `touching` plus it. Otherwise the caller searches exhaustively, told
-// which way GJK leant.
-enum class Guess { Proven, Separated, Overlapping };
+// farther apart than `touching` plus it. Otherwise false: the caller searches exhaustively.
 template <class A, class B>
-Guess certified_distance(const A& a, const B& b, double scale, double slack, double touching, Proximity& out) {
-  int fa[3], fb[3];
-  if (!gjk_features(a, b, scale, fa, fb)) return Guess::Overlapping;
+bool certified_distance(const A& a, const B& b, const int (&fa)[4], const int (&fb)[4], double slack,
+                        double touching, Proximity& out) {
   const Vector3d s[3] = {a.vertex(fa[0]), a.vertex(fa[1]), a.vertex(fa[2])};
   const Vector3d t[3] = {b.vertex(fb[0]), b.vertex(fb[1]), b.vertex(fb[2])};
   Vector3d p, q;
   const double d = triangle_distance(s, t, p, q);
-  if (!(d > touching + slack)) return Guess::Separated;
+  if (!(d > touching + slack)) return false;
   const Vector3d n = (q - p) / d;
   double above = 0, below = 0;
   for (int k = 0; k < a.size(); ++k) above = std::max(above, n.dot(a.vertex(k) - p));
   for (int k = 0; k < b.size(); ++k) below = std::max(below, n.dot(q - b.vertex(k)));
-  if (!(above + below <= slack)) return Guess::Separated;
+  if (!(above + below <= slack)) return false;
   out.distance = d, out.point_a = p, out.point_b = q;
-  return Guess::Proven;
+  return true;
+}
+
+// The penetration of overlapping shapes from the tetrahedron of M around the origin that GJK
+// ends with, by the expanding polytope algorithm (van den Bergen, "Proximity queries and
+// penetration depth computation on 3D game objects", GDC 2001), in fixed buffers: P, a closed
+// triangulated surface of points of M around the origin, grows towards M's facet nearest the
+// origin. Proven: if every face of P lies farther than `touching` from the origin, the ray from
+// the origin along the depth direction leaves M (at the depth) no sooner than it crosses P, so
+// the least face distance d is at most the depth; and the support h_M(n) along that face's
+// normal is at least the depth. Kept when h_M(n) - d <= slack, with the origin's projection
+// d n inside the face, whose corners give the witnesses on A and B. Otherwise false: the
+// caller searches exhaustively.
+template <class A, class B>
+bool certified_depth(const A& a, const B& b, const int (&ta)[4], const int (&tb)[4], double slack,
+                     double touching, Proximity& out) {
+  constexpr int kPoints = 64, kFaces = 128;
+  struct Face {
+    int v[3];
+    Vector3d n;
+    double d;
+  };
+  Vector3d w[kPoints];
+  int ia[kPoints], ib[kPoints], np = 0;
+  Face face[kFaces];
+  int nf = 0;
+  // Face u, v, x (counter-clockwise seen from outside), kept only with the origin well inside.
+  const auto add = [&](int u, int v, int x) {
+    if (nf == kFaces) return false;
+    Vector3d n = (w[v] - w[u]).cross(w[x] - w[u]);
+    const double len = n.norm();
+    if (!(len > 0) || !std::isfinite(len)) return false;
+    n /= len;
+    const double d = n.dot(w[u]);
+    if (!(d > touching)) return false;
+    face[nf++] = {{u, v, x}, n, d};
+    return true;
+  };
+  for (int k = 0; k < 4; ++k) w[k] = a.vertex(ta[k]) - b.vertex(tb[k]), ia[k] = ta[k], ib[k] = tb[k];
+  np = 4;
+  static constexpr int kTet[4][4] = {{0, 1, 2, 3}, {0, 3, 1, 2}, {0, 2, 3, 1}, {1, 3, 2, 0}};
+  for (const auto& t : kTet) {  // wound so that the fourth point is behind
+    const bool flip = (w[t[1]] - w[t[0]]).cross(w[t[2]] - w[t[0]]).dot(w[t[3]] - w[t[0]]) > 0;
+    if (!(flip ? add(t[0], t[2], t[1]) : add(t[0], t[1], t[2]))) return false;
+  }
+  for (int iter = 0; iter < kPoints; ++iter) {
+    int best = 0;
+    for (int k = 1; k < nf; ++k)
+      if (face[k].d < face[best].d) best = k;
+    const Face f = face[best];
+    // M's support along f's normal: A's highest vertex minus B's lowest.
+    int ka = 0, kb = 0;
+    double hi = -std::numeric_limits<double>::infinity(), lo = -hi;
+    for (int k = 0; k < a.size(); ++k)
+      if (const double x = f.n.dot(a.vertex(k)); x > hi) hi = x, ka = k;
+    for (int k = 0; k < b.size(); ++k)
+      if (const double x = f.n.dot(b.vertex(k)); x < lo) lo = x, kb = k;
+    if (hi - lo - f.d <= slack) {
+      // The origin's projection d n in barycentric coordinates of the face.
+      const Vector3d x = f.d * f.n, &p0 = w[f.v[0]], &p1 = w[f.v[1]], &p2 = w[f.v[2]];
+      const double area = (p1 - p0).cross(p2 - p0).dot(f.n);
+      const double l1 = (x - p0).cross(p2 - p0).dot(f.n) / area, l2 = (p1 - p0).cross(x - p0).dot(f.n) / area;
+      const double l0 = 1 - l1 - l2;
+      if (!(l0 >= -1e-9 && l1 >= -1e-9 && l2 >= -1e-9)) return false;
+      out.intersecting = true;
+      out.penetration_depth = f.d, out.penetration_direction = f.n;
+      out.point_a = l0 * a.vertex(ia[f.v[0]]) + l1 * a.vertex(ia[f.v[1]]) + l2 * a.vertex(ia[f.v[2]]);
+      out.point_b = l0 * b.vertex(ib[f.v[0]]) + l1 * b.vertex(ib[f.v[1]]) + l2 * b.vertex(ib[f.v[2]]);
+      return true;
+    }
+    if (np == kPoints) return false;
+    const int q = np++;
+    w[q] = a.vertex(ka) - b.vertex(kb), ia[q] = ka, ib[q] = kb;
+    // Remove the faces q sees, keeping their edges; the ones whose reverse is not kept bound
+    // the hole (the horizon), which must be one loop.
+    int edge[3 * kFaces][2], ne = 0, kept = 0;
+    for (int k = 0; k < nf; ++k) {
+      if (face[k].n.dot(w[q]) > face[k].d) {
+        for (int e = 0; e < 3; ++e) edge[ne][0] = face[k].v[e], edge[ne][1] = face[k].v[(e + 1) % 3], ++ne;
+      } else {
+        face[kept++] = face[k];
+      }
+    }
+    nf = kept;
+    int horizon[3 * kFaces][2], nh = 0;
+    for (int e = 0; e < ne; ++e) {
+      bool inner = false;
+      for (int g = 0; g < ne && !inner; ++g) inner = edge[g][0] == edge[e][1] && edge[g][1] == edge[e][0];
+      if (!inner) horizon[nh][0] = edge[e][0], horizon[nh][1] = edge[e][1], ++nh;
+    }
+    if (nh < 3) return false;
+    for (int e = 0, at = horizon[0][1], steps = 1;; ++steps) {  // one loop through every edge
+      int next = -1;
+      for (int g = 0; g < nh; ++g)
+        if (horizon[g][0] == at) next = next < 0 ? g : nh;  // two edges leaving one point: nh
+      if (next < 0 || next == nh) return false;
+      at = horizon[next][1];
+      if (next == e) {
+        if (steps != nh) return false;
+        break;
+      }
+      if (steps > nh) return false;
+    }
+    for (int e = 0; e < nh; ++e)
+      if (!add(horizon[e][0], horizon[e][1], q)) return false;
+  }
+  return false;
 }
 
 // Exact proximity of two shapes. Distance: the nearest pair of surface points, or 0 if the
@@ -653,9 +760,15 @@ void exact_proximity(const A& a, const B& b, Proximity& out, Want want) {
   if (!(want & kWantContact)) return;
   const double eps = std::numeric_limits<double>::epsilon();
   const double tol = 64 * eps * size;
-  // Separated (the common case): GJK's features, proven.
-  const Guess guess = certified_distance(a, b, k, 64 * eps * reach, tol, out);
-  if (guess == Guess::Proven) return;
+  // GJK, then its answer proven: the distance of separated shapes (the common case), or the
+  // depth of overlapping ones.
+  int fa[4], fb[4];
+  const int found = gjk_features(a, b, k, fa, fb);
+  const double slack = 64 * eps * reach;
+  if (found == 3 && certified_distance(a, b, fa, fb, slack, tol, out)) return;
+  if (found == 4 && certified_depth(a, b, fa, fb, slack, tol, out)) return;
+  enum class Guess { Separated, Overlapping };
+  const Guess guess = found == 4 ? Guess::Overlapping : Guess::Separated;
   double depth = std::numeric_limits<double>::infinity();
   Vector3d dir = Vector3d::UnitZ();
   const auto deepest = [&] {
