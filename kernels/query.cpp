@@ -676,26 +676,33 @@ bool certified_depth(const A& a, const B& b, const int (&ta)[4], const int (&tb)
     for (int k = 0; k < b.size(); ++k)
       if (const double x = f.n.dot(b.vertex(k)); x < lo) lo = x, kb = k;
     if (hi - lo - f.d <= slack) {
-      // The origin's projection d n in barycentric coordinates of the face.
-      const Vector3d x = f.d * f.n, &p0 = w[f.v[0]], &p1 = w[f.v[1]], &p2 = w[f.v[2]];
-      const double area = (p1 - p0).cross(p2 - p0).dot(f.n);
-      const double l1 = (x - p0).cross(p2 - p0).dot(f.n) / area, l2 = (p1 - p0).cross(x - p0).dot(f.n) / area;
-      const double l0 = 1 - l1 - l2;
-      if (!(l0 >= -1e-9 && l1 >= -1e-9 && l2 >= -1e-9)) return false;
-      out.intersecting = true;
-      out.penetration_depth = f.d, out.penetration_direction = f.n;
-      out.point_a = l0 * a.vertex(ia[f.v[0]]) + l1 * a.vertex(ia[f.v[1]]) + l2 * a.vertex(ia[f.v[2]]);
-      out.point_b = l0 * b.vertex(ib[f.v[0]]) + l1 * b.vertex(ib[f.v[1]]) + l2 * b.vertex(ib[f.v[2]]);
-      return true;
+      // The origin's projection x = d n in barycentric coordinates of a face holding it: this
+      // one, or another in its plane (M's facet may be split into several faces of P).
+      const Vector3d x = f.d * f.n;
+      for (int g = 0; g < nf; ++g) {
+        const Face& h = face[g];
+        if (!(std::abs(h.n.dot(x) - h.d) <= slack)) continue;
+        const Vector3d &p0 = w[h.v[0]], &p1 = w[h.v[1]], &p2 = w[h.v[2]];
+        const double area = (p1 - p0).cross(p2 - p0).dot(h.n);
+        const double l1 = (x - p0).cross(p2 - p0).dot(h.n) / area, l2 = (p1 - p0).cross(x - p0).dot(h.n) / area;
+        const double l0 = 1 - l1 - l2;
+        if (!(l0 >= -1e-9 && l1 >= -1e-9 && l2 >= -1e-9)) continue;
+        out.intersecting = true;
+        out.penetration_depth = f.d, out.penetration_direction = f.n;
+        out.point_a = l0 * a.vertex(ia[h.v[0]]) + l1 * a.vertex(ia[h.v[1]]) + l2 * a.vertex(ia[h.v[2]]);
+        out.point_b = l0 * b.vertex(ib[h.v[0]]) + l1 * b.vertex(ib[h.v[1]]) + l2 * b.vertex(ib[h.v[2]]);
+        return true;
+      }
+      return false;
     }
     if (np == kPoints) return false;
     const int q = np++;
     w[q] = a.vertex(ka) - b.vertex(kb), ia[q] = ka, ib[q] = kb;
-    // Remove the faces q sees, keeping their edges; the ones whose reverse is not kept bound
-    // the hole (the horizon), which must be one loop.
+    // Remove the faces q sees (clearly: rounding must not decide), keeping their edges; the
+    // ones whose reverse is not kept bound the hole (the horizon), which must be one loop.
     int edge[3 * kFaces][2], ne = 0, kept = 0;
     for (int k = 0; k < nf; ++k) {
-      if (face[k].n.dot(w[q]) > face[k].d) {
+      if (face[k].n.dot(w[q]) - face[k].d > slack) {  // (q in a face's plane: kept)
         for (int e = 0; e < 3; ++e) edge[ne][0] = face[k].v[e], edge[ne][1] = face[k].v[(e + 1) % 3], ++ne;
       } else {
         face[kept++] = face[k];
