@@ -734,12 +734,14 @@ bool certified_depth(const A& a, const B& b, const int (&ta)[4], const int (&tb)
   return false;
 }
 
-// Exact proximity of two shapes. Distance: the nearest pair of surface points, or 0 if the
-// surfaces meet (within rounding of the coordinates) or one shape holds the other.
-// Penetration: every facet normal of M = A (-) B is a face normal of A or B or the cross product
-// of an edge of each (the Gauss map), and h_M(n) >= depth for every unit n, so the least h_M
-// over those candidates (both signs) is the depth; the deepest points are the nearest points of
-// A and of B moved by depth * n, where they touch.
+// Exact proximity of two shapes: GJK's answer where a certificate proves it (the distance of
+// separated shapes, EPA's depth of overlapping ones), else the exhaustive search. Distance: the
+// nearest pair of surface points, or 0 if the surfaces meet (within rounding of the
+// coordinates) or one shape holds the other. Penetration: every facet normal of M = A (-) B is
+// a face normal of A or B or the cross product of an edge of each (the Gauss map), and
+// h_M(n) >= depth for every unit n, so the least h_M over those candidates (both signs) is the
+// depth; the deepest points are the nearest points of A and of B moved by depth * n, where they
+// touch.
 template <class A, class B>
 void exact_proximity(const A& a, const B& b, Proximity& out, Want want) {
   out = Proximity{};
