@@ -237,7 +237,9 @@ const int kRegistered = [] {
   benchmark::RegisterBenchmark("TriangleExactDistance/scalar", TriangleDistanceOnly, false);
   benchmark::RegisterBenchmark("TriangleExactDistance/batch", TriangleDistanceOnly, true);
   const auto pairs = tools::table1_pairs();
-  for (int row = -256; row < int(pairs.size()); row = row == -256 ? -64 : row == -64 ? 0 : row + 1) {
+  std::vector<int> rows = {-256, -64};  // the sphere hulls, then the Table 1 rows
+  for (int row = 0; row < int(pairs.size()); ++row) rows.push_back(row);
+  for (const int row : rows) {
     const std::string name = row >= 0 ? pairs[row].name : "sphere" + std::to_string(-row);
     for (const bool overlapping : {false, true}) {
       const std::string base = (overlapping ? "PolytopePenetration/" : "PolytopeDistance/") + name + "/";
