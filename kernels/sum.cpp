@@ -194,6 +194,9 @@ Status sum_dispatch(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiS
     out.corrected = false;  // the hull is the method here, not a correction
     return s;
   }
+  // Small operands in general position: the certified bit-set path, whose every sign has a
+  // margin, so it needs neither the Euler-and-support check below nor the corrector.
+  if (method == Method::Fast && detail::sum_small(a, b, out)) return Status::Ok;
   bool ok = true;
   if (method == Method::Fast || method == Method::Kernel)
     ok = detail::sum_fast(a, b, out);

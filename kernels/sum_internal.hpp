@@ -29,4 +29,9 @@ void sum_reference(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSu
 /// location failed, which only an invalid polytope can cause.
 bool sum_fast(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out);
 
+/// The fast path for operands of at most 64 vertices, faces and edges, in general position:
+/// every decision in double with a margin (sum_small.cpp). False, with `out` unspecified, when
+/// it does not apply or a margin fails; true with a complete result otherwise.
+bool sum_small(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out);
+
 }  // namespace minksum::detail
