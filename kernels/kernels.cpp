@@ -166,6 +166,13 @@ void box_pair_proximity(const Box& a, const Box& b, bool answer, BoxPair<double>
   dispatch().box_pair_d(va, vb, answer, pair, out);
 }
 
+void vertex_heights(const double* x, const double* y, const double* z, int n, const double* dx,
+                    const double* dy, const double* dz, int k, const int* v0, const int* v1, int e,
+                    double tol, int* top, std::uint64_t* tied, std::uint64_t* positive,
+                    std::uint64_t* unsure) {
+  dispatch().heights_d(x, y, z, n, dx, dy, dz, k, v0, v1, e, tol, top, tied, positive, unsure);
+}
+
 }  // namespace detail
 
 void support_push(const float* x, const float* y, const float* z, int n, const float* dx,

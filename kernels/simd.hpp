@@ -62,6 +62,19 @@ struct Simd {
   static void store_code(CodeOf<T>* p, const B& v) {
     xsimd::batch_cast<CodeOf<T>>(v).store_aligned(p);
   }
+  /// The lanes of a mask as bits, lane l in bit l (xsimd 8 has no such call).
+  static unsigned bits(const typename B::batch_bool_type& m) {
+    if constexpr (std::is_same_v<Arch, xsimd::avx512bw>)
+      return unsigned(m.data);
+    else if constexpr (size * sizeof(T) == 32 && std::is_same_v<T, float>)
+      return unsigned(_mm256_movemask_ps(m));
+    else if constexpr (size * sizeof(T) == 32)
+      return unsigned(_mm256_movemask_pd(m));
+    else if constexpr (std::is_same_v<T, float>)
+      return unsigned(_mm_movemask_ps(m));
+    else
+      return unsigned(_mm_movemask_pd(m));
+  }
 };
 
 template <class T>
@@ -81,6 +94,7 @@ struct Simd<T, ScalarArch> {
   static B select(bool m, B a, B b) { return m ? a : b; }
   static bool any(bool m) { return m; }
   static void store_code(CodeOf<T>* p, B v) { *p = CodeOf<T>(v); }
+  static unsigned bits(bool m) { return m; }
 };
 
 template <class T>
@@ -109,6 +123,9 @@ struct KernelTable {
   void (*box_pair_d)(const BoxView&, const BoxView&, bool, BoxPair<double>&, PairAnswer<double>&);
   void (*tri_tri_f)(const float*, const float*, int, int, float*, float*, float*);
   void (*tri_tri_d)(const double*, const double*, int, int, double*, double*, double*);
+  void (*heights_d)(const double*, const double*, const double*, int, const double*,
+                    const double*, const double*, int, const int*, const int*, int, double, int*,
+                    std::uint64_t*, std::uint64_t*, std::uint64_t*);
 };
 
 // One constant-initialised table per ISA translation unit (no static-initialisation order

@@ -3,6 +3,7 @@
 
 #include <minksum/sum.hpp>
 
+#include <cstdint>
 #include <utility>
 #include <vector>
 
@@ -33,5 +34,15 @@ bool sum_fast(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& ou
 /// every decision in double with a margin (sum_small.cpp). False, with `out` unspecified, when
 /// it does not apply or a margin fails; true with a complete result otherwise.
 bool sum_small(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out);
+
+/// Heights h[v][k] = d_k . x_v of n <= 64 points over k <= 64 directions (coordinate arrays of
+/// the directions readable to k rounded up to 8; n times that at most 2048), through the active
+/// ISA: per direction, `top` the first highest point and bit k of *tied set if another comes
+/// within tol of it; per edge (v0, v1), bit k of positive[e] iff h[v1][k] - h[v0][k] > tol, and
+/// bit e of *unsure iff some |h[v1][k] - h[v0][k]| <= tol.
+void vertex_heights(const double* x, const double* y, const double* z, int n, const double* dx,
+                    const double* dy, const double* dz, int k, const int* v0, const int* v1, int e,
+                    double tol, int* top, std::uint64_t* tied, std::uint64_t* positive,
+                    std::uint64_t* unsure);
 
 }  // namespace minksum::detail

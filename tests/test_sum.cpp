@@ -6,6 +6,7 @@
 #include <random>
 
 #include "checks.hpp"
+#include "sum_internal.hpp"
 #include "tools/shapes.hpp"
 
 namespace minksum {
@@ -130,6 +131,57 @@ std::vector<Vector3d> box_points(const Vector3d& h, const Eigen::Matrix3d& R = E
 }
 
 const Vector3d kGeneric = Vector3d(0.3, -0.5, 0.81).normalized();
+
+// The small path (sum_small.cpp) directly: it must answer the generic Table 1 pairs and most
+// random small pairs, with the polytope of the hull of the pairwise sums (Qhull, an independent
+// construction) and of the general fast path; and decline where features are parallel.
+TEST(SmallPath, AnswersGenericPairsLikeTheHullAndDeclinesTies) {
+  for (const auto& pair : tools::table1_pairs()) {
+    SCOPED_TRACE(pair.name);
+    const Operands o = make(pair.a, pair.b);
+    MinkowskiSum small, hull;
+    ASSERT_TRUE(detail::sum_small(o.A, o.B, small));
+    ASSERT_EQ(minkowski_sum(o.A, o.B, hull, Method::Hull), Status::Ok);
+    EXPECT_TRUE(same_sum(small, hull, 1e-9));
+    EXPECT_TRUE(valid_sum(o.a, o.b, 1, o.A, o.B, small, 1e-12, 1e-12, 300));
+  }
+  std::mt19937_64 rng(77);
+  int answered = 0, declined = 0;
+  for (int k = 0; k < test::scaled(2000); ++k) {
+    SCOPED_TRACE("pair " + std::to_string(k));
+    const Operands o = make(random_points(rng), random_points(rng));
+    MinkowskiSum small, general, hull;
+    const bool fits = o.A.edges.size() <= 64 && o.B.edges.size() <= 64;
+    if (!detail::sum_small(o.A, o.B, small)) {
+      declined += fits;
+      continue;
+    }
+    ++answered;
+    ASSERT_TRUE(detail::sum_fast(o.A, o.B, general));
+    ASSERT_EQ(minkowski_sum(o.A, o.B, hull, Method::Hull), Status::Ok);
+    ASSERT_TRUE(same_sum(small, general, 1e-9));
+    ASSERT_TRUE(same_sum(small, hull, 1e-9));
+    ASSERT_TRUE(valid_sum(o.a, o.b, 1, o.A, o.B, small, 1e-9, 1e-12, 300, unsigned(k)));
+  }
+  // Operands of up to 64 points, in general position: those with at most 64 edges (about 22
+  // points) are all small enough.
+  EXPECT_GT(answered, test::scaled(2000) / 20);
+  EXPECT_EQ(declined, 0) << answered << " answered";
+  // Parallel faces (an axis-aligned cube and a box, a cube and itself) and parallel edges: the
+  // general path's merged facets, not the small path's.
+  const Operands aligned = make(box_points(Vector3d(1, 1, 1)), box_points(Vector3d(0.5, 2, 3)));
+  MinkowskiSum m;
+  EXPECT_FALSE(detail::sum_small(aligned.A, aligned.B, m));
+  const Operands turned = make(box_points(Vector3d(1, 1, 1)), box_points(Vector3d(1, 1, 1), tools::axis_angle(Vector3d(0, 0, 1), 0.3)));
+  EXPECT_FALSE(detail::sum_small(turned.A, turned.B, m));  // z faces and z edges parallel
+  // A face parallel to a face of the cube, no edge parallel to one of its edges: a tie in the
+  // support alone (the facet is the sum of the two faces).
+  std::vector<Vector3d> pyramid = {Vector3d(0, 0, -1)};
+  for (int k = 0; k < 3; ++k) pyramid.emplace_back(std::cos(0.1 + 2.1 * k), std::sin(0.1 + 2.1 * k), 0);
+  const Operands parallel_faces = make(box_points(Vector3d(1, 1, 1)), pyramid);
+  EXPECT_FALSE(detail::sum_small(parallel_faces.A, parallel_faces.B, m));
+  check_all(parallel_faces, 1e-12, true);
+}
 
 // The box-box kernel path against the general fast path (and both against brute force):
 // random pairs, aligned ones (parallel edges: the general path), tiny rotations, and boxes far
