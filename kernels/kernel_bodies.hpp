@@ -868,7 +868,7 @@ struct Kernels {
     const std::uint64_t lanes = (std::uint64_t(1) << L) - 1;
     const std::uint64_t all = K == 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << K) - 1;
     alignas(64) T h[kHeights];
-    alignas(64) T arg[64];
+    alignas(64) T arg[64] = {};
     for (int c = 0; c < stride; c += L) {
       const B bx = load_u(dx + c), by = load_u(dy + c), bz = load_u(dz + c);
       B hi(-std::numeric_limits<T>::infinity()), at(T(0));
