@@ -853,55 +853,59 @@ struct Kernels {
       arg_out[q] = at;
     }
   }
-  // Vertex heights over planes through the origin, for the small Minkowski sum (sum_small.cpp).
-  // With h[v][k] = d_k . x_v for n <= 64 points x and K <= 64 directions d (arrays readable to K
-  // rounded up to 8), n * (K rounded up to 8) <= kHeights: per direction k, top[k] is the first
-  // point of greatest height and bit k of tied[k / 64] is set when another one comes within tol
-  // of it; per edge (v0[e], v1[e]) of the points, bit k of positive[e] is set iff
-  // h[v1][k] - h[v0][k] > tol, and bit e of unsure[e / 64] iff some |h[v1][k] - h[v0][k]| <= tol.
-  static constexpr int kHeights = 2048;
-  static void heights(const T* x, const T* y, const T* z, int n, const T* dx, const T* dy,
-                      const T* dz, int K, const int* v0, const int* v1, int E, T tol, int* top,
-                      std::uint64_t* tied, std::uint64_t* positive, std::uint64_t* unsure) {
-    constexpr int L = S::size;
-    const int stride = (K + 7) / 8 * 8;
-    const std::uint64_t lanes = (std::uint64_t(1) << L) - 1;
-    const std::uint64_t all = K == 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << K) - 1;
-    alignas(64) T h[kHeights];
-    alignas(64) T arg[64] = {};
-    for (int c = 0; c < stride; c += L) {
+  // For the small Minkowski sum (sum_small.cpp): n <= 64 points x (broadcast) against K <= 64
+  // directions d in the lanes (arrays readable to K rounded up to 8), h = d_k . x.
+  static B dot_lanes(const B& dx, const B& dy, const B& dz, const T* x, const T* y, const T* z, int v) {
+    return S::fma(dx, B(x[v]), S::fma(dy, B(y[v]), dz * B(z[v])));
+  }
+  // Per direction k: top[k] is the first of the n points highest along it; bit k of *tied is
+  // set when another point comes within tol of it.
+  static void tops(const T* x, const T* y, const T* z, int n, const T* dx, const T* dy,
+                   const T* dz, int K, T tol, int* top, std::uint64_t* tied) {
+    const std::uint64_t lanes = (std::uint64_t(1) << S::size) - 1;
+    std::uint64_t twice_all = 0;
+    for (int c = 0; c < K; c += S::size) {
       const B bx = load_u(dx + c), by = load_u(dy + c), bz = load_u(dz + c);
       B hi(-std::numeric_limits<T>::infinity()), at(T(0));
       for (int v = 0; v < n; ++v) {
-        const B row = S::fma(bx, B(x[v]), S::fma(by, B(y[v]), bz * B(z[v])));
-        S::store(h + v * stride + c, row);
-        const auto better = row > hi;
-        hi = S::select(better, row, hi);
+        const B h = dot_lanes(bx, by, bz, x, y, z, v);
+        const auto better = h > hi;
+        hi = S::select(better, h, hi);
         at = S::select(better, B(T(v)), at);
       }
-      S::store(arg + c, at);
-      // Points within tol of the top, counted to two.
+      alignas(64) T arg[S::size];
+      S::store(arg, at);
+      for (int l = 0; l < S::size && c + l < K; ++l) top[c + l] = int(arg[l]);
+      // Points within tol of the top, counted to two (the heights formed again, bit for bit).
       std::uint64_t once = 0, twice = 0;
       const B floor = hi - B(tol);
       for (int v = 0; v < n; ++v) {
-        const std::uint64_t m = S::bits(S::load(h + v * stride + c) >= floor);
+        const std::uint64_t m = S::bits(dot_lanes(bx, by, bz, x, y, z, v) >= floor);
         twice |= once & m, once |= m;
       }
-      tied[0] = (c == 0 ? 0 : tied[0]) | (twice & lanes) << c;
+      twice_all |= (twice & lanes) << c;
     }
-    tied[0] &= all;
-    for (int k = 0; k < K; ++k) top[k] = int(arg[k]);
-    unsure[0] = 0;
-    for (int e = 0; e < E; ++e) {
-      std::uint64_t up = 0, sure = 0;
-      for (int c = 0; c < stride; c += L) {
-        const B d = S::load(h + v1[e] * stride + c) - S::load(h + v0[e] * stride + c);
-        const std::uint64_t u = S::bits(d > B(tol)), w = S::bits(d < B(-tol));
-        up |= u << c, sure |= (u | w) << c;
+    *tied = K == 64 ? twice_all : twice_all & ((std::uint64_t(1) << K) - 1);
+  }
+  // Per point k (the n points are normals here): bit e of positive[k] is set iff
+  // d_e . x_k > tol; *unsure is set iff some |d_e . x_k| <= tol.
+  static void signs(const T* x, const T* y, const T* z, int n, const T* dx, const T* dy,
+                    const T* dz, int K, T tol, std::uint64_t* positive, bool* unsure) {
+    const std::uint64_t all = K == 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << K) - 1;
+    const std::uint64_t lanes = (std::uint64_t(1) << S::size) - 1;
+    std::uint64_t sure = all;
+    for (int v = 0; v < n; ++v) positive[v] = 0;
+    for (int c = 0; c < K; c += S::size) {
+      const B bx = load_u(dx + c), by = load_u(dy + c), bz = load_u(dz + c);
+      for (int v = 0; v < n; ++v) {
+        const B h = dot_lanes(bx, by, bz, x, y, z, v);
+        const std::uint64_t up = S::bits(h > B(tol)), down = S::bits(h < B(-tol));
+        positive[v] |= up << c;
+        sure &= ~((~(up | down) & lanes) << c);
       }
-      positive[e] = up & all;
-      if ((sure & all) != all) unsure[0] |= std::uint64_t(1) << e;
     }
+    for (int v = 0; v < n; ++v) positive[v] &= all;
+    *unsure = (sure & all) != all;
   }
   static B load_u(const T* p) {
     if constexpr (S::size == 1)
@@ -922,7 +926,7 @@ constexpr KernelTable make_table() {
           &Kernels<float, Arch>::box_triangle_overlap, &Kernels<double, Arch>::box_triangle_overlap,
           &BoxPairQuery<double, Arch>::box_pair,
           &Kernels<float, Arch>::triangle_distance, &Kernels<double, Arch>::triangle_distance,
-          &Kernels<double, Arch>::heights};
+          &Kernels<double, Arch>::tops, &Kernels<double, Arch>::signs};
 }
 
 }  // namespace minksum::detail

@@ -166,11 +166,15 @@ void box_pair_proximity(const Box& a, const Box& b, bool answer, BoxPair<double>
   dispatch().box_pair_d(va, vb, answer, pair, out);
 }
 
-void vertex_heights(const double* x, const double* y, const double* z, int n, const double* dx,
-                    const double* dy, const double* dz, int k, const int* v0, const int* v1, int e,
-                    double tol, int* top, std::uint64_t* tied, std::uint64_t* positive,
-                    std::uint64_t* unsure) {
-  dispatch().heights_d(x, y, z, n, dx, dy, dz, k, v0, v1, e, tol, top, tied, positive, unsure);
+void support_tops(const double* x, const double* y, const double* z, int n, const double* dx,
+                  const double* dy, const double* dz, int k, double tol, int* top, std::uint64_t* tied) {
+  dispatch().tops_d(x, y, z, n, dx, dy, dz, k, tol, top, tied);
+}
+
+void edge_signs(const double* nx, const double* ny, const double* nz, int n, const double* dx,
+                const double* dy, const double* dz, int k, double tol, std::uint64_t* positive,
+                bool* unsure) {
+  dispatch().signs_d(nx, ny, nz, n, dx, dy, dz, k, tol, positive, unsure);
 }
 
 }  // namespace detail

@@ -123,9 +123,10 @@ struct KernelTable {
   void (*box_pair_d)(const BoxView&, const BoxView&, bool, BoxPair<double>&, PairAnswer<double>&);
   void (*tri_tri_f)(const float*, const float*, int, int, float*, float*, float*);
   void (*tri_tri_d)(const double*, const double*, int, int, double*, double*, double*);
-  void (*heights_d)(const double*, const double*, const double*, int, const double*,
-                    const double*, const double*, int, const int*, const int*, int, double, int*,
-                    std::uint64_t*, std::uint64_t*, std::uint64_t*);
+  void (*tops_d)(const double*, const double*, const double*, int, const double*, const double*,
+                 const double*, int, double, int*, std::uint64_t*);
+  void (*signs_d)(const double*, const double*, const double*, int, const double*, const double*,
+                  const double*, int, double, std::uint64_t*, bool*);
 };
 
 // One constant-initialised table per ISA translation unit (no static-initialisation order

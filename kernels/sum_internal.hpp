@@ -35,14 +35,17 @@ bool sum_fast(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& ou
 /// it does not apply or a margin fails; true with a complete result otherwise.
 bool sum_small(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out);
 
-/// Heights h[v][k] = d_k . x_v of n <= 64 points over k <= 64 directions (coordinate arrays of
-/// the directions readable to k rounded up to 8; n times that at most 2048), through the active
-/// ISA: per direction, `top` the first highest point and bit k of *tied set if another comes
-/// within tol of it; per edge (v0, v1), bit k of positive[e] iff h[v1][k] - h[v0][k] > tol, and
-/// bit e of *unsure iff some |h[v1][k] - h[v0][k]| <= tol.
-void vertex_heights(const double* x, const double* y, const double* z, int n, const double* dx,
-                    const double* dy, const double* dz, int k, const int* v0, const int* v1, int e,
-                    double tol, int* top, std::uint64_t* tied, std::uint64_t* positive,
-                    std::uint64_t* unsure);
+/// Through the active ISA, for n <= 64 points x and k <= 64 directions d (direction arrays
+/// readable to k rounded up to 8): per direction, `top` the first point highest along it, and
+/// bit k of *tied set if another point comes within tol of it.
+void support_tops(const double* x, const double* y, const double* z, int n, const double* dx,
+                  const double* dy, const double* dz, int k, double tol, int* top, std::uint64_t* tied);
+
+/// Through the active ISA, for n <= 64 normals N and k <= 64 edge directions d (direction arrays
+/// readable to k rounded up to 8): bit e of positive[v] is set iff d_e . N_v > tol, and *unsure
+/// iff some |d_e . N_v| <= tol.
+void edge_signs(const double* nx, const double* ny, const double* nz, int n, const double* dx,
+                const double* dy, const double* dz, int k, double tol, std::uint64_t* positive,
+                bool* unsure);
 
 }  // namespace minksum::detail

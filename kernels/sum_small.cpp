@@ -8,10 +8,11 @@
 //  - the parallelogram e_A (+) e_B for every pair of edges whose Gauss-map arcs cross.
 // Arc e_A lies on the great circle normal to d_A = a_v1 - a_v0 (N_L x N_R is a positive
 // multiple of d_A when loops run counter-clockwise from outside), so arc e_B crosses that circle
-// iff exactly one of its two face normals has d_A . N > 0: the set of such e_B is the XOR, over
-// the faces g of B with d_A . N_g > 0, of g's edges (each edge has two faces). The same test the
-// other way and Gregorius's hemisphere condition (GDC 2013; the signs of sum_fast.cpp's
-// crossing_facet) decide the crossing.
+// iff exactly one of its two face normals has d_A . N > 0. With P[g] the set of A's edges with
+// d_A . N_g > 0 (a bit set per face g of B) and Q[f] the same for B's edges and A's faces, the
+// A edges whose circles cross arc e_B are P[L'] ^ P[R'] (its faces L', R'), and the B edges
+// whose circles cross arc e_A are Q[L] ^ Q[R]; Gregorius's hemisphere condition (GDC 2013; the
+// signs of sum_fast.cpp's crossing_facet) then decides the crossing.
 // Every sign is kept only with a margin of 1e-11 of the largest coordinate, about 10^4 times
 // the rounding of the dot products; a sign within it (parallel features, touching arcs: facets
 // that merge) or a result whose Euler characteristic is not 2 returns false, and the general
@@ -29,64 +30,44 @@ using Eigen::Vector3d;
 
 namespace {
 
-constexpr int kMax = 64;          // vertices, faces and edges per operand (one bit each)
+constexpr int kMax = 64;            // vertices, faces and edges per operand (one bit each)
 constexpr int kMaxCrossings = 192;  // parallelogram facets (more: the general path)
 using Mask = std::uint64_t;
 
-// One operand by component (the layout of the vertex_heights kernel, zero-padded to 8):
-// vertices and face normals; its edges' endpoints; per face, the set of its edges, and per
-// group of four faces the XOR of the edge sets of every subset (crossing_edges below).
+// One operand by component (the layout of the support_tops and edge_signs kernels,
+// zero-padded to 8): vertices, face normals and edge directions.
 struct Operand {
-  const ConvexPolytope* p;
   int V, F, E;
-  double vertex[3][kMax], normal[3][kMax];
-  int v0[kMax], v1[kMax];
-  int first[kMax];              // per face, where its loop's smallest vertex is
-  Mask edges[kMax / 4][16];     // the edges of any subset of four faces (XOR of their sets)
-  Mask left_edges[kMax / 4][16];  // the same for the edges whose left face is in the subset
+  double vertex[3][kMax], normal[3][kMax], dir[3][kMax];
 };
-
-// table[g][m]: the XOR of sets[4 g + b] over the bits b of m (sets zero-padded to 4).
-void nibbles(const Mask* sets, int n, Mask (*table)[16]) {
-  for (int g = 0; g < (n + 3) / 4; ++g) {
-    table[g][0] = 0;
-    for (int m = 1; m < 16; ++m) table[g][m] = table[g][m & (m - 1)] ^ sets[4 * g + __builtin_ctz(m)];
-  }
-}
-
-// The XOR of the sets of the faces in `faces`, four faces per lookup.
-Mask xor_of(const Mask (*table)[16], Mask faces) {
-  Mask x = 0;
-  for (int g = 0; faces; ++g, faces >>= 4) x ^= table[g][faces & 15];
-  return x;
-}
 
 // False when the operand is too large, flat, or its edges are not oriented as documented.
 bool prepare(const ConvexPolytope& p, Operand& o) {
-  o.p = &p, o.V = int(p.vertices.size()), o.F = int(p.faces.size()), o.E = int(p.edges.size());
+  o.V = int(p.vertices.size()), o.F = int(p.faces.size()), o.E = int(p.edges.size());
   if (p.flat || o.V > kMax || o.F > kMax || o.E > kMax) return false;
+  const auto pad = [](double (&xyz)[3][kMax], int n) {
+    for (auto& row : xyz) std::fill(row + n, row + std::min(kMax, (n + 7) / 8 * 8), 0.0);
+  };
   for (int k = 0; k < o.V; ++k)
     for (int c = 0; c < 3; ++c) o.vertex[c][k] = p.vertices[k][c];
-  const int padded = (o.F + 7) / 8 * 8;
-  Mask edges_of[kMax] = {}, left_of[kMax] = {};
-  for (int f = 0; f < padded; ++f)
-    for (int c = 0; c < 3; ++c) o.normal[c][f] = f < o.F ? p.faces[f].normal[c] : 0.0;
-  for (int f = 0; f < o.F; ++f) {
-    const auto& loop = p.faces[f].loop;
-    o.first[f] = int(std::min_element(loop.begin(), loop.end()) - loop.begin());
-  }
+  for (int f = 0; f < o.F; ++f)
+    for (int c = 0; c < 3; ++c) o.normal[c][f] = p.faces[f].normal[c];
   for (int e = 0; e < o.E; ++e) {
     const Edge& ed = p.edges[e];
-    o.v0[e] = ed.v0, o.v1[e] = ed.v1;
-    edges_of[ed.left] |= Mask(1) << e, edges_of[ed.right] |= Mask(1) << e, left_of[ed.left] |= Mask(1) << e;
     const Vector3d d = p.vertices[ed.v1] - p.vertices[ed.v0];
+    for (int c = 0; c < 3; ++c) o.dir[c][e] = d[c];
     if (d.dot(p.faces[ed.left].normal.cross(p.faces[ed.right].normal)) <= 0) return false;
   }
-  nibbles(edges_of, o.F, o.edges), nibbles(left_of, o.F, o.left_edges);
+  pad(o.normal, o.F), pad(o.dir, o.E);
   return true;
 }
 
 int lowest_bit(Mask m) { return __builtin_ctzll(m); }
+
+// Where a face's loop has its smallest vertex (the output loop starts there, as assemble's do).
+int smallest(const std::vector<int>& loop) {
+  return int(std::min_element(loop.begin(), loop.end()) - loop.begin());
+}
 
 }  // namespace
 
@@ -97,77 +78,55 @@ bool sum_small(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& o
   for (const auto* p : {&a, &b})
     for (const auto& v : p->vertices) size = std::max(size, v.cwiseAbs().maxCoeff());
   const double tol = 1e-11 * size;
-  // The heights of A's vertices over B's face normals give B's faces' supports in A and the
-  // signs d_A . N_B of A's edges; and the other way round.
-  int support_in_b[kMax], support_in_a[kMax];
-  Mask pos_a[kMax], pos_b[kMax], tied[2], unsure[2];
-  const auto pad = [](int n) { return (n + 7) / 8 * 8; };
-  if (A.V * pad(B.F) > 2048 || B.V * pad(A.F) > 2048) return false;
-  vertex_heights(A.vertex[0], A.vertex[1], A.vertex[2], A.V, B.normal[0], B.normal[1], B.normal[2], B.F,
-                 A.v0, A.v1, A.E, tol, support_in_a, &tied[0], pos_a, &unsure[0]);
-  vertex_heights(B.vertex[0], B.vertex[1], B.vertex[2], B.V, A.normal[0], A.normal[1], A.normal[2], A.F,
-                 B.v0, B.v1, B.E, tol, support_in_b, &tied[1], pos_b, &unsure[1]);
-  if (tied[0] | tied[1] | unsure[0] | unsure[1]) return false;
-  // Arc e_B crosses e_A's great circle iff exactly one of its faces has d_A . N > 0: the XOR,
-  // over those faces, of their edge sets (each edge has two faces).
-  Mask cross_a[kMax];
-  for (int e = 0; e < A.E; ++e) cross_a[e] = xor_of(B.edges, pos_a[e]);
-  // The same the other way, transposed: crossed_by[ea] is the set of e_B whose circle e_A
-  // crosses; and b_right[f] the set of e_B with d_B . N_f > 0, for A's faces f.
-  Mask crossed_by[kMax] = {}, b_right[kMax] = {};
-  for (int eb = 0; eb < B.E; ++eb) {
-    for (Mask m = xor_of(A.edges, pos_b[eb]); m; m &= m - 1) crossed_by[lowest_bit(m)] |= Mask(1) << eb;
-    for (Mask m = pos_b[eb]; m; m &= m - 1) b_right[lowest_bit(m)] |= Mask(1) << eb;
-  }
 
-  // Facets as loops of pairs (i, j) in one flat array; `first` is the loop's smallest pair,
-  // where the output loop starts (as assemble's do).
-  struct Facet {
-    Vector3d normal;
-    int begin, end, first;
+  // Supports: per face of one operand, the other's vertex highest along its normal.
+  int support_in_a[kMax], support_in_b[kMax];
+  Mask tied_a, tied_b;
+  support_tops(A.vertex[0], A.vertex[1], A.vertex[2], A.V, B.normal[0], B.normal[1], B.normal[2], B.F, tol,
+               support_in_a, &tied_a);
+  support_tops(B.vertex[0], B.vertex[1], B.vertex[2], B.V, A.normal[0], A.normal[1], A.normal[2], A.F, tol,
+               support_in_b, &tied_b);
+  // P[g]: A's edges with d_A . N_g > 0 for B's faces g; Q[f]: B's edges with d_B . N_f > 0.
+  Mask P[kMax], Q[kMax];
+  bool unsure_p, unsure_q;
+  edge_signs(B.normal[0], B.normal[1], B.normal[2], B.F, A.dir[0], A.dir[1], A.dir[2], A.E, tol, P, &unsure_p);
+  edge_signs(A.normal[0], A.normal[1], A.normal[2], A.F, B.dir[0], B.dir[1], B.dir[2], B.E, tol, Q, &unsure_q);
+  if (tied_a || tied_b || unsure_p || unsure_q) return false;
+
+  // The crossings, as (e_A, e_B, s1) with s1 = sign(d_A . N_B,left) > 0.
+  struct Crossing {
+    int ea, eb;
+    bool up;
   };
-  constexpr int kMaxFacets = 2 * kMax + kMaxCrossings;
-  Facet facets[kMaxFacets];
-  std::uint8_t pi[4 * kMaxFacets], pj[4 * kMaxFacets];
-  int nf = 0, np = 0;
-  Mask used[kMax] = {};  // used[i] bit j: pair (i, j) is a vertex of the sum
-  const auto push = [&](int i, int j) { pi[np] = std::uint8_t(i), pj[np] = std::uint8_t(j), ++np, used[i] |= Mask(1) << j; };
-  for (int f = 0; f < A.F; ++f) {
-    facets[nf++] = {a.faces[f].normal, np, np + int(a.faces[f].loop.size()), np + A.first[f]};
-    for (int i : a.faces[f].loop) push(i, support_in_b[f]);
-  }
-  for (int g = 0; g < B.F; ++g) {
-    facets[nf++] = {b.faces[g].normal, np, np + int(b.faces[g].loop.size()), np + B.first[g]};
-    for (int j : b.faces[g].loop) push(support_in_a[g], j);
-  }
-  for (int ea = 0; ea < A.E; ++ea) {
-    const Edge& x = a.edges[ea];
+  Crossing crossings[kMaxCrossings];
+  int nc = 0;
+  Mask crossed[kMax];  // per e_A: the B edges whose circles cross its arc
+  for (int ea = 0; ea < A.E; ++ea) crossed[ea] = Q[a.edges[ea].left] ^ Q[a.edges[ea].right];
+  for (int eb = 0; eb < B.E; ++eb) {
+    const Edge& y = b.edges[eb];
     // s1 = sign(d_A . N_B,left), s4 = sign(d_B . N_A,right): the arcs cross, not their
-    // antipodes, where the signs agree (as bit sets over e_B).
-    const Mask s1 = xor_of(B.left_edges, pos_a[ea]), s4 = b_right[x.right];
-    for (Mask m = cross_a[ea] & crossed_by[ea] & ~(s1 ^ s4); m; m &= m - 1) {
-      const int eb = lowest_bit(m);
-      const Edge& y = b.edges[eb];
-      if (nf == kMaxFacets) return false;
-      // The normal is +-(d_A x d_B), on the side of the crossing point, which lies on A's arc
-      // between N_L and N_R (so within 90 degrees of their sum). Nearly parallel edges: the
-      // general path (its normal from the crossing point).
-      const Vector3d da = a.vertices[x.v1] - a.vertices[x.v0], db = b.vertices[y.v1] - b.vertices[y.v0];
-      Vector3d c = da.cross(db);
-      if (!(c.squaredNorm() > 1e-8 * da.squaredNorm() * db.squaredNorm())) return false;
-      if (c.dot(a.faces[x.left].normal + a.faces[x.right].normal) < 0) c = -c;
-      // The cell order of crossing_facet: (v1, p) (v1, q) (v0, q) (v0, p) with p, q = w0, w1
-      // for s2 = -s1 > 0 and w1, w0 for s2 < 0; it starts at its smallest pair.
-      const bool up = s1 >> eb & 1;
-      const int p = up ? y.v1 : y.v0, q = up ? y.v0 : y.v1;
-      const int first = x.v1 < x.v0 ? (p < q ? 0 : 1) : (q < p ? 2 : 3);
-      facets[nf++] = {c, np, np + 4, np + first};
-      push(x.v1, p), push(x.v1, q), push(x.v0, q), push(x.v0, p);
+    // antipodes, where the signs agree.
+    const Mask s1 = P[y.left];
+    for (Mask m = s1 ^ P[y.right]; m; m &= m - 1) {
+      const int ea = lowest_bit(m);
+      const bool up = s1 >> ea & 1;
+      if (!(crossed[ea] >> eb & 1) || up != bool(Q[a.edges[ea].right] >> eb & 1)) continue;
+      if (nc == kMaxCrossings) return false;
+      crossings[nc++] = {ea, eb, up};
     }
   }
 
-  // Vertices in (i, j) order, numbered through a table of the used pairs.
-  const int E = np / 2;
+  // Vertices: the pairs (i, j) of the facets, in (i, j) order.
+  Mask used[kMax] = {};  // used[i] bit j: pair (i, j) is a vertex of the sum
+  for (int f = 0; f < A.F; ++f)
+    for (int i : a.faces[f].loop) used[i] |= Mask(1) << support_in_b[f];
+  for (int g = 0; g < B.F; ++g)
+    for (int j : b.faces[g].loop) used[support_in_a[g]] |= Mask(1) << j;
+  for (int k = 0; k < nc; ++k) {
+    const Edge &x = a.edges[crossings[k].ea], &y = b.edges[crossings[k].eb];
+    used[x.v0] |= Mask(1) << y.v0 | Mask(1) << y.v1;
+    used[x.v1] |= Mask(1) << y.v0 | Mask(1) << y.v1;
+  }
   std::uint16_t number[kMax][kMax];
   out.vertices.clear();
   for (int i = 0; i < A.V; ++i)
@@ -176,22 +135,53 @@ bool sum_small(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& o
       number[i][j] = std::uint16_t(out.vertices.size());
       out.vertices.push_back(SumVertex{i, j, a.vertices[i] + b.vertices[j]});
     }
-  const int V = int(out.vertices.size());
-  if (np % 2 != 0 || V - E + nf != 2) return false;
-  out.planes.resize(nf), out.facets.resize(nf);
-  for (int k = 0; k < nf; ++k) {
-    const Facet& f = facets[k];
-    SumPlane& plane = out.planes[k];
-    plane = SumPlane{f.normal.normalized(), -INFINITY, pi[f.first], pj[f.first]};
+  const int V = int(out.vertices.size()), F = A.F + B.F + nc;
+  int loops = 4 * nc;
+  for (const auto& f : a.faces) loops += int(f.loop.size());
+  for (const auto& g : b.faces) loops += int(g.loop.size());
+  if (loops % 2 != 0 || V - loops / 2 + F != 2) return false;
+
+  // Facets: A's faces, B's faces, the parallelograms; each loop from its smallest pair, each
+  // offset the largest over the facet's vertices (as in assemble: no vertex is cut off).
+  out.planes.resize(F), out.facets.resize(F);
+  const auto facet = [&](int k, const Vector3d& n, int size, auto&& vertex) {
     std::vector<int>& loop = out.facets[k];
-    loop.resize(f.end - f.begin);
-    for (int p = f.first, q = 0; q < f.end - f.begin; ++q, p = p + 1 == f.end ? f.begin : p + 1) {
-      loop[q] = number[pi[p]][pj[p]];
-      // The largest over the facet's vertices, as in assemble: no vertex is cut off.
-      plane.offset = std::max(plane.offset, plane.normal.dot(out.vertices[loop[q]].point));
+    loop.resize(size);
+    double offset = -INFINITY;
+    for (int q = 0; q < size; ++q) {
+      loop[q] = vertex(q);
+      offset = std::max(offset, n.dot(out.vertices[loop[q]].point));
     }
+    const SumVertex& first = out.vertices[loop[0]];
+    out.planes[k] = SumPlane{n, offset, first.i, first.j};
+  };
+  for (int f = 0; f < A.F; ++f) {
+    const auto& l = a.faces[f].loop;
+    const int s = smallest(l), n = int(l.size()), j = support_in_b[f];
+    facet(f, a.faces[f].normal.normalized(), n, [&](int q) { return number[l[(s + q) % n]][j]; });
   }
-  out.V = V, out.E = E, out.F = nf;
+  for (int g = 0; g < B.F; ++g) {
+    const auto& l = b.faces[g].loop;
+    const int s = smallest(l), n = int(l.size()), i = support_in_a[g];
+    facet(A.F + g, b.faces[g].normal.normalized(), n, [&](int q) { return number[i][l[(s + q) % n]]; });
+  }
+  for (int k = 0; k < nc; ++k) {
+    const Edge &x = a.edges[crossings[k].ea], &y = b.edges[crossings[k].eb];
+    // The normal is +-(d_A x d_B), on the side of the crossing point, which lies on A's arc
+    // between N_L and N_R (so within 90 degrees of their sum). Nearly parallel edges: the
+    // general path (its normal from the crossing point).
+    const Vector3d da = a.vertices[x.v1] - a.vertices[x.v0], db = b.vertices[y.v1] - b.vertices[y.v0];
+    Vector3d c = da.cross(db);
+    if (!(c.squaredNorm() > 1e-8 * da.squaredNorm() * db.squaredNorm())) return false;
+    if (c.dot(a.faces[x.left].normal + a.faces[x.right].normal) < 0) c = -c;
+    // The cell order of crossing_facet: (v1, p) (v1, q) (v0, q) (v0, p) with p, q = w0, w1
+    // for s2 = -s1 > 0 and w1, w0 for s2 < 0, started at its smallest pair.
+    const int p = crossings[k].up ? y.v1 : y.v0, q = crossings[k].up ? y.v0 : y.v1;
+    const int order[4] = {number[x.v1][p], number[x.v1][q], number[x.v0][q], number[x.v0][p]};
+    const int s = x.v1 < x.v0 ? (p < q ? 0 : 1) : (q < p ? 2 : 3);
+    facet(A.F + B.F + k, c.normalized(), 4, [&](int r) { return order[(s + r) % 4]; });
+  }
+  out.V = V, out.E = loops / 2, out.F = F;
   out.euler_ok = true;
   out.corrected = false;
   out.method = Method::Fast;
