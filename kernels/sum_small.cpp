@@ -127,12 +127,12 @@ bool sum_small(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& o
     used[x.v0] |= Mask(1) << y.v0 | Mask(1) << y.v1;
     used[x.v1] |= Mask(1) << y.v0 | Mask(1) << y.v1;
   }
-  std::uint16_t number[kMax][kMax];
+  std::uint16_t number[kMax * kMax];  // pair (i, j) at i |B| + j: dense for small operands
   out.vertices.clear();
   for (int i = 0; i < A.V; ++i)
     for (Mask m = used[i]; m; m &= m - 1) {
       const int j = lowest_bit(m);
-      number[i][j] = std::uint16_t(out.vertices.size());
+      number[i * B.V + j] = std::uint16_t(out.vertices.size());
       out.vertices.push_back(SumVertex{i, j, a.vertices[i] + b.vertices[j]});
     }
   const int V = int(out.vertices.size()), F = A.F + B.F + nc;
@@ -158,12 +158,12 @@ bool sum_small(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& o
   for (int f = 0; f < A.F; ++f) {
     const auto& l = a.faces[f].loop;
     const int s = smallest(l), n = int(l.size()), j = support_in_b[f];
-    facet(f, a.faces[f].normal.normalized(), n, [&](int q) { return number[l[(s + q) % n]][j]; });
+    facet(f, a.faces[f].normal.normalized(), n, [&](int q) { return number[l[s + q < n ? s + q : s + q - n] * B.V + j]; });
   }
   for (int g = 0; g < B.F; ++g) {
     const auto& l = b.faces[g].loop;
     const int s = smallest(l), n = int(l.size()), i = support_in_a[g];
-    facet(A.F + g, b.faces[g].normal.normalized(), n, [&](int q) { return number[i][l[(s + q) % n]]; });
+    facet(A.F + g, b.faces[g].normal.normalized(), n, [&](int q) { return number[i * B.V + l[s + q < n ? s + q : s + q - n]]; });
   }
   for (int k = 0; k < nc; ++k) {
     const Edge &x = a.edges[crossings[k].ea], &y = b.edges[crossings[k].eb];
@@ -177,9 +177,9 @@ bool sum_small(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& o
     // The cell order of crossing_facet: (v1, p) (v1, q) (v0, q) (v0, p) with p, q = w0, w1
     // for s2 = -s1 > 0 and w1, w0 for s2 < 0, started at its smallest pair.
     const int p = crossings[k].up ? y.v1 : y.v0, q = crossings[k].up ? y.v0 : y.v1;
-    const int order[4] = {number[x.v1][p], number[x.v1][q], number[x.v0][q], number[x.v0][p]};
+    const int order[4] = {number[x.v1 * B.V + p], number[x.v1 * B.V + q], number[x.v0 * B.V + q], number[x.v0 * B.V + p]};
     const int s = x.v1 < x.v0 ? (p < q ? 0 : 1) : (q < p ? 2 : 3);
-    facet(A.F + B.F + k, c.normalized(), 4, [&](int r) { return order[(s + r) % 4]; });
+    facet(A.F + B.F + k, c.normalized(), 4, [&](int r) { return order[(s + r) & 3]; });
   }
   out.V = V, out.E = loops / 2, out.F = F;
   out.euler_ok = true;
