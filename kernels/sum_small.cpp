@@ -39,6 +39,7 @@ using Mask = std::uint64_t;
 struct Operand {
   int V, F, E;
   double vertex[3][kMax], normal[3][kMax], dir[3][kMax];
+  int first[kMax];  // per face, where its loop has its smallest vertex (output loops start there)
 };
 
 // False when the operand is too large, flat, or its edges are not oriented as documented.
@@ -50,8 +51,13 @@ bool prepare(const ConvexPolytope& p, Operand& o) {
   };
   for (int k = 0; k < o.V; ++k)
     for (int c = 0; c < 3; ++c) o.vertex[c][k] = p.vertices[k][c];
-  for (int f = 0; f < o.F; ++f)
-    for (int c = 0; c < 3; ++c) o.normal[c][f] = p.faces[f].normal[c];
+  for (int f = 0; f < o.F; ++f) {
+    const auto& face = p.faces[f];
+    // Unit normals (as the polytope builders make them) serve as the facets' own.
+    if (!(std::abs(face.normal.squaredNorm() - 1) <= 1e-14)) return false;
+    for (int c = 0; c < 3; ++c) o.normal[c][f] = face.normal[c];
+    o.first[f] = int(std::min_element(face.loop.begin(), face.loop.end()) - face.loop.begin());
+  }
   for (int e = 0; e < o.E; ++e) {
     const Edge& ed = p.edges[e];
     const Vector3d d = p.vertices[ed.v1] - p.vertices[ed.v0];
@@ -64,10 +70,6 @@ bool prepare(const ConvexPolytope& p, Operand& o) {
 
 int lowest_bit(Mask m) { return __builtin_ctzll(m); }
 
-// Where a face's loop has its smallest vertex (the output loop starts there, as assemble's do).
-int smallest(const std::vector<int>& loop) {
-  return int(std::min_element(loop.begin(), loop.end()) - loop.begin());
-}
 
 }  // namespace
 
@@ -120,22 +122,27 @@ bool sum_small(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& o
   Mask used[kMax] = {};  // used[i] bit j: pair (i, j) is a vertex of the sum
   for (int f = 0; f < A.F; ++f)
     for (int i : a.faces[f].loop) used[i] |= Mask(1) << support_in_b[f];
-  for (int g = 0; g < B.F; ++g)
-    for (int j : b.faces[g].loop) used[support_in_a[g]] |= Mask(1) << j;
+  for (int g = 0; g < B.F; ++g) {
+    Mask row = 0;
+    for (int j : b.faces[g].loop) row |= Mask(1) << j;
+    used[support_in_a[g]] |= row;
+  }
   for (int k = 0; k < nc; ++k) {
     const Edge &x = a.edges[crossings[k].ea], &y = b.edges[crossings[k].eb];
     used[x.v0] |= Mask(1) << y.v0 | Mask(1) << y.v1;
     used[x.v1] |= Mask(1) << y.v0 | Mask(1) << y.v1;
   }
   std::uint16_t number[kMax * kMax];  // pair (i, j) at i |B| + j: dense for small operands
-  out.vertices.clear();
+  int V = 0;
   for (int i = 0; i < A.V; ++i)
-    for (Mask m = used[i]; m; m &= m - 1) {
+    for (Mask m = used[i]; m; m &= m - 1) number[i * B.V + lowest_bit(m)] = std::uint16_t(V++);
+  out.vertices.resize(V);
+  for (int i = 0, v = 0; i < A.V; ++i)
+    for (Mask m = used[i]; m; m &= m - 1, ++v) {
       const int j = lowest_bit(m);
-      number[i * B.V + j] = std::uint16_t(out.vertices.size());
-      out.vertices.push_back(SumVertex{i, j, a.vertices[i] + b.vertices[j]});
+      out.vertices[v] = SumVertex{i, j, a.vertices[i] + b.vertices[j]};
     }
-  const int V = int(out.vertices.size()), F = A.F + B.F + nc;
+  const int F = A.F + B.F + nc;
   int loops = 4 * nc;
   for (const auto& f : a.faces) loops += int(f.loop.size());
   for (const auto& g : b.faces) loops += int(g.loop.size());
@@ -157,13 +164,13 @@ bool sum_small(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& o
   };
   for (int f = 0; f < A.F; ++f) {
     const auto& l = a.faces[f].loop;
-    const int s = smallest(l), n = int(l.size()), j = support_in_b[f];
-    facet(f, a.faces[f].normal.normalized(), n, [&](int q) { return number[l[s + q < n ? s + q : s + q - n] * B.V + j]; });
+    const int s = A.first[f], n = int(l.size()), j = support_in_b[f];
+    facet(f, a.faces[f].normal, n, [&](int q) { return number[l[s + q < n ? s + q : s + q - n] * B.V + j]; });
   }
   for (int g = 0; g < B.F; ++g) {
     const auto& l = b.faces[g].loop;
-    const int s = smallest(l), n = int(l.size()), i = support_in_a[g];
-    facet(A.F + g, b.faces[g].normal.normalized(), n, [&](int q) { return number[i * B.V + l[s + q < n ? s + q : s + q - n]]; });
+    const int s = B.first[g], n = int(l.size()), i = support_in_a[g];
+    facet(A.F + g, b.faces[g].normal, n, [&](int q) { return number[i * B.V + l[s + q < n ? s + q : s + q - n]]; });
   }
   for (int k = 0; k < nc; ++k) {
     const Edge &x = a.edges[crossings[k].ea], &y = b.edges[crossings[k].eb];
