@@ -365,13 +365,37 @@ TEST(Sum, DifferenceContainsTheOriginExactlyWhenBoxesOverlap) {
   EXPECT_LT(overlaps, 450);
 }
 
-}  // namespace
-}  // namespace minksum
-
-#include "sum_internal.hpp"
-
-namespace minksum {
-namespace {
+// The shortcut's two kernels (support tops, edge signs) on every ISA: the same polytope, bit for
+// bit, as on the scalar path (its signs have margins, its output is formed in scalar code).
+TEST(SmallPath, EveryIsaGivesTheScalarResult) {
+  const Isa best = active_isa();
+  std::mt19937_64 rng(78);
+  std::vector<Operands> cases;
+  for (const auto& pair : tools::table1_pairs()) cases.push_back(make(pair.a, pair.b));
+  for (int k = 0; k < 300; ++k) cases.push_back(make(random_points(rng), random_points(rng)));
+  int answered = 0;
+  for (size_t c = 0; c < cases.size(); ++c) {
+    SCOPED_TRACE("case " + std::to_string(c));
+    MinkowskiSum scalar;
+    ASSERT_TRUE(force_isa(Isa::Scalar));
+    const bool ok = detail::sum_small(cases[c].A, cases[c].B, scalar);
+    answered += ok;
+    for (Isa isa : {Isa::Sse4_2, Isa::Avx2, Isa::Avx512}) {
+      if (!force_isa(isa)) continue;
+      MinkowskiSum m;
+      ASSERT_EQ(detail::sum_small(cases[c].A, cases[c].B, m), ok) << to_string(isa);
+      if (!ok) continue;
+      ASSERT_EQ(m.F, scalar.F) << to_string(isa);
+      for (int f = 0; f < m.F; ++f) {
+        ASSERT_EQ(m.facets[f], scalar.facets[f]) << to_string(isa);
+        ASSERT_EQ(m.planes[f].normal, scalar.planes[f].normal) << to_string(isa);
+        ASSERT_EQ(m.planes[f].offset, scalar.planes[f].offset) << to_string(isa);
+      }
+    }
+  }
+  force_isa(best);
+  EXPECT_GT(answered, 30);
+}
 
 // The assembly's consistency check (which sends results to the corrector) must reject a
 // reversed facet, a missing facet and a repeated facet, and accept the real thing.
