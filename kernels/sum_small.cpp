@@ -178,15 +178,17 @@ bool sum_small(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& o
     // between N_L and N_R (so within 90 degrees of their sum). Nearly parallel edges: the
     // general path (its normal from the crossing point).
     const Vector3d da = a.vertices[x.v1] - a.vertices[x.v0], db = b.vertices[y.v1] - b.vertices[y.v0];
-    Vector3d c = da.cross(db);
-    if (!(c.squaredNorm() > 1e-8 * da.squaredNorm() * db.squaredNorm())) return false;
-    if (c.dot(a.faces[x.left].normal + a.faces[x.right].normal) < 0) c = -c;
+    const Vector3d c = da.cross(db);
+    const double c2 = c.squaredNorm();
+    if (!(c2 > 1e-8 * da.squaredNorm() * db.squaredNorm())) return false;
+    const double side = c.dot(a.faces[x.left].normal + a.faces[x.right].normal);
+    const Vector3d n = c * (std::copysign(1.0, side) / std::sqrt(c2));
     // The cell order of crossing_facet: (v1, p) (v1, q) (v0, q) (v0, p) with p, q = w0, w1
     // for s2 = -s1 > 0 and w1, w0 for s2 < 0, started at its smallest pair.
     const int p = crossings[k].up ? y.v1 : y.v0, q = crossings[k].up ? y.v0 : y.v1;
     const int order[4] = {number[x.v1 * B.V + p], number[x.v1 * B.V + q], number[x.v0 * B.V + q], number[x.v0 * B.V + p]};
     const int s = x.v1 < x.v0 ? (p < q ? 0 : 1) : (q < p ? 2 : 3);
-    facet(A.F + B.F + k, c.normalized(), 4, [&](int r) { return order[(s + r) & 3]; });
+    facet(A.F + B.F + k, n, 4, [&](int r) { return order[(s + r) & 3]; });
   }
   out.V = V, out.E = loops / 2, out.F = F;
   out.euler_ok = true;
