@@ -858,35 +858,6 @@ struct Kernels {
   static B dot_lanes(const B& dx, const B& dy, const B& dz, const T* x, const T* y, const T* z, int v) {
     return S::fma(dx, B(x[v]), S::fma(dy, B(y[v]), dz * B(z[v])));
   }
-  // Per direction k: top[k] is the first of the n points highest along it; bit k of *tied is
-  // set when another point comes within tol of it.
-  static void tops(const T* x, const T* y, const T* z, int n, const T* dx, const T* dy,
-                   const T* dz, int K, T tol, int* top, std::uint64_t* tied) {
-    const std::uint64_t lanes = (std::uint64_t(1) << S::size) - 1;
-    std::uint64_t twice_all = 0;
-    for (int c = 0; c < K; c += S::size) {
-      const B bx = load_u(dx + c), by = load_u(dy + c), bz = load_u(dz + c);
-      B hi(-std::numeric_limits<T>::infinity()), at(T(0));
-      for (int v = 0; v < n; ++v) {
-        const B h = dot_lanes(bx, by, bz, x, y, z, v);
-        const auto better = h > hi;
-        hi = S::select(better, h, hi);
-        at = S::select(better, B(T(v)), at);
-      }
-      alignas(64) T arg[S::size];
-      S::store(arg, at);
-      for (int l = 0; l < S::size && c + l < K; ++l) top[c + l] = int(arg[l]);
-      // Points within tol of the top, counted to two (the heights formed again, bit for bit).
-      std::uint64_t once = 0, twice = 0;
-      const B floor = hi - B(tol);
-      for (int v = 0; v < n; ++v) {
-        const std::uint64_t m = S::bits(dot_lanes(bx, by, bz, x, y, z, v) >= floor);
-        twice |= once & m, once |= m;
-      }
-      twice_all |= (twice & lanes) << c;
-    }
-    *tied = K == 64 ? twice_all : twice_all & ((std::uint64_t(1) << K) - 1);
-  }
   // Per point k (the n points are normals here): bit e of positive[k] is set iff
   // d_e . x_k > tol; *unsure is set iff some |d_e . x_k| <= tol.
   static void signs(const T* x, const T* y, const T* z, int n, const T* dx, const T* dy,
@@ -926,7 +897,7 @@ constexpr KernelTable make_table() {
           &Kernels<float, Arch>::box_triangle_overlap, &Kernels<double, Arch>::box_triangle_overlap,
           &BoxPairQuery<double, Arch>::box_pair,
           &Kernels<float, Arch>::triangle_distance, &Kernels<double, Arch>::triangle_distance,
-          &Kernels<double, Arch>::tops, &Kernels<double, Arch>::signs};
+          &Kernels<double, Arch>::signs};
 }
 
 }  // namespace minksum::detail

@@ -166,11 +166,6 @@ void box_pair_proximity(const Box& a, const Box& b, bool answer, BoxPair<double>
   dispatch().box_pair_d(va, vb, answer, pair, out);
 }
 
-void support_tops(const double* x, const double* y, const double* z, int n, const double* dx,
-                  const double* dy, const double* dz, int k, double tol, int* top, std::uint64_t* tied) {
-  dispatch().tops_d(x, y, z, n, dx, dy, dz, k, tol, top, tied);
-}
-
 void edge_signs(const double* nx, const double* ny, const double* nz, int n, const double* dx,
                 const double* dy, const double* dz, int k, double tol, std::uint64_t* positive,
                 bool* unsure) {

@@ -123,8 +123,6 @@ struct KernelTable {
   void (*box_pair_d)(const BoxView&, const BoxView&, bool, BoxPair<double>&, PairAnswer<double>&);
   void (*tri_tri_f)(const float*, const float*, int, int, float*, float*, float*);
   void (*tri_tri_d)(const double*, const double*, int, int, double*, double*, double*);
-  void (*tops_d)(const double*, const double*, const double*, int, const double*, const double*,
-                 const double*, int, double, int*, std::uint64_t*);
   void (*signs_d)(const double*, const double*, const double*, int, const double*, const double*,
                   const double*, int, double, std::uint64_t*, bool*);
 };

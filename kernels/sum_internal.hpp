@@ -35,12 +35,6 @@ bool sum_fast(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& ou
 /// it does not apply or a margin fails; true with a complete result otherwise.
 bool sum_small(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out);
 
-/// Through the active ISA, for n <= 64 points x and k <= 64 directions d (direction arrays
-/// readable to k rounded up to 8): per direction, `top` the first point highest along it, and
-/// bit k of *tied set if another point comes within tol of it.
-void support_tops(const double* x, const double* y, const double* z, int n, const double* dx,
-                  const double* dy, const double* dz, int k, double tol, int* top, std::uint64_t* tied);
-
 /// Through the active ISA, for n <= 64 normals N and k <= 64 edge directions d (direction arrays
 /// readable to k rounded up to 8): bit e of positive[v] is set iff d_e . N_v > tol, and *unsure
 /// iff some |d_e . N_v| <= tol.

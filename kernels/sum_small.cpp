@@ -13,6 +13,9 @@
 // A edges whose circles cross arc e_B are P[L'] ^ P[R'] (its faces L', R'), and the B edges
 // whose circles cross arc e_A are Q[L] ^ Q[R]; Gregorius's hemisphere condition (GDC 2013; the
 // signs of sum_fast.cpp's crossing_facet) then decides the crossing.
+// The same bits give the supports: along a face normal N of the other operand, an operand's
+// edges point up (bit set) or down, and its support vertex is the one vertex all of whose edges
+// point to it (a linear function has one local maximum on a convex polytope's graph).
 // Every sign is kept only with a margin of 1e-11 of the largest coordinate, about 10^4 times
 // the rounding of the dot products; a sign within it (parallel features, touching arcs: facets
 // that merge) or a result whose Euler characteristic is not 2 returns false, and the general
@@ -34,23 +37,20 @@ constexpr int kMax = 64;            // vertices, faces and edges per operand (on
 constexpr int kMaxCrossings = 192;  // parallelogram facets (more: the general path)
 using Mask = std::uint64_t;
 
-// One operand by component (the layout of the support_tops and edge_signs kernels,
-// zero-padded to 8): vertices, face normals and edge directions.
+// One operand by component (the layout of the edge_signs kernel, zero-padded to 8): face
+// normals and edge directions; per vertex, its edges and those of them that end there.
 struct Operand {
   int V, F, E;
-  double vertex[3][kMax], normal[3][kMax], dir[3][kMax];
+  double normal[3][kMax], dir[3][kMax];
   int first[kMax];  // per face, where its loop has its smallest vertex (output loops start there)
+  Mask edges[kMax], ends[kMax];
 };
 
 // False when the operand is too large, flat, or its edges are not oriented as documented.
 bool prepare(const ConvexPolytope& p, Operand& o) {
   o.V = int(p.vertices.size()), o.F = int(p.faces.size()), o.E = int(p.edges.size());
   if (p.flat || o.V > kMax || o.F > kMax || o.E > kMax) return false;
-  const auto pad = [](double (&xyz)[3][kMax], int n) {
-    for (auto& row : xyz) std::fill(row + n, row + std::min(kMax, (n + 7) / 8 * 8), 0.0);
-  };
-  for (int k = 0; k < o.V; ++k)
-    for (int c = 0; c < 3; ++c) o.vertex[c][k] = p.vertices[k][c];
+  std::fill(o.edges, o.edges + o.V, 0), std::fill(o.ends, o.ends + o.V, 0);
   for (int f = 0; f < o.F; ++f) {
     const auto& face = p.faces[f];
     // Unit normals (as the polytope builders make them) serve as the facets' own.
@@ -62,14 +62,30 @@ bool prepare(const ConvexPolytope& p, Operand& o) {
     const Edge& ed = p.edges[e];
     const Vector3d d = p.vertices[ed.v1] - p.vertices[ed.v0];
     for (int c = 0; c < 3; ++c) o.dir[c][e] = d[c];
+    o.edges[ed.v0] |= Mask(1) << e, o.edges[ed.v1] |= Mask(1) << e, o.ends[ed.v1] |= Mask(1) << e;
     if (d.dot(p.faces[ed.left].normal.cross(p.faces[ed.right].normal)) <= 0) return false;
   }
-  pad(o.normal, o.F), pad(o.dir, o.E);
+  for (auto& row : o.dir) std::fill(row + o.E, row + std::min(kMax, (o.E + 7) / 8 * 8), 0.0);
   return true;
 }
 
 int lowest_bit(Mask m) { return __builtin_ctzll(m); }
 
+// Per face f of the other operand, the vertex whose edges all point up to it, given `up[f]`
+// (bit e: edge e rises along N_f); false if some face has none (an invalid polytope). Adjacent
+// faces often share it, so the search starts at the last one found.
+bool supports(const Operand& o, const Mask* up, int faces, int* top) {
+  int j = 0;
+  for (int f = 0; f < faces; ++f) {
+    int tried = 0;
+    while ((up[f] & o.edges[j]) != o.ends[j]) {
+      if (++tried == o.V) return false;
+      j = j + 1 == o.V ? 0 : j + 1;
+    }
+    top[f] = j;
+  }
+  return true;
+}
 
 }  // namespace
 
@@ -81,19 +97,16 @@ bool sum_small(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& o
     for (const auto& v : p->vertices) size = std::max(size, v.cwiseAbs().maxCoeff());
   const double tol = 1e-11 * size;
 
-  // Supports: per face of one operand, the other's vertex highest along its normal.
-  int support_in_a[kMax], support_in_b[kMax];
-  Mask tied_a, tied_b;
-  support_tops(A.vertex[0], A.vertex[1], A.vertex[2], A.V, B.normal[0], B.normal[1], B.normal[2], B.F, tol,
-               support_in_a, &tied_a);
-  support_tops(B.vertex[0], B.vertex[1], B.vertex[2], B.V, A.normal[0], A.normal[1], A.normal[2], A.F, tol,
-               support_in_b, &tied_b);
   // P[g]: A's edges with d_A . N_g > 0 for B's faces g; Q[f]: B's edges with d_B . N_f > 0.
   Mask P[kMax], Q[kMax];
   bool unsure_p, unsure_q;
   edge_signs(B.normal[0], B.normal[1], B.normal[2], B.F, A.dir[0], A.dir[1], A.dir[2], A.E, tol, P, &unsure_p);
   edge_signs(A.normal[0], A.normal[1], A.normal[2], A.F, B.dir[0], B.dir[1], B.dir[2], B.E, tol, Q, &unsure_q);
-  if (tied_a || tied_b || unsure_p || unsure_q) return false;
+  // Supports: per face of one operand, the other's vertex highest along its normal. With every
+  // edge sign beyond the margin, no other vertex comes within it of the top.
+  int support_in_a[kMax], support_in_b[kMax];
+  if (unsure_p || unsure_q || !supports(A, P, B.F, support_in_a) || !supports(B, Q, A.F, support_in_b))
+    return false;
 
   // The crossings, as (e_A, e_B, s1) with s1 = sign(d_A . N_B,left) > 0.
   struct Crossing {
