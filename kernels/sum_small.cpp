@@ -162,18 +162,16 @@ bool sum_small(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& o
   if (loops % 2 != 0 || V - loops / 2 + F != 2) return false;
 
   // Facets: A's faces, B's faces, the parallelograms; each loop from its smallest pair, each
-  // offset the largest over the facet's vertices (as in assemble: no vertex is cut off).
+  // offset n . (a_i + b_j) at that pair, a support pair of n: h_A(n) + h_B(n), the paper's
+  // support planes (the facet's other vertices lie on it to rounding, not the largest of them
+  // as in assemble: a loop over them cost a tenth of the time here).
   out.planes.resize(F), out.facets.resize(F);
   const auto facet = [&](int k, const Vector3d& n, int size, auto&& vertex) {
     std::vector<int>& loop = out.facets[k];
     loop.resize(size);
-    double offset = -INFINITY;
-    for (int q = 0; q < size; ++q) {
-      loop[q] = vertex(q);
-      offset = std::max(offset, n.dot(out.vertices[loop[q]].point));
-    }
+    for (int q = 0; q < size; ++q) loop[q] = vertex(q);
     const SumVertex& first = out.vertices[loop[0]];
-    out.planes[k] = SumPlane{n, offset, first.i, first.j};
+    out.planes[k] = SumPlane{n, n.dot(first.point), first.i, first.j};
   };
   for (int f = 0; f < A.F; ++f) {
     const auto& l = a.faces[f].loop;
