@@ -855,28 +855,33 @@ struct Kernels {
   }
   // For the small Minkowski sum (sum_small.cpp): n <= 64 points x (broadcast) against K <= 64
   // directions d in the lanes (arrays readable to K rounded up to 8), h = d_k . x.
-  static B dot_lanes(const B& dx, const B& dy, const B& dz, const T* x, const T* y, const T* z, int v) {
-    return S::fma(dx, B(x[v]), S::fma(dy, B(y[v]), dz * B(z[v])));
-  }
   // Per point k (the n points are normals here): bit e of positive[k] is set iff
-  // d_e . x_k > tol; *unsure is set iff some |d_e . x_k| <= tol.
+  // d_e . x_k > tol; *unsure is set iff some |d_e . x_k| <= tol. Per point, the directions a
+  // lane block at a time, so each point is broadcast once and its bits gather in a register.
   static void signs(const T* x, const T* y, const T* z, int n, const T* dx, const T* dy,
                     const T* dz, int K, T tol, std::uint64_t* positive, bool* unsure) {
     const std::uint64_t all = K == 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << K) - 1;
-    const std::uint64_t lanes = (std::uint64_t(1) << S::size) - 1;
-    std::uint64_t sure = all;
-    for (int v = 0; v < n; ++v) positive[v] = 0;
-    for (int c = 0; c < K; c += S::size) {
-      const B bx = load_u(dx + c), by = load_u(dy + c), bz = load_u(dz + c);
-      for (int v = 0; v < n; ++v) {
-        const B h = dot_lanes(bx, by, bz, x, y, z, v);
-        const std::uint64_t up = S::bits(h > B(tol)), down = S::bits(h < B(-tol));
-        positive[v] |= up << c;
-        sure &= ~((~(up | down) & lanes) << c);
+    const int last = (K - 1) / S::size * S::size;  // the last block, padded past K with zeros
+    alignas(64) T lane[S::size];
+    for (int l = 0; l < S::size; ++l) lane[l] = T(l);
+    const auto real = load_u(lane) < B(T(K - last));  // its lanes that hold directions
+    const B inf(std::numeric_limits<T>::infinity()), limit(tol);
+    B least = inf;  // the smallest |d . x| met
+    for (int v = 0; v < n; ++v) {
+      const B bx(x[v]), by(y[v]), bz(z[v]);
+      const auto dot = [&](int c) { return S::fma(load_u(dx + c), bx, S::fma(load_u(dy + c), by, load_u(dz + c) * bz)); };
+      std::uint64_t up = 0;
+      for (int c = 0; c < last; c += S::size) {
+        const B h = dot(c);
+        up |= std::uint64_t(S::bits(h > limit)) << c;
+        least = S::min(least, S::abs(h));
       }
+      const B h = dot(last);
+      up |= std::uint64_t(S::bits(h > limit)) << last;
+      least = S::min(least, S::select(real, S::abs(h), inf));
+      positive[v] = up & all;
     }
-    for (int v = 0; v < n; ++v) positive[v] &= all;
-    *unsure = (sure & all) != all;
+    *unsure = S::any(least <= limit);
   }
   static B load_u(const T* p) {
     if constexpr (S::size == 1)

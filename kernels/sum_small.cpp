@@ -147,12 +147,12 @@ bool sum_small(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& o
   }
   std::uint16_t number[kMax * kMax];  // pair (i, j) at i |B| + j: dense for small operands
   int V = 0;
-  for (int i = 0; i < A.V; ++i)
-    for (Mask m = used[i]; m; m &= m - 1) number[i * B.V + lowest_bit(m)] = std::uint16_t(V++);
+  for (int i = 0; i < A.V; ++i) V += __builtin_popcountll(used[i]);
   out.vertices.resize(V);
   for (int i = 0, v = 0; i < A.V; ++i)
     for (Mask m = used[i]; m; m &= m - 1, ++v) {
       const int j = lowest_bit(m);
+      number[i * B.V + j] = std::uint16_t(v);
       out.vertices[v] = SumVertex{i, j, a.vertices[i] + b.vertices[j]};
     }
   const int F = A.F + B.F + nc;
