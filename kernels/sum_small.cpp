@@ -185,15 +185,16 @@ bool sum_small(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& o
   }
   for (int k = 0; k < nc; ++k) {
     const Edge &x = a.edges[crossings[k].ea], &y = b.edges[crossings[k].eb];
-    // The normal is +-(d_A x d_B), on the side of the crossing point, which lies on A's arc
-    // between N_L and N_R (so within 90 degrees of their sum). Nearly parallel edges: the
-    // general path (its normal from the crossing point).
-    const Vector3d da = a.vertices[x.v1] - a.vertices[x.v0], db = b.vertices[y.v1] - b.vertices[y.v0];
+    // The normal is +-(d_A x d_B) = +-c at the crossing point X = a N_L' + b N_R' (a, b > 0) on
+    // B's arc, where N_L' x X runs along d_B (B's loops are counter-clockwise); with
+    // N_L' . (c x d_B) = -|d_B|^2 (d_A . N_L'), that makes X = -s1 c / |c|. Nearly parallel
+    // edges: the general path (its normal from the crossing point).
+    const int ea = crossings[k].ea, eb = crossings[k].eb;
+    const Vector3d da(A.dir[0][ea], A.dir[1][ea], A.dir[2][ea]), db(B.dir[0][eb], B.dir[1][eb], B.dir[2][eb]);
     const Vector3d c = da.cross(db);
     const double c2 = c.squaredNorm();
     if (!(c2 > 1e-8 * da.squaredNorm() * db.squaredNorm())) return false;
-    const double side = c.dot(a.faces[x.left].normal + a.faces[x.right].normal);
-    const Vector3d n = c * (std::copysign(1.0, side) / std::sqrt(c2));
+    const Vector3d n = c * ((crossings[k].up ? -1 : 1) / std::sqrt(c2));
     // The cell order of crossing_facet: (v1, p) (v1, q) (v0, q) (v0, p) with p, q = w0, w1
     // for s2 = -s1 > 0 and w1, w0 for s2 < 0, started at its smallest pair.
     const int p = crossings[k].up ? y.v1 : y.v0, q = crossings[k].up ? y.v0 : y.v1;
