@@ -43,6 +43,7 @@ struct Operand {
   int V, F, E;
   double normal[3][kMax], dir[3][kMax];
   int first[kMax];  // per face, where its loop has its smallest vertex (output loops start there)
+  int steps;        // the faces' loop lengths summed
   Mask edges[kMax], ends[kMax];
 };
 
@@ -51,12 +52,14 @@ bool prepare(const ConvexPolytope& p, Operand& o) {
   o.V = int(p.vertices.size()), o.F = int(p.faces.size()), o.E = int(p.edges.size());
   if (p.flat || o.V > kMax || o.F > kMax || o.E > kMax) return false;
   std::fill(o.edges, o.edges + o.V, 0), std::fill(o.ends, o.ends + o.V, 0);
+  o.steps = 0;
   for (int f = 0; f < o.F; ++f) {
     const auto& face = p.faces[f];
     // Unit normals (as the polytope builders make them) serve as the facets' own.
     if (!(std::abs(face.normal.squaredNorm() - 1) <= 1e-14)) return false;
     for (int c = 0; c < 3; ++c) o.normal[c][f] = face.normal[c];
     o.first[f] = int(std::min_element(face.loop.begin(), face.loop.end()) - face.loop.begin());
+    o.steps += int(face.loop.size());
   }
   for (int e = 0; e < o.E; ++e) {
     const Edge& ed = p.edges[e];
@@ -145,21 +148,21 @@ bool sum_small(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& o
     used[x.v0] |= Mask(1) << y.v0 | Mask(1) << y.v1;
     used[x.v1] |= Mask(1) << y.v0 | Mask(1) << y.v1;
   }
-  std::uint16_t number[kMax * kMax];  // pair (i, j) at i |B| + j: dense for small operands
-  int V = 0;
-  for (int i = 0; i < A.V; ++i) V += __builtin_popcountll(used[i]);
+  // A closed polytope with F facets and E edges (half its loop steps) has V = 2 + E - F
+  // vertices (Euler): the pairs found must be exactly that many.
+  const int F = A.F + B.F + nc, steps = A.steps + B.steps + 4 * nc, V = 2 + steps / 2 - F;
+  if (steps % 2 != 0 || V < 4) return false;
   out.vertices.resize(V);
-  for (int i = 0, v = 0; i < A.V; ++i)
+  std::uint16_t number[kMax * kMax];  // pair (i, j) at i |B| + j: dense for small operands
+  int v = 0;
+  for (int i = 0; i < A.V; ++i)
     for (Mask m = used[i]; m; m &= m - 1, ++v) {
+      if (v == V) return false;
       const int j = lowest_bit(m);
       number[i * B.V + j] = std::uint16_t(v);
       out.vertices[v] = SumVertex{i, j, a.vertices[i] + b.vertices[j]};
     }
-  const int F = A.F + B.F + nc;
-  int loops = 4 * nc;
-  for (const auto& f : a.faces) loops += int(f.loop.size());
-  for (const auto& g : b.faces) loops += int(g.loop.size());
-  if (loops % 2 != 0 || V - loops / 2 + F != 2) return false;
+  if (v != V) return false;
 
   // Facets: A's faces, B's faces, the parallelograms; each loop from its smallest pair, each
   // offset n . (a_i + b_j) at that pair, a support pair of n: h_A(n) + h_B(n), the paper's
@@ -202,7 +205,7 @@ bool sum_small(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& o
     const int s = x.v1 < x.v0 ? (p < q ? 0 : 1) : (q < p ? 2 : 3);
     facet(A.F + B.F + k, n, 4, [&](int r) { return order[(s + r) & 3]; });
   }
-  out.V = V, out.E = loops / 2, out.F = F;
+  out.V = V, out.E = steps / 2, out.F = F;
   out.euler_ok = true;
   out.corrected = false;
   out.method = Method::Fast;
