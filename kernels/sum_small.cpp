@@ -135,7 +135,8 @@ bool sum_small(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& o
   }
 
   // Vertices: the pairs (i, j) of the facets, in (i, j) order.
-  Mask used[kMax] = {};  // used[i] bit j: pair (i, j) is a vertex of the sum
+  Mask used[kMax];  // used[i] bit j: pair (i, j) is a vertex of the sum
+  std::fill(used, used + A.V, 0);
   for (int f = 0; f < A.F; ++f)
     for (int i : a.faces[f].loop) used[i] |= Mask(1) << support_in_b[f];
   for (int g = 0; g < B.F; ++g) {
