@@ -130,8 +130,8 @@ void report(benchmark::State& state, size_t n, double error, double exact_fracti
   state.counters["exact_structure"] = exact_fraction;
 }
 
-// A Minkowski sum method on the set, with the kernels (the fast path's small-operand heights)
-// on one ISA.
+// A Minkowski sum method on the set, its kernels (the fast path's small-operand edge signs) on
+// one ISA.
 void Osm(benchmark::State& state, std::string set, Method method, Isa isa) {
   const auto& cs = cases(set);
   std::vector<MinkowskiSum> out(cs.size());

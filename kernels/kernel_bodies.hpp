@@ -853,9 +853,8 @@ struct Kernels {
       arg_out[q] = at;
     }
   }
-  // For the small Minkowski sum (sum_small.cpp): n <= 64 points x (broadcast) against K <= 64
-  // directions d in the lanes (arrays readable to K rounded up to 8), h = d_k . x.
-  // Per point k (the n points are normals here): bit e of positive[k] is set iff
+  // For the small Minkowski sum (sum_small.cpp): n <= 64 points x (face normals) against K <= 64
+  // directions d (edges; arrays readable to K rounded up to 8). Bit e of positive[k] is set iff
   // d_e . x_k > tol; *unsure is set iff some |d_e . x_k| <= tol. Per point, the directions a
   // lane block at a time, so each point is broadcast once and its bits gather in a register.
   static void signs(const T* x, const T* y, const T* z, int n, const T* dx, const T* dy,

@@ -371,8 +371,8 @@ TEST(Sum, DifferenceContainsTheOriginExactlyWhenBoxesOverlap) {
   EXPECT_LT(overlaps, 450);
 }
 
-// The shortcut's two kernels (support tops, edge signs) on every ISA: the same polytope, bit for
-// bit, as on the scalar path (its signs have margins, its output is formed in scalar code).
+// The shortcut's edge-sign kernel on every ISA: the same polytope, bit for bit, as on the scalar
+// path (its signs have margins, its output is formed in scalar code).
 TEST(SmallPath, EveryIsaGivesTheScalarResult) {
   const Isa best = active_isa();
   std::mt19937_64 rng(78);
@@ -380,8 +380,8 @@ TEST(SmallPath, EveryIsaGivesTheScalarResult) {
   for (const auto& pair : tools::table1_pairs()) cases.push_back(make(pair.a, pair.b));
   for (int k = 0; k < 300; ++k) cases.push_back(make(random_points(rng), random_points(rng)));
   // Ties the kernel must see on every ISA: a shape and its copy turned by 1e-13 rad (every face
-  // nearly parallel, signs left to rounding), and an aligned cube and box whose parallel edges
-  // sit in the last, zero-padded lane block.
+  // nearly parallel, signs left to rounding), an aligned cube and box (12 edges: a zero-padded
+  // lane block on every SIMD ISA), and a cube with a pyramid whose only tie is a parallel face.
   for (int k = 0; k < 20; ++k) {
     const auto p = random_points(rng);
     auto q = p;
@@ -389,7 +389,7 @@ TEST(SmallPath, EveryIsaGivesTheScalarResult) {
     cases.push_back(make(p, q));
   }
   cases.push_back(make(box_points(Vector3d(1, 1, 1)), box_points(Vector3d(0.5, 2, 3))));
-  cases.push_back(make(box_points(Vector3d(1, 1, 1)), pyramid_points()));  // a tie in the margin alone
+  cases.push_back(make(box_points(Vector3d(1, 1, 1)), pyramid_points()));
   int answered = 0;
   for (size_t c = 0; c < cases.size(); ++c) {
     SCOPED_TRACE("case " + std::to_string(c));
