@@ -111,26 +111,39 @@ bool sum_small(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& o
   if (unsure_p || unsure_q || !supports(A, P, B.F, support_in_a) || !supports(B, Q, A.F, support_in_b))
     return false;
 
-  // The crossings, as (e_A, e_B, s1) with s1 = sign(d_A . N_B,left) > 0.
+  // The crossings, as (e_A, e_B, s1) with s1 = sign(d_A . N_B,left) > 0, found by walking each
+  // arc e_A from N_L to N_R: B's support moves from top(L) to top(R) one vertex at a time, never
+  // back (the support of B's projection onto the arc's plane, as the direction turns by less
+  // than pi), and each move crosses the arc of the B edge it takes. From a vertex, the next move
+  // is along the one other edge whose arc crosses e_A's: its circle separates N_L and N_R, arc
+  // e_B crosses e_A's circle, and not at the antipode (s1 agrees with s4 = sign(d_B . N_A,right)).
   struct Crossing {
     int ea, eb;
     bool up;
   };
   Crossing crossings[kMaxCrossings];
   int nc = 0;
-  Mask crossed[kMax];  // per e_A: the B edges whose circles cross its arc
-  for (int ea = 0; ea < A.E; ++ea) crossed[ea] = Q[a.edges[ea].left] ^ Q[a.edges[ea].right];
-  for (int eb = 0; eb < B.E; ++eb) {
-    const Edge& y = b.edges[eb];
-    // s1 = sign(d_A . N_B,left), s4 = sign(d_B . N_A,right): the arcs cross, not their
-    // antipodes, where the signs agree.
-    const Mask s1 = P[y.left];
-    for (Mask m = s1 ^ P[y.right]; m; m &= m - 1) {
-      const int ea = lowest_bit(m);
-      const bool up = s1 >> ea & 1;
-      if (!(crossed[ea] >> eb & 1) || up != bool(Q[a.edges[ea].right] >> eb & 1)) continue;
-      if (nc == kMaxCrossings) return false;
+  for (int ea = 0; ea < A.E; ++ea) {
+    const Edge& x = a.edges[ea];
+    Mask circles = Q[x.left] ^ Q[x.right];  // B edges whose circles cross arc e_A, not yet taken
+    const Mask s4 = Q[x.right];
+    for (int u = support_in_b[x.left], w = support_in_b[x.right], moves = 0; u != w; ++moves) {
+      if (moves == B.V || nc == kMaxCrossings) return false;
+      int eb = -1;
+      bool up = false;
+      for (Mask m = B.edges[u] & circles; m; m &= m - 1) {
+        const int e = lowest_bit(m);
+        const Edge& y = b.edges[e];
+        up = P[y.left] >> ea & 1;
+        if (((P[y.left] ^ P[y.right]) >> ea & 1) && up == bool(s4 >> e & 1)) {
+          eb = e;
+          break;
+        }
+      }
+      if (eb < 0) return false;  // no way on: not a convex polytope
       crossings[nc++] = {ea, eb, up};
+      circles &= ~(Mask(1) << eb);
+      u = b.edges[eb].v0 == u ? b.edges[eb].v1 : b.edges[eb].v0;
     }
   }
 
