@@ -188,7 +188,8 @@ bool sum_small(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& o
     loop.resize(size);
     for (int q = 0; q < size; ++q) loop[q] = vertex(q);
     const SumVertex& first = out.vertices[loop[0]];
-    out.planes[k] = SumPlane{n, n.dot(first.point), first.i, first.j};
+    SumPlane& plane = out.planes[k];
+    plane.normal = n, plane.offset = n.dot(first.point), plane.i = first.i, plane.j = first.j;
   };
   for (int f = 0; f < A.F; ++f) {
     const auto& l = a.faces[f].loop;
