@@ -882,6 +882,44 @@ struct Kernels {
     }
     *unsure = S::any(least <= limit);
   }
+  // For sum_small.cpp: per row f of up (bit e: edge e rises along some direction N_f), the
+  // vertex j whose edges all rise to it, (up[f] & edges[j]) == ends[j] (the support along N_f);
+  // edges and ends are readable to V rounded up to 8, the padding never matching (ends all
+  // ones). Every vertex block is compared, without an early exit: a branch per block would be
+  // mispredicted as often as the top lands in another block. False if some row has none.
+  static bool sinks(const std::uint64_t* up, int n, const std::uint64_t* edges,
+                    const std::uint64_t* ends, int V, int* top) {
+    if constexpr (S::size == 1) {
+      for (int f = 0; f < n; ++f) {
+        int j = 0;
+        while (j < V && (up[f] & edges[j]) != ends[j]) ++j;
+        if (j == V) return false;
+        top[f] = j;
+      }
+      return true;
+    } else {
+      using U = xsimd::batch<std::uint64_t, Arch>;
+      constexpr int L = int(U::size);
+      for (int f = 0; f < n; ++f) {
+        const U u(up[f]);
+        std::uint64_t hit = 0;
+        for (int j = 0; j < V; j += L)
+          hit |= std::uint64_t(lane_bits((u & U::load_unaligned(edges + j)) == U::load_unaligned(ends + j))) << j;
+        if (!hit) return false;
+        top[f] = __builtin_ctzll(hit);
+      }
+      return true;
+    }
+  }
+  template <class M>
+  static unsigned lane_bits(const M& m) {
+    if constexpr (std::is_same_v<Arch, xsimd::avx512bw>)
+      return unsigned(m.data);
+    else if constexpr (sizeof(m.data) == 32)
+      return unsigned(_mm256_movemask_pd(_mm256_castsi256_pd(m.data)));
+    else
+      return unsigned(_mm_movemask_pd(_mm_castsi128_pd(m.data)));
+  }
   static B load_u(const T* p) {
     if constexpr (S::size == 1)
       return *p;
@@ -901,7 +939,7 @@ constexpr KernelTable make_table() {
           &Kernels<float, Arch>::box_triangle_overlap, &Kernels<double, Arch>::box_triangle_overlap,
           &BoxPairQuery<double, Arch>::box_pair,
           &Kernels<float, Arch>::triangle_distance, &Kernels<double, Arch>::triangle_distance,
-          &Kernels<double, Arch>::signs};
+          &Kernels<double, Arch>::signs, &Kernels<double, Arch>::sinks};
 }
 
 }  // namespace minksum::detail

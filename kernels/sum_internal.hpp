@@ -42,4 +42,10 @@ void edge_signs(const double* nx, const double* ny, const double* nz, int n, con
                 const double* dy, const double* dz, int k, double tol, std::uint64_t* positive,
                 bool* unsure);
 
+/// Through the active ISA, for n rows up[f] of edge bits and v <= 64 vertices (edges and ends
+/// readable to v rounded up to 8, the padding with ends all ones): top[f] is the first vertex
+/// j with (up[f] & edges[j]) == ends[j]; false if some row has none.
+bool support_sinks(const std::uint64_t* up, int n, const std::uint64_t* edges,
+                   const std::uint64_t* ends, int v, int* top);
+
 }  // namespace minksum::detail

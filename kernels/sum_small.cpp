@@ -51,7 +51,10 @@ struct Operand {
 bool prepare(const ConvexPolytope& p, Operand& o) {
   o.V = int(p.vertices.size()), o.F = int(p.faces.size()), o.E = int(p.edges.size());
   if (p.flat || o.V > kMax || o.F > kMax || o.E > kMax) return false;
-  std::fill(o.edges, o.edges + o.V, 0), std::fill(o.ends, o.ends + o.V, 0);
+  // (Padded to a multiple of 8 for support_sinks: no edges, and ends no mask matches.)
+  const int padded = (o.V + 7) / 8 * 8;
+  std::fill(o.edges, o.edges + padded, 0), std::fill(o.ends, o.ends + o.V, 0);
+  std::fill(o.ends + o.V, o.ends + padded, ~Mask(0));
   o.steps = 0;
   for (int f = 0; f < o.F; ++f) {
     const auto& face = p.faces[f];
@@ -74,22 +77,6 @@ bool prepare(const ConvexPolytope& p, Operand& o) {
 
 int lowest_bit(Mask m) { return __builtin_ctzll(m); }
 
-// Per face f of the other operand, the vertex whose edges all point up to it, given `up[f]`
-// (bit e: edge e rises along N_f); false if some face has none (an invalid polytope). Adjacent
-// faces often share it, so the search starts at the last one found.
-bool supports(const Operand& o, const Mask* up, int faces, int* top) {
-  int j = 0;
-  for (int f = 0; f < faces; ++f) {
-    int tried = 0;
-    while ((up[f] & o.edges[j]) != o.ends[j]) {
-      if (++tried == o.V) return false;
-      j = j + 1 == o.V ? 0 : j + 1;
-    }
-    top[f] = j;
-  }
-  return true;
-}
-
 }  // namespace
 
 bool sum_small(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out) {
@@ -108,7 +95,8 @@ bool sum_small(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& o
   // Supports: per face of one operand, the other's vertex highest along its normal. With every
   // edge sign beyond the margin, no other vertex comes within it of the top.
   int support_in_a[kMax], support_in_b[kMax];
-  if (unsure_p || unsure_q || !supports(A, P, B.F, support_in_a) || !supports(B, Q, A.F, support_in_b))
+  if (unsure_p || unsure_q || !support_sinks(P, B.F, A.edges, A.ends, A.V, support_in_a) ||
+      !support_sinks(Q, A.F, B.edges, B.ends, B.V, support_in_b))
     return false;
 
   // The crossings, as (e_A, e_B, s1) with s1 = sign(d_A . N_B,left) > 0, found by walking each
