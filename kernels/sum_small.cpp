@@ -15,7 +15,9 @@
 // signs of sum_fast.cpp's crossing_facet) then decides the crossing.
 // The same bits give the supports: along a face normal N of the other operand, an operand's
 // edges point up (bit set) or down, and its support vertex is the one vertex all of whose edges
-// point to it (a linear function has one local maximum on a convex polytope's graph).
+// point to it (a linear function has one local maximum on a convex polytope's graph); the
+// support_sinks kernel finds it. The crossings on arc e_A are then found by walking B's
+// support from one end of the arc to the other (see the loop), one test per crossing.
 // Every sign is kept only with a margin of 1e-11 of the largest coordinate, about 10^4 times
 // the rounding of the dot products; a sign within it (parallel features, touching arcs: facets
 // that merge) or a result whose Euler characteristic is not 2 returns false, and the general
