@@ -189,6 +189,35 @@ TEST(SmallPath, AnswersGenericPairsLikeTheHullAndDeclinesTies) {
   check_all(parallel_faces, 1e-12, true);
 }
 
+// A polytope built by hand that breaks the Edge contract (one edge's faces swapped, so its
+// arc runs the wrong way round): the small path must decline it or still give the true sum
+// (an edge no arc of the other operand crosses is not used otherwise). Every edge of A, and of
+// B, of every Table 1 pair.
+TEST(SmallPath, DeclinesEdgesAgainstTheirContract) {
+  int declined = 0, cases = 0;
+  for (const auto& pair : tools::table1_pairs()) {
+    SCOPED_TRACE(pair.name);
+    const Operands o = make(pair.a, pair.b);
+    MinkowskiSum truth;
+    ASSERT_TRUE(detail::sum_small(o.A, o.B, truth));
+    for (int side = 0; side < 2; ++side)
+      for (size_t e = 0; e < (side ? o.B : o.A).edges.size(); ++e) {
+        SCOPED_TRACE("side " + std::to_string(side) + " edge " + std::to_string(e));
+        ConvexPolytope a = o.A, b = o.B;
+        Edge& edge = (side ? b : a).edges[e];
+        std::swap(edge.left, edge.right);
+        MinkowskiSum m;
+        ++cases;
+        if (!detail::sum_small(a, b, m)) {
+          ++declined;
+          continue;
+        }
+        EXPECT_TRUE(same_sum(m, truth, 1e-12));
+      }
+  }
+  EXPECT_GT(declined, cases / 2);  // most edges carry crossings
+}
+
 // The box-box kernel path against the general fast path (and both against brute force):
 // random pairs, aligned ones (parallel edges: the general path), tiny rotations, and boxes far
 // from the origin.
