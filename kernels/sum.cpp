@@ -237,38 +237,64 @@ Status minkowski_difference(const ConvexPolytope& a, const ConvexPolytope& b, Mi
 }
 
 Status minkowski_sum(const Box& a, const Box& b, MinkowskiSum& out) {
-  ConvexPolytope pa, pb;  // vertex k is box_corner(k), as the kernel's corner codes number them
-  for (auto [box, poly] : {std::pair{&a, &pa}, std::pair{&b, &pb}})
-    if (const Status s = polytope_from_box(*box, *poly); s != Status::Ok) {
+  for (const Box* x : {&a, &b})
+    if (const Status s = check_box(*x); s != Status::Ok) {
       out = MinkowskiSum{};
       return s;
     }
   // The kernel's whole-polytope path on one lane: 30 planes and their vertex loops (symmetry
-  // and index tracking; see box_box_sum). Out of general position (parallel edges, three
-  // coplanar ones) facets merge: the general path.
-  // Default-initialised (new T, not make_unique): the kernel writes what is read.
-  using Batch = BoxBatch<double, kLaneMultiple>;
-  const std::unique_ptr<Batch> A(new Batch), B(new Batch);
-  const std::unique_ptr<BoxBoxSum<double, kLaneMultiple>> sum(new BoxBoxSum<double, kLaneMultiple>);
-  A->set(0, a), B->set(0, b);
-  A->count = B->count = 1;
-  A->pad(), B->pad();
-  box_box_sum(*A, *B, *sum);
-  if (!sum->general[0]) return minkowski_sum(pa, pb, out, Method::Fast);
-  std::vector<detail::FacetLoop> facets(30);
+  // and index tracking; see box_box_sum), its buffers on the stack (about 26 KB).
+  BoxBatch<double, kLaneMultiple> A, B;
+  BoxBoxSum<double, kLaneMultiple> sum;
+  A.set(0, a), B.set(0, b);
+  A.count = B.count = 1;
+  A.pad(), B.pad();
+  box_box_sum(A, B, sum);
+  // The 32 vertices: the pairs the loops visit, numbered in (i, j) order (bit 8 i + j).
+  std::uint64_t used = 0;
+  for (int p = 0; p < 30; ++p)
+    for (int m = 0; m < 4; ++m) {
+      const int v = int(sum.loop[p][0] >> (6 * m) & 63);
+      used |= std::uint64_t(1) << (8 * (v & 7) + (v >> 3));
+    }
+  // Out of general position (parallel edges, three coplanar ones) facets merge, and the loops
+  // are not meaningful: the general path.
+  if (!sum.general[0] || __builtin_popcountll(used) != 32) {
+    ConvexPolytope pa, pb;  // vertex k is box_corner(k), as the kernel's codes number them
+    polytope_from_box(a, pa), polytope_from_box(b, pb);
+    return minkowski_sum(pa, pb, out, Method::Fast);
+  }
+  int number[64];
+  out.vertices.resize(32);
+  Vector3d corner_a[8], corner_b[8];
+  for (int k = 0; k < 8; ++k) corner_a[k] = box_corner(a, k), corner_b[k] = box_corner(b, k);
+  int v = 0;
+  for (std::uint64_t m = used; m; m &= m - 1, ++v) {
+    const int bit = __builtin_ctzll(m), i = bit >> 3, j = bit & 7;
+    number[bit] = v;
+    out.vertices[v] = SumVertex{i, j, corner_a[i] + corner_b[j]};
+  }
+  // Facet p < 15 has axis p's plane, p + 15 the opposite one; each loop starts at its smallest
+  // pair (the support corners with the facet's edge bits clear), as assemble's do, and the
+  // plane's pair is that one; the offsets are the kernel's support function h_A(n) + h_B(n).
+  out.planes.resize(30), out.facets.resize(30);
   for (int p = 0; p < 30; ++p) {
     const int q = p % 15;
-    facets[p].normal = (p < 15 ? 1.0 : -1.0) * Vector3d(sum->planes.n[q][0][0], sum->planes.n[q][1][0], sum->planes.n[q][2][0]);
+    std::vector<int>& loop = out.facets[p];
+    loop.resize(4);
     for (int m = 0; m < 4; ++m) {
-      const int v = int(sum->loop[p][0] >> (6 * m) & 63);
-      facets[p].loop.emplace_back(v & 7, v >> 3);
+      const int code = int(sum.loop[p][0] >> (6 * m) & 63);
+      loop[m] = number[8 * (code & 7) + (code >> 3)];
     }
+    SumPlane& plane = out.planes[p];
+    plane.normal = (p < 15 ? 1.0 : -1.0) * Vector3d(sum.planes.n[q][0][0], sum.planes.n[q][1][0], sum.planes.n[q][2][0]);
+    plane.offset = sum.planes.offset[p][0];
+    plane.i = out.vertices[loop[0]].i, plane.j = out.vertices[loop[0]].j;
   }
-  out.method = Method::Kernel, out.corrected = false;
-  detail::assemble(pa, pb, facets, out);
-  // Rounding can pick a wrong support corner between nearly parallel features: then the
-  // general path, as for any inconsistent result.
-  if (!out.euler_ok || !planes_support(pa, pb, out)) return minkowski_sum(pa, pb, out, Method::Fast);
+  out.V = 32, out.E = 60, out.F = 30;
+  out.euler_ok = true;
+  out.corrected = false;
+  out.method = Method::Kernel;
   return Status::Ok;
 }
 

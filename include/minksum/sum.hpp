@@ -43,8 +43,7 @@ Status minkowski_sum(const ConvexPolytope& a, const ConvexPolytope& b, Minkowski
 
 /// A (+) B of two boxes through the box-box kernel's whole-polytope path (box_box_sum, active
 /// ISA, one lane): its 30 planes and vertex loops (vertex i, j: box_corner codes); boxes out
-/// of general position (parallel edges, three coplanar), or an inconsistent result, take the
-/// general path.
+/// of general position (parallel edges, an edge parallel to a face) take the general path.
 Status minkowski_sum(const Box& a, const Box& b, MinkowskiSum& out);
 
 /// A (-) B = A (+) (-B), the configuration-space obstacle; index j refers to B's vertex j.

@@ -2,11 +2,13 @@
 // ISA this CPU has: no crash or sanitizer report for any input, for valid boxes (finite,
 // positive extents, a rotation) finite planes and proximities, equal across ISAs within float
 // rounding and to the exact double query, the whole sum's loops on their planes and its planes
-// supporting it, and for finite triangles the double triangle distance equal to the scalar path.
+// supporting it, minkowski_sum(Box, Box) a closed polytope of support planes, and for finite
+// triangles the double triangle distance equal to the scalar path.
 #include <minksum/mesh.hpp>
 
 #include "fuzz_common.hpp"
 
+#include <limits>
 #include <memory>
 
 using namespace minksum;
@@ -98,6 +100,18 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
                        x.rotation(0, 0), x.rotation(0, 1), x.rotation(0, 2), x.rotation(1, 0), x.rotation(1, 1), x.rotation(1, 2),
                        x.rotation(2, 0), x.rotation(2, 1), x.rotation(2, 2));
         fuzz::fail("the batched proximity differs from the exact query");
+      }
+      // One pair through minkowski_sum(Box, Box) (the double kernel on one lane, or the general
+      // path): a closed polytope whose every plane is the support plane of the corner sums.
+      MinkowskiSum sum;
+      if (minkowski_sum(boxes[k][0], boxes[k][1], sum) != Status::Ok || !sum.euler_ok || sum.V - sum.E + sum.F != 2)
+        fuzz::fail("minkowski_sum(Box, Box) fails on valid boxes");
+      for (const SumPlane& plane : sum.planes) {
+        double top = -std::numeric_limits<double>::infinity();
+        for (int i = 0; i < 8; ++i)
+          for (int j = 0; j < 8; ++j)
+            top = std::max(top, plane.normal.dot(box_corner(boxes[k][0], i) + box_corner(boxes[k][1], j)));
+        if (std::abs(top - plane.offset) > 1e-12 * double(scale)) fuzz::fail("minkowski_sum(Box, Box): a plane off the support");
       }
       // The whole sum: every loop vertex on its facet's plane, every pairwise corner sum inside
       // every plane.
