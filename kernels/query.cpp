@@ -175,9 +175,7 @@ void box_box_farthest(const detail::BoxPair<double>& p, Proximity& out) {
 Status box_box_exhaustive(const Box& a, const Box& b, Proximity& out) {
   BoxBatch<double, kLaneMultiple> A, B;
   BoxBoxProximity<double, kLaneMultiple> r;
-  A.set(0, a), B.set(0, b);
-  A.count = B.count = 1;
-  A.pad(), B.pad();
+  A.set_one(a), B.set_one(b);
   box_box_proximity(A, B, r);
   out.intersecting = !(r.distance[0] > 0);
   out.distance = r.distance[0];

@@ -246,9 +246,7 @@ Status minkowski_sum(const Box& a, const Box& b, MinkowskiSum& out) {
   // and index tracking; see box_box_sum), its buffers on the stack (about 26 KB).
   BoxBatch<double, kLaneMultiple> A, B;
   BoxBoxSum<double, kLaneMultiple> sum;
-  A.set(0, a), B.set(0, b);
-  A.count = B.count = 1;
-  A.pad(), B.pad();
+  A.set_one(a), B.set_one(b);
   box_box_sum(A, B, sum);
   // The 32 vertices: the pairs the loops visit, numbered in (i, j) order (bit 8 i + j).
   std::uint64_t used = 0;

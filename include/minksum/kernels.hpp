@@ -73,6 +73,12 @@ struct alignas(64) BoxBatch {
   void pad() {
     for (int k = count; k < N; ++k) set(k, Box{});
   }
+  /// Holds box b alone: lane 0, count 1, the other lanes padded.
+  void set_one(const Box& b) {
+    set(0, b);
+    count = 1;
+    pad();
+  }
 };
 
 /// N triangles in structure of arrays: vertex i, component d of lane k at v[i][d][k].
