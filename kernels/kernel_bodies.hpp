@@ -904,21 +904,12 @@ struct Kernels {
         const U u(up[f]);
         std::uint64_t hit = 0;
         for (int j = 0; j < V; j += L)
-          hit |= std::uint64_t(lane_bits((u & U::load_unaligned(edges + j)) == U::load_unaligned(ends + j))) << j;
+          hit |= std::uint64_t(S::bits((u & U::load_unaligned(edges + j)) == U::load_unaligned(ends + j))) << j;
         if (!hit) return false;
         top[f] = __builtin_ctzll(hit);
       }
       return true;
     }
-  }
-  template <class M>
-  static unsigned lane_bits(const M& m) {
-    if constexpr (std::is_same_v<Arch, xsimd::avx512bw>)
-      return unsigned(m.data);
-    else if constexpr (sizeof(m.data) == 32)
-      return unsigned(_mm256_movemask_pd(_mm256_castsi256_pd(m.data)));
-    else
-      return unsigned(_mm_movemask_pd(_mm_castsi128_pd(m.data)));
   }
   static B load_u(const T* p) {
     if constexpr (S::size == 1)

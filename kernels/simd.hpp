@@ -62,13 +62,20 @@ struct Simd {
   static void store_code(CodeOf<T>* p, const B& v) {
     xsimd::batch_cast<CodeOf<T>>(v).store_aligned(p);
   }
-  /// The lanes of a mask as bits, lane l in bit l (xsimd 8 has no such call).
-  static unsigned bits(const typename B::batch_bool_type& m) {
+  /// The lanes of a mask (of T, or of 64-bit integers) as bits, lane l in bit l (xsimd 8 has
+  /// no such call).
+  template <class M>
+  static unsigned bits(const M& m) {
+    constexpr bool wide = sizeof(m.data) == 32, of_t = std::is_same_v<M, typename B::batch_bool_type>;
     if constexpr (std::is_same_v<Arch, xsimd::avx512bw>)
       return unsigned(m.data);
-    else if constexpr (size * sizeof(T) == 32 && std::is_same_v<T, float>)
+    else if constexpr (!of_t && wide)
+      return unsigned(_mm256_movemask_pd(_mm256_castsi256_pd(m.data)));
+    else if constexpr (!of_t)
+      return unsigned(_mm_movemask_pd(_mm_castsi128_pd(m.data)));
+    else if constexpr (wide && std::is_same_v<T, float>)
       return unsigned(_mm256_movemask_ps(m));
-    else if constexpr (size * sizeof(T) == 32)
+    else if constexpr (wide)
       return unsigned(_mm256_movemask_pd(m));
     else if constexpr (std::is_same_v<T, float>)
       return unsigned(_mm_movemask_ps(m));

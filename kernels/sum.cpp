@@ -5,8 +5,6 @@
 
 #include <minksum/kernels.hpp>
 
-#include <memory>
-
 #include "hull.hpp"
 #include "sum_internal.hpp"
 
