@@ -48,7 +48,12 @@ struct Kernels {
   template <class M>
   static B inv_len_where(const M& ok, const B& len2, B& valid_bit, T bit) {
     valid_bit = valid_bit + S::select(ok, B(bit), B(T(0)));
-    return S::select(ok, S::rsqrt(S::select(ok, len2, B(T(1)))), B(T(0)));
+    // In double, a square root and a division: they run in the divider, beside the multiply
+    // pipes the kernels fill, where the estimate's refinement (S::rsqrt) takes six more
+    // multiplies (measured: the box-box kernel 3% faster on Zen 5). In float the wider lanes
+    // make the divider the bottleneck.
+    const B x = S::select(ok, len2, B(T(1)));
+    return S::select(ok, std::is_same_v<T, double> ? B(T(1)) / S::sqrt(x) : S::rsqrt(x), B(T(0)));
   }
   // The unit axis of c, or the zero vector (see inv_len_or_zero).
   static V3 unit_or_zero(const V3& c, const B& scale2, B& valid_bit, T bit) {
@@ -94,38 +99,53 @@ struct Kernels {
   // computed. The normal is taken back to the world frame as U_A times the A-frame axis.
   static void box_box(BoxLanes<T> a, BoxLanes<T> b, int count, int N, bool difference,
                       PlaneLanes<T> out, SumLanes<T> sum) {
-    with_row_stride(N, [&](auto R) { box_box_rows<R.value>(a, b, count, N, difference, out, sum); });
+    // The three uses compiled apart: with runtime flags the unrolled body is cut by branches
+    // at every axis, which the compiler does not schedule across.
+    with_row_stride(N, [&](auto R) {
+      if (difference)
+        box_box_rows<R.value, true, false>(a, b, count, N, out, sum);
+      else if (sum.loop)
+        box_box_rows<R.value, false, true>(a, b, count, N, out, sum);
+      else
+        box_box_rows<R.value, false, false>(a, b, count, N, out, sum);
+    });
   }
-  // R: the row stride N fixed at compile time, or 0 (any N).
-  template <int R>
-  static void box_box_rows(BoxLanes<T> a, BoxLanes<T> b, int count, int any_N, bool difference,
-                           PlaneLanes<T> out, SumLanes<T> sum) {
+  // R: the row stride N fixed at compile time, or 0 (any N). whole: the whole polytope too
+  // (sums only).
+  template <int R, bool difference, bool whole>
+  static void box_box_rows(BoxLanes<T> a, BoxLanes<T> b, int count, int any_N, PlaneLanes<T> out,
+                           SumLanes<T> sum) {
     const int N = R ? R : any_N;
     const B sign(difference ? T(-1) : T(1)), zero(0), one(1);
-    const bool whole = sum.loop && !difference;  // the whole polytope too (sums only)
     auto bit = [&](const auto& m, int k) { return S::select(m, B(T(1 << k)), zero); };
     for (int k = 0; k < count; k += S::size) {
-      V3 ua[3], ub[3];
-      B ha[3], hb[3], C[3][3], A[3][3];
-      for (int i = 0; i < 3; ++i) {
-        ua[i] = load3(a.u + 3 * i * N, N, k);
-        ub[i] = load3(b.u + 3 * i * N, N, k);
-        ha[i] = S::load(a.h + i * N + k);
-        hb[i] = S::load(b.h + i * N + k);
+      // The inputs are read where they are used, not held: the kernel is bound by its stores,
+      // and inputs held in registers across it are spilled, one more store each (the outputs
+      // may alias the inputs as far as the compiler knows, so these are real loads, and cheap).
+      const auto ua = [&](int i) { return load3(a.u + 3 * i * N, N, k); };
+      const auto ub = [&](int j) { return load3(b.u + 3 * j * N, N, k); };
+      const auto ha = [&](int i) { return S::load(a.h + i * N + k); };
+      const auto hb = [&](int j) { return S::load(b.h + j * N + k); };
+      B C[3][3], A[3][3];
+      {
+        const V3 u[3] = {ua(0), ua(1), ua(2)}, v[3] = {ub(0), ub(1), ub(2)};
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) C[i][j] = dot(u[i], v[j]), A[i][j] = S::abs(C[i][j]);
       }
+      B least = A[0][0];  // general position: no C entry near 0 (three coplanar edges)
       for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) C[i][j] = dot(ua[i], ub[j]), A[i][j] = S::abs(C[i][j]);
-      const V3 ca = load3(a.c, N, k), cb = load3(b.c, N, k);
+        for (int j = 0; j < 3; ++j) least = S::min(least, A[i][j]);
       // The sum's reference point: c_A + c_B (or c_A - c_B for the difference), and in A's frame.
+      const V3 ca = load3(a.c, N, k), cb = load3(b.c, N, k);
       const V3 c{S::fma(sign, cb.x, ca.x), S::fma(sign, cb.y, ca.y), S::fma(sign, cb.z, ca.z)};
-      const B cA[3] = {dot(ua[0], c), dot(ua[1], c), dot(ua[2], c)};
+      const B cA[3] = {dot(ua(0), c), dot(ua(1), c), dot(ua(2), c)};
       B valid(T(63));  // the six face axes are always valid
       // Writes axis p: normal n, support radius s about c, n . c, corner codes (B's already
       // shifted to bits 3-5). For the difference, B's support in n is its corner opposite to the
       // one in +n: 7 - code.
       auto emit = [&](int p, const V3& n, const B& s, const B& m, const B& codea, const B& codeb8) {
         const B code = codea + (difference ? B(T(56)) - codeb8 : codeb8);
-        if (whole) sum_loops(p, code, sum.loop + k, N);
+        if constexpr (whole) sum_loops(p, code, sum.loop + k, N);
         store3(out.n + 3 * p * N, N, k, n);
         S::store(out.offset + p * N + k, s + m);
         S::store(out.offset + (p + 15) * N + k, s - m);
@@ -133,42 +153,49 @@ struct Kernels {
       };
 #pragma GCC unroll 3
       for (int p = 0; p < 3; ++p) {
-        emit(p, ua[p], ha[p] + S::fma(hb[0], A[p][0], S::fma(hb[1], A[p][1], hb[2] * A[p][2])), cA[p],
+        emit(p, ua(p), ha(p) + S::fma(hb(0), A[p][0], S::fma(hb(1), A[p][1], hb(2) * A[p][2])), cA[p],
              B(T(1 << p)), bit(C[p][0] > zero, 3) + bit(C[p][1] > zero, 4) + bit(C[p][2] > zero, 5));
-        emit(3 + p, ub[p], hb[p] + S::fma(ha[0], A[0][p], S::fma(ha[1], A[1][p], ha[2] * A[2][p])),
-             dot(ub[p], c), bit(C[0][p] > zero, 0) + bit(C[1][p] > zero, 1) + bit(C[2][p] > zero, 2),
+        const V3 v = ub(p);
+        emit(3 + p, v, hb(p) + S::fma(ha(0), A[0][p], S::fma(ha(1), A[1][p], ha(2) * A[2][p])),
+             dot(v, c), bit(C[0][p] > zero, 0) + bit(C[1][p] > zero, 1) + bit(C[2][p] > zero, 2),
              B(T(8 << p)));
       }
 #pragma GCC unroll 3
       for (int i = 0; i < 3; ++i) {
         const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+        // x[j] = (e_i x C_j) . C_j1, a 2x2 minor of C. The axis (i, j) needs v . C_k for B's
+        // other two axes (its own is 0): v . C_j1 = x[j] and v . C_j2 = -x[j2], so each minor
+        // serves two axes and is formed once.
+        B x[3], ax[3];
+#pragma GCC unroll 3
+        for (int j = 0; j < 3; ++j) {
+          const int j1 = (j + 1) % 3;
+          x[j] = S::fma(B(T(0)) - C[i2][j], C[i1][j1], C[i1][j] * C[i2][j1]);
+          ax[j] = S::abs(x[j]);
+        }
 #pragma GCC unroll 3
         for (int j = 0; j < 3; ++j) {
           const int p = 6 + 3 * i + j, j1 = (j + 1) % 3, j2 = (j + 2) % 3;
           // v = e_i x C_j: v_i = 0, v_i1 = -C[i2][j], v_i2 = C[i1][j].
           const B v1 = B(T(0)) - C[i2][j], v2 = C[i1][j];
           const B inv = inv_len_or_zero(S::fma(v1, v1, v2 * v2), valid, T(1 << p));
-          // v . C_k for B's other two axes (its own is 0).
-          const B x1 = S::fma(v1, C[i1][j1], v2 * C[i2][j1]), x2 = S::fma(v1, C[i1][j2], v2 * C[i2][j2]);
-          const B s = S::fma(ha[i1], A[i2][j], S::fma(ha[i2], A[i1][j],
-                             S::fma(hb[j1], S::abs(x1), hb[j2] * S::abs(x2))));
+          const B s = S::fma(ha(i1), A[i2][j], S::fma(ha(i2), A[i1][j], S::fma(hb(j1), ax[j], hb(j2) * ax[j2])));
           const B w1 = v1 * inv, w2 = v2 * inv;
-          const V3 n{S::fma(w1, ua[i1].x, w2 * ua[i2].x), S::fma(w1, ua[i1].y, w2 * ua[i2].y),
-                     S::fma(w1, ua[i1].z, w2 * ua[i2].z)};
+          const V3 u1 = ua(i1), u2 = ua(i2);
+          const V3 n{S::fma(w1, u1.x, w2 * u2.x), S::fma(w1, u1.y, w2 * u2.y), S::fma(w1, u1.z, w2 * u2.z)};
           // Corner codes from the signs (all clear for an invalid axis, as its zero normal).
           emit(p, n, s * inv, S::fma(w1, cA[i1], w2 * cA[i2]), bit(w1 > zero, i1) + bit(w2 > zero, i2),
-               S::select(inv > zero, bit(x1 > zero, 3 + j1) + bit(x2 > zero, 3 + j2), zero));
+               S::select(inv > zero, bit(x[j] > zero, 3 + j1) + bit(x[j2] < zero, 3 + j2), zero));
         }
       }
       S::store_code(out.valid + k, valid);
-      if (whole) {
-        B least = A[0][0];  // general position: no C entry near 0 (three coplanar edges)
-        for (int i = 0; i < 3; ++i)
-          for (int j = 0; j < 3; ++j) least = S::min(least, A[i][j]);
+      if constexpr (whole) {
         const auto general = valid == B(T((1 << 15) - 1)) && least > B(kParallelThreshold<T>);
         S::store_code(sum.general + k, S::select(general, one, zero));
-        box_corners(ca, ua, ha, sum.corner_a + k, N);
-        box_corners(cb, ub, hb, sum.corner_b + k, N);
+        const V3 u[3] = {ua(0), ua(1), ua(2)}, v[3] = {ub(0), ub(1), ub(2)};
+        const B g[3] = {ha(0), ha(1), ha(2)}, h[3] = {hb(0), hb(1), hb(2)};
+        box_corners(load3(a.c, N, k), u, g, sum.corner_a + k, N);
+        box_corners(load3(b.c, N, k), v, h, sum.corner_b + k, N);
       }
     }
   }
