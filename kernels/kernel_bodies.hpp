@@ -99,23 +99,15 @@ struct Kernels {
   // computed. The normal is taken back to the world frame as U_A times the A-frame axis.
   static void box_box(BoxLanes<T> a, BoxLanes<T> b, int count, int N, bool difference,
                       PlaneLanes<T> out, SumLanes<T> sum) {
-    // The three uses compiled apart, each body without the others' branches at every axis.
-    with_row_stride(N, [&](auto R) {
-      if (difference)
-        box_box_rows<R.value, true, false>(a, b, count, N, out, sum);
-      else if (sum.loop)
-        box_box_rows<R.value, false, true>(a, b, count, N, out, sum);
-      else
-        box_box_rows<R.value, false, false>(a, b, count, N, out, sum);
-    });
+    with_row_stride(N, [&](auto R) { box_box_rows<R.value>(a, b, count, N, difference, out, sum); });
   }
-  // R: the row stride N fixed at compile time, or 0 (any N). whole: the whole polytope too
-  // (sums only).
-  template <int R, bool difference, bool whole>
-  static void box_box_rows(BoxLanes<T> a, BoxLanes<T> b, int count, int any_N, PlaneLanes<T> out,
-                           SumLanes<T> sum) {
+  // R: the row stride N fixed at compile time, or 0 (any N).
+  template <int R>
+  static void box_box_rows(BoxLanes<T> a, BoxLanes<T> b, int count, int any_N, bool difference,
+                           PlaneLanes<T> out, SumLanes<T> sum) {
     const int N = R ? R : any_N;
     const B sign(difference ? T(-1) : T(1)), zero(0), one(1);
+    const bool whole = sum.loop && !difference;  // the whole polytope too (sums only)
     auto bit = [&](const auto& m, int k) { return S::select(m, B(T(1 << k)), zero); };
     for (int k = 0; k < count; k += S::size) {
       // The inputs are read where they are used, not held: the body needs more registers than
@@ -145,7 +137,7 @@ struct Kernels {
       // one in +n: 7 - code.
       auto emit = [&](int p, const V3& n, const B& s, const B& m, const B& codea, const B& codeb8) {
         const B code = codea + (difference ? B(T(56)) - codeb8 : codeb8);
-        if constexpr (whole) sum_loops(p, code, sum.loop + k, N);
+        if (whole) sum_loops(p, code, sum.loop + k, N);
         store3(out.n + 3 * p * N, N, k, n);
         S::store(out.offset + p * N + k, s + m);
         S::store(out.offset + (p + 15) * N + k, s - m);
@@ -189,7 +181,7 @@ struct Kernels {
         }
       }
       S::store_code(out.valid + k, valid);
-      if constexpr (whole) {
+      if (whole) {
         const auto general = valid == B(T((1 << 15) - 1)) && least > B(kParallelThreshold<T>);
         S::store_code(sum.general + k, S::select(general, one, zero));
         const V3 u[3] = {ua(0), ua(1), ua(2)}, v[3] = {ub(0), ub(1), ub(2)};
