@@ -124,7 +124,9 @@ struct Kernels {
         for (int i = 0; i < 3; ++i)
           for (int j = 0; j < 3; ++j) C[i][j] = dot(u[i], v[j]), A[i][j] = S::abs(C[i][j]);
       }
-      B least = A[0][0];  // general position: no C entry near 0 (three coplanar edges)
+      // General position: no C entry near 0 (three coplanar edges). Formed here while A is live,
+      // in every mode (nine min operations), rather than held for the end of a whole sum.
+      B least = A[0][0];
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) least = S::min(least, A[i][j]);
       // The sum's reference point: c_A + c_B (or c_A - c_B for the difference), and in A's frame.
