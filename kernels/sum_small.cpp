@@ -66,16 +66,14 @@ bool prepare(const ConvexPolytope& p, Operand& o) {
     o.first[f] = int(std::min_element(face.loop.begin(), face.loop.end()) - face.loop.begin());
     o.steps += int(face.loop.size());
   }
-  const auto& n = o.normal;  // (the copies above: read back from here, not from the faces)
+  // The face normals read back from the copies above, not from the faces.
+  const auto normal = [&o](int f) { return Vector3d(o.normal[0][f], o.normal[1][f], o.normal[2][f]); };
   for (int e = 0; e < o.E; ++e) {
     const Edge& ed = p.edges[e];
     const Vector3d d = p.vertices[ed.v1] - p.vertices[ed.v0];
     for (int c = 0; c < 3; ++c) o.dir[c][e] = d[c];
     o.edges[ed.v0] |= Mask(1) << e, o.edges[ed.v1] |= Mask(1) << e, o.ends[ed.v1] |= Mask(1) << e;
-    const int l = ed.left, r = ed.right;
-    const double x = n[1][l] * n[2][r] - n[2][l] * n[1][r], y = n[2][l] * n[0][r] - n[0][l] * n[2][r],
-                 z = n[0][l] * n[1][r] - n[1][l] * n[0][r];
-    if (d[0] * x + d[1] * y + d[2] * z <= 0) return false;
+    if (d.dot(normal(ed.left).cross(normal(ed.right))) <= 0) return false;
   }
   for (auto& row : o.dir) std::fill(row + o.E, row + std::min(kMax, (o.E + 7) / 8 * 8), 0.0);
   return true;
