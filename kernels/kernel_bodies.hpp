@@ -874,64 +874,6 @@ struct Kernels {
       arg_out[q] = at;
     }
   }
-  // For the small Minkowski sum (sum_small.cpp): n <= 64 points x (face normals) against K <= 64
-  // directions d (edges; arrays readable to K rounded up to 8). Bit e of positive[k] is set iff
-  // d_e . x_k > tol; *unsure is set iff some |d_e . x_k| <= tol. Per point, the directions a
-  // lane block at a time, so each point is broadcast once and its bits gather in a register.
-  static void signs(const T* x, const T* y, const T* z, int n, const T* dx, const T* dy,
-                    const T* dz, int K, T tol, std::uint64_t* positive, bool* unsure) {
-    const std::uint64_t all = K == 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << K) - 1;
-    const int last = (K - 1) / S::size * S::size;  // the last block, padded past K with zeros
-    alignas(64) T lane[S::size];
-    for (int l = 0; l < S::size; ++l) lane[l] = T(l);
-    const auto real = load_u(lane) < B(T(K - last));  // its lanes that hold directions
-    const B inf(std::numeric_limits<T>::infinity()), limit(tol);
-    B least = inf;  // the smallest |d . x| met
-    for (int v = 0; v < n; ++v) {
-      const B bx(x[v]), by(y[v]), bz(z[v]);
-      const auto dot = [&](int c) { return S::fma(load_u(dx + c), bx, S::fma(load_u(dy + c), by, load_u(dz + c) * bz)); };
-      std::uint64_t up = 0;
-      for (int c = 0; c < last; c += S::size) {
-        const B h = dot(c);
-        up |= std::uint64_t(S::bits(h > limit)) << c;
-        least = S::min(least, S::abs(h));
-      }
-      const B h = dot(last);
-      up |= std::uint64_t(S::bits(h > limit)) << last;
-      least = S::min(least, S::select(real, S::abs(h), inf));
-      positive[v] = up & all;
-    }
-    *unsure = S::any(least <= limit);
-  }
-  // For sum_small.cpp: per row f of up (bit e: edge e rises along some direction N_f), the
-  // vertex j whose edges all rise to it, (up[f] & edges[j]) == ends[j] (the support along N_f);
-  // edges and ends are readable to V rounded up to 8, the padding never matching (ends all
-  // ones). Every vertex block is compared, without an early exit: a branch per block would be
-  // mispredicted as often as the top lands in another block. False if some row has none.
-  static bool sinks(const std::uint64_t* up, int n, const std::uint64_t* edges,
-                    const std::uint64_t* ends, int V, int* top) {
-    if constexpr (S::size == 1) {
-      for (int f = 0; f < n; ++f) {
-        int j = 0;
-        while (j < V && (up[f] & edges[j]) != ends[j]) ++j;
-        if (j == V) return false;
-        top[f] = j;
-      }
-      return true;
-    } else {
-      using U = xsimd::batch<std::uint64_t, Arch>;
-      constexpr int L = int(U::size);
-      for (int f = 0; f < n; ++f) {
-        const U u(up[f]);
-        std::uint64_t hit = 0;
-        for (int j = 0; j < V; j += L)
-          hit |= std::uint64_t(S::bits((u & U::load_unaligned(edges + j)) == U::load_unaligned(ends + j))) << j;
-        if (!hit) return false;
-        top[f] = __builtin_ctzll(hit);
-      }
-      return true;
-    }
-  }
   static B load_u(const T* p) {
     if constexpr (S::size == 1)
       return *p;
@@ -950,8 +892,7 @@ constexpr KernelTable make_table() {
           &Kernels<float, Arch>::box_box_separation, &Kernels<double, Arch>::box_box_separation,
           &Kernels<float, Arch>::box_triangle_overlap, &Kernels<double, Arch>::box_triangle_overlap,
           &BoxPairQuery<double, Arch>::box_pair,
-          &Kernels<float, Arch>::triangle_distance, &Kernels<double, Arch>::triangle_distance,
-          &Kernels<double, Arch>::signs, &Kernels<double, Arch>::sinks};
+          &Kernels<float, Arch>::triangle_distance, &Kernels<double, Arch>::triangle_distance};
 }
 
 }  // namespace minksum::detail

@@ -166,17 +166,6 @@ void box_pair_proximity(const Box& a, const Box& b, bool answer, BoxPair<double>
   dispatch().box_pair_d(va, vb, answer, pair, out);
 }
 
-void edge_signs(const double* nx, const double* ny, const double* nz, int n, const double* dx,
-                const double* dy, const double* dz, int k, double tol, std::uint64_t* positive,
-                bool* unsure) {
-  dispatch().signs_d(nx, ny, nz, n, dx, dy, dz, k, tol, positive, unsure);
-}
-
-bool support_sinks(const std::uint64_t* up, int n, const std::uint64_t* edges,
-                   const std::uint64_t* ends, int v, int* top) {
-  return dispatch().sinks(up, n, edges, ends, v, top);
-}
-
 }  // namespace detail
 
 void support_push(const float* x, const float* y, const float* z, int n, const float* dx,

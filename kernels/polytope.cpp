@@ -25,6 +25,7 @@ const char* to_string(Status s) {
     case Status::InvalidBox: return "invalid box (non-positive half extent or non-orthonormal rotation)";
     case Status::DegenerateResult: return "the sum of two coplanar flat polytopes is flat, not a solid";
     case Status::HullFailed: return "the convex hull (Qhull) failed";
+    case Status::InvalidPose: return "the pose is not a finite rigid motion (a proper rotation and a translation)";
   }
   return "unknown status";
 }

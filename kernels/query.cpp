@@ -30,35 +30,36 @@ struct Witness {
 
 // The point of the convex polygon `loop` (vertex indices of m, counter-clockwise about n) that
 // is closest to the origin, with its weights over at most three of the polygon's vertices.
-Witness closest_on_facet(const MinkowskiSum& m, const std::vector<int>& loop, const Vector3d& n) {
-  const auto P = [&](size_t k) -> const Vector3d& { return m.vertices[loop[k % loop.size()]].point; };
+Witness closest_on_facet(const MinkowskiSum& m, const Loop& loop, const Vector3d& n) {
+  const size_t size = size_t(loop.size());
+  const auto P = [&](size_t k) -> const Vector3d& { return m.vertices[loop[int(k % size)]].point; };
   const double d = n.dot(P(0));
   const Vector3d q = d * n;  // the origin projected onto the facet's plane
   bool inside = true;
-  for (size_t k = 0; k < loop.size() && inside; ++k)
+  for (size_t k = 0; k < size && inside; ++k)
     inside = (P(k + 1) - P(k)).cross(q - P(k)).dot(n) >= 0;
   Witness best;
   if (inside) {  // the facet's own region: barycentric weights in the fan triangle holding q
-    for (size_t k = 1; k + 1 < loop.size(); ++k) {
+    for (size_t k = 1; k + 1 < size; ++k) {
       const Vector3d &a = P(0), &b = P(k), &c = P(k + 1);
       const double area = (b - a).cross(c - a).dot(n);
       const double wb = (q - a).cross(c - a).dot(n) / area, wc = (b - a).cross(q - a).dot(n) / area;
       if (!(wb >= -1e-12 && wc >= -1e-12 && wb + wc <= 1 + 1e-12)) continue;  // NaN (a sliver): skip
       best.dist2 = d * d;
-      best.pair[0] = loop[0], best.pair[1] = loop[k], best.pair[2] = loop[k + 1];
+      best.pair[0] = loop[0], best.pair[1] = loop[int(k)], best.pair[2] = loop[int(k + 1)];
       best.w[0] = 1 - wb - wc, best.w[1] = wb, best.w[2] = wc;
       return best;
     }
   }
   // An edge's or a vertex's region: the closest point on the nearest boundary segment.
-  for (size_t k = 0; k < loop.size(); ++k) {
+  for (size_t k = 0; k < size; ++k) {
     const Vector3d &a = P(k), e = P(k + 1) - P(k);
     const double len2 = e.squaredNorm();
     const double t = len2 > 0 ? std::clamp(-a.dot(e) / len2, 0.0, 1.0) : 0.0;
     const double dist2 = (a + t * e).squaredNorm();
     if (dist2 < best.dist2) {
       best.dist2 = dist2;
-      best.pair[0] = loop[k], best.pair[1] = loop[(k + 1) % loop.size()], best.pair[2] = loop[0];
+      best.pair[0] = loop[int(k)], best.pair[1] = loop[int((k + 1) % size)], best.pair[2] = loop[0];
       best.w[0] = 1 - t, best.w[1] = t, best.w[2] = 0;
     }
   }
@@ -111,7 +112,7 @@ Proximity proximity(const MinkowskiSum& m, const ConvexPolytope& a, const Convex
     out.penetration_depth = std::max(0.0, m.planes[nearest].offset);
     out.penetration_direction = m.planes[nearest].normal;
     // Deepest points: the origin's projection onto that facet, pulled back to A and B.
-    witness_points(m, a, b, closest_on_facet(m, m.facets[nearest], m.planes[nearest].normal),
+    witness_points(m, a, b, closest_on_facet(m, m.facet(nearest), m.planes[nearest].normal),
                    out.point_a, out.point_b);
     return out;
   }
@@ -119,7 +120,7 @@ Proximity proximity(const MinkowskiSum& m, const ConvexPolytope& a, const Convex
   Witness best;
   for (int k = 0; k < m.F; ++k) {
     if (m.planes[k].offset >= tol) continue;
-    const Witness w = closest_on_facet(m, m.facets[k], m.planes[k].normal);
+    const Witness w = closest_on_facet(m, m.facet(k), m.planes[k].normal);
     if (w.dist2 < best.dist2) best = w;
   }
   out.distance = std::sqrt(best.dist2);

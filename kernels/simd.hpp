@@ -130,9 +130,6 @@ struct KernelTable {
   void (*box_pair_d)(const BoxView&, const BoxView&, bool, BoxPair<double>&, PairAnswer<double>&);
   void (*tri_tri_f)(const float*, const float*, int, int, float*, float*, float*);
   void (*tri_tri_d)(const double*, const double*, int, int, double*, double*, double*);
-  void (*signs_d)(const double*, const double*, const double*, int, const double*, const double*,
-                  const double*, int, double, std::uint64_t*, bool*);
-  bool (*sinks)(const std::uint64_t*, int, const std::uint64_t*, const std::uint64_t*, int, int*);
 };
 
 // One constant-initialised table per ISA translation unit (no static-initialisation order

@@ -6,6 +6,7 @@
 #include <minksum/kernels.hpp>
 
 #include "hull.hpp"
+#include "overlay.hpp"
 #include "sum_internal.hpp"
 
 namespace minksum {
@@ -14,14 +15,40 @@ using Eigen::Vector3d;
 
 namespace detail {
 
-void assemble(const ConvexPolytope& a, const ConvexPolytope& b, std::vector<FacetLoop>& facets,
+bool closed_manifold(const MinkowskiSum& m) {
+  // Every directed edge u -> v once, and v -> u once. Outgoing edges are grouped per vertex (a
+  // few per vertex), so each check is a short scan.
+  thread_local std::vector<int> start, head, fill;
+  const size_t V = m.vertices.size();
+  start.assign(V + 1, 0);
+  head.resize(m.loop_vertex.size());
+  for (int u : m.loop_vertex) ++start[size_t(u) + 1];
+  for (size_t v = 0; v < V; ++v) start[v + 1] += start[v];
+  fill.assign(start.begin(), start.end() - 1);
+  for (int f = 0; f < m.F; ++f) {
+    const Loop loop = m.facet(f);
+    for (int k = 0; k < loop.size(); ++k) head[size_t(fill[loop[k]]++)] = loop[(k + 1) % loop.size()];
+  }
+  const auto count = [&](int u, int v) {
+    int n = 0;
+    for (int k = start[u]; k < start[u + 1]; ++k) n += head[k] == v;
+    return n;
+  };
+  for (size_t u = 0; u < V; ++u)
+    for (int k = start[u]; k < start[u + 1]; ++k)
+      if (count(int(u), head[k]) != 1 || count(head[k], int(u)) != 1) return false;
+  return true;
+}
+
+void assemble(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, std::vector<FacetLoop>& facets,
               MinkowskiSum& out) {
   // The output's vectors keep their capacity (a caller that reuses `out` allocates once), and
   // the scratch tables are per thread: a sum allocates only while it grows.
-  out.planes.clear(), out.vertices.clear();
+  out.planes.clear(), out.vertices.clear(), out.loop_vertex.clear();
+  out.loop_start.assign(1, 0);
   out.V = out.E = out.F = 0;
   out.euler_ok = out.corrected = false;
-  thread_local std::vector<int> start, head, fill, number;
+  thread_local std::vector<int> start, fill, number;
   thread_local std::vector<long long> slots, distinct;
   size_t kept = 0, entries = 0;
   for (auto& f : facets) {
@@ -39,9 +66,8 @@ void assemble(const ConvexPolytope& a, const ConvexPolytope& b, std::vector<Face
   }
   facets.resize(kept);
   // Vertices are the distinct pairs (i, j), numbered in (i, j) order, found through a hash
-  // table of codes i |B| + j (linear probing; a dense |A| |B| table would make the sum
-  // quadratic in the operands' sizes) and ordered by a counting sort on i.
-  const long long nb = (long long)(b.vertices.size());
+  // table of codes i |B| + j (linear probing) and ordered by a counting sort on i.
+  const long long nb = (long long)(b.size());
   size_t cap = 16;
   while (cap < 2 * entries) cap *= 2;
   slots.assign(cap, -1), number.resize(cap), distinct.clear();
@@ -53,9 +79,9 @@ void assemble(const ConvexPolytope& a, const ConvexPolytope& b, std::vector<Face
   for (const auto& f : facets)
     for (const auto& p : f.loop)
       if (const size_t h = slot(p.first * nb + p.second); slots[h] == -1) slots[h] = p.first * nb + p.second, distinct.push_back(slots[h]);
-  start.assign(a.vertices.size() + 1, 0);
+  start.assign(a.size() + 1, 0);
   for (long long code : distinct) ++start[code / nb + 1];
-  for (size_t i = 0; i < a.vertices.size(); ++i) start[i + 1] += start[i];
+  for (size_t i = 0; i < a.size(); ++i) start[i + 1] += start[i];
   fill.assign(start.begin(), start.end() - 1);
   out.vertices.resize(distinct.size());
   for (long long code : distinct) {
@@ -63,57 +89,30 @@ void assemble(const ConvexPolytope& a, const ConvexPolytope& b, std::vector<Face
     // Within one i, insertion by j (a vertex of A meets a few of B).
     int k = fill[i]++;
     for (; k > start[i] && out.vertices[k - 1].j > j; --k) out.vertices[k] = out.vertices[k - 1];
-    out.vertices[k] = SumVertex{i, j, a.vertices[i] + b.vertices[j]};
+    out.vertices[k] = SumVertex{i, j, a[i] + b[j]};
   }
   for (int v = 0; v < int(out.vertices.size()); ++v) number[slot(out.vertices[v].i * nb + out.vertices[v].j)] = v;
-  const auto index = [&](const std::pair<int, int>& p) { return number[slot(p.first * nb + p.second)]; };
-  out.facets.resize(facets.size());
-  size_t directed = 0;  // directed edges, one per loop step
-  for (size_t k = 0; k < facets.size(); ++k) {
-    const FacetLoop& f = facets[k];
-    std::vector<int>& loop = out.facets[k];
-    loop.clear();
-    SumPlane plane{f.normal.normalized(), -std::numeric_limits<double>::infinity(),
-                   f.loop[0].first, f.loop[0].second};
+  for (const FacetLoop& f : facets) {
+    SumPlane plane{f.normal.normalized(), -std::numeric_limits<double>::infinity(), f.loop[0].first, f.loop[0].second};
     for (const auto& p : f.loop) {
-      loop.push_back(index(p));
+      out.loop_vertex.push_back(number[slot(p.first * nb + p.second)]);
       // The offset is the largest over the facet's vertices, so no vertex is ever cut off.
-      plane.offset = std::max(plane.offset, plane.normal.dot(out.vertices[loop.back()].point));
+      plane.offset = std::max(plane.offset, plane.normal.dot(out.vertices[out.loop_vertex.back()].point));
     }
-    directed += loop.size();
+    out.loop_start.push_back(int(out.loop_vertex.size()));
     out.planes.push_back(plane);
   }
-  // A closed 2-manifold: every directed edge u -> v once, and v -> u once. Outgoing edges are
-  // grouped per vertex (a few per vertex), so each check is a short scan.
-  const size_t V = out.vertices.size();
-  start.assign(V + 1, 0);
-  head.resize(directed);
-  for (const auto& loop : out.facets)
-    for (int u : loop) ++start[u + 1];
-  for (size_t v = 0; v < V; ++v) start[v + 1] += start[v];
-  fill.assign(start.begin(), start.end() - 1);
-  for (const auto& loop : out.facets)
-    for (size_t k = 0; k < loop.size(); ++k) head[fill[loop[k]]++] = loop[(k + 1) % loop.size()];
-  auto count = [&](int u, int v) {
-    int n = 0;
-    for (int k = start[u]; k < start[u + 1]; ++k) n += head[k] == v;
-    return n;
-  };
-  bool manifold = true;
-  for (size_t u = 0; u < V && manifold; ++u)
-    for (int k = start[u]; k < start[u + 1] && manifold; ++k)
-      manifold = count(int(u), head[k]) == 1 && count(head[k], int(u)) == 1;
   out.V = int(out.vertices.size());
-  out.E = int(directed / 2);
-  out.F = int(out.facets.size());
-  out.euler_ok = manifold && out.F >= 4 && out.V - out.E + out.F == 2;
+  out.E = int(out.loop_vertex.size() / 2);
+  out.F = int(facets.size());
+  out.euler_ok = out.F >= 4 && out.V - out.E + out.F == 2 && closed_manifold(out);
 }
 
-Status hull_corrector(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out) {
-  const int nb = int(b.vertices.size());
+Status hull_corrector(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, MinkowskiSum& out) {
+  const int nb = int(b.size());
   std::vector<Vector3d> sums;
-  for (const auto& va : a.vertices)
-    for (const auto& vb : b.vertices) sums.push_back(va + vb);
+  for (const auto& va : a)
+    for (const auto& vb : b) sums.push_back(va + vb);
   std::vector<HullFacet> hull;
   if (!qhull_facets(sums, hull)) return Status::HullFailed;
   std::vector<FacetLoop> facets;
@@ -129,85 +128,70 @@ Status hull_corrector(const ConvexPolytope& a, const ConvexPolytope& b, Minkowsk
   return out.euler_ok ? Status::Ok : Status::HullFailed;
 }
 
+namespace {
+
+// The vertices of a placed operand, as points (for the corrector).
+std::vector<Vector3d> points(const Placed& x) {
+  std::vector<Vector3d> p(x.s->px.size());
+  for (size_t k = 0; k < p.size(); ++k) p[k] = x.point(int(k));
+  return p;
+}
+
+}  // namespace
+
+bool planes_support(const Placed& A, const Placed& B, const MinkowskiSum& m) {
+  double size = 0;
+  for (const Placed* x : {&A, &B})
+    for (size_t k = 0; k < x->s->px.size(); ++k) size = std::max(size, x->point(int(k)).cwiseAbs().maxCoeff());
+  const double tol = 1e-12 * size;
+  // No neighbour of vertex v (through the arcs of its cell) is higher along n: local is global.
+  const auto extreme = [tol](const Placed& x, int v, const Vector3d& n) {
+    const ShapeData& s = *x.s;
+    const int cell = s.vertex_cell[v];
+    const double top = n.dot(x.point(v));
+    for (int k = s.cell_start[cell]; k < s.cell_start[cell + 1]; ++k) {
+      const ShapeData::Arc& e = s.arc[s.cell_arc[k]];
+      if (n.dot(x.point(s.cell_vertex[e.u == cell ? e.v : e.u])) > top + tol) return false;
+    }
+    return true;
+  };
+  for (int f = 0; f < m.F; ++f)
+    for (int v : m.facet(f))
+      if (!extreme(A, m.vertices[v].i, m.planes[f].normal) || !extreme(B, m.vertices[v].j, m.planes[f].normal))
+        return false;
+  return true;
+}
+
+// The overlay of two prepared shapes placed by their poses (B negated for a difference), or
+// the corrector when a step of it fails.
+Status sum_placed(const ShapeData& a, const Eigen::Isometry3d& pose_a, const ShapeData& b,
+                  const Eigen::Isometry3d& pose_b, bool difference, MinkowskiSum& out) {
+  // Two coplanar flat operands have a flat sum; the result type describes solids only.
+  if (a.polytope_ref->flat && b.polytope_ref->flat &&
+      (pose_a.linear() * a.polytope_ref->faces[0].normal).cross(pose_b.linear() * b.polytope_ref->faces[0].normal).norm() <= 1e-12)
+    return out = MinkowskiSum{}, Status::DegenerateResult;
+  thread_local PlacedBuffers buffer_a, buffer_b;
+  thread_local OverlayScratch scratch;
+  Placed A, B;
+  place(a, pose_a, false, buffer_a, A);
+  place(b, pose_b, difference, buffer_b, B);
+  B.moves = true;
+  // The margin of every sign: 1e-11 of the largest coordinate, about 10^4 times the rounding
+  // of the dot products (body frames: translations do not enter).
+  const double tol = 1e-11 * std::max(a.size, b.size);
+  if (scratch.run(A, B, tol, out)) return Status::Ok;
+  // Section 3 of the paper: an inconsistent result is rebuilt from the hull.
+  const Status s = hull_corrector(points(A), points(B), out);
+  out.method = Method::Fast;
+  return s;
+}
+
 }  // namespace detail
 
 namespace {
 
-// Every facet's vertices (i, j) must be extreme along its normal in A and in B: a_i has no
-// neighbour in A higher along n (local is global on a convex polytope), and so for b_j. A
-// cheap proof that each plane supports A (+) B, which Euler's formula alone is not (a fuzzed
-// needle-and-triangle pair once gave a consistent topology with a wrong plane).
-bool planes_support(const ConvexPolytope& a, const ConvexPolytope& b, const MinkowskiSum& m) {
-  // Neighbours of each vertex from the edges, in compressed lists (per-thread scratch).
-  thread_local std::vector<int> start_a, list_a, start_b, list_b, fill;
-  const auto neighbours = [](const ConvexPolytope& p, std::vector<int>& start, std::vector<int>& list) {
-    start.assign(p.vertices.size() + 1, 0);
-    for (const auto& e : p.edges) ++start[e.v0 + 1], ++start[e.v1 + 1];
-    for (size_t v = 0; v < p.vertices.size(); ++v) start[v + 1] += start[v];
-    list.resize(2 * p.edges.size());
-    fill.assign(start.begin(), start.end() - 1);
-    for (const auto& e : p.edges) list[fill[e.v0]++] = e.v1, list[fill[e.v1]++] = e.v0;
-  };
-  neighbours(a, start_a, list_a), neighbours(b, start_b, list_b);
-  double size = 0;
-  for (const auto* p : {&a, &b})
-    for (const auto& v : p->vertices) size = std::max(size, v.cwiseAbs().maxCoeff());
-  const double tol = 1e-12 * size;
-  const auto extreme = [&](const ConvexPolytope& p, const std::vector<int>& start, const std::vector<int>& list,
-                           int i, const Eigen::Vector3d& dir) {
-    const double top = dir.dot(p.vertices[i]);
-    for (int k = start[i]; k < start[i + 1]; ++k)
-      if (dir.dot(p.vertices[list[k]]) > top + tol) return false;
-    return true;
-  };
-  for (int f = 0; f < m.F; ++f)
-    for (int v : m.facets[f]) {
-      const auto& x = m.vertices[v];
-      if (!extreme(a, start_a, list_a, x.i, m.planes[f].normal) ||
-          !extreme(b, start_b, list_b, x.j, m.planes[f].normal))
-        return false;
-    }
-  return true;
-}
-
 bool usable(const ConvexPolytope& p) {
   return p.vertices.size() >= 3 && p.faces.size() >= 2 && !p.edges.empty();
-}
-
-Status sum_dispatch(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out,
-                    Method method) {
-  if (method == Method::Kernel) method = Method::Fast;  // the kernel takes two boxes
-  // An error leaves an empty result; a result reuses the capacity of `out` (see assemble).
-  const auto fail = [&out](Status s) {
-    out = MinkowskiSum{};
-    return s;
-  };
-  out.method = method, out.corrected = false;
-  if (!usable(a) || !usable(b)) return fail(Status::TooFewPoints);
-  // Two coplanar flat operands have a flat sum; the result type describes solids only.
-  if (a.flat && b.flat && a.faces[0].normal.cross(b.faces[0].normal).norm() <= 1e-12)
-    return fail(Status::DegenerateResult);
-  if (method == Method::Hull) {
-    const Status s = detail::hull_corrector(a, b, out);
-    out.corrected = false;  // the hull is the method here, not a correction
-    return s;
-  }
-  // Small operands in general position: the certified bit-set path, whose every sign has a
-  // margin, so it needs neither the Euler-and-support check below nor the corrector.
-  if (method == Method::Fast && detail::sum_small(a, b, out)) return Status::Ok;
-  bool ok = true;
-  if (method == Method::Fast || method == Method::Kernel)
-    ok = detail::sum_fast(a, b, out);
-  else
-    detail::sum_reference(a, b, out);
-  // Section 3 of the paper: an inconsistent result (Euler fails, or a plane that does not
-  // support the sum) is rebuilt from the hull.
-  if (!ok || !out.euler_ok || !planes_support(a, b, out)) {
-    const Status s = detail::hull_corrector(a, b, out);
-    out.method = method;
-    return s;
-  }
-  return Status::Ok;
 }
 
 // -B: vertices and normals negated; loops reversed so they stay counter-clockwise from outside.
@@ -222,16 +206,84 @@ ConvexPolytope negated(const ConvexPolytope& p) {
   return n;
 }
 
+std::vector<Vector3d> signed_points(const ConvexPolytope& p, bool negate) {
+  std::vector<Vector3d> v = p.vertices;
+  if (negate)
+    for (auto& x : v) x = -x;
+  return v;
+}
+
+Status sum_dispatch(const ConvexPolytope& a, const ConvexPolytope& b, bool difference, MinkowskiSum& out,
+                    Method method) {
+  if (method == Method::Kernel) method = Method::Fast;  // the kernel takes two boxes
+  // An error leaves an empty result; a result reuses the capacity of `out`.
+  const auto fail = [&out](Status s) {
+    out = MinkowskiSum{};
+    return s;
+  };
+  out.method = method, out.corrected = false;
+  if (!usable(a) || !usable(b)) return fail(Status::TooFewPoints);
+  // Two coplanar flat operands have a flat sum; the result type describes solids only.
+  if (a.flat && b.flat && a.faces[0].normal.cross(b.faces[0].normal).norm() <= 1e-12)
+    return fail(Status::DegenerateResult);
+  const auto corrector = [&] {
+    const Status s = detail::hull_corrector(a.vertices, signed_points(b, difference), out);
+    out.method = method;
+    return s;
+  };
+  if (method == Method::Hull) {
+    const Status s = corrector();
+    out.corrected = false;  // the hull is the method here, not a correction
+    return s;
+  }
+  // Both are prepared as a ConvexShape would be (per thread, reusing the capacity); one that
+  // breaks the polytope contract gets the corrector's answer, from its vertices alone.
+  thread_local detail::ShapeData prepared_a, prepared_b;
+  if (detail::prepare(a, prepared_a) != Status::Ok || detail::prepare(b, prepared_b) != Status::Ok)
+    return corrector();
+  const Eigen::Isometry3d identity = Eigen::Isometry3d::Identity();
+  if (method == Method::Fast) return detail::sum_placed(prepared_a, identity, prepared_b, identity, difference, out);
+  detail::sum_reference(a, difference ? negated(b) : b, out);
+  // Section 3 of the paper: an inconsistent result (Euler fails, or a plane that does not
+  // support the sum) is rebuilt from the hull.
+  thread_local detail::PlacedBuffers buffer_a, buffer_b;
+  detail::Placed A, B;
+  detail::place(prepared_a, identity, false, buffer_a, A);
+  detail::place(prepared_b, identity, difference, buffer_b, B);
+  if (!out.euler_ok || !detail::planes_support(A, B, out)) return corrector();
+  return Status::Ok;
+}
+
+// Checks the shapes and poses of a posed sum.
+Status sum_shapes(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
+                  const Eigen::Isometry3d& pose_b, bool difference, MinkowskiSum& out) {
+  const detail::ShapeData *da = detail::ShapeAccess::data(a), *db = detail::ShapeAccess::data(b);
+  Status s = !da || !db ? Status::TooFewPoints : check_pose(pose_a);
+  if (s == Status::Ok) s = check_pose(pose_b);
+  if (s != Status::Ok) return out = MinkowskiSum{}, s;
+  return detail::sum_placed(*da, pose_a, *db, pose_b, difference, out);
+}
+
 }  // namespace
 
 Status minkowski_sum(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out,
                      Method method) {
-  return sum_dispatch(a, b, out, method);
+  return sum_dispatch(a, b, false, out, method);
 }
 
 Status minkowski_difference(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out,
                             Method method) {
-  return sum_dispatch(a, negated(b), out, method);
+  return sum_dispatch(a, b, true, out, method);
+}
+
+Status minkowski_sum(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
+                     const Eigen::Isometry3d& pose_b, MinkowskiSum& out) {
+  return sum_shapes(a, pose_a, b, pose_b, false, out);
+}
+
+Status minkowski_difference(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
+                            const Eigen::Isometry3d& pose_b, MinkowskiSum& out) {
+  return sum_shapes(a, pose_a, b, pose_b, true, out);
 }
 
 Status minkowski_sum(const Box& a, const Box& b, MinkowskiSum& out) {
@@ -273,11 +325,11 @@ Status minkowski_sum(const Box& a, const Box& b, MinkowskiSum& out) {
   // Facet p < 15 has axis p's plane, p + 15 the opposite one; each loop starts at its smallest
   // pair (the support corners with the facet's edge bits clear), as assemble's do, and the
   // plane's pair is that one; the offsets are the kernel's support function h_A(n) + h_B(n).
-  out.planes.resize(30), out.facets.resize(30);
+  out.planes.resize(30), out.loop_start.resize(31), out.loop_vertex.resize(120);
   for (int p = 0; p < 30; ++p) {
     const int q = p % 15;
-    std::vector<int>& loop = out.facets[p];
-    loop.resize(4);
+    int* loop = &out.loop_vertex[size_t(4 * p)];
+    out.loop_start[p] = 4 * p;
     for (int m = 0; m < 4; ++m) {
       const int code = int(sum.loop[p][0] >> (6 * m) & 63);
       loop[m] = number[8 * (code & 7) + (code >> 3)];
@@ -287,6 +339,7 @@ Status minkowski_sum(const Box& a, const Box& b, MinkowskiSum& out) {
     plane.offset = sum.planes.offset[p][0];
     plane.i = out.vertices[loop[0]].i, plane.j = out.vertices[loop[0]].j;
   }
+  out.loop_start[30] = 120;
   out.V = 32, out.E = 60, out.F = 30;
   out.euler_ok = true;
   out.corrected = false;

@@ -97,7 +97,7 @@ void sum_reference(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSu
     for (int k : corners) f.loop.emplace_back(k / nb, k % nb);
     facets.push_back(std::move(f));
   }
-  assemble(a, b, facets, out);
+  assemble(a.vertices, b.vertices, facets, out);
 }
 
 }  // namespace minksum::detail

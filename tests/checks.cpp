@@ -38,7 +38,8 @@ testing::AssertionResult valid_sum(const std::vector<Vector3d>& a_pts,
   double size = 0;
   for (const auto* set : {&a_pts, &b_pts, &sums})
     for (const auto& p : *set) size = std::max(size, p.cwiseAbs().maxCoeff());
-  if (m.F != int(m.facets.size()) || m.F != int(m.planes.size()) || m.V != int(m.vertices.size()))
+  if (m.F + 1 != int(m.loop_start.size()) || m.F != int(m.planes.size()) || m.V != int(m.vertices.size()) ||
+      m.loop_start[0] != 0 || m.loop_start.back() != int(m.loop_vertex.size()) || 2 * m.E != int(m.loop_vertex.size()))
     return testing::AssertionFailure() << "counts do not match the arrays";
   if (!m.euler_ok || m.V - m.E + m.F != 2)
     return testing::AssertionFailure() << "Euler fails: V=" << m.V << " E=" << m.E << " F=" << m.F;
@@ -48,7 +49,7 @@ testing::AssertionResult valid_sum(const std::vector<Vector3d>& a_pts,
     if (v.point != expect)
       return testing::AssertionFailure() << "vertex (" << v.i << "," << v.j << ") is not a_i + s b_j";
   }
-  for (size_t f = 0; f < m.facets.size(); ++f) {
+  for (int f = 0; f < m.F; ++f) {
     const auto& pl = m.planes[f];
     if (!pl.normal.allFinite() || std::abs(pl.normal.norm() - 1) > 1e-12 || !std::isfinite(pl.offset))
       return testing::AssertionFailure() << "facet " << f << " has a bad plane";
@@ -57,8 +58,10 @@ testing::AssertionResult valid_sum(const std::vector<Vector3d>& a_pts,
         return testing::AssertionFailure() << "a pairwise sum is outside facet " << f << " by "
                                            << pl.normal.dot(p) - pl.offset;
     Vector3d newell = Vector3d::Zero();
-    const auto& loop = m.facets[f];
-    for (size_t k = 0; k < loop.size(); ++k) {
+    const Loop loop = m.facet(f);
+    if (loop.size() < 3) return testing::AssertionFailure() << "facet " << f << " has fewer than 3 vertices";
+    for (int k = 0; k < loop.size(); ++k) {
+      if (loop[k] < 0 || loop[k] >= m.V) return testing::AssertionFailure() << "facet " << f << " has a bad index";
       const Vector3d& p = m.vertices[loop[k]].point;
       newell += p.cross(m.vertices[loop[(k + 1) % loop.size()]].point);
       if (std::abs(pl.normal.dot(p) - pl.offset) > tol * size)
@@ -95,7 +98,7 @@ testing::AssertionResult same_sum(const MinkowskiSum& x, const MinkowskiSum& y, 
   for (const auto& v : x.vertices) size = std::max(size, v.point.cwiseAbs().maxCoeff());
   auto pairs = [](const MinkowskiSum& m, size_t f) {
     std::set<std::pair<int, int>> s;
-    for (int k : m.facets[f]) s.insert({m.vertices[k].i, m.vertices[k].j});
+    for (int k : m.facet(int(f))) s.insert({m.vertices[k].i, m.vertices[k].j});
     return s;
   };
   // Facets match when they have the same vertex pairs and each one's vertices lie on the other's
@@ -103,7 +106,7 @@ testing::AssertionResult same_sum(const MinkowskiSum& x, const MinkowskiSum& y, 
   // ill-conditioned; its plane through the vertices is not.)
   auto off_plane = [&](const MinkowskiSum& m, size_t f, const SumPlane& p) {
     double worst = 0;
-    for (int k : m.facets[f])
+    for (int k : m.facet(int(f)))
       worst = std::max(worst, std::abs(p.normal.dot(m.vertices[k].point) - p.offset));
     return worst;
   };

@@ -104,12 +104,12 @@ TEST_P(RandomPairs, FastEqualsReferenceAndBruteForce) {
 
 INSTANTIATE_TEST_SUITE_P(Shards, RandomPairs, testing::Range(0, 10));
 
-// The sizes of the Scaling benchmark, where the fast path finds arc crossings through a grid
-// on the sphere and locates normals by walking: no crossing missed (the corrector would run),
-// and the same polytope as the hull of the pairwise sums (Qhull; random points on spheres are
-// far from degenerate).
+// The sizes of the Scaling benchmark, where the overlay walks B's support along every arc of A
+// and climbs to the face normals: no crossing missed (the corrector would run), and the same
+// polytope as the hull of the pairwise sums (Qhull; random points on spheres are far from
+// degenerate).
 TEST(LargePairs, FastEqualsTheHullWithoutTheCorrector) {
-  for (int n : {128, 256, 512}) {
+  for (int n : {24, 32, 128, 256, 512, 1024}) {
     SCOPED_TRACE("n = " + std::to_string(n));
     const Operands o = make(tools::sphere_points(n, 7u * unsigned(n)), tools::sphere_points(n, 7u * unsigned(n) + 1));
     MinkowskiSum fast, hull;
@@ -140,82 +140,66 @@ std::vector<Vector3d> pyramid_points() {
   return p;
 }
 
-// The small path (sum_small.cpp) directly: it must answer the generic Table 1 pairs and most
-// random small pairs, with the polytope of the hull of the pairwise sums (Qhull, an independent
-// construction) and of the general fast path; and decline where features are parallel.
-TEST(SmallPath, AnswersGenericPairsLikeTheHullAndDeclinesTies) {
+// The overlay (overlay.cpp) answers the generic Table 1 pairs and random pairs of up to 64
+// points with the polytope of the hull of the pairwise sums (Qhull, an independent
+// construction), never through the corrector; and pairs with parallel faces or edges (where
+// facets merge) with the merged facets the reference path finds, without the corrector too.
+TEST(Overlay, AnswersGenericPairsLikeTheHullAndMergesTies) {
   for (const auto& pair : tools::table1_pairs()) {
     SCOPED_TRACE(pair.name);
     const Operands o = make(pair.a, pair.b);
-    MinkowskiSum small, hull;
-    ASSERT_TRUE(detail::sum_small(o.A, o.B, small));
+    MinkowskiSum fast, hull;
+    ASSERT_EQ(minkowski_sum(o.A, o.B, fast), Status::Ok);
+    ASSERT_FALSE(fast.corrected);
     ASSERT_EQ(minkowski_sum(o.A, o.B, hull, Method::Hull), Status::Ok);
-    EXPECT_TRUE(same_sum(small, hull, 1e-9));
-    EXPECT_TRUE(valid_sum(o.a, o.b, 1, o.A, o.B, small, 1e-12, 1e-12, 300));
+    EXPECT_TRUE(same_sum(fast, hull, 1e-9));
+    EXPECT_TRUE(valid_sum(o.a, o.b, 1, o.A, o.B, fast, 1e-12, 1e-12, 300));
   }
   std::mt19937_64 rng(77);
-  int answered = 0, declined = 0;
   for (int k = 0; k < test::scaled(2000); ++k) {
     SCOPED_TRACE("pair " + std::to_string(k));
     const Operands o = make(random_points(rng), random_points(rng));
-    MinkowskiSum small, general, hull;
-    const bool fits = o.A.edges.size() <= 64 && o.B.edges.size() <= 64;
-    if (!detail::sum_small(o.A, o.B, small)) {
-      declined += fits;
-      continue;
-    }
-    ++answered;
-    ASSERT_TRUE(detail::sum_fast(o.A, o.B, general));
+    MinkowskiSum fast, hull;
+    ASSERT_EQ(minkowski_sum(o.A, o.B, fast), Status::Ok);
+    ASSERT_FALSE(fast.corrected);
     ASSERT_EQ(minkowski_sum(o.A, o.B, hull, Method::Hull), Status::Ok);
-    ASSERT_TRUE(same_sum(small, general, 1e-9));
-    ASSERT_TRUE(same_sum(small, hull, 1e-9));
-    ASSERT_TRUE(valid_sum(o.a, o.b, 1, o.A, o.B, small, 1e-9, 1e-12, 300, unsigned(k)));
+    ASSERT_TRUE(same_sum(fast, hull, 1e-9));
+    ASSERT_TRUE(valid_sum(o.a, o.b, 1, o.A, o.B, fast, 1e-9, 1e-12, 300, unsigned(k)));
   }
-  // Operands of up to 64 points, in general position: those with at most 64 edges (about 22
-  // points) are all small enough.
-  EXPECT_GT(answered, test::scaled(2000) / 20);
-  EXPECT_EQ(declined, 0) << answered << " answered";
-  // Parallel faces (an axis-aligned cube and a box, a cube and itself) and parallel edges: the
-  // general path's merged facets, not the small path's.
-  const Operands aligned = make(box_points(Vector3d(1, 1, 1)), box_points(Vector3d(0.5, 2, 3)));
-  MinkowskiSum m;
-  EXPECT_FALSE(detail::sum_small(aligned.A, aligned.B, m));
-  const Operands turned = make(box_points(Vector3d(1, 1, 1)), box_points(Vector3d(1, 1, 1), tools::axis_angle(Vector3d(0, 0, 1), 0.3)));
-  EXPECT_FALSE(detail::sum_small(turned.A, turned.B, m));  // z faces and z edges parallel
-  // A face parallel to a face of the cube, no edge parallel to one of its edges: a tie in the
-  // support alone (the facet is the sum of the two faces).
-  const Operands parallel_faces = make(box_points(Vector3d(1, 1, 1)), pyramid_points());
-  EXPECT_FALSE(detail::sum_small(parallel_faces.A, parallel_faces.B, m));
-  check_all(parallel_faces, 1e-12, true);
+  // Parallel faces (an axis-aligned cube and a box, a cube and itself turned about z) and
+  // parallel edges; a face parallel to a face of the cube with no edge parallel to one of its
+  // edges (a tie in the support alone: the facet is the sum of the two faces).
+  check_all(make(box_points(Vector3d(1, 1, 1)), box_points(Vector3d(0.5, 2, 3))), 1e-12, true);
+  check_all(make(box_points(Vector3d(1, 1, 1)), box_points(Vector3d(1, 1, 1), tools::axis_angle(Vector3d(0, 0, 1), 0.3))),
+            1e-12, true);
+  check_all(make(box_points(Vector3d(1, 1, 1)), pyramid_points()), 1e-12, true);
 }
 
 // A polytope built by hand that breaks the Edge contract (one edge's faces swapped, so its
-// arc runs the wrong way round): the small path must decline it (prepare checks every edge's
-// orientation) or, if that check goes, still give the true sum. Every edge of A, and of B, of
-// every Table 1 pair.
-TEST(SmallPath, DeclinesEdgesAgainstTheirContract) {
-  int declined = 0, cases = 0;
+// arc runs the wrong way round): it is not a valid shape (InvalidMesh), and the convenience
+// entry, which prepares it, still gives the true sum (the corrector's, from the vertices). Every
+// edge of A, and of B, of every Table 1 pair.
+TEST(Overlay, RejectsEdgesAgainstTheirContract) {
   for (const auto& pair : tools::table1_pairs()) {
     SCOPED_TRACE(pair.name);
     const Operands o = make(pair.a, pair.b);
     MinkowskiSum truth;
-    ASSERT_TRUE(detail::sum_small(o.A, o.B, truth));
+    ASSERT_EQ(minkowski_sum(o.A, o.B, truth), Status::Ok);
     for (int side = 0; side < 2; ++side)
       for (size_t e = 0; e < (side ? o.B : o.A).edges.size(); ++e) {
         SCOPED_TRACE("side " + std::to_string(side) + " edge " + std::to_string(e));
         ConvexPolytope a = o.A, b = o.B;
         Edge& edge = (side ? b : a).edges[e];
         std::swap(edge.left, edge.right);
+        ConvexShape shape;
+        EXPECT_EQ(shape_from_polytope(side ? b : a, shape), Status::InvalidMesh);
+        EXPECT_TRUE(shape.empty());
         MinkowskiSum m;
-        ++cases;
-        if (!detail::sum_small(a, b, m)) {
-          ++declined;
-          continue;
-        }
+        ASSERT_EQ(minkowski_sum(a, b, m), Status::Ok);
+        EXPECT_TRUE(m.corrected);
         EXPECT_TRUE(same_sum(m, truth, 1e-12));
       }
   }
-  EXPECT_GT(declined, cases / 2);  // the check declines them all today
 }
 
 // The box-box kernel path against the general fast path (and both against brute force):
@@ -400,50 +384,6 @@ TEST(Sum, DifferenceContainsTheOriginExactlyWhenBoxesOverlap) {
   EXPECT_LT(overlaps, 450);
 }
 
-// The shortcut's edge-sign kernel on every ISA: the same polytope, bit for bit, as on the scalar
-// path (its signs have margins, its output is formed in scalar code).
-TEST(SmallPath, EveryIsaGivesTheScalarResult) {
-  const Isa best = active_isa();
-  std::mt19937_64 rng(78);
-  std::vector<Operands> cases;
-  for (const auto& pair : tools::table1_pairs()) cases.push_back(make(pair.a, pair.b));
-  for (int k = 0; k < 300; ++k) cases.push_back(make(random_points(rng), random_points(rng)));
-  // Ties the kernel must see on every ISA: a shape and its copy turned by 1e-13 rad (every face
-  // nearly parallel, signs left to rounding), an aligned cube and box (12 edges: a zero-padded
-  // lane block on every SIMD ISA), and a cube with a pyramid whose only tie is a parallel face.
-  for (int k = 0; k < 20; ++k) {
-    const auto p = random_points(rng);
-    auto q = p;
-    for (auto& x : q) x = tools::axis_angle(kGeneric, 1e-13) * x;
-    cases.push_back(make(p, q));
-  }
-  cases.push_back(make(box_points(Vector3d(1, 1, 1)), box_points(Vector3d(0.5, 2, 3))));
-  cases.push_back(make(box_points(Vector3d(1, 1, 1)), pyramid_points()));
-  int answered = 0;
-  for (size_t c = 0; c < cases.size(); ++c) {
-    SCOPED_TRACE("case " + std::to_string(c));
-    MinkowskiSum scalar;
-    ASSERT_TRUE(force_isa(Isa::Scalar));
-    const bool ok = detail::sum_small(cases[c].A, cases[c].B, scalar);
-    answered += ok;
-    for (Isa isa : {Isa::Sse4_2, Isa::Avx2, Isa::Avx512}) {
-      if (!force_isa(isa)) continue;
-      MinkowskiSum m;
-      ASSERT_EQ(detail::sum_small(cases[c].A, cases[c].B, m), ok) << to_string(isa);
-      if (!ok) continue;
-      ASSERT_EQ(m.F, scalar.F) << to_string(isa);
-      for (int f = 0; f < m.F; ++f) {
-        ASSERT_EQ(m.facets[f], scalar.facets[f]) << to_string(isa);
-        ASSERT_EQ(m.planes[f].normal, scalar.planes[f].normal) << to_string(isa);
-        ASSERT_EQ(m.planes[f].offset, scalar.planes[f].offset) << to_string(isa);
-      }
-    }
-  }
-  force_isa(best);
-  EXPECT_GT(answered, 30);
-  EXPECT_LE(answered, int(cases.size()) - 22);  // the ties declined
-}
-
 // The assembly's consistency check (which sends results to the corrector) must reject a
 // reversed facet, a missing facet and a repeated facet, and accept the real thing.
 TEST(Sum, AssemblyRejectsInconsistentFacets) {
@@ -464,7 +404,7 @@ TEST(Sum, AssemblyRejectsInconsistentFacets) {
   };
   MinkowskiSum m;
   auto ok = [&](std::vector<detail::FacetLoop> f) {
-    detail::assemble(a, b, f, m);
+    detail::assemble(a.vertices, b.vertices, f, m);
     return m.euler_ok;
   };
   EXPECT_TRUE(ok(loops(false, false, false)));

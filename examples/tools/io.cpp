@@ -402,7 +402,7 @@ bool write_mesh(const std::string& path, const MinkowskiSum& sum, std::string& e
     return false;
   }
   out.precision(17);
-  const size_t V = sum.vertices.size(), F = sum.facets.size();
+  const size_t V = sum.vertices.size(), F = size_t(sum.F);
   if (ext == "off") out << "OFF\n" << V << ' ' << F << " 0\n";
   if (ext == "ply")
     out << "ply\nformat ascii 1.0\nelement vertex " << V
@@ -411,7 +411,8 @@ bool write_mesh(const std::string& path, const MinkowskiSum& sum, std::string& e
   for (const auto& v : sum.vertices)
     out << (ext == "obj" ? "v " : "") << v.point.x() << ' ' << v.point.y() << ' ' << v.point.z()
         << '\n';
-  for (const auto& f : sum.facets) {
+  for (int k = 0; k < sum.F; ++k) {
+    const Loop f = sum.facet(k);
     out << (ext == "obj" ? "f" : std::to_string(f.size()));
     for (int k : f) out << ' ' << (ext == "obj" ? k + 1 : k);
     out << '\n';

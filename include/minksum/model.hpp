@@ -19,6 +19,7 @@ enum class Status {
   DegenerateResult,  ///< the sum is flat (two coplanar flat operands): not a solid
   HullFailed,        ///< Qhull reported an error on input that passed validation
   OutOfRange,        ///< a coordinate's magnitude exceeds kMaxCoordinate
+  InvalidPose,       ///< a pose that is not a finite rigid motion (scale, shear, reflection, NaN)
 };
 
 /// Largest coordinate magnitude accepted: products of three stay finite in double, so the

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <minksum/model.hpp>
+#include <minksum/shape.hpp>
 
 namespace minksum {
 
@@ -26,18 +27,47 @@ struct SumPlane {
   int i = -1, j = -1;      ///< a vertex pair of this facet (its loop's first vertex)
 };
 
-/// The Minkowski sum as an H-representation with index tracking and full topology.
+/// One facet's vertex loop: indices into MinkowskiSum::vertices, counter-clockwise from outside.
+struct Loop {
+  const int* first = nullptr;  ///< its first index
+  int count = 0;               ///< its length
+  const int* begin() const { return first; }         ///< range-for support
+  const int* end() const { return first + count; }   ///< range-for support
+  int size() const { return count; }                 ///< its length
+  int operator[](int k) const { return first[k]; }   ///< index k of the loop
+};
+
+/// The Minkowski sum as an H-representation with index tracking and full topology, in flat
+/// arrays (a result that is reused keeps its capacity: a loop of sums allocates only while
+/// the output grows).
 struct MinkowskiSum {
-  std::vector<SumPlane> planes;           ///< one per facet, same order as `facets`
-  std::vector<std::vector<int>> facets;   ///< loops of indices into `vertices`, CCW from outside
+  std::vector<SumPlane> planes;           ///< one per facet
+  std::vector<int> loop_start;            ///< F + 1 offsets: facet k's loop is loop_vertex[loop_start[k], loop_start[k + 1])
+  std::vector<int> loop_vertex;           ///< the facets' loops back to back (indices into `vertices`)
   std::vector<SumVertex> vertices;        ///< sorted by (i, j)
   int V = 0, E = 0, F = 0;                ///< counts of vertices, edges and facets
   bool euler_ok = false;                  ///< V - E + F == 2 and every edge has two facets
   bool corrected = false;                 ///< the Section 3 hull corrector rebuilt the result
   Method method = Method::Fast;           ///< the path that produced it
+  /// Facet k's vertex loop, starting at its smallest index (the plane's pair).
+  Loop facet(int k) const { return {loop_vertex.data() + loop_start[k], loop_start[k + 1] - loop_start[k]}; }
 };
 
-/// A (+) B. Facets of coplanar support features are merged into one polygon.
+/// (R_A A + t_A) (+) (R_B B + t_B) of two prepared shapes, each placed by its pose inside the
+/// call (the overlay of their Gauss maps, Method::Fast): planes and vertices in the world
+/// frame, support pairs (i, j) indexing a.polytope() and b.polytope(). O(|E_A| + |E_B| +
+/// output) after one linear scan for the first support. TooFewPoints for an empty shape,
+/// InvalidPose for a pose that is not rigid, DegenerateResult for two coplanar flat shapes.
+Status minkowski_sum(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
+                     const Eigen::Isometry3d& pose_b, MinkowskiSum& out);
+
+/// (R_A A + t_A) (-) (R_B B + t_B), the configuration-space obstacle of the placed shapes.
+Status minkowski_difference(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
+                            const Eigen::Isometry3d& pose_b, MinkowskiSum& out);
+
+/// A (+) B of two polytopes (the convenience entry: Method::Fast prepares both, as a
+/// ConvexShape would be, on every call). Facets of coplanar support features are merged into
+/// one polygon.
 Status minkowski_sum(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out,
                      Method method = Method::Fast);
 
