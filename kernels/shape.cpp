@@ -1,6 +1,7 @@
 // Prepared convex shapes: a polytope validated once and its Gauss map laid out in flat arrays.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "shape_data.hpp"
 
@@ -11,18 +12,6 @@ using Eigen::Vector3d;
 namespace detail {
 
 namespace {
-
-// Compressed lists: start[k]..start[k + 1] of `list` hold owner k's entries, filled from
-// (owner, entry) pairs given by `each(emit)`; `fill` is scratch.
-template <class Each>
-void compress(int owners, std::vector<int>& start, std::vector<int>& list, std::vector<int>& fill, Each&& each) {
-  start.assign(size_t(owners) + 1, 0);
-  each([&](int owner, int) { ++start[size_t(owner) + 1]; });
-  for (int k = 0; k < owners; ++k) start[k + 1] += start[k];
-  list.resize(size_t(start[owners]));
-  fill.assign(start.begin(), start.end() - 1);
-  each([&](int owner, int entry) { list[size_t(fill[owner]++)] = entry; });
-}
 
 // The body-frame vertices, their size and the extent (bounding-box diagonal); false if a
 // coordinate is not finite or beyond kMaxCoordinate.
@@ -70,10 +59,8 @@ Status prepare_flat(const ConvexPolytope& p, ShapeData& s, double extent) {
   for (int k = 0; k < K; ++k) s.vertex_cell[top[k]] = k;
   // Cells: k is the top copy of top[k], K + k its bottom copy. Side k's loop is
   // top(k+1) -> top(k) -> bottom(k) -> bottom(k+1), which fixes the arcs' orientation.
-  s.arc.resize(size_t(s.arcs)), s.dx.resize(size_t(s.arcs)), s.dy.resize(size_t(s.arcs)), s.dz.resize(size_t(s.arcs));
-  const auto set_arc = [&](int e, ShapeData::Arc a, const Vector3d& d) {
-    s.arc[e] = a, s.dx[e] = d.x(), s.dy[e] = d.y(), s.dz[e] = d.z();
-  };
+  s.arc.resize(size_t(s.arcs)), s.dir.resize(size_t(s.arcs));
+  const auto set_arc = [&](int e, ShapeData::Arc a, const Vector3d& d) { s.arc[e] = a, s.dir[e] = d; };
   for (int k = 0; k < K; ++k) {
     const int k1 = (k + 1) % K, side = 2 + k, prev_side = 2 + (k + K - 1) % K;
     const Vector3d d = p.vertices[top[k1]] - p.vertices[top[k]];
@@ -100,6 +87,8 @@ Status prepare_flat(const ConvexPolytope& p, ShapeData& s, double extent) {
   return Status::Ok;
 }
 
+Status faces_from_polytope(const ConvexPolytope& p, double extent, ShapeData& s);
+
 }  // namespace
 
 Status prepare(const ConvexPolytope& p, ShapeData& s) {
@@ -118,7 +107,7 @@ Status prepare(const ConvexPolytope& p, ShapeData& s) {
       if (!unit(n)) return Status::InvalidMesh;
       s.nx[f] = n.x(), s.ny[f] = n.y(), s.nz[f] = n.z();
     }
-    s.arc.resize(size_t(E)), s.dx.resize(size_t(E)), s.dy.resize(size_t(E)), s.dz.resize(size_t(E));
+    s.arc.resize(size_t(E)), s.dir.resize(size_t(E));
     for (int e = 0; e < E; ++e) {
       const Edge& x = p.edges[e];
       if (x.v0 < 0 || x.v0 >= V || x.v1 < 0 || x.v1 >= V || x.v0 == x.v1 || x.left < 0 || x.left >= F ||
@@ -128,19 +117,50 @@ Status prepare(const ConvexPolytope& p, ShapeData& s) {
       // Convex at the edge, and listed in the Edge orientation: N_L x N_R along d.
       if (!(d.dot(p.faces[x.left].normal.cross(p.faces[x.right].normal)) > 0)) return Status::InvalidMesh;
       s.arc[e] = {x.v0, x.v1, x.left, x.right};
-      s.dx[e] = d.x(), s.dy[e] = d.y(), s.dz[e] = d.z();
+      s.dir[e] = d;
     }
     s.cell_vertex.resize(size_t(V)), s.vertex_cell.resize(size_t(V));
     for (int v = 0; v < V; ++v) s.cell_vertex[v] = s.vertex_cell[v] = v;
   }
-  // Every cell's arcs; then each face's loop, with the arc of each step found among its
-  // first cell's arcs, on the side the face must have it.
-  compress(s.cells, s.cell_start, s.cell_arc, s.fill, [&](auto&& emit) {
-    for (int e = 0; e < s.arcs; ++e) emit(s.arc[e].u, e), emit(s.arc[e].v, e);
-  });
+  // Every cell's arcs (a counting sort by cell); then each face's loop, with the arc of each
+  // step found among its first cell's arcs, on the side the face must have it.
+  s.cell_start.assign(size_t(s.cells) + 1, 0);
+  for (const ShapeData::Arc& a : s.arc) ++s.cell_start[size_t(a.u) + 1], ++s.cell_start[size_t(a.v) + 1];
+  for (int c = 0; c < s.cells; ++c) s.cell_start[c + 1] += s.cell_start[c];
+  s.fill.assign(s.cell_start.begin(), s.cell_start.end() - 1);
+  const size_t slots = size_t(2 * s.arcs);
+  s.cell_slot.resize(slots), s.sx.resize(slots), s.sy.resize(slots), s.sz.resize(slots), s.arc_slot.resize(size_t(s.arcs));
+  const auto set_slot = [&s](int k, ShapeData::Slot slot, const Vector3d& d) {
+    s.cell_slot[k] = slot, s.sx[k] = d.x(), s.sy[k] = d.y(), s.sz[k] = d.z();
+  };
+  for (int e = 0; e < s.arcs; ++e) {
+    const ShapeData::Arc& a = s.arc[e];
+    s.arc_slot[e] = s.fill[a.u];
+    set_slot(s.fill[a.u]++, {e, a.v}, s.dir[e]);
+    set_slot(s.fill[a.v]++, {~e, a.u}, -s.dir[e]);
+  }
   for (int c = 0; c < s.cells; ++c)
     if (s.cell_start[c + 1] - s.cell_start[c] < 3) return Status::InvalidMesh;
-  if (p.flat) return Status::Ok;  // its loops are built with the prism
+  if (!p.flat && faces_from_polytope(p, extent, s) != Status::Ok) return Status::InvalidMesh;  // (a prism's are built)
+  // Per loop step, the face across its arc; per face, where its loop has its smallest vertex
+  // (the loops of the sum's facets start there).
+  s.loop_face.resize(s.loop_arc.size()), s.loop_least.resize(size_t(s.faces));
+  for (int f = 0; f < s.faces; ++f) {
+    int least = s.loop_start[f];
+    for (int k = s.loop_start[f]; k < s.loop_start[f + 1]; ++k) {
+      const ShapeData::Arc& a = s.arc[s.loop_arc[k]];
+      s.loop_face[k] = a.L == f ? a.R : a.L;
+      if (s.cell_vertex[s.loop_cell[k]] < s.cell_vertex[s.loop_cell[least]]) least = k;
+    }
+    s.loop_least[f] = least - s.loop_start[f];
+  }
+  return Status::Ok;
+}
+
+namespace {
+
+// The face loops of a solid, as cells and arcs, checked against the edges.
+Status faces_from_polytope(const ConvexPolytope& p, double extent, ShapeData& s) {
   s.loop_start.assign(size_t(s.faces) + 1, 0);
   s.loop_cell.clear(), s.loop_arc.clear();
   s.side_used.assign(size_t(2 * s.arcs), 0);
@@ -155,8 +175,9 @@ Status prepare(const ConvexPolytope& p, ShapeData& s) {
       if (std::abs(face.normal.dot(p.vertices[a] - first)) > 1e-9 * extent) return Status::InvalidMesh;
       int found = -1;
       for (int i = s.cell_start[a]; i < s.cell_start[a + 1]; ++i) {
-        const ShapeData::Arc& x = s.arc[s.cell_arc[i]];
-        if ((x.u == a && x.v == b && x.L == f) || (x.v == a && x.u == b && x.R == f)) found = s.cell_arc[i];
+        const ShapeData::Slot& slot = s.cell_slot[i];
+        const int e = slot.arc >= 0 ? slot.arc : ~slot.arc;
+        if (slot.next == b && (slot.arc >= 0 ? s.arc[e].L : s.arc[e].R) == f) found = e;
       }
       if (found < 0 || s.side_used[2 * found + (s.arc[found].u == a ? 0 : 1)]++) return Status::InvalidMesh;
       s.loop_cell.push_back(a), s.loop_arc.push_back(found);
@@ -166,6 +187,8 @@ Status prepare(const ConvexPolytope& p, ShapeData& s) {
   if (int(s.loop_cell.size()) != 2 * s.arcs) return Status::InvalidMesh;  // every arc has two sides
   return Status::Ok;
 }
+
+}  // namespace
 
 }  // namespace detail
 
@@ -183,7 +206,7 @@ Status adopt(Status built, ConvexPolytope&& p, ConvexShape& out) {
   auto data = std::make_shared<detail::ShapeData>();
   data->polytope = std::move(p);
   if (const Status s = detail::prepare(data->polytope, *data); s != Status::Ok) return s;
-  data->fill = {}, data->side_used = {};  // scratch of prepare
+  data->fill = {}, data->side_used = {}, data->dir = {};  // scratch of prepare
   detail::ShapeAccess::set(std::move(data), out);
   return Status::Ok;
 }

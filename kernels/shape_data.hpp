@@ -24,17 +24,28 @@ struct ShapeData {
   int faces = 0, arcs = 0, cells = 0;
   std::vector<double> nx, ny, nz;    // unit face normals
   std::vector<Arc> arc;
-  std::vector<double> dx, dy, dz;    // per arc: p_v - p_u (a prism's zero-length arcs: -normal x width)
   std::vector<int> cell_vertex;      // per cell: its polytope vertex
   std::vector<int> vertex_cell;      // per vertex: a cell of it (a prism's top copy)
   std::vector<int> loop_start;       // per face (faces + 1): its loop in loop_cell, loop_arc
   std::vector<int> loop_cell;        // face loops as cells, counter-clockwise from outside
   std::vector<int> loop_arc;         // arc k of a loop joins its cells k and k + 1
-  std::vector<int> cell_start;       // per cell (cells + 1): its arcs in cell_arc
-  std::vector<int> cell_arc;
+  std::vector<int> loop_face;        // the face across arc k of a loop
+  std::vector<int> loop_least;       // per face: where in its loop its smallest vertex is
+  /// One arc of a cell, read from it: the arc (~arc when the cell is the arc's v) and the cell
+  /// across it. Its direction, read from the cell, is p_next - p_cell (for a prism's
+  /// zero-length arcs, -+normal x width): the normal n lies beyond the arc (the cell across
+  /// is higher along n) iff direction . n > 0.
+  struct Slot {
+    int arc, next;
+  };
+  std::vector<int> cell_start;       // per cell (cells + 1): its slots
+  std::vector<Slot> cell_slot;
+  std::vector<double> sx, sy, sz;    // per slot: its direction
+  std::vector<int> arc_slot;         // per arc: its slot in cell u (direction d = p_v - p_u)
   std::vector<double> px, py, pz;    // polytope vertices
   double size = 0;                   // largest |coordinate|: the scale of the rounding errors
   std::vector<int> fill, side_used;  // scratch of prepare
+  std::vector<Eigen::Vector3d> dir;  // scratch of prepare: per arc p_v - p_u (a prism's zero-length arcs: -normal x width)
 };
 
 /// The library's access to a shape's data.

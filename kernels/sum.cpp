@@ -149,10 +149,8 @@ bool planes_support(const Placed& A, const Placed& B, const MinkowskiSum& m) {
     const ShapeData& s = *x.s;
     const int cell = s.vertex_cell[v];
     const double top = n.dot(x.point(v));
-    for (int k = s.cell_start[cell]; k < s.cell_start[cell + 1]; ++k) {
-      const ShapeData::Arc& e = s.arc[s.cell_arc[k]];
-      if (n.dot(x.point(s.cell_vertex[e.u == cell ? e.v : e.u])) > top + tol) return false;
-    }
+    for (int k = s.cell_start[cell]; k < s.cell_start[cell + 1]; ++k)
+      if (n.dot(x.point(s.cell_vertex[s.cell_slot[k].next])) > top + tol) return false;
     return true;
   };
   for (int f = 0; f < m.F; ++f)
