@@ -7,10 +7,12 @@
 //    of B along N (a vertex; an edge or a face where N lies on B's arcs: merged facets);
 //  - likewise each face normal of B that is not also one of A;
 //  - each proper crossing of an arc e_A with an arc e_B: the parallelogram e_A (+) e_B.
-// Arc e lies on the great circle normal to its direction d (N_L x N_R is a positive multiple of
-// d), so which side of it a normal N lies on is the sign of d . N, kept when it clears a margin
-// of 1e-11 of the largest coordinate (about 10^4 times the rounding); inside the margin the
-// exact predicate decides on the normals themselves (orient, predicates.hpp).
+// Arc e lies on the great circle of pole c = N_L x N_R (a positive multiple of its edge), so
+// which side of it a normal N lies on is the sign of c . N = det(N, N_L, N_R). The float value,
+// c computed from the same normals, is within 2e-15 of the exact one for unit normals, so its
+// sign is kept when it clears kFilter (a static filter, Shewchuk 1997); inside, the exact
+// predicate decides (orient, predicates.hpp). Every sign is thus the exact sign on the normals
+// as stored, and the walks see one consistent map, however close to parallel two faces are.
 //
 // The algorithm walks (O(|E_A| + |E_B| + output) after the first support, which is a linear
 // scan):
@@ -76,8 +78,11 @@ int exact_sign_of_dot(const Vector3d& x, const Vector3d& y) {
   return 2 * exact_sign_of_dot(kAxis, n) * orient(kAxis, nl, nr);
 }
 
-// The sign of v when it clears the margin tol, else 0.
-inline int margin_sign(double v, double tol) { return v > tol ? 1 : v < -tol ? -1 : 0; }
+// The float filter of every sign (see the top of the file).
+constexpr double kFilter = 1e-14;
+
+// The sign of v when it clears the filter, else 0.
+inline int margin_sign(double v) { return v > kFilter ? 1 : v < -kFilter ? -1 : 0; }
 
 }  // namespace
 
@@ -106,10 +111,13 @@ void place(const ShapeData& s, const Eigen::Isometry3d& pose, bool negate, Place
     out.nx = s.nx.data(), out.ny = s.ny.data(), out.nz = s.nz.data();
     out.sx = s.sx.data(), out.sy = s.sy.data(), out.sz = s.sz.data();
   } else {
+    // The poles from the placed normals themselves (not rotated): the filter's bound holds
+    // against the exact predicate on those normals whatever the pose's rounding.
     transform(s.nx, s.ny, s.nz, buf.n, Vector3d::Zero());
-    transform(s.sx, s.sy, s.sz, buf.d, Vector3d::Zero());
+    for (auto& d : buf.d) d.resize(s.sx.size());
     out.nx = buf.n[0].data(), out.ny = buf.n[1].data(), out.nz = buf.n[2].data();
     out.sx = buf.d[0].data(), out.sy = buf.d[1].data(), out.sz = buf.d[2].data();
+    fill_poles(s, negate, out.nx, out.ny, out.nz, buf.d[0].data(), buf.d[1].data(), buf.d[2].data());
   }
   if (M == Eigen::Matrix3d::Identity() && t == Vector3d::Zero()) {
     out.px = s.px.data(), out.py = s.py.data(), out.pz = s.pz.data();
@@ -167,7 +175,7 @@ int best_cell(const Placed& X, const Placed& Y, int f) {
 // The cell of map X whose (perturbed) region holds the normal f of Y, by climbing from `cell`
 // across the arcs it lies beyond (each step raises X's support along the normal); -1 on
 // failure. `clean`: no side of the final cell was decided by the perturbation.
-int climb(const Placed& X, const Placed& Y, int f, int cell, double tol, bool& clean) {
+int climb(const Placed& X, const Placed& Y, int f, int cell, bool& clean) {
   const ShapeData& s = *X.s;
   const double nx = Y.nx[f], ny = Y.ny[f], nz = Y.nz[f];
   const double *sx = X.sx, *sy = X.sy, *sz = X.sz;
@@ -178,8 +186,8 @@ int climb(const Placed& X, const Placed& Y, int f, int cell, double tol, bool& c
     int next = -1;
     for (int k = start[cell], end = start[cell + 1]; k < end; ++k) {
       const double v = sx[k] * nx + sy[k] * ny + sz[k] * nz;
-      if (v < -tol) continue;
-      int b = v > tol ? 1 : X.exact_beyond(k, Y, f);
+      if (v < -kFilter) continue;
+      int b = v > kFilter ? 1 : X.exact_beyond(k, Y, f);
       if (b == 0) return -1;
       if (b > 0) {
         next = slot[k].next;
@@ -202,13 +210,13 @@ int climb(const Placed& X, const Placed& Y, int f, int cell, double tol, bool& c
 // N_to lies beyond it and N_from does not (e_B's circle separates N_L and N_R: s3 != s4; the
 // arc it came in by has N_to behind it), e_A's circle separates e_B's ends (s1 != s2), and not
 // at the antipode (s1 == s4).
-int walk(const Placed& A, const Placed& B, int ea, int from, int cell, int target, double tol,
-         std::vector<Crossing>& out, bool& clean) {
+int walk(const Placed& A, const Placed& B, int ea, int from, int cell, int target, std::vector<Crossing>& out,
+         bool& clean) {
   const ShapeData& sb = *B.s;
   const bool from_left = A.L(ea) == from;
   const int to = from_left ? A.R(ea) : A.L(ea);
   const double tx = A.nx[to], ty = A.ny[to], tz = A.nz[to], fx = A.nx[from], fy = A.ny[from], fz = A.nz[from];
-  const Vector3d da = A.dir(ea);
+  const Vector3d da = A.pole(ea);
   const double *sx = B.sx, *sy = B.sy, *sz = B.sz, *nx = B.nx, *ny = B.ny, *nz = B.nz;
   const int* start = sb.cell_start.data();
   const ShapeData::Slot* slot = sb.cell_slot.data();
@@ -219,8 +227,8 @@ int walk(const Placed& A, const Placed& B, int ea, int from, int cell, int targe
     clean = true;
     for (const int end = start[cell + 1]; k < end; ++k) {
       const double vt = sx[k] * tx + sy[k] * ty + sz[k] * tz;
-      if (vt < -tol) continue;
-      const int to_beyond = vt > tol ? 1 : B.exact_beyond(k, A, to);
+      if (vt < -kFilter) continue;
+      const int to_beyond = vt > kFilter ? 1 : B.exact_beyond(k, A, to);
       if (to_beyond <= 0) {
         if (to_beyond == 0) return -1;
         clean &= to_beyond == -1;
@@ -228,7 +236,7 @@ int walk(const Placed& A, const Placed& B, int ea, int from, int cell, int targe
       }
       beyond_some = true;
       const double vf = sx[k] * fx + sy[k] * fy + sz[k] * fz;
-      const int from_beyond = vf < -tol ? -1 : vf > tol ? 1 : B.exact_beyond(k, A, from);
+      const int from_beyond = vf < -kFilter ? -1 : vf > kFilter ? 1 : B.exact_beyond(k, A, from);
       if (from_beyond >= 0) {
         if (from_beyond == 0) return -1;
         continue;
@@ -237,10 +245,10 @@ int walk(const Placed& A, const Placed& B, int ea, int from, int cell, int targe
       const int a = slot[k].arc, e = a >= 0 ? a : ~a, sign = a >= 0 ? 1 : -1;
       s3 = sign * (from_left ? from_beyond : to_beyond), s4 = sign * (from_left ? to_beyond : from_beyond);
       const int gl = B.L(e), gr = B.R(e);
-      s1 = margin_sign(da.x() * nx[gl] + da.y() * ny[gl] + da.z() * nz[gl], tol);
+      s1 = margin_sign(da.x() * nx[gl] + da.y() * ny[gl] + da.z() * nz[gl]);
       if (!s1 && !(s1 = A.exact_side(ea, B, gl))) return -1;
       if ((s1 > 0) != (s4 > 0)) continue;
-      s2 = margin_sign(da.x() * nx[gr] + da.y() * ny[gr] + da.z() * nz[gr], tol);
+      s2 = margin_sign(da.x() * nx[gr] + da.y() * ny[gr] + da.z() * nz[gr]);
       if (!s2 && !(s2 = A.exact_side(ea, B, gr))) return -1;
       if ((s1 > 0) == (s2 > 0)) continue;
       exit = e;
@@ -253,6 +261,27 @@ int walk(const Placed& A, const Placed& B, int ea, int from, int cell, int targe
     cell = slot[k].next;
   }
   return cell;
+}
+
+// The normal of the parallelogram of two edges within 1e-4 rad of parallel, whose arcs
+// (a1 -> a2, b1 -> b2, each shorter than pi) cross: the point of A's arc where B's circle
+// crosses it, clamped into the part of A's arc that B's arc spans. When the edges are parallel
+// to rounding the two circles coincide and the crossing point is noise, but any normal in both
+// arcs supports both edges, so the clamp keeps the plane a support plane of A and of B.
+Vector3d near_parallel_normal(const Vector3d& a1, const Vector3d& a2, const Vector3d& b1, const Vector3d& b2) {
+  const Vector3d u = a1, w = a1.cross(a2).normalized().cross(a1).normalized();
+  const auto angle = [&](const Vector3d& x) { return std::atan2(x.dot(w), x.dot(u)); };  // along A's circle
+  const double alpha = angle(a2), kTwoPi = 2 * M_PI;
+  const Vector3d gb = b1.cross(b2);
+  const bool same_way = gb.dot(a1.cross(a2)) > 0;  // B's arc runs the way A's does
+  const double start = angle(same_way ? b1 : b2), len = std::remainder(angle(same_way ? b2 : b1) - start, kTwoPi);
+  double lo = std::max(0.0, start), hi = std::min(alpha, start + std::abs(len));
+  if (start > 0 && std::min(alpha, start - kTwoPi + std::abs(len)) - std::max(0.0, start - kTwoPi) > hi - lo)
+    lo = std::max(0.0, start - kTwoPi), hi = std::min(alpha, start - kTwoPi + std::abs(len));
+  const Vector3d p = std::abs(a2.dot(gb)) * a1 + std::abs(a1.dot(gb)) * a2;
+  double theta = p.squaredNorm() > 0 ? angle(p) : alpha / 2;
+  theta = lo <= hi ? std::clamp(theta, lo, hi) : (lo + hi) / 2;
+  return std::cos(theta) * u + std::sin(theta) * w;
 }
 
 // The directions leaving a facet normal along the arcs of feature f of X, each towards a normal
@@ -324,10 +353,11 @@ inline void OverlayScratch::end_facet() {
   start[++nf] = nl;
 }
 
-bool OverlayScratch::run(const Placed& A, const Placed& B, double tol, MinkowskiSum& out) {
+bool OverlayScratch::run(const Placed& A, const Placed& B, MinkowskiSum& out) {
   const ShapeData &sa = *A.s, &sb = *B.s;
   crossings.clear();
   dedupe = sa.polytope_ref->flat || sb.polytope_ref->flat;
+  map_normals = std::max(sa.pole_slack, sb.pole_slack) > 1e-10;
   perturbed = false;
   // 1. A's face normals in B's map, and the crossings: breadth first over A's faces from the
   //    first (located by B's best vertex and a climb), every arc of a located face is walked
@@ -336,7 +366,7 @@ bool OverlayScratch::run(const Placed& A, const Placed& B, double tol, Minkowski
   loc_b.assign(size_t(sa.faces), -1), clean_b.resize(size_t(sa.faces)), queue.resize(size_t(sa.faces));
   walked.assign(size_t(sa.arcs), 0);
   bool clean = true;
-  if ((loc_b[0] = climb(B, A, 0, best_cell(B, A, 0), tol, clean)) < 0) return false;
+  if ((loc_b[0] = climb(B, A, 0, best_cell(B, A, 0), clean)) < 0) return false;
   clean_b[0] = clean, queue[0] = 0;
   int tail = 1;
   for (int q = 0; q < tail; ++q) {
@@ -345,7 +375,7 @@ bool OverlayScratch::run(const Placed& A, const Placed& B, double tol, Minkowski
       const int e = sa.loop_arc[k], g = sa.loop_face[k];
       if (walked[e]) continue;
       walked[e] = 1;
-      const int end = walk(A, B, e, f, loc_b[f], loc_b[g], tol, crossings, clean);
+      const int end = walk(A, B, e, f, loc_b[f], loc_b[g], crossings, clean);
       if (end < 0) return false;
       if (loc_b[g] < 0) loc_b[g] = end, clean_b[g] = clean, queue[tail++] = g;
     }
@@ -360,14 +390,14 @@ bool OverlayScratch::run(const Placed& A, const Placed& B, double tol, Minkowski
     const ShapeData::Arc& a = sa.arc[x.ea];
     hint[B.L(x.eb)] = x.up ? a.v : a.u, hint[B.R(x.eb)] = x.up ? a.u : a.v;
   }
-  if ((loc_a[0] = climb(A, B, 0, hint[0] >= 0 ? hint[0] : best_cell(A, B, 0), tol, clean)) < 0) return false;
+  if ((loc_a[0] = climb(A, B, 0, hint[0] >= 0 ? hint[0] : best_cell(A, B, 0), clean)) < 0) return false;
   clean_a[0] = clean, queue[0] = 0, tail = 1;
   for (int q = 0; q < tail; ++q) {
     const int g = queue[q];
     for (int k = sb.loop_start[g]; k < sb.loop_start[g + 1]; ++k) {
       const int h = sb.loop_face[k];
       if (loc_a[h] >= 0) continue;
-      if ((loc_a[h] = climb(A, B, h, hint[h] >= 0 ? hint[h] : loc_a[g], tol, clean)) < 0) return false;
+      if ((loc_a[h] = climb(A, B, h, hint[h] >= 0 ? hint[h] : loc_a[g], clean)) < 0) return false;
       clean_a[h] = clean, queue[tail++] = h;
     }
   }
@@ -396,7 +426,7 @@ bool OverlayScratch::face_facets(const Placed& A, const Placed& B, MinkowskiSum&
     if (clean_b[f]) {  // from its smallest pair: the face's smallest vertex
       const int j = sb.cell_vertex[loc_b[f]], first = sa.loop_start[f], n = sa.loop_start[f + 1] - first;
       const int* cell = &sa.loop_cell[first];
-      begin_facet(out, A.normal(f), false);
+      begin_facet(out, A.normal(f), map_normals);
       for (int k = sa.loop_least[f], m = 0; m < n; ++m, k = k + 1 < n ? k + 1 : 0) add_pair(sa.cell_vertex[cell[k]], j);
       end_facet();
       continue;
@@ -414,7 +444,7 @@ bool OverlayScratch::face_facets(const Placed& A, const Placed& B, MinkowskiSum&
       const int i = sa.cell_vertex[loc_a[g]], first = sb.loop_start[g], n = sb.loop_start[g + 1] - first;
       const int* cell = &sb.loop_cell[first];
       const int step = B.negate ? n - 1 : 1;
-      begin_facet(out, B.normal(g), false);
+      begin_facet(out, B.normal(g), map_normals);
       for (int k = sb.loop_least[g], m = 0; m < n; ++m, k = k + step < n ? k + step : k + step - n)
         add_pair(i, sb.cell_vertex[cell[k]]);
       end_facet();
@@ -441,17 +471,17 @@ void OverlayScratch::crossing_facets(const Placed& A, const Placed& B, Minkowski
     // X = -s1 c / |c|). The cross product of edges within 1e-4 rad of parallel cancels (its
     // direction is good to 1e-16 / sin(angle) only): there the crossing point itself, from the
     // normals, which are perpendicular to the edges to rounding whatever the angle.
-    const Vector3d da = A.dir(x.ea), db = B.dir(x.eb), c = da.cross(db);
+    // Edges that stray from their arcs' poles (faces planar only to a tolerance, see
+    // ShapeData::pole_slack) would tilt the plane out of the crossing's cells: there the poles.
+    const Vector3d da = map_normals ? A.pole(x.ea) : A.edge(x.ea), db = map_normals ? B.pole(x.eb) : B.edge(x.eb);
+    const Vector3d c = da.cross(db);
     const double c2 = c.squaredNorm();
     const bool parallel = !(c2 > 1e-8 * da.squaredNorm() * db.squaredNorm());
     Vector3d n;
     if (!parallel) {
       n = c * ((x.up ? -1 : 1) / std::sqrt(c2));
     } else {
-      const Vector3d a1 = A.normal(A.L(x.ea)), a2 = A.normal(A.R(x.ea));
-      const Vector3d gb = B.normal(B.L(x.eb)).cross(B.normal(B.R(x.eb)));
-      const Vector3d p = std::abs(a2.dot(gb)) * a1 + std::abs(a1.dot(gb)) * a2;
-      n = p.norm() > 0 ? p.normalized() : Vector3d((a1 + a2).normalized());
+      n = near_parallel_normal(A.normal(A.L(x.ea)), A.normal(A.R(x.ea)), B.normal(B.L(x.eb)), B.normal(B.R(x.eb)));
     }
     // The cells around the crossing: (v1, p) (v1, q) (v0, q) (v0, p), with p, q = w0, w1 when
     // s1 < 0 and w1, w0 when s1 > 0; from the smallest pair.
@@ -459,7 +489,7 @@ void OverlayScratch::crossing_facets(const Placed& A, const Placed& B, Minkowski
     const int a0 = sa.cell_vertex[a.u], a1 = sa.cell_vertex[a.v];
     const int pairs[8] = {a1, p, a1, q, a0, q, a0, p};
     const int first = a1 < a0 ? (p < q ? 0 : 1) : (q < p ? 2 : 3);
-    begin_facet(out, n, parallel);
+    begin_facet(out, n, parallel || map_normals);
     for (int k = 0; k < 4; ++k) add_pair(pairs[2 * ((first + k) & 3)], pairs[2 * ((first + k) & 3) + 1]);
     end_facet();
   }

@@ -24,18 +24,20 @@ struct Placed {
   int L(int e) const { return negate ? s->arc[e].R : s->arc[e].L; }
   int R(int e) const { return negate ? s->arc[e].L : s->arc[e].R; }
   Eigen::Vector3d normal(int f) const { return {nx[f], ny[f], nz[f]}; }
-  /// Arc e's direction p_v - p_u.
-  Eigen::Vector3d dir(int e) const {
+  /// Arc e's pole N_L x N_R (a positive multiple of its edge).
+  Eigen::Vector3d pole(int e) const {
     const int k = s->arc_slot[e];
     return {sx[k], sy[k], sz[k]};
   }
   Eigen::Vector3d point(int v) const { return {px[v], py[v], pz[v]}; }
+  /// Arc e's edge p_v - p_u (zero for a prism's zero-length edges).
+  Eigen::Vector3d edge(int e) const { return point(s->cell_vertex[s->arc[e].v]) - point(s->cell_vertex[s->arc[e].u]); }
   /// Which side of this operand's arc e (its great circle, pole N_L x N_R) the normal f of
-  /// `other` lies on, when d_e . N_f is within the margin: +-1 exactly; +-2 exactly on the
+  /// `other` lies on, when pole_e . N_f is within the filter: +-1 exactly; +-2 exactly on the
   /// circle, decided by the perturbation; 0 undecided even so.
   int exact_side(int e, const Placed& other, int f) const;
   /// Whether the normal f of `other` lies beyond slot k (its cell across is higher along it),
-  /// when the slot's direction . N_f is within the margin: +-1, +-2 or 0 as exact_side.
+  /// when the slot's direction . N_f is within the filter: +-1, +-2 or 0 as exact_side.
   int exact_beyond(int k, const Placed& other, int f) const {
     const int a = s->cell_slot[k].arc;
     return a >= 0 ? exact_side(a, other, f) : -exact_side(~a, other, f);
@@ -62,7 +64,7 @@ struct Feature;
 class OverlayScratch {
  public:
   /// A (+) B into out; false if some step failed (the caller runs the hull corrector).
-  bool run(const Placed& A, const Placed& B, double tol, MinkowskiSum& out);
+  bool run(const Placed& A, const Placed& B, MinkowskiSum& out);
 
   /// A direction leaving a facet normal towards the normal m along an arc; `after` is the cell
   /// counter-clockwise after it (seen from outside).
@@ -99,6 +101,7 @@ class OverlayScratch {
   std::vector<Dir> dirs;
   std::vector<std::pair<int, Dir>> keyed;
   bool dedupe = false, perturbed = false;
+  bool map_normals = false;  // crossing normals from the poles, every offset the loop's largest
 };
 
 /// Every directed edge of the loops appears once, and its reverse once: a closed 2-manifold.

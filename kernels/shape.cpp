@@ -113,11 +113,8 @@ Status prepare(const ConvexPolytope& p, ShapeData& s) {
       if (x.v0 < 0 || x.v0 >= V || x.v1 < 0 || x.v1 >= V || x.v0 == x.v1 || x.left < 0 || x.left >= F ||
           x.right < 0 || x.right >= F || x.left == x.right)
         return Status::InvalidMesh;
-      const Vector3d d = p.vertices[x.v1] - p.vertices[x.v0];
-      // Convex at the edge, and listed in the Edge orientation: N_L x N_R along d.
-      if (!(d.dot(p.faces[x.left].normal.cross(p.faces[x.right].normal)) > 0)) return Status::InvalidMesh;
       s.arc[e] = {x.v0, x.v1, x.left, x.right};
-      s.dir[e] = d;
+      s.dir[e] = p.vertices[x.v1] - p.vertices[x.v0];  // (convex at the edge: checked on the poles below)
     }
     s.cell_vertex.resize(size_t(V)), s.vertex_cell.resize(size_t(V));
     for (int v = 0; v < V; ++v) s.cell_vertex[v] = s.vertex_cell[v] = v;
@@ -129,15 +126,23 @@ Status prepare(const ConvexPolytope& p, ShapeData& s) {
   for (int c = 0; c < s.cells; ++c) s.cell_start[c + 1] += s.cell_start[c];
   s.fill.assign(s.cell_start.begin(), s.cell_start.end() - 1);
   const size_t slots = size_t(2 * s.arcs);
-  s.cell_slot.resize(slots), s.sx.resize(slots), s.sy.resize(slots), s.sz.resize(slots), s.arc_slot.resize(size_t(s.arcs));
-  const auto set_slot = [&s](int k, ShapeData::Slot slot, const Vector3d& d) {
-    s.cell_slot[k] = slot, s.sx[k] = d.x(), s.sy[k] = d.y(), s.sz[k] = d.z();
-  };
+  s.cell_slot.resize(slots), s.sx.resize(slots), s.sy.resize(slots), s.sz.resize(slots);
+  s.arc_slot.resize(size_t(s.arcs)), s.arc_slot_v.resize(size_t(s.arcs));
   for (int e = 0; e < s.arcs; ++e) {
     const ShapeData::Arc& a = s.arc[e];
-    s.arc_slot[e] = s.fill[a.u];
-    set_slot(s.fill[a.u]++, {e, a.v}, s.dir[e]);
-    set_slot(s.fill[a.v]++, {~e, a.u}, -s.dir[e]);
+    s.arc_slot[e] = s.fill[a.u], s.arc_slot_v[e] = s.fill[a.v];
+    s.cell_slot[s.fill[a.u]++] = {e, a.v};
+    s.cell_slot[s.fill[a.v]++] = {~e, a.u};
+  }
+  fill_poles(s, false, s.nx.data(), s.ny.data(), s.nz.data(), s.sx.data(), s.sy.data(), s.sz.data());
+  // Each pole along its edge (a prism's zero-length edges: along -normal): convex at every edge,
+  // and the edges listed in the Edge orientation.
+  s.pole_slack = 0;
+  for (int e = 0; e < s.arcs; ++e) {
+    const int k = s.arc_slot[e];
+    const Vector3d c(s.sx[k], s.sy[k], s.sz[k]);
+    if (!(s.dir[e].dot(c) > 0)) return Status::InvalidMesh;
+    s.pole_slack = std::max(s.pole_slack, s.dir[e].normalized().cross(c.normalized()).norm());
   }
   for (int c = 0; c < s.cells; ++c)
     if (s.cell_start[c + 1] - s.cell_start[c] < 3) return Status::InvalidMesh;
@@ -155,6 +160,18 @@ Status prepare(const ConvexPolytope& p, ShapeData& s) {
     s.loop_least[f] = least - s.loop_start[f];
   }
   return Status::Ok;
+}
+
+void fill_poles(const ShapeData& s, bool swap, const double* nx, const double* ny, const double* nz, double* sx,
+                double* sy, double* sz) {
+  const ShapeData::Arc* arc = s.arc.data();
+  const int *at_u = s.arc_slot.data(), *at_v = s.arc_slot_v.data();
+  for (int e = 0; e < s.arcs; ++e) {
+    const int l = swap ? arc[e].R : arc[e].L, r = swap ? arc[e].L : arc[e].R;
+    const double x = ny[l] * nz[r] - nz[l] * ny[r], y = nz[l] * nx[r] - nx[l] * nz[r], z = nx[l] * ny[r] - ny[l] * nx[r];
+    sx[at_u[e]] = x, sy[at_u[e]] = y, sz[at_u[e]] = z;
+    sx[at_v[e]] = -x, sy[at_v[e]] = -y, sz[at_v[e]] = -z;
+  }
 }
 
 namespace {

@@ -32,21 +32,31 @@ struct ShapeData {
   std::vector<int> loop_face;        // the face across arc k of a loop
   std::vector<int> loop_least;       // per face: where in its loop its smallest vertex is
   /// One arc of a cell, read from it: the arc (~arc when the cell is the arc's v) and the cell
-  /// across it. Its direction, read from the cell, is p_next - p_cell (for a prism's
-  /// zero-length arcs, -+normal x width): the normal n lies beyond the arc (the cell across
-  /// is higher along n) iff direction . n > 0.
+  /// across it. Its direction, read from the cell, is the arc's pole N_L x N_R (from v, its
+  /// negation), a positive multiple of p_next - p_cell: the normal n lies beyond the arc (the
+  /// cell across is higher along n) iff direction . n > 0. The pole is computed from the very
+  /// normals the exact predicate reads, so a float sign that clears the filter is the exact one.
   struct Slot {
     int arc, next;
   };
   std::vector<int> cell_start;       // per cell (cells + 1): its slots
   std::vector<Slot> cell_slot;
-  std::vector<double> sx, sy, sz;    // per slot: its direction
-  std::vector<int> arc_slot;         // per arc: its slot in cell u (direction d = p_v - p_u)
+  std::vector<double> sx, sy, sz;    // per slot: its direction (the pole, signed)
+  std::vector<int> arc_slot, arc_slot_v;  // per arc: its slot in cell u (direction +pole) and in v
   std::vector<double> px, py, pz;    // polytope vertices
   double size = 0;                   // largest |coordinate|: the scale of the rounding errors
+  /// The largest sine of the angle between an edge and its arc's pole: rounding (about
+  /// 1e-16 / |N_L x N_R|), or faces planar only to a tolerance (Qhull's merged facets, a
+  /// flat polygon's points within 1e-10 of its plane).
+  double pole_slack = 0;
   std::vector<int> fill, side_used;  // scratch of prepare
   std::vector<Eigen::Vector3d> dir;  // scratch of prepare: per arc p_v - p_u (a prism's zero-length arcs: -normal x width)
 };
+
+/// Writes every slot's direction: arc e's pole N_L x N_R from the normals (nx, ny, nz) at its
+/// slot in u, the negation at its slot in v (swap: L and R exchanged, as for -B).
+void fill_poles(const ShapeData& s, bool swap, const double* nx, const double* ny, const double* nz, double* sx,
+                double* sy, double* sz);
 
 /// The library's access to a shape's data.
 struct ShapeAccess {

@@ -174,10 +174,7 @@ Status sum_placed(const ShapeData& a, const Eigen::Isometry3d& pose_a, const Sha
   place(a, pose_a, false, buffer_a, A);
   place(b, pose_b, difference, buffer_b, B);
   B.moves = true;
-  // The margin of every sign: 1e-11 of the largest coordinate, about 10^4 times the rounding
-  // of the dot products (body frames: translations do not enter).
-  const double tol = 1e-11 * std::max(a.size, b.size);
-  if (scratch.run(A, B, tol, out)) return Status::Ok;
+  if (scratch.run(A, B, out)) return Status::Ok;
   // Section 3 of the paper: an inconsistent result is rebuilt from the hull.
   const Status s = hull_corrector(points(A), points(B), out);
   out.method = Method::Fast;
