@@ -1,0 +1,187 @@
+// Prepared shapes placed by poses: the posed sum equals the sum of the explicitly transformed
+// polytopes (and brute force), and bad shapes and poses get a status, never a result.
+#include <gtest/gtest.h>
+#include <minksum/minksum.hpp>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "checks.hpp"
+#include "tools/shapes.hpp"
+
+namespace {
+
+using namespace minksum;
+using Eigen::Isometry3d;
+using Eigen::Vector3d;
+using test::same_sum;
+using test::valid_sum;
+
+// The polytope p moved by `pose` with its structure kept (same indices): vertices, normals and
+// offsets transformed, as a user holding world-frame polytopes would build them.
+ConvexPolytope transformed(const ConvexPolytope& p, const Isometry3d& pose) {
+  ConvexPolytope q = p;
+  for (auto& v : q.vertices) v = pose * v;
+  for (auto& f : q.faces) {
+    f.normal = (pose.linear() * f.normal).normalized();
+    f.offset = f.normal.dot(q.vertices[size_t(f.loop[0])]);
+  }
+  return q;
+}
+
+// A hull of 4 to 600 points (log-uniform) on a random ellipsoid, or now and then a box (parallel
+// faces and edges).
+std::vector<Vector3d> random_shape_points(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(0, 1), scale(0.1, 3);
+  if (u(rng) < 0.1) {
+    std::vector<Vector3d> box;
+    const Vector3d h(scale(rng), scale(rng), scale(rng));
+    for (int k = 0; k < 8; ++k) box.emplace_back(k & 1 ? h.x() : -h.x(), k & 2 ? h.y() : -h.y(), k & 4 ? h.z() : -h.z());
+    return box;
+  }
+  const int n = int(std::lround(std::exp(std::log(4.0) + u(rng) * (std::log(600.0) - std::log(4.0)))));
+  const Vector3d axes(scale(rng), scale(rng), scale(rng));
+  std::vector<Vector3d> pts;
+  for (const auto& p : tools::sphere_points(n, unsigned(rng()))) pts.push_back(p.cwiseProduct(axes));
+  return pts;
+}
+
+// A rigid pose: a rotation by 1e-12 to pi rad (log-uniform angle, random axis) and a
+// translation of up to 1e6.
+Isometry3d random_rigid_pose(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(-1, 1), unit(0, 1);
+  const double angle = std::min(M_PI, std::pow(10.0, -12 + 12.5 * unit(rng)));
+  Isometry3d pose = Isometry3d::Identity();
+  pose.linear() = tools::axis_angle(Vector3d(u(rng), u(rng), u(rng)), angle);
+  pose.translation() = Vector3d(u(rng), u(rng), u(rng)) * std::pow(10.0, -3 + 9 * unit(rng));
+  return pose;
+}
+
+std::vector<Vector3d> moved(const std::vector<Vector3d>& pts, const Isometry3d& pose) {
+  std::vector<Vector3d> out;
+  for (const auto& p : pts) out.push_back(pose * p);
+  return out;
+}
+
+// 10,000 seeded pairs (sums and, one in four, differences) drawn from 400 random shapes, each
+// operand under its own random pose: the same V, E, F, support pairs and planes (within 1e-12
+// of the size) as the explicitly transformed polytopes' sum, never through the corrector; one
+// in fifty also checked by brute force against the posed vertices.
+TEST(PosedShapes, EqualTheSumOfTheTransformedPolytopes) {
+  std::mt19937_64 rng(2111);
+  std::vector<ConvexShape> pool(400);
+  for (auto& shape : pool) ASSERT_EQ(shape_from_points(random_shape_points(rng), shape), Status::Ok);
+  std::uniform_int_distribution<size_t> pick(0, pool.size() - 1);
+  int checked = 0;
+  for (int k = 0; k < test::scaled(10000); ++k) {
+    SCOPED_TRACE("pair " + std::to_string(k));
+    const ConvexShape &A = pool[pick(rng)], &B = pool[pick(rng)];
+    const Isometry3d pa = random_rigid_pose(rng), pb = random_rigid_pose(rng);
+    const bool difference = k % 4 == 3;
+    MinkowskiSum posed, explicit_;
+    const ConvexPolytope TA = transformed(A.polytope(), pa), TB = transformed(B.polytope(), pb);
+    ASSERT_EQ(difference ? minkowski_difference(A, pa, B, pb, posed) : minkowski_sum(A, pa, B, pb, posed), Status::Ok);
+    ASSERT_EQ(difference ? minkowski_difference(TA, TB, explicit_) : minkowski_sum(TA, TB, explicit_), Status::Ok);
+    ASSERT_FALSE(posed.corrected);
+    ASSERT_TRUE(same_sum(posed, explicit_, 1e-12));
+    if (k % 50 == 0) {
+      ASSERT_TRUE(valid_sum(TA.vertices, TB.vertices, difference ? -1 : 1, TA, TB, posed, 1e-9, 1e-9, 200, unsigned(k)));
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 0);
+}
+
+// The Table 1 pairs as shapes in their body frames, B turned by the pose: the same polytope as
+// the pre-rotated pairs, and no corrector.
+TEST(PosedShapes, Table1PairsWithTheirRotationAsAPose) {
+  const Eigen::Matrix3d R = tools::table1_rotation();
+  for (const auto& pair : tools::table1_pairs()) {
+    SCOPED_TRACE(pair.name);
+    std::vector<Vector3d> body_b;
+    for (const auto& p : pair.b) body_b.push_back(R.transpose() * p);
+    ConvexShape A, B;
+    ASSERT_EQ(shape_from_points(pair.a, A), Status::Ok);
+    ASSERT_EQ(shape_from_points(body_b, B), Status::Ok);
+    Isometry3d pb = Isometry3d::Identity();
+    pb.linear() = R;
+    MinkowskiSum posed;
+    ASSERT_EQ(minkowski_sum(A, Isometry3d::Identity(), B, pb, posed), Status::Ok);
+    EXPECT_FALSE(posed.corrected);
+    EXPECT_TRUE(valid_sum(pair.a, moved(body_b, pb), 1, A.polytope(), transformed(B.polytope(), pb), posed, 1e-12,
+                          1e-12, 300));
+  }
+}
+
+// Non-rigid or non-finite poses: InvalidPose and an empty result, whichever operand has it.
+TEST(PosedShapes, NonRigidPosesAreRejected) {
+  ConvexShape A, B;
+  ASSERT_EQ(shape_from_box(Box{}, A), Status::Ok);
+  ASSERT_EQ(shape_from_points(tools::sphere_points(20, 3), B), Status::Ok);
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  std::vector<Isometry3d> bad(7, Isometry3d::Identity());
+  bad[0].linear() *= 2;                          // scale
+  bad[1].linear()(0, 1) = 0.1;                   // shear
+  bad[2].linear()(2, 2) = -1;                    // reflection
+  bad[3].translation().x() = nan;
+  bad[4].linear()(1, 0) = inf;
+  bad[5].translation().y() = 1e101;              // beyond kMaxCoordinate
+  bad[6].linear() *= 1 + 1e-6;                   // not a rotation to 1e-9
+  for (size_t k = 0; k < bad.size(); ++k) {
+    SCOPED_TRACE("pose " + std::to_string(k));
+    EXPECT_EQ(check_pose(bad[k]), Status::InvalidPose);
+    for (int side = 0; side < 2; ++side) {
+      MinkowskiSum m;
+      ASSERT_EQ(minkowski_sum(A, Isometry3d::Identity(), B, Isometry3d::Identity(), m), Status::Ok);  // m holds a result
+      const Isometry3d pa = side ? Isometry3d::Identity() : bad[k], pb = side ? bad[k] : Isometry3d::Identity();
+      EXPECT_EQ(minkowski_sum(A, pa, B, pb, m), Status::InvalidPose);
+      EXPECT_EQ(m.F, 0);
+      EXPECT_TRUE(m.planes.empty() && m.vertices.empty());
+      EXPECT_EQ(minkowski_difference(A, pa, B, pb, m), Status::InvalidPose);
+    }
+  }
+  Isometry3d tiny_error = Isometry3d::Identity();
+  tiny_error.linear() = tools::axis_angle(Vector3d(1, 2, 3), 0.4);
+  tiny_error.linear()(0, 0) += 1e-12;  // a rotation to rounding: accepted
+  EXPECT_EQ(check_pose(tiny_error), Status::Ok);
+}
+
+// Shapes that failed to build (or were never built) are empty, and a call with one answers
+// TooFewPoints; builders give the polytope builders' statuses; coplanar flat shapes (as posed)
+// have a flat sum: DegenerateResult; turned out of the plane they sum to a solid.
+TEST(PosedShapes, BadShapesGetAStatus) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  ConvexShape s, good;
+  ASSERT_EQ(shape_from_box(Box{}, good), Status::Ok);
+  EXPECT_EQ(shape_from_points({{0, 0, 0}, {1, 0, 0}}, s), Status::TooFewPoints);
+  EXPECT_TRUE(s.empty());
+  EXPECT_EQ(shape_from_points({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}}, s), Status::Collinear);
+  EXPECT_TRUE(s.empty());
+  EXPECT_EQ(shape_from_points({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, nan}}, s), Status::NonFinite);
+  EXPECT_TRUE(s.empty());
+  Box bad_box;
+  bad_box.half_extents = Vector3d(1, 0, 1);
+  EXPECT_EQ(shape_from_box(bad_box, s), Status::InvalidBox);
+  EXPECT_TRUE(s.empty());
+  EXPECT_TRUE(s.polytope().vertices.empty());
+  MinkowskiSum m;
+  EXPECT_EQ(minkowski_sum(s, Isometry3d::Identity(), good, Isometry3d::Identity(), m), Status::TooFewPoints);
+  EXPECT_EQ(minkowski_sum(good, Isometry3d::Identity(), ConvexShape{}, Isometry3d::Identity(), m), Status::TooFewPoints);
+  EXPECT_EQ(m.F, 0);
+
+  ConvexShape t1, t2;
+  ASSERT_EQ(shape_from_triangle(Triangle{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, t1), Status::Ok);
+  ASSERT_EQ(shape_from_triangle(Triangle{{0, 0, 0}, {2, 1, 0}, {-1, 1, 0}}, t2), Status::Ok);
+  Isometry3d in_plane = Isometry3d::Identity(), out_of_plane = Isometry3d::Identity();
+  in_plane.linear() = tools::axis_angle(Vector3d(0, 0, 1), 0.7);
+  in_plane.translation() = Vector3d(3, -2, 0);
+  out_of_plane.linear() = tools::axis_angle(Vector3d(1, 0, 0), 0.7);
+  EXPECT_EQ(minkowski_sum(t1, Isometry3d::Identity(), t2, in_plane, m), Status::DegenerateResult);
+  EXPECT_EQ(m.F, 0);
+  ASSERT_EQ(minkowski_sum(t1, Isometry3d::Identity(), t2, out_of_plane, m), Status::Ok);
+  EXPECT_TRUE(valid_sum(t1.polytope().vertices, moved(t2.polytope().vertices, out_of_plane), 1, t1.polytope(),
+                        transformed(t2.polytope(), out_of_plane), m, 1e-12, 1e-12, 300));
+}
+
+}  // namespace
