@@ -95,6 +95,7 @@ int Placed::exact_side(int e, const Placed& other, int f) const {
 void place(const ShapeData& s, const Eigen::Isometry3d& pose, bool negate, PlacedBuffers& buf, Placed& out) {
   out.s = &s, out.negate = negate;
   const Eigen::Matrix3d M = (negate ? -1.0 : 1.0) * pose.linear();
+  out.linear = M, out.turned = M != Eigen::Matrix3d::Identity();
   const Vector3d t = (negate ? -1.0 : 1.0) * pose.translation();
   // x' = M x (+ t), by component over the arrays (vectorised).
   const auto transform = [&M](const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& z,
@@ -481,7 +482,13 @@ void OverlayScratch::crossing_facets(const Placed& A, const Placed& B, Minkowski
     if (!parallel) {
       n = c * ((x.up ? -1 : 1) / std::sqrt(c2));
     } else {
-      n = near_parallel_normal(A.normal(A.L(x.ea)), A.normal(A.R(x.ea)), B.normal(B.L(x.eb)), B.normal(B.R(x.eb)));
+      // Edges that cancel (or a prism's zero-length edge) on arcs whose circles do not: the
+      // circles' crossing, from the poles; circles that coincide too: near_parallel_normal.
+      const Vector3d pa = A.pole(x.ea), pb = B.pole(x.eb), cp = pa.cross(pb);
+      const double cp2 = cp.squaredNorm();
+      n = cp2 > 1e-8 * pa.squaredNorm() * pb.squaredNorm()
+              ? Vector3d(cp * ((x.up ? -1 : 1) / std::sqrt(cp2)))
+              : near_parallel_normal(A.normal(A.L(x.ea)), A.normal(A.R(x.ea)), B.normal(B.L(x.eb)), B.normal(B.R(x.eb)));
     }
     // The cells around the crossing: (v1, p) (v1, q) (v0, q) (v0, p), with p, q = w0, w1 when
     // s1 < 0 and w1, w0 when s1 > 0; from the smallest pair.

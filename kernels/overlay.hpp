@@ -21,6 +21,8 @@ struct Placed {
   bool negate = false;  ///< this is -B
   bool moves = false;   ///< B (or -B): the operand the perturbation turns
   const double *nx, *ny, *nz, *sx, *sy, *sz, *px, *py, *pz;
+  Eigen::Matrix3d linear;  ///< the pose's rotation (negated for -B)
+  bool turned = false;     ///< linear is not the identity
   int L(int e) const { return negate ? s->arc[e].R : s->arc[e].L; }
   int R(int e) const { return negate ? s->arc[e].L : s->arc[e].R; }
   Eigen::Vector3d normal(int f) const { return {nx[f], ny[f], nz[f]}; }
@@ -30,8 +32,13 @@ struct Placed {
     return {sx[k], sy[k], sz[k]};
   }
   Eigen::Vector3d point(int v) const { return {px[v], py[v], pz[v]}; }
-  /// Arc e's edge p_v - p_u (zero for a prism's zero-length edges).
-  Eigen::Vector3d edge(int e) const { return point(s->cell_vertex[s->arc[e].v]) - point(s->cell_vertex[s->arc[e].u]); }
+  /// Arc e's edge p_v - p_u (zero for a prism's zero-length edges), turned from the body frame:
+  /// a translation far larger than the shape would leave only rounding in the placed points.
+  Eigen::Vector3d edge(int e) const {
+    const int v = s->cell_vertex[s->arc[e].v], u = s->cell_vertex[s->arc[e].u];
+    const Eigen::Vector3d d(s->px[v] - s->px[u], s->py[v] - s->py[u], s->pz[v] - s->pz[u]);
+    return turned ? Eigen::Vector3d(linear * d) : d;
+  }
   /// Which side of this operand's arc e (its great circle, pole N_L x N_R) the normal f of
   /// `other` lies on, when pole_e . N_f is within the filter: +-1 exactly; +-2 exactly on the
   /// circle, decided by the perturbation; 0 undecided even so.
