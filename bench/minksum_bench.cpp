@@ -1,7 +1,10 @@
 // Google Benchmark comparison of the object-space method against quickhull (Qhull) on the
 // paper's Table 1 pairs (B under tools::table1_rotation()). Every method outputs the full
 // polytope, facets and vertices:
-//   osm_fast       minkowski_sum, Method::Fast: planes with support pairs, vertices, facet loops
+//   osm_prepared   minkowski_sum of two ConvexShapes prepared once in their body frames, B's
+//                  rotation passed as its pose and applied inside the timed call
+//   osm_fast       minkowski_sum, Method::Fast on ConvexPolytopes (prepared inside every call):
+//                  planes with support pairs, vertices, facet loops
 //   osm_reference  minkowski_sum, Method::Reference: the same output, by the paper's plane push
 //   osm_kernel     box_box_sum (cube_rotcube only), double: the box-box kernel's whole polytope
 //                  per lane, 30 planes with support corners, 30 vertex loops and the corners
@@ -17,12 +20,15 @@
 //   cgal_nef       CGAL minkowski_sum_3 on Nef polyhedra (Epeck): the exact sum, the Nef
 //                  polyhedra built in the loop from the operands' hulls
 // Scaling/<n>/<method>: random polytopes of n points on a sphere per operand (seeded), for
-// n = 8 ... 512, by osm_fast, qhull and cgal_quickhull: how the cost grows with |A| |B| and
-// with the output.
+// n = 8 ... 512, by osm_prepared, qhull and cgal_quickhull, and n = 2048 by osm_prepared alone
+// (4 million pairwise sums are too slow to hull in every report): how the cost grows with
+// |A| |B| and with the output. Every row carries `facets` (the sum's F; for cgal_quickhull
+// its triangles), so time per output facet reads off the JSON.
 #include <benchmark/benchmark.h>
 #include <minksum/minksum.hpp>
 
 #include <memory>
+#include <stdexcept>
 
 #include "cgal_peer.hpp"
 #include "hull.hpp"
@@ -42,6 +48,42 @@ Prepared prepare(int row) {
   polytope_from_points(p.pair.a, p.A);
   polytope_from_points(p.pair.b, p.B);
   return p;
+}
+
+// Two shapes prepared once in their body frames and B's pose: B's points are turned back
+// into its body frame, so the posed sum is the sum of the row's polytopes.
+struct PreparedShapes {
+  ConvexShape A, B;
+  Eigen::Isometry3d pose_b = Eigen::Isometry3d::Identity();
+};
+
+PreparedShapes prepare_shapes(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b_body,
+                              const Eigen::Matrix3d& rotation) {
+  PreparedShapes p;
+  if (shape_from_points(a, p.A) != Status::Ok || shape_from_points(b_body, p.B) != Status::Ok)
+    throw std::runtime_error("minksum_bench: a benchmark shape did not build");
+  p.pose_b.linear() = rotation;
+  return p;
+}
+
+// The timed loop of osm_prepared (Table1 and Scaling): the sum of posed shapes.
+void run_prepared(benchmark::State& state, const PreparedShapes& p) {
+  const Eigen::Isometry3d identity = Eigen::Isometry3d::Identity();
+  MinkowskiSum m;
+  Status s = Status::Ok;
+  for (auto _ : state) {
+    s = minkowski_sum(p.A, identity, p.B, p.pose_b, m);
+    benchmark::DoNotOptimize(m.planes.data());
+  }
+  if (s != Status::Ok) state.SkipWithError("the prepared sum failed");
+  state.counters["facets"] = m.F;
+  state.counters["vertices"] = m.V;
+}
+
+void Table1Prepared(benchmark::State& state, int row) {
+  const auto pair = tools::table1_pairs()[row];
+  const Eigen::Matrix3d R = tools::table1_rotation();
+  run_prepared(state, prepare_shapes(pair.a, tools::rotated(pair.b, R.transpose()), R));
 }
 
 void Table1Osm(benchmark::State& state, int row, Method method) {
@@ -115,15 +157,10 @@ Prepared scaling_pair(int n) {
   return p;
 }
 
-void ScalingOsm(benchmark::State& state, int n) {
-  const Prepared p = scaling_pair(n);
-  MinkowskiSum m;
-  for (auto _ : state) {
-    minkowski_sum(p.A, p.B, m, Method::Fast);
-    benchmark::DoNotOptimize(m.planes.data());
-  }
-  state.counters["facets"] = m.F;
-  state.counters["pairs"] = double(p.A.vertices.size() * p.B.vertices.size());
+// The same pair as shapes: B prepared from its unrotated points, posed by the rotation.
+void ScalingPrepared(benchmark::State& state, int n) {
+  run_prepared(state, prepare_shapes(tools::sphere_points(n, 1000 + unsigned(n)),
+                                     tools::sphere_points(n, 2000 + unsigned(n)), tools::table1_rotation()));
 }
 
 void ScalingPeer(benchmark::State& state, int n, bool cgal) {
@@ -147,12 +184,13 @@ void ScalingPeer(benchmark::State& state, int n, bool cgal) {
 }
 
 const int kRegistered = [] {
-  for (int n : {8, 16, 32, 64, 128, 256, 512}) {
+  for (int n : {8, 12, 16, 24, 32, 48, 64, 128, 256, 512}) {
     const std::string base = "Scaling/" + std::to_string(n) + "/";
-    benchmark::RegisterBenchmark((base + "osm_fast").c_str(), ScalingOsm, n)->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark((base + "osm_prepared").c_str(), ScalingPrepared, n)->Unit(benchmark::kMicrosecond);
     benchmark::RegisterBenchmark((base + "qhull").c_str(), ScalingPeer, n, false)->Unit(benchmark::kMicrosecond);
     benchmark::RegisterBenchmark((base + "cgal_quickhull").c_str(), ScalingPeer, n, true)->Unit(benchmark::kMicrosecond);
   }
+  benchmark::RegisterBenchmark("Scaling/2048/osm_prepared", ScalingPrepared, 2048)->Unit(benchmark::kMicrosecond);
   const auto pairs = tools::table1_pairs();
   for (int row = 0; row < int(pairs.size()); ++row) {
     const std::string base = "Table1/" + pairs[row].name + "/";
@@ -160,6 +198,7 @@ const int kRegistered = [] {
         ->Unit(benchmark::kMicrosecond);
     benchmark::RegisterBenchmark((base + "osm_fast").c_str(), Table1Osm, row, Method::Fast)
         ->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark((base + "osm_prepared").c_str(), Table1Prepared, row)->Unit(benchmark::kMicrosecond);
     if (pairs[row].name == "cube_rotcube") {
       benchmark::RegisterBenchmark((base + "osm_kernel").c_str(), Table1KernelBatch<double>)
           ->Unit(benchmark::kMicrosecond);

@@ -21,12 +21,22 @@ def num(x):
     return int(x) if isinstance(x, float) and x.is_integer() else x
 
 
+def facets(r):
+    """The output's facets (cgal_quickhull: its triangles), for time per output facet."""
+    return num(r.get("facets", r.get("triangles", "")))
+
+
+def per_facet_ns(r):
+    f = facets(r)
+    return round(us(r) * 1e3 / f, 2) if f else ""
+
+
 def table1(p, r):
-    return p[0] == "Table1" and [p[1], p[2], us(r)]
+    return p[0] == "Table1" and [p[1], p[2], us(r), facets(r), per_facet_ns(r)]
 
 
 def scaling(p, r):
-    return p[0] == "Scaling" and [p[1], p[2], us(r), r.get("facets", ""), r.get("pairs", "")]
+    return p[0] == "Scaling" and [p[1], p[2], us(r), facets(r), int(p[1]) ** 2, per_facet_ns(r)]
 
 
 def speed_error(p, r):
@@ -49,8 +59,8 @@ def mesh(p, r):
 
 
 TABLES = {
-    "table1": (["pair", "method", "time_us"], table1),
-    "scaling": (["n", "method", "time_us", "facets", "pairs"], scaling),
+    "table1": (["pair", "method", "time_us", "facets", "ns_per_facet"], table1),
+    "scaling": (["n", "method", "time_us", "facets", "pairs", "ns_per_facet"], scaling),
     "speed_error": (["set", "method", "precision", "isa", "s_per_case", "max_rel_error", "exact_structure"],
                     speed_error),
     "near_parallel": (["k", "method", "time_us", "facets", "exact_facets", "euler_ok", "corrected",
