@@ -338,6 +338,32 @@ struct PolytopeShape {
   }
 };
 
+// A convex polytope in its body frame, read in place and placed by a rigid pose on the fly
+// (x' = R x + t; normals and directions turned by R): nothing is stored per pose.
+struct PosedShape {
+  const ConvexPolytope& p;
+  const Eigen::Matrix3d R;
+  const Vector3d t;
+  bool solid = !p.flat;
+  int size() const { return int(p.vertices.size()); }
+  Vector3d vertex(int k) const { return R * p.vertices[k] + t; }
+  int faces() const { return p.flat ? 1 : int(p.faces.size()); }
+  int loop_size(int f) const { return int(p.faces[f].loop.size()); }
+  Vector3d loop_vertex(int f, int k) const { return vertex(p.faces[f].loop[k]); }
+  Vector3d face_normal(int f) const { return R * p.faces[f].normal; }
+  double face_offset(int f) const { return p.faces[f].offset + face_normal(f).dot(t); }
+  int edges() const { return int(p.edges.size()); }
+  Vector3d edge_direction(int k) const {
+    return R * (p.vertices[p.edges[k].v1] - p.vertices[p.edges[k].v0]).stableNormalized();
+  }
+  bool arc(int k, Vector3d& n0, Vector3d& n1, Vector3d& on) const {
+    if (p.flat) return false;
+    n0 = face_normal(p.edges[k].left), n1 = face_normal(p.edges[k].right);
+    on = vertex(p.edges[k].v0);
+    return true;
+  }
+};
+
 // Whether the Gauss-map arcs a0-a1 (an edge of A) and c0-c1 (an edge of -B, its face normals
 // negated) cross: only then is the cross product of the two edges a facet normal of A (-) B
 // (Gregorius, "The separating axis test between convex polyhedra", GDC 2013). Arcs that only
@@ -839,6 +865,17 @@ Status proximity(const ConvexPolytope& a, const ConvexPolytope& b, Proximity& ou
   out = Proximity{};
   if (a.vertices.empty() || b.vertices.empty() || a.faces.empty() || b.faces.empty()) return Status::TooFewPoints;
   exact_proximity(PolytopeShape{a}, PolytopeShape{b}, out, want);
+  return Status::Ok;
+}
+
+Status proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
+                 const Eigen::Isometry3d& pose_b, Proximity& out, Want want) {
+  out = Proximity{};
+  if (a.empty() || b.empty()) return Status::TooFewPoints;
+  for (const auto* pose : {&pose_a, &pose_b})
+    if (const Status s = check_pose(*pose); s != Status::Ok) return s;
+  exact_proximity(PosedShape{a.polytope(), pose_a.linear(), pose_a.translation()},
+                  PosedShape{b.polytope(), pose_b.linear(), pose_b.translation()}, out, want);
   return Status::Ok;
 }
 

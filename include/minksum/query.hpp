@@ -37,6 +37,11 @@ Proximity proximity(const MinkowskiSum& m, const ConvexPolytope& a, const Convex
 /// The proximity of two convex polytopes (exact). The farthest pair (kWantMaxDistance) looks at
 /// every vertex pair: skip it with kWantContact when the polytopes are large.
 Status proximity(const ConvexPolytope& a, const ConvexPolytope& b, Proximity& out, Want want = kWantAll);
+/// The proximity of two prepared shapes, each placed by its rigid pose inside the call (the
+/// same exact query as for polytopes; points in the world frame). TooFewPoints for an empty
+/// shape, InvalidPose for a pose that is not rigid (check_pose).
+Status proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
+                 const Eigen::Isometry3d& pose_b, Proximity& out, Want want = kWantAll);
 /// The proximity of two boxes, exact without building A (-) B: the separating axis test, then
 /// an active-set walk on A (-) B's generators from the nearest facet.
 Status proximity(const Box& a, const Box& b, Proximity& out, Want want = kWantAll);
