@@ -546,22 +546,21 @@ Status mesh_distance(const Octree& a, const Octree& b, const Pose& pose, MeshWor
   return Status::Ok;
 }
 
-Status mesh_contact(const Octree& a, const ConvexPolytope& tool, const Pose& pose, MeshWorkspace& ws,
+Status mesh_contact(const Octree& a, const ConvexShape& shape, const Eigen::Isometry3d& pose, MeshWorkspace& ws,
                     MeshContact& out) {
   out = MeshContact{};
   if (ws.parts.size() < size_t(8 * kMaxContactTriangles) || ws.part_start.size() < size_t(kMaxContactTriangles + 1))
     return Status::InvalidMesh;  // not a workspace from make_workspace
-  Box check;  // the pose's rotation must be a proper rotation, like a box's
-  check.center = pose.translation, check.rotation = pose.rotation;
-  if (const Status s = check_box(check); s != Status::Ok) return s;
-  if (a.nodes.empty()) return Status::TooFewPoints;
+  if (const Status s = check_pose(pose); s != Status::Ok) return s;
+  if (a.nodes.empty() || shape.empty()) return Status::TooFewPoints;
+  const ConvexPolytope& tool = shape.polytope();
   const int nv = int(tool.vertices.size());
   if (nv > kMaxToolVertices || tool.flat || nv < 4) return Status::InvalidMesh;
   // The tool in A's frame, and its bounding box there.
   Vector3d v[kMaxToolVertices];
   Vector3d lo = Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   for (int k = 0; k < nv; ++k) {
-    v[k] = pose.rotation * tool.vertices[k] + pose.translation;
+    v[k] = pose * tool.vertices[k];
     lo = lo.cwiseMin(v[k]), hi = hi.cwiseMax(v[k]);
   }
   const Vector3d box_c = (lo + hi) / 2, box_h = (hi - lo) / 2;
@@ -572,8 +571,8 @@ Status mesh_contact(const Octree& a, const ConvexPolytope& tool, const Pose& pos
   Vector3d plane_n[2 * kMaxToolVertices];
   double plane_o[2 * kMaxToolVertices];
   for (int f = 0; f < nf; ++f) {
-    plane_n[f] = pose.rotation * tool.faces[f].normal;
-    plane_o[f] = tool.faces[f].offset + plane_n[f].dot(pose.translation);
+    plane_n[f] = pose.linear() * tool.faces[f].normal;
+    plane_o[f] = tool.faces[f].offset + plane_n[f].dot(pose.translation());
   }
   // The part of triangle t inside the tool: `m` corners at `poly` (m = 0: they do not meet).
   Vector3d buffer[2][3 + 2 * kMaxToolVertices];

@@ -255,6 +255,50 @@ TEST(Octree, RejectsABadPoseAndAForeignWorkspace) {
   EXPECT_EQ(mesh_distance(A, small, Pose{}, ws, d), Status::InvalidMesh);
 }
 
+// mesh_contact of a box tool, prepared once and posed per call, on a flat floor (z = 0, wound
+// counter-clockwise from +z): turned about z and by quarter turns about x, so that its lowest
+// face stays level and the push-out is straight up by (half height - centre height), a figure
+// computed here from the box, not by the library. Bad poses and empty tools get a status.
+TEST(MeshContact, PosedBoxOnAFloorIsPushedStraightUp) {
+  const std::vector<Vector3d> floor{{-5, -5, 0}, {5, -5, 0}, {5, 5, 0}, {-5, 5, 0}};
+  Octree A;
+  ASSERT_EQ(build_octree(floor, {{0, 1, 2}, {0, 2, 3}}, A), Status::Ok);
+  MeshWorkspace ws;
+  make_workspace(A, A, ws);
+  Box box;
+  box.half_extents = Vector3d(0.3, 0.2, 0.1);
+  ConvexShape tool;
+  ASSERT_EQ(shape_from_box(box, tool), Status::Ok);
+  std::mt19937_64 rng(41);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int touching = 0;
+  for (int k = 0; k < 200; ++k) {
+    SCOPED_TRACE("pose " + std::to_string(k));
+    const int quarter = k % 4;  // 0, 2: z half extent is vertical; 1, 3: y's
+    const double half_height = quarter % 2 ? box.half_extents.y() : box.half_extents.z();
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.linear() = (Eigen::AngleAxisd(M_PI * u(rng), Vector3d::UnitZ()) *
+                     Eigen::AngleAxisd(M_PI / 2 * quarter, Vector3d::UnitX())).toRotationMatrix();
+    pose.translation() = Vector3d(3 * u(rng), 3 * u(rng), 1.5 * half_height * u(rng) + 0.5 * half_height);
+    MeshContact c;
+    ASSERT_EQ(mesh_contact(A, tool, pose, ws, c), Status::Ok);
+    const double want = half_height - pose.translation().z();  // the bottom face's depth below z = 0
+    ASSERT_EQ(c.intersecting, want > 1e-12 && pose.translation().z() > -half_height);
+    if (!c.intersecting) continue;
+    ++touching;
+    EXPECT_NEAR(c.depth, std::min(want, 2 * half_height), 1e-12);
+    EXPECT_NEAR((c.direction - Vector3d::UnitZ()).norm(), 0, 1e-12);
+    EXPECT_NEAR(c.point.z(), 0, 1e-12);
+  }
+  EXPECT_GT(touching, 50);
+  MeshContact c;
+  Eigen::Isometry3d scaled = Eigen::Isometry3d::Identity();
+  scaled.linear() *= 1.01;
+  EXPECT_EQ(mesh_contact(A, tool, scaled, ws, c), Status::InvalidPose);
+  EXPECT_EQ(mesh_contact(A, ConvexShape{}, Eigen::Isometry3d::Identity(), ws, c), Status::TooFewPoints);
+  EXPECT_FALSE(c.intersecting);
+}
+
 // Every triangle is listed in every leaf whose cube it meets: checked against the exact
 // box-triangle proximity of the general path, for every (leaf, triangle) pair of a small mesh.
 TEST(Octree, LeavesListEveryTriangleTheyMeet) {

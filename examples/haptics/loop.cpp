@@ -26,10 +26,11 @@ using Eigen::Vector3d;
 constexpr double kStiffness = 2000;  // N/m
 constexpr double kDamping = 5;       // N s/m
 
-// The tool: a surface mesh for the distance, and its hull for the penetration depth.
+// The tool: a surface mesh for the distance, and its hull, prepared once and posed per tick,
+// for the penetration depth.
 struct Tool {
   tools::Mesh mesh;
-  ConvexPolytope hull;
+  ConvexShape hull;
   bool convex = true;  // the mesh is its hull's surface
 };
 
@@ -52,14 +53,14 @@ bool make_tool(const std::string& what, Tool& tool, std::string& name, std::stri
     name = what + " (scaled to 30 mm)";
     tool.convex = false;
   }
-  if (const Status s = polytope_from_points(points, tool.hull); s != Status::Ok)
+  if (const Status s = shape_from_points(points, tool.hull); s != Status::Ok)
     return error = "tool: " + std::string(to_string(s)), false;
   if (tool.mesh.triangles.empty()) {  // a convex tool's surface: its hull's faces, fanned
-    tool.mesh.vertices = tool.hull.vertices;
-    for (const auto& f : tool.hull.faces)
+    tool.mesh.vertices = tool.hull.polytope().vertices;
+    for (const auto& f : tool.hull.polytope().faces)
       for (size_t k = 1; k + 1 < f.loop.size(); ++k) tool.mesh.triangles.push_back({f.loop[0], f.loop[k], f.loop[k + 1]});
   }
-  if (int(tool.hull.vertices.size()) > kMaxToolVertices)
+  if (int(tool.hull.polytope().vertices.size()) > kMaxToolVertices)
     return error = "tool: its hull has more than " + std::to_string(kMaxToolVertices) + " vertices", false;
   return true;
 }
@@ -119,7 +120,7 @@ bool run(const Options& options, long (*allocations)(), Report& report, std::str
   for (const auto& t : scene.triangles)
     for (int k : t)
       if (scene.vertices[k].y() > path.top.y()) path.top = scene.vertices[k];
-  for (const auto& v : tool.hull.vertices) path.lift = std::max(path.lift, -v.y());
+  for (const auto& v : tool.hull.polytope().vertices) path.lift = std::max(path.lift, -v.y());
   const long n = long(std::llround(options.seconds * options.rate));
   for (auto* v : {&report.time, &report.distance, &report.depth, &report.force, &report.latency_us,
                   &report.force_dot_normal, &report.force_up})
@@ -157,8 +158,9 @@ bool run(const Options& options, long (*allocations)(), Report& report, std::str
     const auto t0 = clock::now();
     try {
       // The tick: pose, collision and distance, penetration, force.
-      Pose pose;
+      Pose pose;  // the tool's placement: mesh_distance's Pose, and the same as an isometry
       pose.translation = path.at(double(k) * dt);
+      const Eigen::Isometry3d placed(Eigen::Translation3d(pose.translation));
       const Vector3d velocity = (pose.translation - previous) / dt;
       previous = pose.translation;
       // A convex tool: contact first (it only looks under the tool), the exact distance when
@@ -168,11 +170,11 @@ bool run(const Options& options, long (*allocations)(), Report& report, std::str
       double force = 0, along = 0, up = 0;
       bool touching;
       if (tool.convex) {
-        touching = mesh_contact(scene_tree, tool.hull, pose, ws, c) == Status::Ok && c.intersecting;
+        touching = mesh_contact(scene_tree, tool.hull, placed, ws, c) == Status::Ok && c.intersecting;
         if (!touching) mesh_distance(scene_tree, tool_tree, pose, ws, d);
       } else {
         touching = mesh_distance(scene_tree, tool_tree, pose, ws, d) == Status::Ok && d.intersecting &&
-                   mesh_contact(scene_tree, tool.hull, pose, ws, c) == Status::Ok && c.intersecting;
+                   mesh_contact(scene_tree, tool.hull, placed, ws, c) == Status::Ok && c.intersecting;
       }
       if (!touching) {
         c = MeshContact{};

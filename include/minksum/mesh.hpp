@@ -135,15 +135,16 @@ constexpr int kMaxToolVertices = 256;
 /// Most overlapped triangles one mesh_contact call gathers (beyond: flagged, ignored).
 constexpr int kMaxContactTriangles = 2048;
 
-/// Contact of a convex tool (a polytope in its own frame, placed in the mesh's frame by pose)
-/// with mesh A. Each triangle whose box meets the tool's box is clipped by the tool's face
+/// Contact of a convex tool (a shape prepared once in its own frame, placed in the mesh's
+/// frame by a rigid pose on every call) with mesh A. Each triangle whose box meets the tool's box is clipped by the tool's face
 /// planes; the parts left are inside the tool. Their summed area vector (triangle winding:
 /// counter-clockwise = outward) gives the push-out direction u, which turns continuously as
 /// the tool slides over a tessellated surface; the depth is the largest distance, over the
 /// parts' corners p, that p travels along -u inside the tool. No allocation. InvalidMesh if the
 /// tool is flat or has more than kMaxToolVertices vertices; the workspace is any made by
-/// make_workspace (its contact buffers are sized there).
-Status mesh_contact(const Octree& a, const ConvexPolytope& tool, const Pose& pose, MeshWorkspace& ws,
+/// make_workspace (its contact buffers are sized there); TooFewPoints for an empty tool,
+/// InvalidPose for a pose that is not rigid.
+Status mesh_contact(const Octree& a, const ConvexShape& tool, const Eigen::Isometry3d& pose, MeshWorkspace& ws,
                     MeshContact& out);
 
 /// Exact distance between two triangles given by their corners, with the closest points;
