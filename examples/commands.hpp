@@ -1,7 +1,7 @@
 // The command-line program's commands that live outside main.cpp.
 #pragma once
 
-#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <string>
 #include <vector>
 
@@ -16,6 +16,9 @@ bool parse_numbers(const std::string& text, const std::string& what, const std::
 
 /// The rotation of the unit quaternion q[0..3] = (w, x, y, z); false if |q| is not 1 (1e-6).
 bool unit_quaternion(const double* q, Eigen::Matrix3d& rotation, std::string& error);
+
+/// Parses "qw qx qy qz tx ty tz" (a unit quaternion, then a translation) into a pose.
+bool parse_pose(const std::string& text, const std::string& what, Eigen::Isometry3d& pose, std::string& error);
 
 /// minksum distance [MESH_A MESH_B] [--pose P] [--poses FILE] [--json] [--brute]
 int cmd_distance(int argc, char** argv);

@@ -23,10 +23,9 @@ double now_us() {
 
 // Parses "qw qx qy qz tx ty tz" (a unit quaternion, then a translation).
 bool parse_pose(const std::string& text, Pose& pose, std::string& error) {
-  std::vector<double> v;
-  if (!parse_numbers(text, "pose", "qw qx qy qz tx ty tz", 7, v, error)) return false;
-  if (!unit_quaternion(&v[0], pose.rotation, error)) return false;
-  pose.translation = Eigen::Vector3d(v[4], v[5], v[6]);
+  Eigen::Isometry3d p;
+  if (!cli::parse_pose(text, "pose", p, error)) return false;
+  pose.rotation = p.linear(), pose.translation = p.translation();
   return true;
 }
 

@@ -43,6 +43,16 @@ bool unit_quaternion(const double* q, Eigen::Matrix3d& rotation, std::string& er
   return true;
 }
 
+bool parse_pose(const std::string& text, const std::string& what, Eigen::Isometry3d& pose, std::string& error) {
+  std::vector<double> v;
+  Eigen::Matrix3d rotation;
+  if (!parse_numbers(text, what, "qw qx qy qz tx ty tz", 7, v, error)) return false;
+  if (!unit_quaternion(&v[0], rotation, error)) return error = what + ": " + error, false;
+  pose = Eigen::Isometry3d::Identity();
+  pose.linear() = rotation, pose.translation() = Eigen::Vector3d(v[4], v[5], v[6]);
+  return true;
+}
+
 }  // namespace minksum::cli
 
 namespace {
@@ -53,10 +63,13 @@ const char* kHelp =
     "usage: minksum <command> [options]\n"
     "\n"
     "commands:\n"
-    "  sum A B [--diff] [--method fast|reference|hull] [--out M.off|M.obj|M.ply] [--json]\n"
+    "  sum A B [--pose-b \"qw qx qy qz tx ty tz\"] [--diff] [--method fast|reference|hull]\n"
+    "          [--out M.off|M.obj|M.ply] [--json]\n"
     "      Minkowski sum of the convex hulls of the vertices in files A and B (OFF, OBJ, PLY\n"
-    "      or plain text \"x y z\" per line); --diff computes A (-) B = A (+) (-B).\n"
-    "  query A B [--json]\n"
+    "      or plain text \"x y z\" per line), B placed by a rigid pose (unit quaternion, then\n"
+    "      translation; default: as read); --diff computes A (-) B = A (+) (-B). The fast\n"
+    "      method prepares both as shapes and applies the pose inside the sum.\n"
+    "  query A B [--pose-b \"qw qx qy qz tx ty tz\"] [--json]\n"
     "  query --box \"cx cy cz hx hy hz qw qx qy qz\" --box \"...\" [--json]\n"
     "      Collision, exact distance with closest points, maximum distance and penetration\n"
     "      depth and direction of two convex objects (vertex files, or boxes given inline:\n"
@@ -88,15 +101,15 @@ double now_us() {
   return duration<double, std::micro>(steady_clock::now().time_since_epoch()).count();
 }
 
-// Reads a vertex file into a polytope; prints a one-line error on failure.
-bool load(const std::string& path, ConvexPolytope& p) {
+// Reads a vertex file into a prepared shape; prints a one-line error on failure.
+bool load(const std::string& path, ConvexShape& p) {
   std::vector<Eigen::Vector3d> pts;
   std::string error;
   if (!tools::read_points(path, pts, error)) {
     std::fprintf(stderr, "minksum: %s\n", error.c_str());
     return false;
   }
-  const Status s = polytope_from_points(pts, p);
+  const Status s = shape_from_points(pts, p);
   if (s != Status::Ok) {
     std::fprintf(stderr, "minksum: %s: %s\n", path.c_str(), to_string(s));
     return false;
@@ -116,11 +129,17 @@ bool parse_box(const std::string& text, Box& box, std::string& error) {
 
 int cmd_query(int argc, char** argv) {
   std::vector<std::string> files, boxes;
-  bool json = false;
+  bool json = false, posed = false;
+  Eigen::Isometry3d pose_b = Eigen::Isometry3d::Identity();
+  std::string error;
   for (int k = 0; k < argc; ++k) {
     const std::string a = argv[k];
     if (a == "--json") {
       json = true;
+    } else if (a == "--pose-b") {
+      if (k + 1 >= argc) return usage_error("--pose-b needs a value");
+      if (!cli::parse_pose(argv[++k], "--pose-b", pose_b, error)) return usage_error(error);
+      posed = true;
     } else if (a == "--box") {
       if (k + 1 >= argc) return usage_error("--box needs a value");
       boxes.push_back(argv[++k]);
@@ -134,13 +153,13 @@ int cmd_query(int argc, char** argv) {
   Status s;
   if (boxes.size() == 2 && files.empty()) {
     Box a, b;
-    std::string error;
     if (!parse_box(boxes[0], a, error) || !parse_box(boxes[1], b, error)) return usage_error(error);
+    if (posed) return usage_error("--pose-b is for vertex files");
     s = proximity(a, b, p);
   } else if (files.size() == 2 && boxes.empty()) {
-    ConvexPolytope A, B;
+    ConvexShape A, B;
     if (!load(files[0], A) || !load(files[1], B)) return 2;
-    s = proximity(A, B, p);
+    s = proximity(A, Eigen::Isometry3d::Identity(), B, pose_b, p);
   } else {
     return usage_error("query needs two vertex files or two --box");
   }
@@ -174,11 +193,15 @@ int cmd_sum(int argc, char** argv) {
   std::vector<std::string> files;
   bool diff = false, json = false;
   Method method = Method::Fast;
-  std::string out_path;
+  std::string out_path, error;
+  Eigen::Isometry3d pose_b = Eigen::Isometry3d::Identity();
   for (int k = 0; k < argc; ++k) {
     const std::string a = argv[k];
     if (a == "--diff") {
       diff = true;
+    } else if (a == "--pose-b") {
+      if (k + 1 >= argc) return usage_error("--pose-b needs a value");
+      if (!cli::parse_pose(argv[++k], "--pose-b", pose_b, error)) return usage_error(error);
     } else if (a == "--json") {
       json = true;
     } else if (a == "--method" || a == "--out") {
@@ -198,11 +221,25 @@ int cmd_sum(int argc, char** argv) {
     }
   }
   if (files.size() != 2) return usage_error("sum needs two vertex files");
-  ConvexPolytope A, B;
-  if (!load(files[0], A) || !load(files[1], B)) return 2;
+  ConvexShape SA, SB;
+  if (!load(files[0], SA) || !load(files[1], SB)) return 2;
+  const ConvexPolytope &A = SA.polytope(), &B = SB.polytope();
+  // The other methods take polytopes: B's hull moved by the pose (the same vertex order).
+  ConvexPolytope moved_b;
+  if (method != Method::Fast) {
+    std::vector<Eigen::Vector3d> pts;
+    for (const auto& v : B.vertices) pts.push_back(pose_b * v);
+    if (const Status s = polytope_from_points(pts, moved_b); s != Status::Ok) {
+      std::fprintf(stderr, "minksum: %s: %s\n", files[1].c_str(), to_string(s));
+      return 2;
+    }
+  }
+  const Eigen::Isometry3d identity = Eigen::Isometry3d::Identity();
   MinkowskiSum m;
   const double t0 = now_us();
-  const Status s = diff ? minkowski_difference(A, B, m, method) : minkowski_sum(A, B, m, method);
+  const Status s = method == Method::Fast
+                       ? (diff ? minkowski_difference(SA, identity, SB, pose_b, m) : minkowski_sum(SA, identity, SB, pose_b, m))
+                       : (diff ? minkowski_difference(A, moved_b, m, method) : minkowski_sum(A, moved_b, m, method));
   const double t1 = now_us();
   if (s != Status::Ok) {
     std::fprintf(stderr, "minksum: %s\n", to_string(s));
@@ -222,7 +259,7 @@ int cmd_sum(int argc, char** argv) {
     for (size_t k = 0; k < m.planes.size(); ++k) {
       const auto& p = m.planes[k];
       std::printf("%s[%.17g, %.17g, %.17g, %.17g, %d, %d]", k ? ", " : "", p.normal.x(),
-                  p.normal.y(), p.normal.z(), p.offset, A.input_index[p.i], B.input_index[p.j]);
+                  p.normal.y(), p.normal.z(), p.offset, A.input_index[p.i], B.input_index[method == Method::Fast ? p.j : moved_b.input_index[p.j]]);
     }
     std::printf("], \"method\": \"%s\", \"time_us\": %.17g}\n", method_name(method), t1 - t0);
   } else {
@@ -267,25 +304,33 @@ double kernel_sum_ns(bool& general) {
 int cmd_demo() {
   std::printf("minksum demo: the paper's Table 1 (B rotated 0.7 rad about (1,2,3)),\n"
               "median time per full sum (planes, support pairs, vertices, facet loops) on this\n"
-              "machine: the fast path, the reference path (the paper as written), and the hull\n"
-              "method (Qhull on the pairwise sums). The paper (2007): OSM 6.1-82.9 ms, CGAL\n"
-              "quickhull 131-277 ms. Google Benchmark runs: build/bench/minksum_bench.\n\n");
-  std::printf("%-14s %4s %4s %4s  %12s %14s %12s  %8s\n", "pair", "V", "E", "F", "fast [us]",
-              "reference [us]", "hull [us]", "hull/fast");
+              "machine: prepared shapes (built once, B's rotation passed as its pose), the fast\n"
+              "path on polytopes (prepared on every call), the reference path (the paper as\n"
+              "written), and the hull method (Qhull on the pairwise sums). The paper (2007): OSM\n"
+              "6.1-82.9 ms, CGAL quickhull 131-277 ms. Google Benchmark runs:\n"
+              "build/bench/minksum_bench.\n\n");
+  std::printf("%-14s %4s %4s %4s  %13s %10s %14s %10s  %13s\n", "pair", "V", "E", "F", "prepared [us]",
+              "fast [us]", "reference [us]", "hull [us]", "hull/prepared");
+  const Eigen::Matrix3d R = tools::table1_rotation();
+  Eigen::Isometry3d pose_b = Eigen::Isometry3d::Identity();
+  pose_b.linear() = R;
+  const Eigen::Isometry3d identity = Eigen::Isometry3d::Identity();
   double hull_cubes = 0;
   for (const auto& pair : tools::table1_pairs()) {
     ConvexPolytope A, B;
-    if (polytope_from_points(pair.a, A) != Status::Ok ||
-        polytope_from_points(pair.b, B) != Status::Ok)
+    ConvexShape SA, SB;
+    if (polytope_from_points(pair.a, A) != Status::Ok || polytope_from_points(pair.b, B) != Status::Ok ||
+        shape_from_points(pair.a, SA) != Status::Ok || shape_from_points(tools::rotated(pair.b, R.transpose()), SB) != Status::Ok)
       return 1;
     MinkowskiSum m;
-    double t[3];
+    double t[4];
+    t[0] = time_us([&] { minkowski_sum(SA, identity, SB, pose_b, m); });
     const Method methods[3] = {Method::Fast, Method::Reference, Method::Hull};
-    for (int k = 0; k < 3; ++k) t[k] = time_us([&] { minkowski_sum(A, B, m, methods[k]); });
-    minkowski_sum(A, B, m, Method::Fast);
-    std::printf("%-14s %4d %4d %4d  %12.2f %14.2f %12.2f  %7.1fx\n", pair.name.c_str(), m.V, m.E,
-                m.F, t[0], t[1], t[2], t[2] / t[0]);
-    if (pair.name == "cube_rotcube") hull_cubes = t[2];
+    for (int k = 0; k < 3; ++k) t[k + 1] = time_us([&] { minkowski_sum(A, B, m, methods[k]); });
+    minkowski_sum(SA, identity, SB, pose_b, m);
+    std::printf("%-14s %4d %4d %4d  %13.2f %10.2f %14.2f %10.2f  %12.1fx\n", pair.name.c_str(), m.V, m.E,
+                m.F, t[0], t[1], t[2], t[3], t[3] / t[0]);
+    if (pair.name == "cube_rotcube") hull_cubes = t[3];
   }
   bool general_d = false, general_f = false;
   const double ns_d = kernel_sum_ns<double>(general_d), ns_f = kernel_sum_ns<float>(general_f);

@@ -149,6 +149,56 @@ void expect_rejected(const std::string& args, const std::string& what) {
   EXPECT_NE(r.err.find(what), std::string::npos) << "stderr: " << r.err;
 }
 
+// --pose-b places B (read in its body frame) by a unit quaternion and a translation: every
+// method's planes are Qhull's facets of the pairwise sums with B moved here, indices are the
+// files', and query gives the distance of the explicitly moved file.
+TEST(Cli, PoseBPlacesTheSecondOperand) {
+  const auto pair = tools::table1_pairs()[2];
+  const Eigen::Quaterniond q(Eigen::AngleAxisd(0.9, Vector3d(1, -2, 0.5).normalized()));
+  const Vector3d t(30, -20, 45);
+  std::ostringstream pose;
+  pose.precision(17);
+  pose << "\"" << q.w() << ' ' << q.x() << ' ' << q.y() << ' ' << q.z() << ' ' << t.x() << ' ' << t.y() << ' ' << t.z() << "\"";
+  std::vector<Vector3d> moved;
+  for (const auto& p : pair.b) moved.push_back(q * p + t);
+  const std::string a = write_points("pa", pair.a, 0), b = write_points("pb", pair.b, 1), bm = write_points("pbm", moved, 0);
+  std::vector<Vector3d> sums;
+  for (const auto& p : pair.a)
+    for (const auto& r : moved) sums.push_back(p + r);
+  std::vector<detail::HullFacet> hull;
+  ASSERT_TRUE(detail::qhull_facets(sums, hull));
+  for (const char* method : {"fast", "reference", "hull"}) {
+    SCOPED_TRACE(method);
+    const CliRun r = run("sum " + a + " " + b + " --pose-b " + pose.str() + " --json --method " + method);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto planes = parse_planes(r.out);
+    EXPECT_EQ(planes.size(), hull.size());
+    for (const auto& p : planes) {
+      ASSERT_LT(p.j, int(moved.size()));
+      EXPECT_NEAR(p.n.dot(pair.a[p.i] + moved[p.j]), p.d, 1e-9);
+      bool twin = false;
+      for (const auto& h : hull)
+        twin = twin || ((p.n - h.normal).norm() < 1e-9 && std::abs(p.d - h.normal.dot(sums[h.loop[0]])) < 1e-9);
+      EXPECT_TRUE(twin) << "plane " << p.n.transpose() << " is not a Qhull facet";
+    }
+  }
+  const CliRun posed = run("query " + a + " " + b + " --pose-b " + pose.str() + " --json");
+  const CliRun explicit_ = run("query " + a + " " + bm + " --json");
+  ASSERT_EQ(posed.code, 0) << posed.err;
+  ASSERT_EQ(explicit_.code, 0) << explicit_.err;
+  const std::regex distance(R"("distance": ([-+0-9.eE]+))");
+  std::smatch m1, m2;
+  ASSERT_TRUE(std::regex_search(posed.out, m1, distance));
+  ASSERT_TRUE(std::regex_search(explicit_.out, m2, distance));
+  EXPECT_GT(std::stod(m2[1]), 1);  // separated: a real distance to compare
+  EXPECT_NEAR(std::stod(m1[1]), std::stod(m2[1]), 1e-9);
+  expect_rejected("sum " + a + " " + b + " --pose-b \"2 0 0 0 0 0 0\"", "unit length");
+  expect_rejected("sum " + a + " " + b + " --pose-b \"1 0 0 0 0 0\"", "7 numbers");
+  expect_rejected("query --box \"0 0 0 1 1 1 1 0 0 0\" --box \"3 0 0 1 1 1 1 0 0 0\" --pose-b \"1 0 0 0 0 0 0\"",
+                  "vertex files");
+}
+
+
 TEST(Cli, BadInputGetsExitCodeTwoAndOneLine) {
   const std::string cube = write_points("cube", tools::cube_points(), 0);
   const std::string nan = write("nan.txt", "0 0 0\n1 0 0\nnan 1 0\n0 0 1\n");
