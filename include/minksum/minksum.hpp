@@ -5,4 +5,5 @@
 #include <minksum/mesh.hpp>
 #include <minksum/model.hpp>
 #include <minksum/query.hpp>
+#include <minksum/shape.hpp>
 #include <minksum/sum.hpp>
