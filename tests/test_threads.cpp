@@ -54,7 +54,7 @@ TEST(Threads, SharedShapesGiveTheSameAnswersOnFourThreads) {
   const auto run = [&](const Task& t, MinkowskiSum& m, Proximity& p) {
     const Status s = t.difference ? minkowski_difference(shapes[t.a], t.pa, shapes[t.b], t.pb, m)
                                   : minkowski_sum(shapes[t.a], t.pa, shapes[t.b], t.pb, m);
-    return s == Status::Ok && proximity(shapes[t.a].polytope(), shapes[t.b].polytope(), p) == Status::Ok;
+    return s == Status::Ok && proximity(shapes[t.a], t.pa, shapes[t.b], t.pb, p) == Status::Ok;
   };
   std::vector<MinkowskiSum> expected(tasks.size());
   std::vector<Proximity> expected_proximity(tasks.size());
