@@ -136,8 +136,8 @@ constexpr int kMaxToolVertices = 256;
 constexpr int kMaxContactTriangles = 2048;
 
 /// Contact of a convex tool (a shape prepared once in its own frame, placed in the mesh's
-/// frame by a rigid pose on every call) with mesh A. Each triangle whose box meets the tool's box is clipped by the tool's face
-/// planes; the parts left are inside the tool. Their summed area vector (triangle winding:
+/// frame by a rigid pose on every call) with mesh A. Each triangle whose box meets the tool's
+/// box is clipped by the tool's face planes; the parts left are inside the tool. Their summed area vector (triangle winding:
 /// counter-clockwise = outward) gives the push-out direction u, which turns continuously as
 /// the tool slides over a tessellated surface; the depth is the largest distance, over the
 /// parts' corners p, that p travels along -u inside the tool. No allocation. InvalidMesh if the
