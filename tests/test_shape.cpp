@@ -116,8 +116,8 @@ TEST(PosedShapes, Table1PairsWithTheirRotationAsAPose) {
 
 // Proximity of posed shapes against the explicitly transformed polytopes' (the polytope query
 // is checked against FCL and brute force elsewhere): 400 seeded pairs of 4-600 vertices, posed
-// from overlapping to well apart; the same verdict, and distance, depth and closest points
-// within 1e-9 of the size.
+// from overlapping to well apart; the same verdict, distance, depth and farthest distance
+// within 1e-9 of the size, and closest points as far apart as the distance.
 TEST(PosedShapes, ProximityEqualsTheTransformedPolytopes) {
   std::mt19937_64 rng(2112);
   std::vector<ConvexShape> pool(60);
@@ -172,8 +172,10 @@ TEST(PosedShapes, NonRigidPosesAreRejected) {
       EXPECT_TRUE(m.planes.empty() && m.vertices.empty());
       EXPECT_EQ(minkowski_difference(A, pa, B, pb, m), Status::InvalidPose);
       Proximity prox;
+      prox.distance = prox.max_distance = 1;  // a stale answer must not survive
       EXPECT_EQ(proximity(A, pa, B, pb, prox), Status::InvalidPose);
       EXPECT_EQ(prox.distance, 0);
+      EXPECT_EQ(prox.max_distance, 0);
     }
   }
   Isometry3d tiny_error = Isometry3d::Identity();
