@@ -44,7 +44,12 @@ struct PairAnswer {
   T distance, depth;
   T direction[3], point_a[3], point_b[3];
   bool converged;  // false: the active set ran out of iterations (distance is an upper bound)
+  bool warm;       // the answer came from the given active set, proven optimal (KKT)
 };
+
+/// An active set of the box-pair query as the coherence cache keeps it: bit 31 set, the free
+/// generators in bits 0-5, the signs of the fixed parameters (1: +1) in bits 8-13.
+constexpr unsigned kActiveSet = 1u << 31;
 
 // Scalar code on small arrays: GCC's straight-line (SLP) vectoriser packs neighbouring
 // elements into vector loads of data that was just stored element by element, and such loads
@@ -149,7 +154,10 @@ struct BoxPairQuery {
   /// with t at a vertex and `free_mask` free. At most 3 generators are free at a time: three
   /// independent ones reach q. Returns false if it did not settle within its iteration budget
   /// (never seen; the caller then has a feasible t, i.e. an upper bound).
-  MINKSUM_SCALAR_CODE static bool nearest_point(const BoxPair<T>& p, const T (&q)[3], T (&t)[6], unsigned free_mask) {
+  /// `trust_start`: the start facet is the SAT's, so q projecting into it is optimal at once;
+  /// a warm start from another tick's active set is always checked (KKT).
+  MINKSUM_SCALAR_CODE static bool nearest_point(const BoxPair<T>& p, const T (&q)[3], T (&t)[6], unsigned& free_mask,
+                                                bool trust_start) {
     const T eps = std::is_same_v<T, float> ? T(1e-5) : T(1e-12);
     T base[3];  // c - q
     for (int d = 0; d < 3; ++d) base[d] = p.c[d] - q[d];
@@ -170,7 +178,7 @@ struct BoxPairQuery {
       const int k = (newest >= 0 && (free_mask >> newest & 1)) ? newest : f[m - 1];
       free_mask &= ~(1u << k), blocked |= 1u << k;
     };
-    bool first = true;
+    bool first = trust_start;
     for (int iter = 0; iter < 24; ++iter) {
       // Solve for the free parameters with the others fixed; step back to the box if needed.
       for (;;) {
@@ -253,15 +261,63 @@ struct BoxPairQuery {
     return false;
   }
 
-  MINKSUM_SCALAR_CODE static void box_pair(const BoxView& a, const BoxView& b, bool answer, BoxPair<T>& p,
-                       PairAnswer<T>& out) {
+  /// Loads the pair and, if `answer`, answers: from the active set `active` if it is one
+  /// (kActiveSet) and proves optimal for separated boxes, else cold. `active` returns the
+  /// answer's active set (0 when the boxes overlap: the next query starts cold).
+  MINKSUM_SCALAR_CODE static void box_pair(const BoxView& a, const BoxView& b, bool answer, unsigned& active,
+                                           BoxPair<T>& p, PairAnswer<T>& out) {
     load(a, b, p);
-    if (answer) run(p, out);
+    out.warm = false;
+    if (!answer) return;
+    if ((active & kActiveSet) && warm(p, active, out)) return;
+    run(p, out, active);
+  }
+
+  // M's point c + G t and its preimages: A's point and B's (= A's - M's).
+  MINKSUM_SCALAR_CODE static void write_points(const BoxPair<T>& p, const T (&t)[6], T (&m)[3], PairAnswer<T>& out) {
+    for (int d = 0; d < 3; ++d) {
+      out.point_a[d] = p.ca[d] + t[0] * p.g[0][d] + t[1] * p.g[1][d] + t[2] * p.g[2][d];
+      m[d] = p.c[d] + t[0] * p.g[0][d] + t[1] * p.g[1][d] + t[2] * p.g[2][d] + t[3] * p.g[3][d] +
+             t[4] * p.g[4][d] + t[5] * p.g[5][d];
+      out.point_b[d] = out.point_a[d] - m[d];
+    }
+  }
+
+  static unsigned encode(const T (&t)[6], unsigned free_mask) {
+    unsigned signs = 0;
+    for (int k = 0; k < 6; ++k) signs |= unsigned(t[k] > 0) << (8 + k);
+    return kActiveSet | signs | (free_mask & 63u);
+  }
+
+  /// The coherent path: the nearest point of M to the origin from the last answer's active
+  /// set. Kept only when the walk ends with the KKT conditions met (the point is M's nearest:
+  /// the problem is convex) and the distance clears what the cold path's verdict could
+  /// differ by: the sliver facets the SAT skips (kSliverThreshold of the longest half
+  /// extent) and rounding. Then the cold query's verdict is also "separated", at the same
+  /// distance.
+  MINKSUM_SCALAR_CODE static bool warm(const BoxPair<T>& p, unsigned& active, PairAnswer<T>& out) {
+    T t[6];
+    for (int k = 0; k < 6; ++k) t[k] = (active >> (8 + k) & 1) ? T(1) : T(-1);
+    unsigned free_mask = active & 63u;
+    const T origin[3] = {0, 0, 0};
+    if (!nearest_point(p, origin, t, free_mask, false)) return false;
+    T m[3];
+    write_points(p, t, m, out);
+    const T d = std::sqrt(dot3(m, m));
+    T hmax = 0, reach = std::abs(p.c[0]) + std::abs(p.c[1]) + std::abs(p.c[2]);
+    for (int k = 0; k < 6; ++k) hmax = std::max(hmax, p.h[k]), reach += p.h[k];
+    const T guard = 4 * kSliverThreshold<T> * hmax + 256 * std::numeric_limits<T>::epsilon() * reach;
+    if (!(d > guard)) return false;
+    out.intersecting = false, out.distance = d, out.depth = 0;
+    for (int dd = 0; dd < 3; ++dd) out.direction[dd] = 0;
+    out.converged = out.warm = true;
+    active = encode(t, free_mask);
+    return true;
   }
 
   /// The exact proximity of one box pair, written field by field into out (a struct copy
   /// would read back the fields just stored, with wide loads that stall).
-  MINKSUM_SCALAR_CODE static void run(const BoxPair<T>& p, PairAnswer<T>& out) {
+  MINKSUM_SCALAR_CODE static void run(const BoxPair<T>& p, PairAnswer<T>& out, unsigned& active) {
     out.distance = out.depth = 0;
     for (int d = 0; d < 3; ++d) out.direction[d] = 0;
     const SatResult<T> sat = separating_axis(p);
@@ -274,20 +330,18 @@ struct BoxPairQuery {
       out.depth = -sat.separation;
       for (int d = 0; d < 3; ++d) out.direction[d] = sat.normal[d], target[d] = out.depth * sat.normal[d];
     }
-    out.converged = nearest_point(p, target, t, sat.free_mask);
+    unsigned free_mask = sat.free_mask;
+    out.converged = nearest_point(p, target, t, free_mask, true);
     T m[3];
-    for (int d = 0; d < 3; ++d) {
-      out.point_a[d] = p.ca[d] + t[0] * p.g[0][d] + t[1] * p.g[1][d] + t[2] * p.g[2][d];
-      m[d] = p.c[d] + t[0] * p.g[0][d] + t[1] * p.g[1][d] + t[2] * p.g[2][d] + t[3] * p.g[3][d] +
-             t[4] * p.g[4][d] + t[5] * p.g[5][d];
-      out.point_b[d] = out.point_a[d] - m[d];
-    }
+    write_points(p, t, m, out);
     if (!out.intersecting) out.distance = std::sqrt(dot3(m, m));
+    active = !out.intersecting && out.converged ? encode(t, free_mask) : 0u;
   }
 };
 
-/// The box-pair query of the active ISA: loads the pair and, if `answer`, answers.
-void box_pair_proximity(const Box& a, const Box& b, bool answer, BoxPair<double>& pair,
+/// The box-pair query of the active ISA: loads the pair and, if `answer`, answers, starting
+/// from the active set `active` (see BoxPairQuery::box_pair; 0: cold).
+void box_pair_proximity(const Box& a, const Box& b, bool answer, unsigned& active, BoxPair<double>& pair,
                         PairAnswer<double>& out);
 
 }  // namespace minksum::detail

@@ -159,11 +159,11 @@ void pack_box_pair(const Box& a, const Box& b, double (&in)[30]) {
   for (int e = 0; e < 9; ++e) in[6 + e] = a.rotation.data()[e], in[15 + e] = b.rotation.data()[e];
 }
 
-void box_pair_proximity(const Box& a, const Box& b, bool answer, BoxPair<double>& pair,
+void box_pair_proximity(const Box& a, const Box& b, bool answer, unsigned& active, BoxPair<double>& pair,
                         PairAnswer<double>& out) {
   const BoxView va{a.center.data(), a.rotation.data(), a.half_extents.data()};
   const BoxView vb{b.center.data(), b.rotation.data(), b.half_extents.data()};
-  dispatch().box_pair_d(va, vb, answer, pair, out);
+  dispatch().box_pair_d(va, vb, answer, active, pair, out);
 }
 
 }  // namespace detail

@@ -322,8 +322,15 @@ void make_workspace(const Octree& a, const Octree& b, MeshWorkspace& ws) {
   ws.stamp = 0;
 }
 
-Status mesh_distance(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace& ws,
-                     MeshDistance& out) {
+namespace {
+
+// The search of mesh_distance, from the triangle pair (seed_a, seed_b) if both index
+// triangles: its distance at this pose is the first `best`. Every test below prunes with
+// `best`, and a smaller best only prunes more, so a seed never makes the search visit more
+// node or triangle pairs than the cold one (-1, -1) does: the worst case is the cold search
+// plus one triangle distance.
+Status search(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace& ws, MeshDistance& out, int seed_a,
+              int seed_b) {
   out = MeshDistance{};
   Box check;  // the pose's rotation must be a proper rotation, like a box's
   check.center = pose.translation, check.rotation = pose.rotation;
@@ -350,6 +357,13 @@ Status mesh_distance(const Octree& a, const Octree& b, const Pose& pose, MeshWor
   // contents, the largest of: their boxes apart along A's axes (B's box inside its bounding
   // box in A's frame) or B's, along a cross axis, and each slab apart from the other's box.
   double best = std::numeric_limits<double>::infinity();
+  if (seed_a >= 0 && size_t(seed_a) < a.triangles.size() && seed_b >= 0 && size_t(seed_b) < b.triangles.size()) {
+    Vector3d sa[3], sb[3];
+    for (int k = 0; k < 3; ++k)
+      sa[k] = a.vertices[a.triangles[seed_a][k]], sb[k] = R * b.vertices[b.triangles[seed_b][k]] + t;
+    best = triangle_distance(sa, sb, out.point_a, out.point_b);
+    out.triangle_a = seed_a, out.triangle_b = seed_b;
+  }
   const Eigen::Matrix3d absR = R.cwiseAbs();
   struct CrossAxes {
     double L[3][9], wa[3][9], wb[3][9];  // unit axis, widths along A's and B's axes (SoA)
@@ -544,6 +558,24 @@ Status mesh_distance(const Octree& a, const Octree& b, const Pose& pose, MeshWor
   out.culled_percent_a = 100.0 * (1 - double(out.candidates_a) / double(a.triangles.size()));
   out.culled_percent_b = 100.0 * (1 - double(out.candidates_b) / double(b.triangles.size()));
   return Status::Ok;
+}
+
+}  // namespace
+
+Status mesh_distance(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace& ws,
+                     MeshDistance& out) {
+  return search(a, b, pose, ws, out, -1, -1);
+}
+
+Status mesh_distance(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace& ws, ProximityCache& cache,
+                     MeshDistance& out) {
+  constexpr unsigned kCacheMesh = 3;  // (query.cpp's kinds: box pairs 1, convex shapes 2)
+  const bool seeded = cache.kind == kCacheMesh;
+  const Status s = search(a, b, pose, ws, out, seeded ? cache.a[0] : -1, seeded ? cache.b[0] : -1);
+  ++(seeded && s == Status::Ok ? cache.warm : cache.cold);
+  cache.kind = s == Status::Ok && out.triangle_a >= 0 ? kCacheMesh : 0u;
+  cache.a[0] = out.triangle_a, cache.b[0] = out.triangle_b;
+  return s;
 }
 
 Status mesh_contact(const Octree& a, const ConvexShape& shape, const Eigen::Isometry3d& pose, MeshWorkspace& ws,

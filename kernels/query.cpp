@@ -9,6 +9,7 @@
 #include <minksum/mesh.hpp>
 
 #include "box_pair.hpp"
+#include "shape_data.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -192,46 +193,13 @@ Status box_box_exhaustive(const Box& a, const Box& b, Proximity& out) {
 
 namespace {
 
-void box_box_proximity(const Box& a, const Box& b, Proximity& out, Want want);
-
-}  // namespace
-
-Status proximity(const Box& a, const Box& b, Proximity& out, Want want) {
-  out = Proximity{};
-  for (const Box* x : {&a, &b})
-    if (const Status s = check_box(*x); s != Status::Ok) return s;
-  // Lengths far from 1 over- or underflow in the products of the pair computation (fuzz
-  // findings: NaN for a box of 1e-312 next to one of 200): then it works relative to A's
-  // centre, scaled by a power of two (exact), with half extents below 2^-100 (1e-30) of the
-  // pair's size raised to that (the answer moves by less), and the answer is scaled back.
-  const Vector3d o = a.center;
-  const double big = std::max({(b.center - o).cwiseAbs().maxCoeff(), a.half_extents.maxCoeff(), b.half_extents.maxCoeff()});
-  const double speck = big * 0x1p-100;  // exact (big is normal here or the test fails anyway)
-  if (big > 1e-60 && big < 1e60 && a.half_extents.minCoeff() >= speck && b.half_extents.minCoeff() >= speck) {
-    box_box_proximity(a, b, out, want);
-    return Status::Ok;
-  }
-  // (The scale is at most 2^1000: for a subnormal pair 2^-exponent would overflow to inf, a
-  // fuzz finding; 2^1000 makes it normal.)
-  int exponent = 0;
-  std::frexp(big, &exponent);
-  const double k = std::ldexp(1.0, std::min(-exponent, 1000));
-  Box sa = a, sb = b;
-  sa.center.setZero(), sb.center = k * (b.center - o);
-  for (Box* x : {&sa, &sb}) x->half_extents = (k * x->half_extents).cwiseMax(std::ldexp(k * big, -100));
-  box_box_proximity(sa, sb, out, want);
-  out.distance /= k, out.penetration_depth /= k, out.max_distance /= k;
-  for (Vector3d* p : {&out.point_a, &out.point_b, &out.far_a, &out.far_b}) *p = *p / k + o;
-  return Status::Ok;
-}
-
-namespace {
-
-// The box pair query on valid boxes whose lengths are near 1.
-void box_box_proximity(const Box& a, const Box& b, Proximity& out, Want want) {
+// The box pair query on valid boxes whose lengths are near 1, from the active set `active`
+// (0: cold); returns whether the answer came from it, and leaves the answer's active set there.
+bool box_box_proximity(const Box& a, const Box& b, Proximity& out, Want want, unsigned& active) {
   detail::BoxPair<double> pair;
   detail::PairAnswer<double> r;
-  detail::box_pair_proximity(a, b, want & kWantContact, pair, r);
+  if (!(want & kWantContact)) active = 0;
+  detail::box_pair_proximity(a, b, want & kWantContact, active, pair, r);
   if (want & kWantContact) {
     if (!r.converged) {
       box_box_exhaustive(a, b, out);
@@ -244,15 +212,85 @@ void box_box_proximity(const Box& a, const Box& b, Proximity& out, Want want) {
     }
   }
   if (want & kWantMaxDistance) box_box_farthest(pair, out);
+  return r.warm;
 }
 
+// Both box queries: checks, then the pair query, scaled when the lengths are far from 1.
+Status box_query(const Box& a, const Box& b, Proximity& out, Want want, unsigned& active, bool& warm) {
+  out = Proximity{};
+  warm = false;
+  for (const Box* x : {&a, &b})
+    if (const Status s = check_box(*x); s != Status::Ok) return s;
+  // Lengths far from 1 over- or underflow in the products of the pair computation (fuzz
+  // findings: NaN for a box of 1e-312 next to one of 200): then it works relative to A's
+  // centre, scaled by a power of two (exact), with half extents below 2^-100 (1e-30) of the
+  // pair's size raised to that (the answer moves by less), and the answer is scaled back.
+  const Vector3d o = a.center;
+  const double big = std::max({(b.center - o).cwiseAbs().maxCoeff(), a.half_extents.maxCoeff(), b.half_extents.maxCoeff()});
+  const double speck = big * 0x1p-100;  // exact (big is normal here or the test fails anyway)
+  if (big > 1e-60 && big < 1e60 && a.half_extents.minCoeff() >= speck && b.half_extents.minCoeff() >= speck) {
+    warm = box_box_proximity(a, b, out, want, active);
+    return Status::Ok;
+  }
+  // (The scale is at most 2^1000: for a subnormal pair 2^-exponent would overflow to inf, a
+  // fuzz finding; 2^1000 makes it normal.) Such pairs are answered cold.
+  int exponent = 0;
+  std::frexp(big, &exponent);
+  const double k = std::ldexp(1.0, std::min(-exponent, 1000));
+  Box sa = a, sb = b;
+  sa.center.setZero(), sb.center = k * (b.center - o);
+  for (Box* x : {&sa, &sb}) x->half_extents = (k * x->half_extents).cwiseMax(std::ldexp(k * big, -100));
+  active = 0;
+  box_box_proximity(sa, sb, out, want, active);
+  active = 0;
+  out.distance /= k, out.penetration_depth /= k, out.max_distance /= k;
+  for (Vector3d* p : {&out.point_a, &out.point_b, &out.far_a, &out.far_b}) *p = *p / k + o;
+  return Status::Ok;
+}
+
+// The kinds of query that fill a ProximityCache.
+enum CacheKind : unsigned { kCacheBoxBox = 1, kCacheConvex = 2 };  // (mesh_distance: 3)
+
 }  // namespace
+
+Status proximity(const Box& a, const Box& b, Proximity& out, Want want) {
+  unsigned cold = 0;
+  bool warm = false;
+  return box_query(a, b, out, want, cold, warm);
+}
+
+Status proximity(const Box& a, const Box& b, ProximityCache& cache, Proximity& out, Want want) {
+  unsigned active = cache.kind == kCacheBoxBox ? cache.active : 0u;
+  bool warm = false;
+  const Status s = box_query(a, b, out, want, active, warm);
+  cache.kind = kCacheBoxBox, cache.active = s == Status::Ok ? active : 0u;
+  ++(warm ? cache.warm : cache.cold);
+  return s;
+}
 
 namespace {
 
 // Exact proximity without building A (-) B, so without allocation (a haptics tick may call
 // it). A shape is read through a view: its vertices, its faces (a vertex loop, the outward
 // normal and offset; a flat shape has one face and no inside), and its edge directions.
+
+// The vertex of s highest along n, and its height n . x (the support); the first of ties.
+template <class S>
+int highest(const S& s, const Vector3d& n, double& value) {
+  int best = 0;
+  value = -std::numeric_limits<double>::infinity();
+  for (int k = 0; k < s.size(); ++k)
+    if (const double x = n.dot(s.vertex(k)); x > value) value = x, best = k;
+  return best;
+}
+
+// The largest |coordinate| of s's vertices.
+template <class S>
+double largest_coordinate(const S& s) {
+  double m = 0;
+  for (int k = 0; k < s.size(); ++k) m = std::max(m, s.vertex(k).cwiseAbs().maxCoeff());
+  return m;
+}
 
 // A box or a triangle in fixed arrays.
 struct SmallShape {
@@ -275,6 +313,7 @@ struct SmallShape {
   int edges() const { return ne; }
   Vector3d edge_direction(int k) const { return edge[k]; }
   bool arc(int, Vector3d&, Vector3d&, Vector3d&) const { return false; }  // directions only: no Gauss map
+  double reach() const { return largest_coordinate(*this); }
 };
 
 SmallShape shape_of(const Box& b) {
@@ -336,6 +375,7 @@ struct PolytopeShape {
     on = p.vertices[p.edges[k].v0];
     return true;
   }
+  double reach() const { return largest_coordinate(*this); }
 };
 
 // A convex polytope in its body frame, read in place and placed by a rigid pose on the fly
@@ -344,7 +384,7 @@ struct PosedShape {
   const ConvexPolytope& p;
   const Eigen::Matrix3d R;
   const Vector3d t;
-  bool solid = !p.flat;
+  const bool solid = !p.flat;
   int size() const { return int(p.vertices.size()); }
   Vector3d vertex(int k) const { return R * p.vertices[k] + t; }
   int faces() const { return p.flat ? 1 : int(p.faces.size()); }
@@ -362,7 +402,22 @@ struct PosedShape {
     on = vertex(p.edges[k].v0);
     return true;
   }
+  // At least the largest |coordinate|, without a pass over the vertices.
+  double reach() const { return t.cwiseAbs().maxCoeff() + radius; }
+  const double radius = 0;  // at least the largest |x| in the body frame
 };
+
+// The support of a posed shape with the direction turned into the body frame (one product
+// per vertex instead of a pose per vertex).
+int highest(const PosedShape& s, const Vector3d& n, double& value) {
+  const Vector3d nb = s.R.transpose() * n;
+  int best = 0;
+  value = -std::numeric_limits<double>::infinity();
+  for (int k = 0; k < s.size(); ++k)
+    if (const double x = nb.dot(s.p.vertices[k]); x > value) value = x, best = k;
+  value += n.dot(s.t);
+  return best;
+}
 
 // Whether the Gauss-map arcs a0-a1 (an edge of A) and c0-c1 (an edge of -B, its face normals
 // negated) cross: only then is the cross product of the two edges a facet normal of A (-) B
@@ -584,18 +639,32 @@ bool nearest_on_simplex(const Vector3d* w, int n, double (&lambda)[4]) {
 // search. M's points are scaled by `scale`, a power of two near 1 / the coordinates'
 // magnitude, so that their products neither overflow nor underflow.
 template <class A, class B>
-int gjk_features(const A& a, const B& b, double scale, int (&fa)[4], int (&fb)[4]) {
+int gjk_features(const A& a, const B& b, double scale, int (&fa)[4], int (&fb)[4], const int* start_a = nullptr,
+                 const int* start_b = nullptr) {
   Vector3d w[4] = {scale * (a.vertex(0) - b.vertex(0))};
   int ia[4] = {0}, ib[4] = {0}, n = 1;
   Vector3d v = w[0];
+  if (start_a) {  // warm: the last answer's up to three pairs (repeats dropped), reduced to their nearest feature
+    n = 0;
+    for (int j = 0; j < 3; ++j) {
+      bool repeat = false;
+      for (int m = 0; m < n; ++m) repeat |= ia[m] == start_a[j] && ib[m] == start_b[j];
+      if (!repeat) w[n] = scale * (a.vertex(start_a[j]) - b.vertex(start_b[j])), ia[n] = start_a[j], ib[n] = start_b[j], ++n;
+    }
+    double lambda[4];
+    if (!nearest_on_simplex(w, n, lambda)) return 0;  // (three points hold no tetrahedron: NaN)
+    v = Vector3d::Zero();
+    int m = 0;
+    for (int j = 0; j < n; ++j)
+      if (lambda[j] > 0) v += lambda[j] * w[j], w[m] = w[j], ia[m] = ia[j], ib[m] = ib[j], ++m;
+    if (m == 0) return 0;
+    n = m;
+  }
   for (int iter = 0; iter < 64; ++iter) {
     // M's support point in -v: A's lowest vertex along v minus B's highest.
-    int ka = 0, kb = 0;
-    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-    for (int k = 0; k < a.size(); ++k)
-      if (const double x = v.dot(a.vertex(k)); x < lo) lo = x, ka = k;
-    for (int k = 0; k < b.size(); ++k)
-      if (const double x = v.dot(b.vertex(k)); x > hi) hi = x, kb = k;
+    double lo, hi;
+    const int ka = highest(a, -v, lo), kb = highest(b, v, hi);
+    lo = -lo;
     const double vv = v.squaredNorm();
     // Stop when M reaches no further towards the origin than v does (to rounding), or repeats.
     if (!(vv - scale * (lo - hi) > 1e-13 * vv)) break;
@@ -638,9 +707,9 @@ bool certified_distance(const A& a, const B& b, const int (&fa)[4], const int (&
   const double d = triangle_distance(s, t, p, q);
   if (!(d > touching + slack)) return false;
   const Vector3d n = (q - p) / d;
-  double above = 0, below = 0;
-  for (int k = 0; k < a.size(); ++k) above = std::max(above, n.dot(a.vertex(k) - p));
-  for (int k = 0; k < b.size(); ++k) below = std::max(below, n.dot(q - b.vertex(k)));
+  double top, bottom;
+  highest(a, n, top), highest(b, -n, bottom);
+  const double above = std::max(0.0, top - n.dot(p)), below = std::max(0.0, bottom + n.dot(q));
   if (!(above + below <= slack)) return false;
   out.distance = d, out.point_a = p, out.point_b = q;
   return true;
@@ -767,8 +836,33 @@ bool certified_depth(const A& a, const B& b, const int (&ta)[4], const int (&tb)
 // h_M(n) >= depth for every unit n, so the least h_M over those candidates (both signs) is the
 // depth; the deepest points are the nearest points of A and of B moved by depth * n, where they
 // touch.
+// The farthest pair: every vertex pair, squared lengths scaled by k (a power of two).
 template <class A, class B>
-void exact_proximity(const A& a, const B& b, Proximity& out, Want want) {
+void farthest_pair(const A& a, const B& b, double k, Proximity& out) {
+  double far2 = -1;
+  for (int i = 0; i < a.size(); ++i)
+    for (int j = 0; j < b.size(); ++j)
+      if (const double d2 = (k * (a.vertex(i) - b.vertex(j))).squaredNorm(); d2 > far2)
+        far2 = d2, out.far_a = a.vertex(i), out.far_b = b.vertex(j);
+  out.max_distance = length(out.far_a - out.far_b);
+}
+
+// A power of two near 1 / reach (1 for 0), so that scaled squared lengths neither overflow nor
+// underflow.
+double scale_of(double reach) {
+  int exponent = 0;
+  std::frexp(reach, &exponent);
+  return reach > 0 ? std::ldexp(1.0, std::min(-exponent, 1000)) : 1.0;
+}
+
+// GJK's support pairs of an answer, kept for the next query (three, repeats allowed).
+struct Features {
+  int a[3] = {0, 0, 0}, b[3] = {0, 0, 0};
+  bool valid = false;
+};
+
+template <class A, class B>
+void exact_proximity(const A& a, const B& b, Proximity& out, Want want, Features* features = nullptr) {
   out = Proximity{};
   // The bounding boxes: the largest coordinate (reach) and the largest |a_i - b_j| component
   // (size), which sets the tolerances.
@@ -778,19 +872,8 @@ void exact_proximity(const A& a, const B& b, Proximity& out, Want want) {
   const double reach = std::max({alo.cwiseAbs().maxCoeff(), ahi.cwiseAbs().maxCoeff(),
                                  blo.cwiseAbs().maxCoeff(), bhi.cwiseAbs().maxCoeff()});
   const double size = std::max((ahi - blo).maxCoeff(), (bhi - alo).maxCoeff());
-  // Squared lengths scaled by a power of two near 1 / reach (exact), so that they neither
-  // overflow nor underflow.
-  int exponent = 0;
-  std::frexp(reach, &exponent);
-  const double k = reach > 0 ? std::ldexp(1.0, std::min(-exponent, 1000)) : 1.0;
-  if (want & kWantMaxDistance) {
-    double far2 = -1;
-    for (int i = 0; i < a.size(); ++i)
-      for (int j = 0; j < b.size(); ++j)
-        if (const double d2 = (k * (a.vertex(i) - b.vertex(j))).squaredNorm(); d2 > far2)
-          far2 = d2, out.far_a = a.vertex(i), out.far_b = b.vertex(j);
-    out.max_distance = length(out.far_a - out.far_b);
-  }
+  const double k = scale_of(reach);
+  if (want & kWantMaxDistance) farthest_pair(a, b, k, out);
   if (!(want & kWantContact)) return;
   const double eps = std::numeric_limits<double>::epsilon();
   const double tol = 64 * eps * size;
@@ -798,6 +881,10 @@ void exact_proximity(const A& a, const B& b, Proximity& out, Want want) {
   // depth of overlapping ones.
   int fa[4], fb[4];
   const int found = gjk_features(a, b, k, fa, fb);
+  if (features && (found == 3 || found == 4)) {
+    std::copy(fa, fa + 3, features->a), std::copy(fb, fb + 3, features->b);
+    features->valid = true;
+  }
   const double slack = 64 * eps * reach;
   if (found == 3 && certified_distance(a, b, fa, fb, slack, tol, out)) return;
   if (found == 4 && certified_depth(a, b, fa, fb, slack, tol, out)) return;
@@ -859,6 +946,50 @@ void exact_proximity(const A& a, const B& b, Proximity& out, Want want) {
   }
 }
 
+// The coherent path (ProximityCache): GJK from the last answer's support pairs, which along a
+// smooth motion ends after one or two supports, then the cold path's certificates. Accepted
+// only for shapes apart, or overlapping, by more than `clear` = 1e-10 of the reach: there the
+// cold query reaches the same verdict, and its distance or depth agrees to rounding (both are
+// certified within 64 eps reach). Anything else (a stale or foreign cache, a touching pose, a
+// certificate that fails) returns false, and the caller answers cold.
+template <class A, class B>
+bool warm_proximity(const A& a, const B& b, const ProximityCache& cache, Proximity& out, Want want, Features& f) {
+  if (cache.kind != kCacheConvex || !(want & kWantContact)) return false;
+  for (int j = 0; j < 3; ++j)
+    if (cache.a[j] < 0 || cache.a[j] >= a.size() || cache.b[j] < 0 || cache.b[j] >= b.size()) return false;
+  const double reach = std::max(a.reach(), b.reach());
+  if (!(reach > 0 && reach <= kMaxCoordinate)) return false;
+  out = Proximity{};
+  const double k = scale_of(reach), slack = 64 * std::numeric_limits<double>::epsilon() * reach, clear = 1e-10 * reach;
+  int fa[4], fb[4];
+  const int found = gjk_features(a, b, k, fa, fb, cache.a, cache.b);
+  const bool proven = found == 3   ? certified_distance(a, b, fa, fb, slack, clear, out)
+                      : found == 4 ? certified_depth(a, b, fa, fb, slack, clear, out)
+                                   : false;
+  if (!proven) return out = Proximity{}, false;
+  std::copy(fa, fa + 3, f.a), std::copy(fb, fb + 3, f.b);
+  f.valid = true;
+  if (want & kWantMaxDistance) farthest_pair(a, b, k, out);
+  return true;
+}
+
+// A query through the cache: warm if it proves, else cold; the cache keeps the features.
+template <class A, class B>
+void cached_proximity(const A& a, const B& b, ProximityCache& cache, Proximity& out, Want want) {
+  Features f;
+  const bool warm = warm_proximity(a, b, cache, out, want, f);
+  if (!warm) exact_proximity(a, b, out, want, &f);
+  ++(warm ? cache.warm : cache.cold);
+  cache.kind = f.valid ? kCacheConvex : 0u;
+  std::copy(f.a, f.a + 3, cache.a), std::copy(f.b, f.b + 3, cache.b);
+}
+
+// A prepared shape placed by a pose.
+PosedShape posed(const ConvexShape& s, const Eigen::Isometry3d& pose) {
+  const detail::ShapeData* d = detail::ShapeAccess::data(s);
+  return PosedShape{s.polytope(), pose.linear(), pose.translation(), !s.polytope().flat, std::sqrt(3.0) * d->size};
+}
+
 }  // namespace
 
 Status proximity(const ConvexPolytope& a, const ConvexPolytope& b, Proximity& out, Want want) {
@@ -874,8 +1005,17 @@ Status proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const Co
   if (a.empty() || b.empty()) return Status::TooFewPoints;
   for (const auto* pose : {&pose_a, &pose_b})
     if (const Status s = check_pose(*pose); s != Status::Ok) return s;
-  exact_proximity(PosedShape{a.polytope(), pose_a.linear(), pose_a.translation()},
-                  PosedShape{b.polytope(), pose_b.linear(), pose_b.translation()}, out, want);
+  exact_proximity(posed(a, pose_a), posed(b, pose_b), out, want);
+  return Status::Ok;
+}
+
+Status proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
+                 const Eigen::Isometry3d& pose_b, ProximityCache& cache, Proximity& out, Want want) {
+  out = Proximity{};
+  if (a.empty() || b.empty()) return Status::TooFewPoints;
+  for (const auto* pose : {&pose_a, &pose_b})
+    if (const Status s = check_pose(*pose); s != Status::Ok) return s;
+  cached_proximity(posed(a, pose_a), posed(b, pose_b), cache, out, want);
   return Status::Ok;
 }
 
@@ -884,6 +1024,14 @@ Status proximity(const Box& a, const Triangle& b, Proximity& out, Want want) {
   if (const Status s = check_box(a); s != Status::Ok) return s;
   if (const Status s = check_triangle(b); s != Status::Ok) return s;
   exact_proximity(shape_of(a), shape_of(b), out, want);
+  return Status::Ok;
+}
+
+Status proximity(const Box& a, const Triangle& b, ProximityCache& cache, Proximity& out, Want want) {
+  out = Proximity{};
+  if (const Status s = check_box(a); s != Status::Ok) return s;
+  if (const Status s = check_triangle(b); s != Status::Ok) return s;
+  cached_proximity(shape_of(a), shape_of(b), cache, out, want);
   return Status::Ok;
 }
 

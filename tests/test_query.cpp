@@ -551,7 +551,8 @@ TEST_P(BatchedProximity, SinglePairActiveSetAgreesWithAllFacets) {
       const auto& [a, b] = pairs[round * N + k];
       detail::BoxPair<double> pair;
       detail::PairAnswer<double> got;
-      detail::box_pair_proximity(a, b, true, pair, got);
+      unsigned cold = 0;
+      detail::box_pair_proximity(a, b, true, cold, pair, got);
       ASSERT_TRUE(got.converged) << "pair " << k;
       const double scale = 1e-9 * std::max({1.0, a.center.cwiseAbs().maxCoeff(), b.center.cwiseAbs().maxCoeff()});
       EXPECT_NEAR(got.distance, all->distance[k], scale) << "pair " << k;

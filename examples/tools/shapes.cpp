@@ -46,6 +46,30 @@ Eigen::Matrix3d axis_angle(const Vector3d& axis, double angle) {
   return Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
 }
 
+std::vector<Eigen::Isometry3d> trajectory(unsigned seed, int ticks, double near, double far, double step) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  const double pi = 3.14159265358979323846, turn = 0.5 * pi / 180;
+  // Radius r = mid + amp sin(wr k + pr); direction at longitude wt k + pt, latitude
+  // 0.6 sin(wl k + pl). Each term moves at most step / 2 per tick.
+  const double mid = (near + far) / 2, amp = (far - near) / 2;
+  const double wr = std::min(0.5 * step / std::max(amp, 1e-300), 2 * pi / 2000);
+  const double wt = 0.25 * step / far * (0.5 + 0.5 * u(rng)), wl = 0.25 * step / (0.6 * far) * (0.5 + 0.5 * u(rng));
+  const double pr = 2 * pi * u(rng), pt = 2 * pi * u(rng), pl = 2 * pi * u(rng);
+  const double spin = 2 * pi * (0.2 + u(rng)) / 5000;  // the rotation axis turns slowly too
+  Eigen::Matrix3d R = axis_angle(Vector3d(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5), 2 * pi * u(rng));
+  std::vector<Eigen::Isometry3d> out(size_t(std::max(ticks, 0)));
+  for (int k = 0; k < ticks; ++k) {
+    const double r = mid + amp * std::sin(wr * k + pr), lon = wt * k + pt, lat = 0.6 * std::sin(wl * k + pl);
+    const Vector3d axis(std::cos(spin * k), std::sin(spin * k), std::sin(0.7 * spin * k + pl));
+    R = Eigen::Quaterniond(R * axis_angle(axis, turn * (0.75 + 0.25 * std::sin(3 * spin * k)))).normalized().toRotationMatrix();
+    out[size_t(k)].setIdentity();
+    out[size_t(k)].linear() = R;
+    out[size_t(k)].translation() = r * Vector3d(std::cos(lon) * std::cos(lat), std::sin(lon) * std::cos(lat), std::sin(lat));
+  }
+  return out;
+}
+
 Eigen::Matrix3d table1_rotation() { return axis_angle(Vector3d(1, 2, 3), 0.7); }
 
 std::vector<Vector3d> rotated(const std::vector<Vector3d>& pts, const Eigen::Matrix3d& R) {

@@ -4,6 +4,8 @@
 #include <minksum/kernels.hpp>
 #include <minksum/model.hpp>
 
+#include <Eigen/Geometry>
+
 #include <random>
 #include <string>
 #include <vector>
@@ -71,6 +73,13 @@ Box random_box(std::mt19937_64& rng, double spread, double max_half = 1.5);
 
 /// A seeded random triangle: corners in a unit cube around a centre in [-spread, spread]^3.
 Triangle random_triangle(std::mt19937_64& rng, double spread);
+
+/// Seeded smooth relative motion, the same for every method of a benchmark: B's centre (in
+/// A's frame) swings between `near` and `far` from A's along a slowly turning direction,
+/// moving at most `step` per tick, while B turns by at most 0.5 degree per tick about a
+/// slowly turning axis. With near inside contact and far outside, it passes in and out of
+/// contact about every 2,000 ticks.
+std::vector<Eigen::Isometry3d> trajectory(unsigned seed, int ticks, double near, double far, double step);
 
 /// A rotation about a unit axis by an angle (radians).
 Eigen::Matrix3d axis_angle(const Eigen::Vector3d& axis, double angle);

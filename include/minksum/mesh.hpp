@@ -118,6 +118,14 @@ struct MeshDistance {
 Status mesh_distance(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace& ws,
                      MeshDistance& out);
 
+/// The same exact distance, with the search seeded by the last answer's triangle pair (see
+/// ProximityCache): re-evaluated at the new pose, its distance bounds the search from the
+/// first node pair on. A seed only prunes more, so the worst case is the cold search's plus
+/// one triangle distance; the answer's distance is the cold one (ties may name another pair
+/// at the same distance).
+Status mesh_distance(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace& ws, ProximityCache& cache,
+                     MeshDistance& out);
+
 /// How a convex tool touches a mesh (haptic rendering): the parts of the mesh's triangles
 /// inside the tool, and how far the tool must move to push them all out.
 struct MeshContact {

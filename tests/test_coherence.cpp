@@ -1,0 +1,271 @@
+// Coherence (ProximityCache): along smooth trajectories and under adversarial motion, every
+// query that starts from the last answer gives the cold query's answer, on every ISA.
+#include <gtest/gtest.h>
+#include <minksum/minksum.hpp>
+
+#include <random>
+
+#include "tools/mesh_io.hpp"
+#include "tools/shapes.hpp"
+
+namespace minksum {
+namespace {
+
+using Eigen::Isometry3d;
+using Eigen::Vector3d;
+
+// The coherent answer equals the cold one: the verdict, the distance or depth to 1e-12 of the
+// pair's size, the direction, and witness points that realise it. Where the nearest points are
+// unique (always, for generic poses: `unique`), the same points.
+void expect_same(const Proximity& cold, const Proximity& warm, double size, bool unique, const std::string& where) {
+  const double tol = 1e-12 * size;
+  ASSERT_EQ(warm.intersecting, cold.intersecting) << where;
+  EXPECT_NEAR(warm.distance, cold.distance, tol) << where;
+  EXPECT_NEAR(warm.penetration_depth, cold.penetration_depth, tol) << where;
+  if (!cold.intersecting) {
+    EXPECT_NEAR((warm.point_a - warm.point_b).norm(), warm.distance, tol) << where;
+  } else if (cold.penetration_depth > 1e-9 * size) {
+    EXPECT_LE((warm.penetration_direction - cold.penetration_direction).norm(), 1e-6) << where;
+  }
+  if (unique) {
+    EXPECT_LE((warm.point_a - cold.point_a).norm(), 1e-7 * size) << where;
+    EXPECT_LE((warm.point_b - cold.point_b).norm(), 1e-7 * size) << where;
+  }
+  EXPECT_NEAR(warm.max_distance, cold.max_distance, tol) << where;
+}
+
+Box placed(const Box& body, const Isometry3d& pose) {
+  Box b = body;
+  b.center = pose * body.center, b.rotation = pose.linear() * body.rotation;
+  return b;
+}
+
+class Coherence : public testing::TestWithParam<Isa> {
+ protected:
+  void SetUp() override {
+    if (!isa_supported(GetParam())) GTEST_SKIP() << "this CPU lacks " << to_string(GetParam());
+    saved_ = active_isa();
+    force_isa(GetParam());
+  }
+  void TearDown() override {
+    if (isa_supported(GetParam())) force_isa(saved_);
+  }
+  Isa saved_ = Isa::Scalar;
+};
+
+// Box pairs along five seeded trajectories that pass in and out of contact: the cache
+// answers most ticks (or this test would prove nothing), and every answer is the cold one.
+TEST_P(Coherence, BoxPairsAlongTrajectories) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> h(0.2, 1);
+  long warm = 0, ticks = 0, contacts = 0;
+  for (unsigned seed = 1; seed <= 5; ++seed) {
+    Box a, body;
+    a.half_extents = Vector3d(h(rng), h(rng), h(rng)), body.half_extents = Vector3d(h(rng), h(rng), h(rng));
+    a.rotation = tools::axis_angle(Vector3d(1, 2, 3), 0.3 * seed);
+    const double size = a.half_extents.norm() + body.half_extents.norm();
+    const auto path = tools::trajectory(seed, 3000, 0.6 * size, 1.6 * size, 0.01 * size);
+    ProximityCache cache;
+    for (size_t k = 0; k < path.size(); ++k) {
+      const Box b = placed(body, path[k]);
+      Proximity cold, hot;
+      ASSERT_EQ(proximity(a, b, cold, kWantAll), Status::Ok);
+      ASSERT_EQ(proximity(a, b, cache, hot, kWantAll), Status::Ok);
+      expect_same(cold, hot, size, true, "seed " + std::to_string(seed) + " tick " + std::to_string(k));
+      if (testing::Test::HasFailure()) return;
+      contacts += cold.intersecting;
+    }
+    warm += cache.warm, ticks += long(path.size());
+    EXPECT_EQ(cache.warm + cache.cold, long(path.size()));
+  }
+  EXPECT_GT(contacts, ticks / 10);         // the paths do pass through contact
+  EXPECT_GT(warm, (ticks - contacts) / 2);  // and the cache answers most separated ticks
+}
+
+// Prepared shapes (Table 1 pairs, hulls of 64 and 256 sphere points) and box-triangle pairs
+// along trajectories.
+TEST_P(Coherence, ShapesAlongTrajectories) {
+  std::vector<std::pair<std::vector<Vector3d>, std::vector<Vector3d>>> pairs;
+  for (const auto& t : tools::table1_pairs()) pairs.emplace_back(t.a, t.b);
+  pairs.emplace_back(tools::sphere_points(64, 1), tools::sphere_points(64, 2));
+  pairs.emplace_back(tools::sphere_points(256, 3), tools::sphere_points(256, 4));
+  long warm = 0, ticks = 0;
+  for (size_t i = 0; i < pairs.size(); ++i) {
+    ConvexShape A, B;
+    ASSERT_EQ(shape_from_points(pairs[i].first, A), Status::Ok);
+    ASSERT_EQ(shape_from_points(pairs[i].second, B), Status::Ok);
+    const Isometry3d pose_a(Eigen::Translation3d(0.3, -0.2, 0.1) * Eigen::AngleAxisd(0.4, Vector3d::UnitY()));
+    const auto path = tools::trajectory(unsigned(10 + i), 1500, 1.0, 3.5, 0.02);
+    ProximityCache cache;
+    for (size_t k = 0; k < path.size(); ++k) {
+      const Isometry3d pose_b = pose_a * path[k];
+      Proximity cold, hot;
+      ASSERT_EQ(proximity(A, pose_a, B, pose_b, cold, kWantContact), Status::Ok);
+      ASSERT_EQ(proximity(A, pose_a, B, pose_b, cache, hot, kWantContact), Status::Ok);
+      expect_same(cold, hot, 4, false, "pair " + std::to_string(i) + " tick " + std::to_string(k));
+      if (testing::Test::HasFailure()) return;
+    }
+    warm += cache.warm, ticks += long(path.size());
+  }
+  EXPECT_GT(warm, ticks * 3 / 4);
+  // A box and a triangle, the triangle carried along the trajectory.
+  Box box;
+  box.half_extents = Vector3d(0.5, 0.3, 0.8);
+  const Triangle body{Vector3d(0, 0, 0), Vector3d(1.2, 0.1, 0), Vector3d(0.3, 0.9, 0.2)};
+  ProximityCache cache;
+  const auto path = tools::trajectory(31, 2000, 0.3, 2.0, 0.015);
+  for (size_t k = 0; k < path.size(); ++k) {
+    const Triangle t{path[k] * body.a, path[k] * body.b, path[k] * body.c};
+    Proximity cold, hot;
+    ASSERT_EQ(proximity(box, t, cold), Status::Ok);
+    ASSERT_EQ(proximity(box, t, cache, hot), Status::Ok);
+    expect_same(cold, hot, 2, false, "box-triangle tick " + std::to_string(k));
+    if (testing::Test::HasFailure()) return;
+  }
+  EXPECT_GT(cache.warm, long(path.size()) / 2);
+}
+
+INSTANTIATE_TEST_SUITE_P(Isa, Coherence, testing::Values(Isa::Scalar, Isa::Sse4_2, Isa::Avx2, Isa::Avx512),
+                         [](const auto& info) { return std::string(to_string(info.param)); });
+
+// Motion no cache foresees: teleports, 180-degree flips, jumps into deep penetration and out,
+// exactly touching poses, and caches filled by another pair, another kind of query, or with
+// indices that fit nothing. Every answer is still the cold one.
+TEST(CoherenceAdversarial, BoxesAndShapes) {
+  std::mt19937_64 rng(77);
+  std::uniform_real_distribution<double> u(-1, 1);
+  Box a, body;
+  a.half_extents = Vector3d(1, 0.5, 0.25), body.half_extents = Vector3d(0.4, 0.75, 0.3);  // (sums exact in binary)
+  std::vector<Isometry3d> poses;
+  for (int k = 0; k < 400; ++k) {
+    Isometry3d p = Isometry3d::Identity();
+    switch (k % 5) {
+      case 0:  // teleport anywhere
+        p.linear() = tools::axis_angle(Vector3d(u(rng), u(rng), u(rng)), 3 * u(rng));
+        p.translation() = 3 * Vector3d(u(rng), u(rng), u(rng));
+        break;
+      case 1:  // the last pose flipped by 180 degrees
+        p = poses.back() * Eigen::AngleAxisd(3.14159265358979323846, Vector3d::UnitX());
+        break;
+      case 2:  // deep inside
+        p.translation() = 0.1 * Vector3d(u(rng), u(rng), u(rng));
+        break;
+      case 3:  // exactly touching face to face: B's -y face on A's +y face
+        p.translation() = Vector3d(0.25 * u(rng), 0.5 + 0.75, 0.1 * u(rng));
+        break;
+      default:  // just apart again
+        p.translation() = Vector3d(0, 0.5 + 0.75 + 1e-9 * (1 + u(rng)), 0);
+    }
+    poses.push_back(p);
+  }
+  ProximityCache cache;
+  for (size_t k = 0; k < poses.size(); ++k) {
+    const Box b = placed(body, poses[k]);
+    Proximity cold, hot;
+    ASSERT_EQ(proximity(a, b, cold), Status::Ok);
+    ASSERT_EQ(proximity(a, b, cache, hot), Status::Ok);
+    expect_same(cold, hot, 2, false, "box pose " + std::to_string(k));
+    if (k % 5 == 3) EXPECT_TRUE(hot.intersecting) << k;  // touching counts as intersecting
+  }
+  // Shapes: the same poses, with caches spoiled in every way between the calls.
+  ConvexShape A, B, C;
+  ASSERT_EQ(shape_from_box(a, A), Status::Ok);
+  ASSERT_EQ(shape_from_box(body, B), Status::Ok);
+  ASSERT_EQ(shape_from_points(tools::sphere_points(128, 9), C), Status::Ok);
+  ProximityCache shared;
+  for (size_t k = 0; k < poses.size(); ++k) {
+    const ConvexShape& other = k % 2 ? B : C;  // one cache for two pairs, alternating
+    ProximityCache spoiled;
+    spoiled.kind = unsigned(k % 4), spoiled.active = unsigned(rng());
+    for (int j = 0; j < 3; ++j) spoiled.a[j] = int(rng() % 300) - 20, spoiled.b[j] = int(rng() % 300) - 20;
+    Proximity cold, hot, from_spoiled;
+    ASSERT_EQ(proximity(A, Isometry3d::Identity(), other, poses[k], cold), Status::Ok);
+    ASSERT_EQ(proximity(A, Isometry3d::Identity(), other, poses[k], shared, hot), Status::Ok);
+    ASSERT_EQ(proximity(A, Isometry3d::Identity(), other, poses[k], spoiled, from_spoiled), Status::Ok);
+    expect_same(cold, hot, 2, false, "shared cache, pose " + std::to_string(k));
+    expect_same(cold, from_spoiled, 2, false, "spoiled cache, pose " + std::to_string(k));
+    // And a box query handed the shape query's cache.
+    Proximity box_cold, box_hot;
+    proximity(a, placed(body, poses[k]), box_cold);
+    proximity(a, placed(body, poses[k]), shared, box_hot);
+    expect_same(box_cold, box_hot, 2, false, "box after shape, pose " + std::to_string(k));
+    if (testing::Test::HasFailure()) return;
+  }
+}
+
+// Bad input through the cache: the same status as cold, and the cache left harmless.
+TEST(CoherenceAdversarial, BadInputKeepsTheCacheHarmless) {
+  ConvexShape A, empty;
+  ASSERT_EQ(shape_from_points(tools::icosahedron_points(), A), Status::Ok);
+  ProximityCache cache;
+  Proximity p;
+  Isometry3d far = Isometry3d::Identity();
+  far.translation() = Vector3d(5, 0, 0);
+  ASSERT_EQ(proximity(A, Isometry3d::Identity(), A, far, cache, p), Status::Ok);
+  Isometry3d scaled = far;
+  scaled.linear() *= 2;
+  EXPECT_EQ(proximity(A, Isometry3d::Identity(), A, scaled, cache, p), Status::InvalidPose);
+  EXPECT_EQ(proximity(A, Isometry3d::Identity(), empty, far, cache, p), Status::TooFewPoints);
+  Box bad;
+  bad.half_extents = Vector3d(1, -1, 1);
+  EXPECT_EQ(proximity(bad, Box{}, cache, p), Status::InvalidBox);
+  Proximity cold, hot;
+  far.translation() = Vector3d(1.5, 0.2, 0);
+  proximity(A, Isometry3d::Identity(), A, far, cold);
+  proximity(A, Isometry3d::Identity(), A, far, cache, hot);
+  expect_same(cold, hot, 2, false, "after bad input");
+}
+
+// Meshes: the seeded search gives the cold distance along a trajectory into contact and out,
+// and across teleports; it never opens more node pairs than the cold search.
+TEST(CoherenceMesh, SeededSearchEqualsColdSearch) {
+  std::string source;
+  const tools::Mesh m = tools::demo_mesh("bun_zipper_res4.ply", source);
+  const tools::Mesh ball = tools::sphere_mesh(0.02, 8);
+  Octree A, B;
+  ASSERT_EQ(build_octree(m.vertices, m.triangles, A), Status::Ok);
+  ASSERT_EQ(build_octree(ball.vertices, ball.triangles, B), Status::Ok);
+  MeshWorkspace ws;
+  make_workspace(A, B, ws);
+  Vector3d lo = m.vertices[0], hi = lo;
+  for (const auto& v : m.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+  const Vector3d centre = (lo + hi) / 2;
+  const double size = (hi - lo).norm();
+  auto path = tools::trajectory(4, 1500, 0.2 * size, 0.7 * size, 0.002 * size);
+  std::mt19937_64 rng(8);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (size_t k = 0; k < path.size(); k += 97)  // teleports now and then
+    path[k].translation() = 0.6 * size * Vector3d(u(rng), u(rng), u(rng));
+  ProximityCache cache;
+  long contacts = 0;
+  for (size_t k = 0; k < path.size(); ++k) {
+    Pose pose;
+    pose.rotation = path[k].linear(), pose.translation = centre + path[k].translation();
+    MeshDistance cold, hot;
+    ASSERT_EQ(mesh_distance(A, B, pose, ws, cold), Status::Ok);
+    ASSERT_EQ(mesh_distance(A, B, pose, ws, cache, hot), Status::Ok);
+    ASSERT_EQ(hot.intersecting, cold.intersecting) << k;
+    ASSERT_NEAR(hot.distance, cold.distance, 1e-12 * size) << k;
+    EXPECT_NEAR((hot.point_a - hot.point_b).norm(), hot.distance, 1e-12 * size) << k;
+    EXPECT_LE(hot.node_pairs, cold.node_pairs) << k;
+    EXPECT_LE(hot.triangle_pairs, cold.triangle_pairs) << k;
+    contacts += cold.intersecting;
+  }
+  EXPECT_GT(contacts, 0);
+  EXPECT_LT(contacts, long(path.size()));
+  EXPECT_GT(cache.warm, long(path.size()) / 2);
+  // A cache from another pair, or pointing past the meshes, seeds nothing wrong.
+  for (int bad : {-5, 0, 7, 1 << 30}) {
+    ProximityCache spoiled;
+    spoiled.kind = 3, spoiled.a[0] = bad, spoiled.b[0] = bad;
+    Pose pose;
+    pose.translation = centre + Vector3d(0.3 * size, 0, 0);
+    MeshDistance cold, hot;
+    mesh_distance(A, B, pose, ws, cold);
+    ASSERT_EQ(mesh_distance(A, B, pose, ws, spoiled, hot), Status::Ok);
+    EXPECT_NEAR(hot.distance, cold.distance, 1e-12 * size) << bad;
+  }
+}
+
+}  // namespace
+}  // namespace minksum
