@@ -74,6 +74,11 @@ void FclPair::set_boxes(const Box& a, const Box& b) {
   impl_->b->setTransform(pose(b));
 }
 
+void FclPair::set_poses(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  impl_->a->setTransform(fcl::Transform3d(a.matrix()));
+  impl_->b->setTransform(fcl::Transform3d(b.matrix()));
+}
+
 double FclPair::distance(FclSolver solver, FclAnswer* out) {
   fcl::DistanceRequestd request(out != nullptr);
   request.gjk_solver_type = type(solver);

@@ -5,6 +5,8 @@
 
 #include <minksum/mesh.hpp>
 
+#include <Eigen/Geometry>
+
 #include <array>
 #include <memory>
 #include <vector>
@@ -38,6 +40,8 @@ class FclPair {
   ~FclPair();
   /// Moves both objects (boxes: centre and rotation of each).
   void set_boxes(const Box& a, const Box& b);
+  /// Places both objects by rigid poses.
+  void set_poses(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b);
   /// fcl::distance with the solver; nearest points too.
   double distance(FclSolver solver, FclAnswer* out = nullptr);
   /// fcl::collide with one contact: penetration depth and normal.

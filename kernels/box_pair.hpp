@@ -262,15 +262,27 @@ struct BoxPairQuery {
   }
 
   /// Loads the pair and, if `answer`, answers: from the active set `active` if it is one
-  /// (kActiveSet) and proves optimal for separated boxes, else cold. `active` returns the
-  /// answer's active set (0 when the boxes overlap: the next query starts cold).
+  /// (kActiveSet) and proves optimal for separated boxes (out.warm; then p holds only what
+  /// that path reads), else cold. `active` returns the answer's active set (0 when the boxes
+  /// overlap: the next query starts cold).
   MINKSUM_SCALAR_CODE static void box_pair(const BoxView& a, const BoxView& b, bool answer, unsigned& active,
                                            BoxPair<T>& p, PairAnswer<T>& out) {
-    load(a, b, p);
     out.warm = false;
-    if (!answer) return;
-    if ((active & kActiveSet) && warm(p, active, out)) return;
-    run(p, out, active);
+    if (answer && (active & kActiveSet)) {
+      load_generators(a, b, p);
+      if (warm(p, active, out)) return;  // (p holds c, ca, h and g only)
+    }
+    load(a, b, p);
+    if (answer) run(p, out, active);
+  }
+
+  // What the warm path reads of the pair: c, ca, h and the generators (not C nor u . c).
+  MINKSUM_SCALAR_CODE static void load_generators(const BoxView& a, const BoxView& b, BoxPair<T>& p) {
+    for (int d = 0; d < 3; ++d) p.c[d] = T(a.c[d] - b.c[d]), p.ca[d] = T(a.c[d]);
+    for (int k = 0; k < 3; ++k) {
+      p.h[k] = T(a.h[k]), p.h[3 + k] = T(b.h[k]);
+      for (int d = 0; d < 3; ++d) p.g[k][d] = T(a.h[k] * a.u[3 * k + d]), p.g[3 + k][d] = T(-b.h[k] * b.u[3 * k + d]);
+    }
   }
 
   // M's point c + G t and its preimages: A's point and B's (= A's - M's).

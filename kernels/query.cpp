@@ -211,6 +211,11 @@ bool box_box_proximity(const Box& a, const Box& b, Proximity& out, Want want, un
       out.point_a = Vector3d(r.point_a), out.point_b = Vector3d(r.point_b);
     }
   }
+  if ((want & kWantMaxDistance) && r.warm) {  // the warm path loaded only part of the pair
+    unsigned none = 0;
+    detail::PairAnswer<double> unused;
+    detail::box_pair_proximity(a, b, false, none, pair, unused);
+  }
   if (want & kWantMaxDistance) box_box_farthest(pair, out);
   return r.warm;
 }
@@ -386,7 +391,12 @@ struct PosedShape {
   const Vector3d t;
   const bool solid = !p.flat;
   int size() const { return int(p.vertices.size()); }
-  Vector3d vertex(int k) const { return R * p.vertices[k] + t; }
+  Vector3d vertex(int k) const {  // (written out: Eigen's product is not always inlined here)
+    const Vector3d& x = p.vertices[k];
+    return Vector3d(R(0, 0) * x[0] + R(0, 1) * x[1] + R(0, 2) * x[2] + t[0],
+                    R(1, 0) * x[0] + R(1, 1) * x[1] + R(1, 2) * x[2] + t[1],
+                    R(2, 0) * x[0] + R(2, 1) * x[1] + R(2, 2) * x[2] + t[2]);
+  }
   int faces() const { return p.flat ? 1 : int(p.faces.size()); }
   int loop_size(int f) const { return int(p.faces[f].loop.size()); }
   Vector3d loop_vertex(int f, int k) const { return vertex(p.faces[f].loop[k]); }
@@ -409,7 +419,7 @@ struct PosedShape {
 
 // The support of a posed shape with the direction turned into the body frame (one product
 // per vertex instead of a pose per vertex).
-int highest(const PosedShape& s, const Vector3d& n, double& value) {
+[[gnu::flatten]] int highest(const PosedShape& s, const Vector3d& n, double& value) {
   const Vector3d nb = s.R.transpose() * n;
   int best = 0;
   value = -std::numeric_limits<double>::infinity();
@@ -639,27 +649,10 @@ bool nearest_on_simplex(const Vector3d* w, int n, double (&lambda)[4]) {
 // search. M's points are scaled by `scale`, a power of two near 1 / the coordinates'
 // magnitude, so that their products neither overflow nor underflow.
 template <class A, class B>
-int gjk_features(const A& a, const B& b, double scale, int (&fa)[4], int (&fb)[4], const int* start_a = nullptr,
-                 const int* start_b = nullptr) {
+int gjk_features(const A& a, const B& b, double scale, int (&fa)[4], int (&fb)[4]) {
   Vector3d w[4] = {scale * (a.vertex(0) - b.vertex(0))};
   int ia[4] = {0}, ib[4] = {0}, n = 1;
   Vector3d v = w[0];
-  if (start_a) {  // warm: the last answer's up to three pairs (repeats dropped), reduced to their nearest feature
-    n = 0;
-    for (int j = 0; j < 3; ++j) {
-      bool repeat = false;
-      for (int m = 0; m < n; ++m) repeat |= ia[m] == start_a[j] && ib[m] == start_b[j];
-      if (!repeat) w[n] = scale * (a.vertex(start_a[j]) - b.vertex(start_b[j])), ia[n] = start_a[j], ib[n] = start_b[j], ++n;
-    }
-    double lambda[4];
-    if (!nearest_on_simplex(w, n, lambda)) return 0;  // (three points hold no tetrahedron: NaN)
-    v = Vector3d::Zero();
-    int m = 0;
-    for (int j = 0; j < n; ++j)
-      if (lambda[j] > 0) v += lambda[j] * w[j], w[m] = w[j], ia[m] = ia[j], ib[m] = ib[j], ++m;
-    if (m == 0) return 0;
-    n = m;
-  }
   for (int iter = 0; iter < 64; ++iter) {
     // M's support point in -v: A's lowest vertex along v minus B's highest.
     double lo, hi;
@@ -726,7 +719,7 @@ bool certified_distance(const A& a, const B& b, const int (&fa)[4], const int (&
 // d n inside the face, whose corners give the witnesses on A and B. Otherwise false: the
 // caller searches exhaustively.
 template <class A, class B>
-bool certified_depth(const A& a, const B& b, const int (&ta)[4], const int (&tb)[4], double slack,
+[[gnu::flatten]] bool certified_depth(const A& a, const B& b, const int (&ta)[4], const int (&tb)[4], double slack,
                      double touching, Proximity& out) {
   constexpr int kPoints = 64, kFaces = 128;
   struct Face {
@@ -763,12 +756,9 @@ bool certified_depth(const A& a, const B& b, const int (&ta)[4], const int (&tb)
       if (face[k].d < face[best].d) best = k;
     const Face f = face[best];
     // M's support along f's normal: A's highest vertex minus B's lowest.
-    int ka = 0, kb = 0;
-    double hi = -std::numeric_limits<double>::infinity(), lo = -hi;
-    for (int k = 0; k < a.size(); ++k)
-      if (const double x = f.n.dot(a.vertex(k)); x > hi) hi = x, ka = k;
-    for (int k = 0; k < b.size(); ++k)
-      if (const double x = f.n.dot(b.vertex(k)); x < lo) lo = x, kb = k;
+    double hi, lo;
+    const int ka = highest(a, f.n, hi), kb = highest(b, -f.n, lo);
+    lo = -lo;
     if (hi - lo - f.d <= slack) {
       // The origin's projection x = d n in barycentric coordinates of a face holding it: this
       // one, or another in its plane (M's facet may be split into several faces of P).
@@ -952,8 +942,10 @@ void exact_proximity(const A& a, const B& b, Proximity& out, Want want, Features
 // cold query reaches the same verdict, and its distance or depth agrees to rounding (both are
 // certified within 64 eps reach). Anything else (a stale or foreign cache, a touching pose, a
 // certificate that fails) returns false, and the caller answers cold.
+// (Flattened: in this large file GCC leaves Eigen's 3-vector operations as calls.)
 template <class A, class B>
-bool warm_proximity(const A& a, const B& b, const ProximityCache& cache, Proximity& out, Want want, Features& f) {
+[[gnu::flatten]] bool warm_proximity(const A& a, const B& b, const ProximityCache& cache, Proximity& out, Want want,
+                                     Features& f) {
   if (cache.kind != kCacheConvex || !(want & kWantContact)) return false;
   for (int j = 0; j < 3; ++j)
     if (cache.a[j] < 0 || cache.a[j] >= a.size() || cache.b[j] < 0 || cache.b[j] >= b.size()) return false;
@@ -961,13 +953,49 @@ bool warm_proximity(const A& a, const B& b, const ProximityCache& cache, Proximi
   if (!(reach > 0 && reach <= kMaxCoordinate)) return false;
   out = Proximity{};
   const double k = scale_of(reach), slack = 64 * std::numeric_limits<double>::epsilon() * reach, clear = 1e-10 * reach;
-  int fa[4], fb[4];
-  const int found = gjk_features(a, b, k, fa, fb, cache.a, cache.b);
-  const bool proven = found == 3   ? certified_distance(a, b, fa, fb, slack, clear, out)
-                      : found == 4 ? certified_depth(a, b, fa, fb, slack, clear, out)
-                                   : false;
-  if (!proven) return out = Proximity{}, false;
-  std::copy(fa, fa + 3, f.a), std::copy(fb, fb + 3, f.b);
+  // GJK from the cached simplex (Gilbert, Johnson & Keerthi 1988), with its own certificate: v
+  // is a point of M = A (-) B (the weights' combination of the simplex), and M's support
+  // along -v, min over M of v . m = lo - hi, bounds every point: |m| >= (lo - hi) / |v|. So
+  // the distance lies in [(lo - hi) / |v|, |v|]; kept when that interval is within `slack`
+  // and 1e-13 of |v|, and the shapes are apart by more than `clear`.
+  Vector3d w[4];
+  int ia[4], ib[4], n = 0;
+  for (int j = 0; j < 3; ++j) {
+    bool repeat = false;
+    for (int m = 0; m < n; ++m) repeat |= ia[m] == cache.a[j] && ib[m] == cache.b[j];
+    if (!repeat) w[n] = k * (a.vertex(cache.a[j]) - b.vertex(cache.b[j])), ia[n] = cache.a[j], ib[n] = cache.b[j], ++n;
+  }
+  for (int iter = 0; iter < 16; ++iter) {
+    double lambda[4];
+    if (!nearest_on_simplex(w, n, lambda)) {  // a tetrahedron around the origin: the depth by EPA
+      if (!certified_depth(a, b, ia, ib, slack, clear, out)) return out = Proximity{}, false;
+      std::copy(ia, ia + 3, f.a), std::copy(ib, ib + 3, f.b);
+      break;
+    }
+    Vector3d v = Vector3d::Zero();
+    int m = 0;
+    for (int j = 0; j < n; ++j)
+      if (lambda[j] > 0) v += lambda[j] * w[j], lambda[m] = lambda[j], w[m] = w[j], ia[m] = ia[j], ib[m] = ib[j], ++m;
+    if (m == 0) return false;
+    n = m;
+    double lo, hi;
+    const int ka = highest(a, -v, lo), kb = highest(b, v, hi);
+    const double vv = v.squaredNorm(), low = -k * (lo + hi);  // v . (a - b) over M, at least
+    if (vv - low <= std::min(1e-13 * vv, k * slack * std::sqrt(vv))) {
+      Vector3d p = Vector3d::Zero(), q = Vector3d::Zero();
+      for (int j = 0; j < n; ++j) p += lambda[j] * a.vertex(ia[j]), q += lambda[j] * b.vertex(ib[j]);
+      const double d = length(p - q);
+      if (!(d > clear)) return false;
+      out.distance = d, out.point_a = p, out.point_b = q;
+      for (int j = 0; j < 3; ++j) f.a[j] = ia[std::min(j, n - 1)], f.b[j] = ib[std::min(j, n - 1)];
+      break;
+    }
+    bool repeat = false;
+    for (int j = 0; j < n; ++j) repeat |= ia[j] == ka && ib[j] == kb;
+    if (repeat || n == 4) return out = Proximity{}, false;  // no progress: rounding has the last word
+    w[n] = k * (a.vertex(ka) - b.vertex(kb)), ia[n] = ka, ib[n] = kb, ++n;
+    if (iter == 15) return out = Proximity{}, false;
+  }
   f.valid = true;
   if (want & kWantMaxDistance) farthest_pair(a, b, k, out);
   return true;

@@ -259,7 +259,7 @@ Status shape_from_polytope(const ConvexPolytope& p, ConvexShape& out) {
   return adopt(Status::Ok, ConvexPolytope(p), out);
 }
 
-Status check_pose(const Eigen::Isometry3d& pose) {
+[[gnu::flatten]] Status check_pose(const Eigen::Isometry3d& pose) {
   const Eigen::Matrix3d R = pose.linear();
   const Vector3d t = pose.translation();
   if (!R.allFinite() || !t.allFinite()) return Status::InvalidPose;

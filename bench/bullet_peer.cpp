@@ -1,0 +1,68 @@
+#include "bullet_peer.hpp"
+
+#include <BulletCollision/CollisionShapes/btBoxShape.h>
+#include <BulletCollision/CollisionShapes/btConvexHullShape.h>
+#include <BulletCollision/NarrowPhaseCollision/btGjkEpaPenetrationDepthSolver.h>
+#include <BulletCollision/NarrowPhaseCollision/btGjkPairDetector.h>
+#include <BulletCollision/NarrowPhaseCollision/btPointCollector.h>
+#include <BulletCollision/NarrowPhaseCollision/btVoronoiSimplexSolver.h>
+
+namespace minksum::peers {
+
+static_assert(sizeof(btScalar) == sizeof(double), "link Bullet's float64 libraries (BT_USE_DOUBLE_PRECISION)");
+
+struct BulletPair::Impl {
+  std::unique_ptr<btConvexShape> a, b;
+  btVoronoiSimplexSolver simplex;
+  btGjkEpaPenetrationDepthSolver epa;
+  std::unique_ptr<btGjkPairDetector> gjk;
+  void start() {
+    a->setMargin(0), b->setMargin(0);  // exact shapes: no rounded margin
+    gjk = std::make_unique<btGjkPairDetector>(a.get(), b.get(), &simplex, &epa);
+  }
+};
+
+namespace {
+btVector3 bt(const Eigen::Vector3d& v) { return btVector3(v.x(), v.y(), v.z()); }
+
+btTransform bt(const Eigen::Isometry3d& p) {
+  const Eigen::Matrix3d& R = p.linear();
+  return btTransform(btMatrix3x3(R(0, 0), R(0, 1), R(0, 2), R(1, 0), R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2)),
+                     bt(Eigen::Vector3d(p.translation())));
+}
+
+std::unique_ptr<btConvexShape> hull(const ConvexPolytope& p) {
+  auto h = std::make_unique<btConvexHullShape>();
+  for (const auto& v : p.vertices) h->addPoint(bt(v), false);
+  h->recalcLocalAabb();
+  return h;
+}
+}  // namespace
+
+BulletPair::BulletPair(const Eigen::Vector3d& half_a, const Eigen::Vector3d& half_b) : impl_(std::make_unique<Impl>()) {
+  impl_->a = std::make_unique<btBoxShape>(bt(half_a));
+  impl_->b = std::make_unique<btBoxShape>(bt(half_b));
+  impl_->start();
+}
+
+BulletPair::BulletPair(const ConvexPolytope& a, const ConvexPolytope& b) : impl_(std::make_unique<Impl>()) {
+  impl_->a = hull(a), impl_->b = hull(b);
+  impl_->start();
+}
+
+BulletPair::~BulletPair() = default;
+
+double BulletPair::distance(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, BulletAnswer* out) {
+  btDiscreteCollisionDetectorInterface::ClosestPointInput input;
+  input.m_transformA = bt(a), input.m_transformB = bt(b);
+  btPointCollector result;
+  impl_->gjk->getClosestPoints(input, result, nullptr);
+  if (out) {
+    out->distance = result.m_distance;
+    const btVector3 &p = result.m_pointInWorld, &n = result.m_normalOnBInWorld;
+    out->point_b = Eigen::Vector3d(p.x(), p.y(), p.z()), out->normal = Eigen::Vector3d(n.x(), n.y(), n.z());
+  }
+  return result.m_distance;
+}
+
+}  // namespace minksum::peers

@@ -1,0 +1,37 @@
+// Bullet 3 (Debian's float64 libraries) as the warm-started peer of the coherent queries:
+// btGjkPairDetector with a btVoronoiSimplexSolver keeps its cached separating axis from one
+// call to the next, and btGjkEpaPenetrationDepthSolver answers overlapping poses.
+#pragma once
+
+#include <minksum/model.hpp>
+
+#include <Eigen/Geometry>
+#include <memory>
+
+namespace minksum::peers {
+
+/// Bullet's answer for one pose.
+struct BulletAnswer {
+  double distance = 0;  ///< signed: negative is the penetration depth
+  Eigen::Vector3d point_b = Eigen::Vector3d::Zero();  ///< its nearest (deepest) point on B
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();   ///< unit normal on B, towards A
+};
+
+/// Two Bullet convex shapes with zero margin and one pair detector, built once; poses per
+/// call, as a Bullet user running a loop does (the detector stays warm between calls).
+class BulletPair {
+ public:
+  /// Two boxes (btBoxShape), given by their half extents in their own frames.
+  BulletPair(const Eigen::Vector3d& half_a, const Eigen::Vector3d& half_b);
+  /// Two convex polytopes (btConvexHullShape of their vertices).
+  BulletPair(const ConvexPolytope& a, const ConvexPolytope& b);
+  ~BulletPair();
+  /// The signed distance at the poses, from the detector's last separating axis.
+  double distance(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, BulletAnswer* out = nullptr);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace minksum::peers
