@@ -20,7 +20,11 @@ bool unit_quaternion(const double* q, Eigen::Matrix3d& rotation, std::string& er
 /// Parses "qw qx qy qz tx ty tz" (a unit quaternion, then a translation) into a pose.
 bool parse_pose(const std::string& text, const std::string& what, Eigen::Isometry3d& pose, std::string& error);
 
-/// minksum distance [MESH_A MESH_B] [--pose P] [--poses FILE] [--json] [--brute]
+/// Reads one pose ("qw qx qy qz tx ty tz") per line of `file`, skipping blank lines and
+/// '#' comments; false with "file:line: why" (or "file: no pose").
+bool read_poses(const std::string& file, std::vector<Eigen::Isometry3d>& poses, std::string& error);
+
+/// minksum distance [MESH_A MESH_B] [--pose P] [--poses FILE [--coherent]] [--json] [--brute]
 int cmd_distance(int argc, char** argv);
 
 /// minksum haptics [--tool box|icosa|MESH] [--scene MESH] [--seconds S] [--rate HZ]

@@ -4,8 +4,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -21,12 +19,10 @@ double now_us() {
   return duration<double, std::micro>(steady_clock::now().time_since_epoch()).count();
 }
 
-// Parses "qw qx qy qz tx ty tz" (a unit quaternion, then a translation).
-bool parse_pose(const std::string& text, Pose& pose, std::string& error) {
-  Eigen::Isometry3d p;
-  if (!cli::parse_pose(text, "pose", p, error)) return false;
+Pose mesh_pose(const Eigen::Isometry3d& p) {
+  Pose pose;
   pose.rotation = p.linear(), pose.translation = p.translation();
-  return true;
+  return pose;
 }
 
 std::string json(const MeshDistance& d, double time_us) {
@@ -53,13 +49,15 @@ bool load_mesh(const std::string& path, tools::Mesh& mesh) {
 int cmd_distance(int argc, char** argv) {
   std::vector<std::string> files;
   std::string pose_text, poses_file;
-  bool as_json = false, brute = false;
+  bool as_json = false, brute = false, coherent = false;
   for (int k = 0; k < argc; ++k) {
     const std::string a = argv[k];
     if (a == "--json") {
       as_json = true;
     } else if (a == "--brute") {
       brute = true;
+    } else if (a == "--coherent") {
+      coherent = true;
     } else if (a == "--pose" || a == "--poses") {
       if (k + 1 >= argc) return usage_error(a + " needs a value");
       (a == "--pose" ? pose_text : poses_file) = argv[++k];
@@ -71,6 +69,7 @@ int cmd_distance(int argc, char** argv) {
   }
   if (files.size() != 0 && files.size() != 2) return usage_error("distance needs two mesh files, or none for the demo");
   if (!pose_text.empty() && !poses_file.empty()) return usage_error("give --pose or --poses, not both");
+  if (coherent && (poses_file.empty() || brute)) return usage_error("--coherent needs --poses (and no --brute)");
   tools::Mesh ma, mb;
   if (files.empty()) {
     std::string source;
@@ -82,21 +81,13 @@ int cmd_distance(int argc, char** argv) {
   std::vector<Pose> poses;
   std::string error;
   if (!poses_file.empty()) {
-    std::ifstream in(poses_file);
-    if (!in) return usage_error(poses_file + ": cannot open");
-    int line_no = 0;
-    for (std::string line; std::getline(in, line);) {
-      ++line_no;
-      if (line.find_first_not_of(" \t\r") == std::string::npos || line[0] == '#') continue;
-      Pose p;
-      if (!parse_pose(line, p, error)) return usage_error(poses_file + ":" + std::to_string(line_no) + ": " + error);
-      poses.push_back(p);
-    }
-    if (poses.empty()) return usage_error(poses_file + ": no pose");
+    std::vector<Eigen::Isometry3d> read;
+    if (!read_poses(poses_file, read, error)) return usage_error(error);
+    for (const auto& p : read) poses.push_back(mesh_pose(p));
   } else if (!pose_text.empty()) {
-    Pose p;
-    if (!parse_pose(pose_text, p, error)) return usage_error("--pose: " + error);
-    poses.push_back(p);
+    Eigen::Isometry3d p;
+    if (!parse_pose(pose_text, "--pose", p, error)) return usage_error(error);
+    poses.push_back(mesh_pose(p));
   } else {
     // B beside A: shifted along +x by 1.1 x A's bounding-box width.
     Eigen::Vector3d lo = ma.vertices[ma.triangles[0][0]], hi = lo;
@@ -125,10 +116,13 @@ int cmd_distance(int argc, char** argv) {
                 A.bytes() / 1024.0, B.bytes() / 1024.0, build_us);
   MeshWorkspace ws;
   make_workspace(A, B, ws);
+  ProximityCache cache;  // --coherent: consecutive poses share it
   for (const Pose& pose : poses) {
     MeshDistance d;
     const double start = now_us();
-    const Status s = brute ? (d = tools::brute_distance(ma, mb, pose), Status::Ok) : mesh_distance(A, B, pose, ws, d);
+    const Status s = brute      ? (d = tools::brute_distance(ma, mb, pose), Status::Ok)
+                     : coherent ? mesh_distance(A, B, pose, ws, cache, d)
+                                : mesh_distance(A, B, pose, ws, d);
     const double time = now_us() - start;
     if (s != Status::Ok) {
       std::fprintf(stderr, "minksum: pose: %s\n", to_string(s));

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <sstream>
 #include <cstdio>
+#include <fstream>
 #include <cstring>
 #include <memory>
 #include <string>
@@ -53,6 +54,21 @@ bool parse_pose(const std::string& text, const std::string& what, Eigen::Isometr
   return true;
 }
 
+bool read_poses(const std::string& file, std::vector<Eigen::Isometry3d>& poses, std::string& error) {
+  std::ifstream in(file);
+  if (!in) return error = file + ": cannot open", false;
+  int line_no = 0;
+  for (std::string line; std::getline(in, line);) {
+    ++line_no;
+    if (line.find_first_not_of(" \t\r") == std::string::npos || line[0] == '#') continue;
+    Eigen::Isometry3d p;
+    if (!parse_pose(line, "pose", p, error)) return error = file + ":" + std::to_string(line_no) + ": " + error, false;
+    poses.push_back(p);
+  }
+  if (poses.empty()) return error = file + ": no pose", false;
+  return true;
+}
+
 }  // namespace minksum::cli
 
 namespace {
@@ -69,16 +85,20 @@ const char* kHelp =
     "      or plain text \"x y z\" per line), B placed by a rigid pose (unit quaternion, then\n"
     "      translation; default: as read); --diff computes A (-) B = A (+) (-B). The fast\n"
     "      method prepares both as shapes and applies the pose inside the sum.\n"
-    "  query A B [--pose-b \"qw qx qy qz tx ty tz\"] [--json]\n"
+    "  query A B [--pose-b \"qw qx qy qz tx ty tz\" | --poses FILE [--coherent]] [--json]\n"
     "  query --box \"cx cy cz hx hy hz qw qx qy qz\" --box \"...\" [--json]\n"
     "      Collision, exact distance with closest points, maximum distance and penetration\n"
     "      depth and direction of two convex objects (vertex files, or boxes given inline:\n"
-    "      centre, half extents, unit quaternion).\n"
-    "  distance [MESH_A MESH_B] [--pose \"qw qx qy qz tx ty tz\"] [--poses FILE] [--json] [--brute]\n"
+    "      centre, half extents, unit quaternion). --poses reads one pose of B per line and\n"
+    "      prints one JSON line each; --coherent starts each query from the last answer (the\n"
+    "      same answers, to 1e-12 relative).\n"
+    "  distance [MESH_A MESH_B] [--pose \"qw qx qy qz tx ty tz\"] [--poses FILE [--coherent]]\n"
+    "           [--json] [--brute]\n"
     "      Exact minimum distance between two triangle meshes (PLY, OBJ, OFF, STL) through\n"
     "      octrees; the pose places B in A's frame (default: B shifted along +x by 1.1 x A's\n"
-    "      width); --poses reads one pose per line and prints one JSON line each; --brute\n"
-    "      checks by all pairs. No meshes: two bunnies (../shared/data, else libcgal-demo).\n"
+    "      width); --poses reads one pose per line and prints one JSON line each (--coherent:\n"
+    "      each search seeded by the last answer, the same distances); --brute checks by all\n"
+    "      pairs. No meshes: two bunnies (../shared/data, else libcgal-demo).\n"
     "  haptics [--tool box|icosa|MESH] [--scene MESH] [--seconds S] [--rate HZ] [--realtime]\n"
     "          [--plot out.png] [--json]\n"
     "      A 1 kHz haptic loop: a tool approaches, presses into and slides over the scene mesh;\n"
@@ -127,46 +147,8 @@ bool parse_box(const std::string& text, Box& box, std::string& error) {
   return true;
 }
 
-int cmd_query(int argc, char** argv) {
-  std::vector<std::string> files, boxes;
-  bool json = false, posed = false;
-  Eigen::Isometry3d pose_b = Eigen::Isometry3d::Identity();
-  std::string error;
-  for (int k = 0; k < argc; ++k) {
-    const std::string a = argv[k];
-    if (a == "--json") {
-      json = true;
-    } else if (a == "--pose-b") {
-      if (k + 1 >= argc) return usage_error("--pose-b needs a value");
-      if (!cli::parse_pose(argv[++k], "--pose-b", pose_b, error)) return usage_error(error);
-      posed = true;
-    } else if (a == "--box") {
-      if (k + 1 >= argc) return usage_error("--box needs a value");
-      boxes.push_back(argv[++k]);
-    } else if (a.rfind("--", 0) == 0) {
-      return usage_error("unknown option '" + a + "'");
-    } else {
-      files.push_back(a);
-    }
-  }
-  Proximity p;
-  Status s;
-  if (boxes.size() == 2 && files.empty()) {
-    Box a, b;
-    if (!parse_box(boxes[0], a, error) || !parse_box(boxes[1], b, error)) return usage_error(error);
-    if (posed) return usage_error("--pose-b is for vertex files");
-    s = proximity(a, b, p);
-  } else if (files.size() == 2 && boxes.empty()) {
-    ConvexShape A, B;
-    if (!load(files[0], A) || !load(files[1], B)) return 2;
-    s = proximity(A, Eigen::Isometry3d::Identity(), B, pose_b, p);
-  } else {
-    return usage_error("query needs two vertex files or two --box");
-  }
-  if (s != Status::Ok) {
-    std::fprintf(stderr, "minksum: %s\n", to_string(s));
-    return 2;
-  }
+// One query's answer, as one JSON line or a sentence.
+void print_answer(const Proximity& p, bool json) {
   auto vec = [](const Eigen::Vector3d& v) {
     char buf[100];
     std::snprintf(buf, sizeof buf, "[%.17g, %.17g, %.17g]", v.x(), v.y(), v.z());
@@ -186,6 +168,70 @@ int cmd_query(int argc, char** argv) {
     std::printf("separated: distance %.17g between %s and %s; max distance %.17g\n", p.distance,
                 vec(p.point_a).c_str(), vec(p.point_b).c_str(), p.max_distance);
   }
+}
+
+int cmd_query(int argc, char** argv) {
+  std::vector<std::string> files, boxes;
+  bool json = false, posed = false, coherent = false;
+  Eigen::Isometry3d pose_b = Eigen::Isometry3d::Identity();
+  std::vector<Eigen::Isometry3d> poses;
+  std::string error;
+  for (int k = 0; k < argc; ++k) {
+    const std::string a = argv[k];
+    if (a == "--json") {
+      json = true;
+    } else if (a == "--coherent") {
+      coherent = true;
+    } else if (a == "--pose-b") {
+      if (k + 1 >= argc) return usage_error("--pose-b needs a value");
+      if (!cli::parse_pose(argv[++k], "--pose-b", pose_b, error)) return usage_error(error);
+      posed = true;
+    } else if (a == "--poses") {
+      if (k + 1 >= argc) return usage_error("--poses needs a value");
+      if (!cli::read_poses(argv[++k], poses, error)) return usage_error(error);
+    } else if (a == "--box") {
+      if (k + 1 >= argc) return usage_error("--box needs a value");
+      boxes.push_back(argv[++k]);
+    } else if (a.rfind("--", 0) == 0) {
+      return usage_error("unknown option '" + a + "'");
+    } else {
+      files.push_back(a);
+    }
+  }
+  if (posed && !poses.empty()) return usage_error("give --pose-b or --poses, not both");
+  if (coherent && poses.empty()) return usage_error("--coherent needs --poses");
+  Proximity p;
+  Status s;
+  if (boxes.size() == 2 && files.empty()) {
+    Box a, b;
+    if (!parse_box(boxes[0], a, error) || !parse_box(boxes[1], b, error)) return usage_error(error);
+    if (posed || !poses.empty()) return usage_error("--pose-b and --poses are for vertex files");
+    s = proximity(a, b, p);
+  } else if (files.size() == 2 && boxes.empty()) {
+    ConvexShape A, B;
+    if (!load(files[0], A) || !load(files[1], B)) return 2;
+    if (!poses.empty()) {  // one JSON line per pose; consecutive poses share one cache
+      ProximityCache cache;
+      for (const Eigen::Isometry3d& pose : poses) {
+        s = coherent ? proximity(A, Eigen::Isometry3d::Identity(), B, pose, cache, p)
+                     : proximity(A, Eigen::Isometry3d::Identity(), B, pose, p);
+        if (s != Status::Ok) {
+          std::fprintf(stderr, "minksum: pose: %s\n", to_string(s));
+          return 2;
+        }
+        print_answer(p, true);
+      }
+      return 0;
+    }
+    s = proximity(A, Eigen::Isometry3d::Identity(), B, pose_b, p);
+  } else {
+    return usage_error("query needs two vertex files or two --box");
+  }
+  if (s != Status::Ok) {
+    std::fprintf(stderr, "minksum: %s\n", to_string(s));
+    return 2;
+  }
+  print_answer(p, json);
   return 0;
 }
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -328,6 +329,59 @@ TEST(Cli, DistanceRejectsBadInput) {
   expect_rejected("distance " + a + " " + a + " --pose \"2 0 0 0 1 2 3\"", "unit length");
   expect_rejected("distance " + a + " " + a + " --poses " + write("bad_poses.txt", "1 0 0 0 0 0 0\n1 0 0 x 0 0 0\n"), "bad_poses.txt:2:");
   expect_rejected("distance " + a, "two mesh files");
+}
+
+// Numbers after `key` in each JSON line of `out`.
+std::vector<double> field(const std::string& out, const std::string& key) {
+  std::vector<double> v;
+  const std::regex re("\"" + key + "\": ([-0-9.e+]+)");
+  for (auto it = std::sregex_iterator(out.begin(), out.end(), re); it != std::sregex_iterator(); ++it)
+    v.push_back(std::stod((*it)[1]));
+  return v;
+}
+
+// --coherent along a pose sequence (in, out of contact, and a jump back) prints the answers
+// printed without it, for both commands; it needs --poses.
+TEST(Cli, CoherentPosesGiveTheSameAnswers) {
+  std::string text;
+  for (int k = 0; k < 200; ++k) {
+    const double angle = 0.004 * k, x = k == 150 ? 3.0 : 3.0 - 0.02 * k;  // tick 150 jumps back
+    text += std::to_string(std::cos(angle / 2)) + " 0 " + std::to_string(std::sin(angle / 2)) + " 0 " +
+            std::to_string(x) + " 0.3 0.1\n";
+  }
+  const std::string poses = write("trajectory.txt", text);
+  const std::string a = write_points("co_a", tools::icosahedron_points(), 1);
+  const std::string b = write_points("co_b", tools::dodecahedron_points(), 1);
+  const CliRun cold = run("query " + a + " " + b + " --poses " + poses);
+  const CliRun warm = run("query " + a + " " + b + " --poses " + poses + " --coherent");
+  ASSERT_EQ(cold.code, 0) << cold.err;
+  ASSERT_EQ(warm.code, 0) << warm.err;
+  for (const std::string key : {"distance", "penetration_depth", "max_distance"}) {
+    const auto c = field(cold.out, key), w = field(warm.out, key);
+    ASSERT_EQ(c.size(), 200u) << key;
+    ASSERT_EQ(w.size(), c.size()) << key;
+    for (size_t k = 0; k < c.size(); ++k) EXPECT_NEAR(w[k], c[k], 1e-12 * std::max(1.0, c[k])) << key << " " << k;
+  }
+  const std::regex touching("\"intersecting\": (true|false)");
+  std::vector<std::string> cold_verdicts, warm_verdicts;
+  for (auto it = std::sregex_iterator(cold.out.begin(), cold.out.end(), touching); it != std::sregex_iterator(); ++it)
+    cold_verdicts.push_back((*it)[1]);
+  for (auto it = std::sregex_iterator(warm.out.begin(), warm.out.end(), touching); it != std::sregex_iterator(); ++it)
+    warm_verdicts.push_back((*it)[1]);
+  EXPECT_EQ(warm_verdicts, cold_verdicts);
+  const auto depth = field(cold.out, "penetration_depth");
+  EXPECT_GT(std::count_if(depth.begin(), depth.end(), [](double d) { return d > 0; }), 10);  // contact too
+  const std::string ca = cube_off("coa.off"), cb = cube_off("cob.off");
+  const CliRun mesh_cold = run("distance " + ca + " " + cb + " --poses " + poses);
+  const CliRun mesh_warm = run("distance " + ca + " " + cb + " --poses " + poses + " --coherent");
+  ASSERT_EQ(mesh_cold.code, 0) << mesh_cold.err;
+  ASSERT_EQ(mesh_warm.code, 0) << mesh_warm.err;
+  const auto c = field(mesh_cold.out, "distance"), w = field(mesh_warm.out, "distance");
+  ASSERT_EQ(c.size(), 200u);
+  EXPECT_EQ(w, c);  // the seeded search ends on the same triangle distance
+  expect_rejected("query " + a + " " + b + " --coherent", "--coherent needs --poses");
+  expect_rejected("distance " + ca + " " + cb + " --coherent", "--coherent needs --poses");
+  expect_rejected("query " + a + " " + b + " --poses " + write("bad_traj.txt", "1 0 0 0 0 0\n"), "bad_traj.txt:1:");
 }
 
 TEST(Cli, FlatOperandGivesASolidSum) {
