@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <thread>
 
 #include <sched.h>
@@ -84,6 +85,13 @@ struct Path {
   }
 };
 
+// This thread's CPU time (a tick's own compute, whatever the OS does around it).
+double thread_cpu_us() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return 1e6 * double(t.tv_sec) + 1e-3 * double(t.tv_nsec);
+}
+
 double percentile(std::vector<double> v, double q) {
   std::sort(v.begin(), v.end());
   return v[std::min(v.size() - 1, size_t(q * double(v.size())))];
@@ -123,7 +131,7 @@ bool run(const Options& options, long (*allocations)(), Report& report, std::str
   for (const auto& v : tool.hull.polytope().vertices) path.lift = std::max(path.lift, -v.y());
   const long n = long(std::llround(options.seconds * options.rate));
   for (auto* v : {&report.time, &report.distance, &report.depth, &report.force, &report.latency_us,
-                  &report.force_dot_normal, &report.force_up})
+                  &report.cpu_us, &report.force_dot_normal, &report.force_up})
     v->assign(size_t(n), 0.0);
   const double dt = 1 / options.rate;
   using clock = std::chrono::steady_clock;
@@ -144,6 +152,11 @@ bool run(const Options& options, long (*allocations)(), Report& report, std::str
   const auto period = std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(dt));
   long allocations_after_warmup = 0;
   Vector3d previous = path.at(0);
+  ProximityCache cache;  // the mesh distance's, from one tick to the next (options.coherent)
+  const auto distance = [&](const Pose& pose, MeshDistance& d) {
+    return options.coherent ? mesh_distance(scene_tree, tool_tree, pose, ws, cache, d)
+                            : mesh_distance(scene_tree, tool_tree, pose, ws, d);
+  };
   for (long k = 0; k < n; ++k) {
     if (k == options.warmup) allocations_after_warmup = allocations();
     const auto deadline = start + (k + 1) * period;
@@ -156,6 +169,7 @@ bool run(const Options& options, long (*allocations)(), Report& report, std::str
       }
     }
     const auto t0 = clock::now();
+    const double cpu0 = thread_cpu_us();
     try {
       // The tick: pose, collision and distance, penetration, force.
       Pose pose;  // the tool's placement: mesh_distance's Pose, and the same as an isometry
@@ -171,9 +185,9 @@ bool run(const Options& options, long (*allocations)(), Report& report, std::str
       bool touching;
       if (tool.convex) {
         touching = mesh_contact(scene_tree, tool.hull, placed, ws, c) == Status::Ok && c.intersecting;
-        if (!touching) mesh_distance(scene_tree, tool_tree, pose, ws, d);
+        if (!touching) distance(pose, d);
       } else {
-        touching = mesh_distance(scene_tree, tool_tree, pose, ws, d) == Status::Ok && d.intersecting &&
+        touching = distance(pose, d) == Status::Ok && d.intersecting &&
                    mesh_contact(scene_tree, tool.hull, placed, ws, c) == Status::Ok && c.intersecting;
       }
       if (!touching) {
@@ -190,10 +204,13 @@ bool run(const Options& options, long (*allocations)(), Report& report, std::str
       ++report.exceptions;
     }
     const auto t1 = clock::now();
+    report.cpu_us[k] = thread_cpu_us() - cpu0;
     report.latency_us[k] = std::chrono::duration<double, std::micro>(t1 - t0).count();
+    report.overruns += report.cpu_us[k] > 1e6 * dt;
     if (options.realtime) {
-      if (t1 > deadline) ++report.misses;
-      report.max_late_start_us = std::max(report.max_late_start_us, std::chrono::duration<double, std::micro>(t0 - (start + k * period)).count());
+      const double late = std::chrono::duration<double, std::micro>(t0 - (start + k * period)).count();
+      report.misses += t1 > deadline, report.late_starts += late > 50;
+      report.max_late_start_us = std::max(report.max_late_start_us, late);
     }
   }
   // -1: this build does not count (allocations() says -1).
@@ -202,6 +219,9 @@ bool run(const Options& options, long (*allocations)(), Report& report, std::str
   report.p50_us = percentile(report.latency_us, 0.5), report.p99_us = percentile(report.latency_us, 0.99);
   report.p999_us = percentile(report.latency_us, 0.999);
   report.max_us = *std::max_element(report.latency_us.begin(), report.latency_us.end());
+  report.cpu_p50_us = percentile(report.cpu_us, 0.5), report.cpu_p99_us = percentile(report.cpu_us, 0.99);
+  report.cpu_p999_us = percentile(report.cpu_us, 0.999);
+  report.cpu_max_us = *std::max_element(report.cpu_us.begin(), report.cpu_us.end());
   return true;
 }
 
