@@ -746,6 +746,11 @@ template <class A, class B>
   for (int k = 0; k < 4; ++k) w[k] = a.vertex(ta[k]) - b.vertex(tb[k]), ia[k] = ta[k], ib[k] = tb[k];
   np = 4;
   static constexpr int kTet[4][4] = {{0, 1, 2, 3}, {0, 3, 1, 2}, {0, 2, 3, 1}, {1, 3, 2, 0}};
+  // A sliver tetrahedron's orientation is rounding (a fuzz finding: a needle 1e3 times longer
+  // than wide gave faces wound both ways, and a "depth" for separated shapes): none of it is
+  // trusted below 1e-9 of its edges' product.
+  const Vector3d e1 = w[1] - w[0], e2 = w[2] - w[0], e3 = w[3] - w[0];
+  if (!(std::abs(e1.cross(e2).dot(e3)) > 1e-9 * e1.norm() * e2.norm() * e3.norm())) return false;
   for (const auto& t : kTet) {  // wound so that the fourth point is behind
     const bool flip = (w[t[1]] - w[t[0]]).cross(w[t[2]] - w[t[0]]).dot(w[t[3]] - w[t[0]]) > 0;
     if (!(flip ? add(t[0], t[2], t[1]) : add(t[0], t[1], t[2]))) return false;
@@ -937,11 +942,12 @@ void exact_proximity(const A& a, const B& b, Proximity& out, Want want, Features
 }
 
 // The coherent path (ProximityCache): GJK from the last answer's support pairs, which along a
-// smooth motion ends after one or two supports, then the cold path's certificates. Accepted
-// only for shapes apart, or overlapping, by more than `clear` = 1e-10 of the reach: there the
-// cold query reaches the same verdict, and its distance or depth agrees to rounding (both are
-// certified within 64 eps reach). Anything else (a stale or foreign cache, a touching pose, a
-// certificate that fails) returns false, and the caller answers cold.
+// smooth motion ends after one or two supports. Accepted only for shapes apart, or
+// overlapping, by more than `clear` = 1e-6 of the reach (GJK's rounding grows as reach /
+// distance; the fuzzer found needles 1e9 times longer than their distance where it defeats
+// the certificate): there the cold query reaches the same verdict, and its distance or depth
+// agrees to its certified rounding. Anything else (a stale or foreign cache, a near-touching
+// or badly scaled pose, a certificate that fails) returns false, and the caller answers cold.
 // (Flattened: in this large file GCC leaves Eigen's 3-vector operations as calls.)
 template <class A, class B>
 [[gnu::flatten]] bool warm_proximity(const A& a, const B& b, const ProximityCache& cache, Proximity& out, Want want,
@@ -952,12 +958,14 @@ template <class A, class B>
   const double reach = std::max(a.reach(), b.reach());
   if (!(reach > 0 && reach <= kMaxCoordinate)) return false;
   out = Proximity{};
-  const double k = scale_of(reach), slack = 64 * std::numeric_limits<double>::epsilon() * reach, clear = 1e-10 * reach;
+  const double eps = std::numeric_limits<double>::epsilon();
+  const double k = scale_of(reach), slack = 64 * eps * reach, clear = 1e-6 * reach;
   // GJK from the cached simplex (Gilbert, Johnson & Keerthi 1988), with its own certificate: v
   // is a point of M = A (-) B (the weights' combination of the simplex), and M's support
   // along -v, min over M of v . m = lo - hi, bounds every point: |m| >= (lo - hi) / |v|. So
-  // the distance lies in [(lo - hi) / |v|, |v|]; kept when that interval is within `slack`
-  // and 1e-13 of |v|, and the shapes are apart by more than `clear`.
+  // the distance lies in [(lo - hi) / |v|, |v|]; kept when that interval, widened by the
+  // rounding of the supports (8 eps of the scaled reach), is within `slack`, the cold
+  // certificate's bound.
   Vector3d w[4];
   int ia[4], ib[4], n = 0;
   for (int j = 0; j < 3; ++j) {
@@ -981,7 +989,8 @@ template <class A, class B>
     double lo, hi;
     const int ka = highest(a, -v, lo), kb = highest(b, v, hi);
     const double vv = v.squaredNorm(), low = -k * (lo + hi);  // v . (a - b) over M, at least
-    if (vv - low <= std::min(1e-13 * vv, k * slack * std::sqrt(vv))) {
+    const double len = std::sqrt(vv), rounding = 8 * eps * k * reach * len;
+    if (vv - low + rounding <= k * slack * len) {
       Vector3d p = Vector3d::Zero(), q = Vector3d::Zero();
       for (int j = 0; j < n; ++j) p += lambda[j] * a.vertex(ia[j]), q += lambda[j] * b.vertex(ib[j]);
       const double d = length(p - q);

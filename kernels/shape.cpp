@@ -209,10 +209,13 @@ Status faces_from_polytope(const ConvexPolytope& p, double extent, ShapeData& s)
 
 }  // namespace detail
 
-const ConvexPolytope& ConvexShape::polytope() const {
-  static const ConvexPolytope kEmpty;
-  return data_ ? *data_->polytope_ref : kEmpty;
-}
+namespace {
+// An empty shape's polytope, built with the program (a function-local static would register
+// its destructor on first use, an allocation inside the first real-time call).
+const ConvexPolytope kEmptyPolytope;
+}  // namespace
+
+const ConvexPolytope& ConvexShape::polytope() const { return data_ ? *data_->polytope_ref : kEmptyPolytope; }
 
 namespace {
 

@@ -132,6 +132,42 @@ TEST(RealTime, MeshDistanceDoesNotAllocate) {
   EXPECT_GT(pairs, 50);  // the queries did real work
 }
 
+// The coherent entry points, along a trajectory with caches made at set-up: no allocation, and
+// the caches were used (else the zero proves nothing about the warm paths).
+TEST(RealTime, CoherentQueriesDoNotAllocate) {
+  SKIP_UNLESS_COUNTING();
+  ConvexShape A, B;
+  ASSERT_EQ(shape_from_points(tools::icosahedron_points(), A), Status::Ok);
+  ASSERT_EQ(shape_from_points(tools::sphere_points(64, 3), B), Status::Ok);
+  Box a, body;
+  a.half_extents = Eigen::Vector3d(0.5, 0.3, 0.2), body.half_extents = Eigen::Vector3d(0.3, 0.4, 0.25);
+  const Triangle tri{Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.9, 0.1, 0), Eigen::Vector3d(0.2, 0.7, 0.1)};
+  const auto path = tools::trajectory(3, 600, 0.5, 3.5, 0.02);
+  std::string source;
+  const tools::Mesh m = tools::demo_mesh("bun_zipper_res4.ply", source);
+  Octree M;
+  ASSERT_EQ(build_octree(m.vertices, m.triangles, M), Status::Ok);
+  MeshWorkspace ws;
+  make_workspace(M, M, ws);
+  ProximityCache boxes, box_tri, shapes, meshes;
+  Proximity p;
+  MeshDistance d;
+  EXPECT_EQ(allocations([&] {
+              for (const Eigen::Isometry3d& pose : path) {
+                Box b = body;
+                b.center = pose.translation(), b.rotation = pose.linear();
+                proximity(a, b, boxes, p);
+                proximity(a, Triangle{pose * tri.a, pose * tri.b, pose * tri.c}, box_tri, p);
+                proximity(A, Eigen::Isometry3d::Identity(), B, pose, shapes, p);
+                Pose mp;
+                mp.rotation = pose.linear(), mp.translation = 0.05 * pose.translation();
+                mesh_distance(M, M, mp, ws, meshes, d);
+              }
+            }),
+            0);
+  for (const ProximityCache* c : {&boxes, &box_tri, &shapes, &meshes}) EXPECT_GT(c->warm, 100);
+}
+
 // A short haptic loop (two 4 s path cycles at 1 kHz) for each convex tool: nothing allocated or
 // thrown after warm-up; no force while apart; pressing in pushes the tool back up (the press is
 // straight down onto the scene's highest point); the depth moves continuously along the path.
