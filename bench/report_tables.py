@@ -58,6 +58,11 @@ def mesh(p, r):
         "/".join(p[:3]), r.get("median_us", ""), r.get("max_us", ""), r.get("min_culled_pct", ""), us(r)]
 
 
+def trajectory(p, r):
+    return p[0] == "Trajectory" and [p[1], p[2], us(r) * 1e3, r.get("contact_share", ""), r.get("warm_share", ""),
+                                      r.get("median_us", ""), r.get("max_us", "")]
+
+
 TABLES = {
     "table1": (["pair", "method", "time_us", "facets", "ns_per_facet"], table1),
     "scaling": (["n", "method", "time_us", "facets", "pairs", "ns_per_facet"], scaling),
@@ -67,6 +72,7 @@ TABLES = {
                        "max_rel_error"], near_parallel),
     "queries": (["benchmark", "time_ns"], queries),
     "mesh": (["benchmark", "median_us", "max_us", "min_culled_pct", "mean_us"], mesh),
+    "trajectory": (["pair", "method", "ns_per_query", "contact_share", "warm_share", "median_us", "max_us"], trajectory),
 }
 
 

@@ -27,8 +27,8 @@ bool read_poses(const std::string& file, std::vector<Eigen::Isometry3d>& poses, 
 /// minksum distance [MESH_A MESH_B] [--pose P] [--poses FILE [--coherent]] [--json] [--brute]
 int cmd_distance(int argc, char** argv);
 
-/// minksum haptics [--tool box|icosa|MESH] [--scene MESH] [--seconds S] [--rate HZ]
-/// [--realtime] [--plot out.png] [--json]
+/// minksum haptics [--tool box|icosa|MESH] [--scene MESH|bunny_full] [--seconds S] [--rate HZ]
+/// [--realtime] [--plot out.png] [--trace out.csv] [--json]
 int cmd_haptics(int argc, char** argv);
 
 }  // namespace minksum::cli

@@ -2,6 +2,8 @@
 // prunes with lower bounds only, and every triangle pair that could hold the closest points gets
 // the exact triangle-triangle distance.
 #include <minksum/mesh.hpp>
+
+#include "triangle_pairs.hpp"
 #include <minksum/kernels.hpp>
 #include <minksum/query.hpp>
 
@@ -326,9 +328,13 @@ namespace {
 
 // The search of mesh_distance, from the triangle pair (seed_a, seed_b) if both index
 // triangles: its distance at this pose is the first `best`. Every test below prunes with
-// `best`, and a smaller best only prunes more, so a seed never makes the search visit more
-// node or triangle pairs than the cold one (-1, -1) does: the worst case is the cold search
-// plus one triangle distance.
+// `best`, and a smaller best only prunes more, so a seed makes the search visit no more node
+// or triangle pairs than the cold one (-1, -1) does, but for one thing: triangle pairs wait
+// in a batch of 16 for the SIMD kernel, and best drops when a batch is flushed, which a
+// seeded search may reach a few pairs later than the cold one (its batches fill slower). So
+// its worst case is the cold search's, plus one triangle distance (the seed) and at most one
+// batch of pairs per leaf pair; the benchmark Trajectory/bunny_full/minksum_stale_cache
+// shows it on every tick.
 Status search(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace& ws, MeshDistance& out, int seed_a,
               int seed_b) {
   out = MeshDistance{};
@@ -398,6 +404,12 @@ Status search(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace&
       gx = std::max(gx, std::abs(along) - width);
     }
     return std::max(cheap, gx * gx);
+  };
+  detail::TrianglePairs pairs;  // (on the stack: no allocation)
+  const auto flush = [&] {
+    pairs.flush([&](double d, const Vector3d& pa, const Vector3d& pb, int ta, int tb) {
+      if (d < best) best = d, out.point_a = pa, out.point_b = pb, out.triangle_a = ta, out.triangle_b = tb;
+    });
   };
   bool first_leaf_pair = true;
   size_t top = 0;
@@ -525,16 +537,14 @@ Status search(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace&
           if (plane_gap(ws.near_normal[y], sb[0], sa) >= best) continue;
           if (ws.seen_a[ta] != ws.stamp) ws.seen_a[ta] = ws.stamp, ++out.candidates_a;
           if (ws.seen_b[tb] != ws.stamp) ws.seen_b[tb] = ws.stamp, ++out.candidates_b;
-          Vector3d pa, pb;
           ++out.triangle_pairs;
-          const double d = triangle_distance(sa, sb, pa, pb);
-          if (d < best) {
-            best = d;
-            out.point_a = pa, out.point_b = pb, out.triangle_a = ta, out.triangle_b = tb;
-            if (d == 0) break;
-          }
+          // Queued for the batched kernel: the tests above see `best` as of the last flush,
+          // never below the final one, so they only prune less.
+          if (pairs.add(sa, sb, ta, tb)) flush();
+          if (best == 0) break;
         }
       }
+      flush();
       if (best == 0) break;  // they intersect: nothing is nearer
       continue;
     }

@@ -10,6 +10,7 @@
 
 #include "box_pair.hpp"
 #include "shape_data.hpp"
+#include "triangle_pairs.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -502,31 +503,11 @@ double surface_distance(const A& a, const B& b, const Vector3d& shift, double ma
   };
   // Triangle pairs go to the batched kernel 16 at a time (on the stack: no allocation); the
   // face-pair bound is checked against the best distance of the batches done so far.
-  struct Batch {
-    TriangleBatch<double, 16> s, t;
-    TriangleDistances<double, 16> d;
-  } batch;
+  detail::TrianglePairs batch;
   const auto flush = [&] {
-    if (batch.s.count < 4) {  // a few pairs: the scalar path is faster than one SIMD pass
-      for (int k = 0; k < batch.s.count; ++k) {
-        Vector3d s[3], t[3], p, q;
-        for (int i = 0; i < 3; ++i)
-          for (int d = 0; d < 3; ++d) s[i][d] = batch.s.v[i][d][k], t[i][d] = batch.t.v[i][d][k];
-        if (const double d = triangle_distance(s, t, p, q); d < best) best = d, pa = p, pb = q;
-      }
-      batch.s.count = 0;
-      return;
-    }
-    batch.t.count = batch.s.count;
-    batch.s.pad(), batch.t.pad();
-    triangle_distance(batch.s, batch.t, batch.d);
-    for (int k = 0; k < batch.s.count; ++k)
-      if (batch.d.distance[k] < best) {
-        best = batch.d.distance[k];
-        pa = Vector3d(batch.d.point_s[0][k], batch.d.point_s[1][k], batch.d.point_s[2][k]);
-        pb = Vector3d(batch.d.point_t[0][k], batch.d.point_t[1][k], batch.d.point_t[2][k]);
-      }
-    batch.s.count = 0;
+    batch.flush([&](double d, const Vector3d& p, const Vector3d& q, int, int) {
+      if (d < best) best = d, pa = p, pb = q;
+    });
   };
   // Whether a face has a vertex near the contact plane.
   const auto touches = [](int size, const auto& near, const auto& x) {
@@ -548,14 +529,12 @@ double surface_distance(const A& a, const B& b, const Vector3d& shift, double ma
       if (apart >= best) continue;
       // Each face fanned from its first vertex (with a contact plane: the triangles that reach it).
       for (int i = 1; i + 1 < a.loop_size(f); ++i) {
-        const Triangle s{a.loop_vertex(f, 0), a.loop_vertex(f, i), a.loop_vertex(f, i + 1)};
-        if (!near_a(s.a) && !near_a(s.b) && !near_a(s.c)) continue;
+        const Vector3d s[3] = {a.loop_vertex(f, 0), a.loop_vertex(f, i), a.loop_vertex(f, i + 1)};
+        if (!near_a(s[0]) && !near_a(s[1]) && !near_a(s[2])) continue;
         for (int j = 1; j + 1 < b.loop_size(g); ++j) {
-          const Triangle t{b.loop_vertex(g, 0) + shift, b.loop_vertex(g, j) + shift, b.loop_vertex(g, j + 1) + shift};
-          if (!near_b(t.a) && !near_b(t.b) && !near_b(t.c)) continue;
-          const int k = batch.s.count++;
-          batch.s.set(k, s), batch.t.set(k, t);
-          if (batch.s.count == 16) flush();
+          const Vector3d t[3] = {b.loop_vertex(g, 0) + shift, b.loop_vertex(g, j) + shift, b.loop_vertex(g, j + 1) + shift};
+          if (!near_b(t[0]) && !near_b(t[1]) && !near_b(t[2])) continue;
+          if (batch.add(s, t)) flush();
         }
       }
     }

@@ -10,7 +10,7 @@ namespace minksum::cli {
 
 int cmd_haptics(int argc, char** argv) {
   haptics::Options o;
-  std::string png;
+  std::string png, trace;
   bool json = false;
   for (int k = 0; k < argc; ++k) {
     const std::string a = argv[k];
@@ -24,9 +24,9 @@ int cmd_haptics(int argc, char** argv) {
       json = true;
     } else if (a == "--realtime") {
       o.realtime = true;
-    } else if (a == "--tool" || a == "--scene" || a == "--plot") {
+    } else if (a == "--tool" || a == "--scene" || a == "--plot" || a == "--trace") {
       if (!value(v)) return usage_error(a + " needs a value");
-      (a == "--tool" ? o.tool : a == "--scene" ? o.scene : png) = v;
+      (a == "--tool" ? o.tool : a == "--scene" ? o.scene : a == "--plot" ? png : trace) = v;
     } else if (a == "--seconds" || a == "--rate") {
       if (!value(v)) return usage_error(a + " needs a value");
       char* end = nullptr;
@@ -75,6 +75,18 @@ int cmd_haptics(int argc, char** argv) {
     }
     std::printf("allocations after warm-up %ld and %ld, exceptions %ld and %ld, ticks in contact %ld\n",
                 cold.allocations, r.allocations, cold.exceptions, r.exceptions, r.contacts);
+  }
+  if (!trace.empty()) {  // per tick, both runs: for plots of cold against coherent
+    FILE* f = std::fopen(trace.c_str(), "w");
+    if (!f) {
+      std::fprintf(stderr, "minksum: %s: cannot write\n", trace.c_str());
+      return 2;
+    }
+    std::fprintf(f, "tick,cold_wall_us,cold_cpu_us,coherent_wall_us,coherent_cpu_us,contact\n");
+    for (size_t k = 0; k < r.latency_us.size(); ++k)
+      std::fprintf(f, "%zu,%.3f,%.3f,%.3f,%.3f,%d\n", k, cold.latency_us[k], cold.cpu_us[k], r.latency_us[k], r.cpu_us[k],
+                   int(r.depth[k] > 0));
+    std::fclose(f);
   }
   if (!png.empty() && !haptics::plot(r, png, error)) {
     std::fprintf(stderr, "minksum: %s\n", error.c_str());

@@ -105,8 +105,8 @@ bool run(const Options& options, long (*allocations)(), Report& report, std::str
     return error = "--seconds and --rate must be positive (at most 1e8 ticks)", false;
   // Set-up: everything that allocates happens here.
   tools::Mesh scene;
-  if (options.scene.empty()) {
-    scene = tools::demo_mesh("bun_zipper_res2.ply", report.scene_source);
+  if (options.scene.empty() || options.scene == "bunny_full") {
+    scene = tools::demo_mesh(options.scene.empty() ? "bun_zipper_res2.ply" : "bun_zipper.ply", report.scene_source);
   } else {
     if (!tools::read_mesh(options.scene, scene, error)) return false;
     report.scene_source = options.scene;

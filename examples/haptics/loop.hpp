@@ -10,7 +10,7 @@ namespace minksum::haptics {
 /// What to run.
 struct Options {
   std::string tool = "box";  ///< "box", "icosa", or a mesh file (its hull gives the depth)
-  std::string scene;         ///< mesh file; empty: bunny res2 (or its fallbacks)
+  std::string scene;         ///< mesh file; empty: bunny res2; "bunny_full": the full bunny (or their fallbacks)
   double seconds = 60;       ///< simulated time
   double rate = 1000;        ///< ticks per second
   bool realtime = false;     ///< pace ticks with sleep-until and count missed deadlines
