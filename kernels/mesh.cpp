@@ -612,24 +612,38 @@ Status mesh_contact(const Octree& a, const ConvexShape& shape, const Eigen::Isom
   if (nf > 2 * kMaxToolVertices) return Status::InvalidMesh;
   Vector3d plane_n[2 * kMaxToolVertices];
   double plane_o[2 * kMaxToolVertices];
+  alignas(64) double px[2 * kMaxToolVertices], py[2 * kMaxToolVertices], pz[2 * kMaxToolVertices];
   for (int f = 0; f < nf; ++f) {
     plane_n[f] = pose.linear() * tool.faces[f].normal;
     plane_o[f] = tool.faces[f].offset + plane_n[f].dot(pose.translation());
+    px[f] = plane_n[f].x(), py[f] = plane_n[f].y(), pz[f] = plane_n[f].z();
   }
   // The part of triangle t inside the tool: `m` corners at `poly` (m = 0: they do not meet).
+  // First every plane against the three corners at once (a loop the compiler vectorises):
+  // a plane with all corners beyond it rejects the triangle, and only the planes with a
+  // corner beyond can cut it; a plane with every corner inside leaves every point of the
+  // triangle inside, so clipping by it would change nothing (to rounding).
   Vector3d buffer[2][3 + 2 * kMaxToolVertices];
-  int last_reject = 0;  // neighbouring triangles tend to lie outside the same face plane
+  alignas(64) double above[2 * kMaxToolVertices], below[2 * kMaxToolVertices];
+  int cut[2 * kMaxToolVertices];
   const auto clip = [&](const Vector3d (&t)[3], const Vector3d*& poly) {
-    if (nf > 0) {
-      const Vector3d& n = plane_n[last_reject];
-      const double o = plane_o[last_reject];
-      if (n.dot(t[0]) > o && n.dot(t[1]) > o && n.dot(t[2]) > o) return 0;
+    double reject = -1;
+    for (int f = 0; f < nf; ++f) {
+      const double d0 = px[f] * t[0].x() + py[f] * t[0].y() + pz[f] * t[0].z() - plane_o[f];
+      const double d1 = px[f] * t[1].x() + py[f] * t[1].y() + pz[f] * t[1].z() - plane_o[f];
+      const double d2 = px[f] * t[2].x() + py[f] * t[2].y() + pz[f] * t[2].z() - plane_o[f];
+      above[f] = std::max(std::max(d0, d1), d2), below[f] = std::min(std::min(d0, d1), d2);
     }
+    for (int f = 0; f < nf; ++f) reject = std::max(reject, below[f]);
+    if (reject > 0) return 0;
+    int ncut = 0;
+    for (int f = 0; f < nf; ++f) cut[ncut] = f, ncut += above[f] > 0;
+    // Sutherland-Hodgman (1974) over the cutting planes.
     int m = 3, cur = 0;
     for (int k = 0; k < 3; ++k) buffer[0][k] = t[k];
-    for (int f = 0; f < nf && m > 0; ++f) {
-      const Vector3d& n = plane_n[f];
-      const double o = plane_o[f];
+    for (int i = 0; i < ncut && m > 0; ++i) {
+      const Vector3d& n = plane_n[cut[i]];
+      const double o = plane_o[cut[i]];
       int out_m = 0;
       for (int k = 0; k < m; ++k) {
         const Vector3d &p = buffer[cur][k], &q = buffer[cur][(k + 1) % m];
@@ -638,7 +652,6 @@ Status mesh_contact(const Octree& a, const ConvexShape& shape, const Eigen::Isom
         if ((dp < 0 && dq > 0) || (dp > 0 && dq < 0)) buffer[1 - cur][out_m++] = p + dp / (dp - dq) * (q - p);
       }
       m = out_m, cur = 1 - cur;
-      if (m == 0) last_reject = f;
     }
     poly = buffer[cur];
     return m;
