@@ -256,6 +256,8 @@ Status box_query(const Box& a, const Box& b, Proximity& out, Want want, unsigned
 
 // The kinds of query that fill a ProximityCache.
 enum CacheKind : unsigned { kCacheBoxBox = 1, kCacheConvex = 2 };  // (mesh_distance: 3)
+// ProximityCache::active of a convex cache: its pairs span M's facet of the last depth.
+constexpr unsigned kDepthFacet = 1;
 
 }  // namespace
 
@@ -558,6 +560,13 @@ void support_pair(const A& a, const B& b, const Vector3d& n, double& plus, doubl
   plus = amax - bmin, minus = bmax - amin;
 }
 
+// The support pairs of an answer's features, kept for the next query (three, repeats
+// allowed): GJK's nearest simplex, or (depth) the face of M that holds the deepest point.
+struct Features {
+  int a[3] = {0, 0, 0}, b[3] = {0, 0, 0};
+  bool valid = false, depth = false;
+};
+
 // The point of the simplex w[0..n) (n <= 4) nearest the origin, as barycentric weights (zero
 // outside the nearest feature), by Voronoi regions (Ericson, "Real-Time Collision Detection",
 // 2005, sections 5.1.2, 5.1.5 and 5.1.6). False if the origin lies inside the tetrahedron.
@@ -699,7 +708,7 @@ bool certified_distance(const A& a, const B& b, const int (&fa)[4], const int (&
 // caller searches exhaustively.
 template <class A, class B>
 [[gnu::flatten]] bool certified_depth(const A& a, const B& b, const int (&ta)[4], const int (&tb)[4], double slack,
-                     double touching, Proximity& out) {
+                     double touching, Proximity& out, Features* facet = nullptr) {
   constexpr int kPoints = 64, kFaces = 128;
   struct Face {
     int v[3];
@@ -759,6 +768,10 @@ template <class A, class B>
         out.penetration_depth = f.d, out.penetration_direction = f.n;
         out.point_a = l0 * a.vertex(ia[h.v[0]]) + l1 * a.vertex(ia[h.v[1]]) + l2 * a.vertex(ia[h.v[2]]);
         out.point_b = l0 * b.vertex(ib[h.v[0]]) + l1 * b.vertex(ib[h.v[1]]) + l2 * b.vertex(ib[h.v[2]]);
+        if (facet) {  // the support pairs of the face that holds the answer, for the next query
+          for (int j = 0; j < 3; ++j) facet->a[j] = ia[h.v[j]], facet->b[j] = ib[h.v[j]];
+          facet->valid = facet->depth = true;
+        }
         return true;
       }
       return false;
@@ -829,11 +842,6 @@ double scale_of(double reach) {
   return reach > 0 ? std::ldexp(1.0, std::min(-exponent, 1000)) : 1.0;
 }
 
-// GJK's support pairs of an answer, kept for the next query (three, repeats allowed).
-struct Features {
-  int a[3] = {0, 0, 0}, b[3] = {0, 0, 0};
-  bool valid = false;
-};
 
 template <class A, class B>
 void exact_proximity(const A& a, const B& b, Proximity& out, Want want, Features* features = nullptr) {
@@ -861,7 +869,7 @@ void exact_proximity(const A& a, const B& b, Proximity& out, Want want, Features
   }
   const double slack = 64 * eps * reach;
   if (found == 3 && certified_distance(a, b, fa, fb, slack, tol, out)) return;
-  if (found == 4 && certified_depth(a, b, fa, fb, slack, tol, out)) return;
+  if (found == 4 && certified_depth(a, b, fa, fb, slack, tol, out, features)) return;
   enum class Guess { Separated, Overlapping };
   const Guess guess = found == 4 ? Guess::Overlapping : Guess::Separated;
   double depth = std::numeric_limits<double>::infinity();
@@ -927,6 +935,24 @@ void exact_proximity(const A& a, const B& b, Proximity& out, Want want, Features
 // the certificate): there the cold query reaches the same verdict, and its distance or depth
 // agrees to its certified rounding. Anything else (a stale or foreign cache, a near-touching
 // or badly scaled pose, a certificate that fails) returns false, and the caller answers cold.
+// The overlapping case from the last depth: its facet of M (three support pairs) and M's
+// support point on the other side of the origin make a tetrahedron around it, from which the
+// expanding polytope's certificate usually holds at once (the facet is still M's nearest).
+template <class A, class B>
+bool warm_depth(const A& a, const B& b, const ProximityCache& cache, double slack, double clear, Proximity& out,
+                Features& f) {
+  Vector3d w[3];
+  for (int j = 0; j < 3; ++j) w[j] = a.vertex(cache.a[j]) - b.vertex(cache.b[j]);
+  Vector3d n = (w[1] - w[0]).cross(w[2] - w[0]);
+  if (n.dot(w[0]) < 0) n = -n;  // towards the facet, away from the origin
+  double hi, lo;
+  const int ka = highest(a, -n, hi), kb = highest(b, n, lo);
+  int ta[4] = {cache.a[0], cache.a[1], cache.a[2], ka}, tb[4] = {cache.b[0], cache.b[1], cache.b[2], kb};
+  if (certified_depth(a, b, ta, tb, slack, clear, out, &f)) return true;
+  out = Proximity{};
+  return false;
+}
+
 // (Flattened: in this large file GCC leaves Eigen's 3-vector operations as calls.)
 template <class A, class B>
 [[gnu::flatten]] bool warm_proximity(const A& a, const B& b, const ProximityCache& cache, Proximity& out, Want want,
@@ -945,6 +971,10 @@ template <class A, class B>
   // the distance lies in [(lo - hi) / |v|, |v|]; kept when that interval, widened by the
   // rounding of the supports (8 eps of the scaled reach), is within `slack`, the cold
   // certificate's bound.
+  if (cache.active == kDepthFacet && warm_depth(a, b, cache, slack, clear, out, f)) {
+    if (want & kWantMaxDistance) farthest_pair(a, b, k, out);
+    return true;
+  }
   Vector3d w[4];
   int ia[4], ib[4], n = 0;
   for (int j = 0; j < 3; ++j) {
@@ -955,8 +985,7 @@ template <class A, class B>
   for (int iter = 0; iter < 16; ++iter) {
     double lambda[4];
     if (!nearest_on_simplex(w, n, lambda)) {  // a tetrahedron around the origin: the depth by EPA
-      if (!certified_depth(a, b, ia, ib, slack, clear, out)) return out = Proximity{}, false;
-      std::copy(ia, ia + 3, f.a), std::copy(ib, ib + 3, f.b);
+      if (!certified_depth(a, b, ia, ib, slack, clear, out, &f)) return out = Proximity{}, false;
       break;
     }
     Vector3d v = Vector3d::Zero();
@@ -997,6 +1026,7 @@ void cached_proximity(const A& a, const B& b, ProximityCache& cache, Proximity& 
   if (!warm) exact_proximity(a, b, out, want, &f);
   ++(warm ? cache.warm : cache.cold);
   cache.kind = f.valid ? kCacheConvex : 0u;
+  cache.active = f.depth ? kDepthFacet : 0u;
   std::copy(f.a, f.a + 3, cache.a), std::copy(f.b, f.b + 3, cache.b);
 }
 
