@@ -39,6 +39,28 @@ void count(benchmark::State& state, long contacts, long ticks, const ProximityCa
     state.counters["warm_share"] = double(cache->warm) / double(cache->warm + cache->cold);
 }
 
+// One query per iteration along a path of n poses by `method`: cold(i, out),
+// coherent(i, cache, out), fcl(i) or bullet(i) for pose i.
+template <class Cold, class Coherent, class Fcl, class Bullet>
+void along(benchmark::State& state, Method method, size_t n, Cold cold, Coherent coherent, Fcl fcl, Bullet bullet) {
+  Proximity p;
+  ProximityCache cache;
+  size_t k = 0;
+  long contacts = 0, ticks = 0;
+  for (auto _ : state) {
+    const size_t i = k++ % n;
+    switch (method) {
+      case Method::Cold: cold(i, p); break;
+      case Method::Coherent: coherent(i, cache, p); break;
+      case Method::FclGjk: benchmark::DoNotOptimize(fcl(i)); break;
+      default: benchmark::DoNotOptimize(bullet(i)); break;
+    }
+    benchmark::DoNotOptimize(p.distance);
+    contacts += p.intersecting, ++ticks;
+  }
+  count(state, method <= Method::Coherent ? contacts : 0, ticks, method == Method::Coherent ? &cache : nullptr);
+}
+
 // Box A at a fixed pose; B's centre follows the trajectory around A's.
 void BoxBox(benchmark::State& state, Method method) {
   Box a, body;
@@ -53,27 +75,13 @@ void BoxBox(benchmark::State& state, Method method) {
     pose_b[k] = pose_a * path[k];
     b[k].center = pose_b[k].translation(), b[k].rotation = pose_b[k].linear();
   }
-  Proximity p;
-  ProximityCache cache;
   peers::FclPair fcl(a, b[0]);
   peers::BulletPair bullet(a.half_extents, body.half_extents);
-  size_t k = 0;
-  long contacts = 0, ticks = 0;
-  for (auto _ : state) {
-    const size_t i = k++ % path.size();
-    switch (method) {
-      case Method::Cold: proximity(a, b[i], p, kWantContact); break;
-      case Method::Coherent: proximity(a, b[i], cache, p, kWantContact); break;
-      case Method::FclGjk:
-        fcl.set_boxes(a, b[i]);
-        benchmark::DoNotOptimize(fcl.distance(peers::FclSolver::Gjk));
-        break;
-      default: benchmark::DoNotOptimize(bullet.distance(pose_a, pose_b[i])); break;
-    }
-    benchmark::DoNotOptimize(p.distance);
-    contacts += p.intersecting, ++ticks;
-  }
-  count(state, method <= Method::Coherent ? contacts : 0, ticks, method == Method::Coherent ? &cache : nullptr);
+  along(
+      state, method, path.size(), [&](size_t i, Proximity& p) { proximity(a, b[i], p, kWantContact); },
+      [&](size_t i, ProximityCache& cache, Proximity& p) { proximity(a, b[i], cache, p, kWantContact); },
+      [&](size_t i) { return fcl.set_boxes(a, b[i]), fcl.distance(peers::FclSolver::Gjk); },
+      [&](size_t i) { return bullet.distance(pose_a, pose_b[i]); });
 }
 
 // Two prepared shapes; B follows the trajectory around A.
@@ -92,27 +100,14 @@ void Shapes(benchmark::State& state, std::vector<Vector3d> pa, std::vector<Vecto
   const auto path = tools::trajectory(11, kTicks, 0.85 * (ra + rb), 1.5 * (ra + rb), 0.02 * std::min(ra, rb));
   std::vector<Isometry3d> pose_b(path.size());
   for (size_t k = 0; k < path.size(); ++k) pose_b[k] = pose_a * path[k];
-  Proximity p;
-  ProximityCache cache;
   peers::FclPair fcl(A.polytope(), B.polytope());
   peers::BulletPair bullet(A.polytope(), B.polytope());
-  size_t k = 0;
-  long contacts = 0, ticks = 0;
-  for (auto _ : state) {
-    const size_t i = k++ % path.size();
-    switch (method) {
-      case Method::Cold: proximity(A, pose_a, B, pose_b[i], p, kWantContact); break;
-      case Method::Coherent: proximity(A, pose_a, B, pose_b[i], cache, p, kWantContact); break;
-      case Method::FclGjk:
-        fcl.set_poses(pose_a, pose_b[i]);
-        benchmark::DoNotOptimize(fcl.distance(peers::FclSolver::Gjk));
-        break;
-      default: benchmark::DoNotOptimize(bullet.distance(pose_a, pose_b[i])); break;
-    }
-    benchmark::DoNotOptimize(p.distance);
-    contacts += p.intersecting, ++ticks;
-  }
-  count(state, method <= Method::Coherent ? contacts : 0, ticks, method == Method::Coherent ? &cache : nullptr);
+  along(
+      state, method, path.size(),
+      [&](size_t i, Proximity& p) { proximity(A, pose_a, B, pose_b[i], p, kWantContact); },
+      [&](size_t i, ProximityCache& cache, Proximity& p) { proximity(A, pose_a, B, pose_b[i], cache, p, kWantContact); },
+      [&](size_t i) { return fcl.set_poses(pose_a, pose_b[i]), fcl.distance(peers::FclSolver::Gjk); },
+      [&](size_t i) { return bullet.distance(pose_a, pose_b[i]); });
 }
 
 // The box tool of the haptics loop against the full bunny; the tool's centre swings between

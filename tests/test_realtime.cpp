@@ -107,15 +107,25 @@ TEST(RealTime, KernelsAndQueriesDoNotAllocate) {
   force_isa(active);
 }
 
+// The bunny res4 and its octree, with a workspace for queries against itself, made at set-up.
+struct Res4 {
+  Octree tree;
+  MeshWorkspace ws;
+  Res4() {
+    std::string source;
+    const tools::Mesh m = tools::demo_mesh("bun_zipper_res4.ply", source);
+    build_octree(m.vertices, m.triangles, tree);
+    make_workspace(tree, tree, ws);
+  }
+};
+
 // The mesh-mesh query with a workspace made at set-up: no allocation on any pose.
 TEST(RealTime, MeshDistanceDoesNotAllocate) {
   SKIP_UNLESS_COUNTING();
-  std::string source;
-  const tools::Mesh m = tools::demo_mesh("bun_zipper_res4.ply", source);
-  Octree A;
-  ASSERT_EQ(build_octree(m.vertices, m.triangles, A), Status::Ok);
-  MeshWorkspace ws;
-  make_workspace(A, A, ws);
+  Res4 bunny;
+  ASSERT_FALSE(bunny.tree.nodes.empty());
+  const Octree& A = bunny.tree;
+  MeshWorkspace& ws = bunny.ws;
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(-1, 1);
   std::vector<Pose> poses(50);
@@ -143,12 +153,10 @@ TEST(RealTime, CoherentQueriesDoNotAllocate) {
   a.half_extents = Eigen::Vector3d(0.5, 0.3, 0.2), body.half_extents = Eigen::Vector3d(0.3, 0.4, 0.25);
   const Triangle tri{Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.9, 0.1, 0), Eigen::Vector3d(0.2, 0.7, 0.1)};
   const auto path = tools::trajectory(3, 600, 0.5, 3.5, 0.02);
-  std::string source;
-  const tools::Mesh m = tools::demo_mesh("bun_zipper_res4.ply", source);
-  Octree M;
-  ASSERT_EQ(build_octree(m.vertices, m.triangles, M), Status::Ok);
-  MeshWorkspace ws;
-  make_workspace(M, M, ws);
+  Res4 bunny;
+  ASSERT_FALSE(bunny.tree.nodes.empty());
+  const Octree& M = bunny.tree;
+  MeshWorkspace& ws = bunny.ws;
   ProximityCache boxes, box_tri, shapes, meshes;
   Proximity p;
   MeshDistance d;
