@@ -111,12 +111,16 @@ void Shapes(benchmark::State& state, std::vector<Vector3d> pa, std::vector<Vecto
 }
 
 // The box tool of the haptics loop against the full bunny; the tool's centre swings between
-// 30 and 120 mm from the bunny's bounding-box centre, 0.2 mm per tick at most.
+// 30 and 120 mm from the bunny's bounding-box centre, 0.2 mm per tick at most (lengths for
+// the Stanford bunny's 0.25 m bounding-box diagonal, scaled with the mesh's when it is another).
 void BunnyFull(benchmark::State& state, Method method) {
   std::string source;
   const tools::Mesh scene = tools::demo_mesh("bun_zipper.ply", source);
+  Vector3d lo = scene.vertices[0], hi = lo;
+  for (const auto& v : scene.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+  const double mm = (hi - lo).norm() / 0.25025 * 1e-3;
   tools::Mesh tool;
-  for (const Vector3d& p : tools::cube_points()) tool.vertices.emplace_back(0.010 * p.x(), 0.008 * p.y(), 0.006 * p.z());
+  for (const Vector3d& p : tools::cube_points()) tool.vertices.emplace_back(10 * mm * p.x(), 8 * mm * p.y(), 6 * mm * p.z());
   ConvexShape hull;
   shape_from_points(tool.vertices, hull);
   tool.vertices = hull.polytope().vertices;
@@ -129,9 +133,7 @@ void BunnyFull(benchmark::State& state, Method method) {
   build_octree(tool.vertices, tool.triangles, B, one_leaf);
   MeshWorkspace ws;
   make_workspace(A, B, ws);
-  Vector3d lo = scene.vertices[0], hi = lo;
-  for (const auto& v : scene.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
-  const auto path = tools::trajectory(13, kTicks, 0.03, 0.12, 0.0002);
+  const auto path = tools::trajectory(13, kTicks, 30 * mm, 120 * mm, 0.2 * mm);
   std::vector<Pose> poses(path.size());
   for (size_t k = 0; k < path.size(); ++k)
     poses[k].rotation = path[k].linear(), poses[k].translation = (lo + hi) / 2 + path[k].translation();

@@ -220,18 +220,20 @@ TEST(CoherenceAdversarial, BadInputKeepsTheCacheHarmless) {
 // and across teleports; it opens no more pairs than the cold search but for its batches.
 TEST(CoherenceMesh, SeededSearchEqualsColdSearch) {
   std::string source;
-  const tools::Mesh m = tools::demo_mesh("bun_zipper_res4.ply", source);
-  const tools::Mesh ball = tools::sphere_mesh(0.02, 8);
+  const tools::Mesh m = tools::demo_mesh("bun_zipper_res4.ply", source);  // (or its fallbacks)
+  Vector3d lo = m.vertices[0], hi = lo;
+  for (const auto& v : m.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+  const Vector3d centre = (lo + hi) / 2;
+  const double size = (hi - lo).norm();
+  // A ball 4 % of the mesh's size swinging from its centre to outside it: it crosses the
+  // surface on its way out whatever the mesh.
+  const tools::Mesh ball = tools::sphere_mesh(0.04 * size, 8);
   Octree A, B;
   ASSERT_EQ(build_octree(m.vertices, m.triangles, A), Status::Ok);
   ASSERT_EQ(build_octree(ball.vertices, ball.triangles, B), Status::Ok);
   MeshWorkspace ws;
   make_workspace(A, B, ws);
-  Vector3d lo = m.vertices[0], hi = lo;
-  for (const auto& v : m.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
-  const Vector3d centre = (lo + hi) / 2;
-  const double size = (hi - lo).norm();
-  auto path = tools::trajectory(4, 1500, 0.2 * size, 0.7 * size, 0.002 * size);
+  auto path = tools::trajectory(4, 1500, 0.0, 0.7 * size, 0.002 * size);
   std::mt19937_64 rng(8);
   std::uniform_real_distribution<double> u(-1, 1);
   for (size_t k = 0; k < path.size(); k += 97)  // teleports now and then
