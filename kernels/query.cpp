@@ -945,8 +945,8 @@ bool warm_depth(const A& a, const B& b, const ProximityCache& cache, double slac
   for (int j = 0; j < 3; ++j) w[j] = a.vertex(cache.a[j]) - b.vertex(cache.b[j]);
   Vector3d n = (w[1] - w[0]).cross(w[2] - w[0]);
   if (n.dot(w[0]) < 0) n = -n;  // towards the facet, away from the origin
-  double hi, lo;
-  const int ka = highest(a, -n, hi), kb = highest(b, n, lo);
+  double unused;
+  const int ka = highest(a, -n, unused), kb = highest(b, n, unused);
   int ta[4] = {cache.a[0], cache.a[1], cache.a[2], ka}, tb[4] = {cache.b[0], cache.b[1], cache.b[2], kb};
   if (certified_depth(a, b, ta, tb, slack, clear, out, &f)) return true;
   out = Proximity{};
@@ -965,16 +965,16 @@ template <class A, class B>
   out = Proximity{};
   const double eps = std::numeric_limits<double>::epsilon();
   const double k = scale_of(reach), slack = 64 * eps * reach, clear = 1e-6 * reach;
+  if (cache.active == kDepthFacet && warm_depth(a, b, cache, slack, clear, out, f)) {
+    if (want & kWantMaxDistance) farthest_pair(a, b, k, out);
+    return true;
+  }
   // GJK from the cached simplex (Gilbert, Johnson & Keerthi 1988), with its own certificate: v
   // is a point of M = A (-) B (the weights' combination of the simplex), and M's support
   // along -v, min over M of v . m = lo - hi, bounds every point: |m| >= (lo - hi) / |v|. So
   // the distance lies in [(lo - hi) / |v|, |v|]; kept when that interval, widened by the
   // rounding of the supports (8 eps of the scaled reach), is within `slack`, the cold
   // certificate's bound.
-  if (cache.active == kDepthFacet && warm_depth(a, b, cache, slack, clear, out, f)) {
-    if (want & kWantMaxDistance) farthest_pair(a, b, k, out);
-    return true;
-  }
   Vector3d w[4];
   int ia[4], ib[4], n = 0;
   for (int j = 0; j < 3; ++j) {
