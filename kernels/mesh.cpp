@@ -3,6 +3,7 @@
 // the exact triangle-triangle distance.
 #include <minksum/mesh.hpp>
 
+#include "cache_kinds.hpp"
 #include "triangle_pairs.hpp"
 #include <minksum/kernels.hpp>
 #include <minksum/query.hpp>
@@ -579,7 +580,7 @@ Status mesh_distance(const Octree& a, const Octree& b, const Pose& pose, MeshWor
 
 Status mesh_distance(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace& ws, ProximityCache& cache,
                      MeshDistance& out) {
-  constexpr unsigned kCacheMesh = 3;  // (query.cpp's kinds: box pairs 1, convex shapes 2)
+  using detail::kCacheMesh;
   const bool seeded = cache.kind == kCacheMesh;
   const Status s = search(a, b, pose, ws, out, seeded ? cache.a[0] : -1, seeded ? cache.b[0] : -1);
   ++(seeded && s == Status::Ok ? cache.warm : cache.cold);

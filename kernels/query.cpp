@@ -9,6 +9,7 @@
 #include <minksum/mesh.hpp>
 
 #include "box_pair.hpp"
+#include "cache_kinds.hpp"
 #include "shape_data.hpp"
 #include "triangle_pairs.hpp"
 
@@ -254,8 +255,8 @@ Status box_query(const Box& a, const Box& b, Proximity& out, Want want, unsigned
   return Status::Ok;
 }
 
-// The kinds of query that fill a ProximityCache.
-enum CacheKind : unsigned { kCacheBoxBox = 1, kCacheConvex = 2 };  // (mesh_distance: 3)
+using detail::kCacheBoxBox;
+using detail::kCacheConvex;
 // ProximityCache::active of a convex cache: its pairs span M's facet of the last depth.
 constexpr unsigned kDepthFacet = 1;
 

@@ -1,0 +1,9 @@
+// The kinds of query that fill a ProximityCache (internal): a cache filled by one kind starts
+// the others cold.
+#pragma once
+
+namespace minksum::detail {
+
+enum CacheKind : unsigned { kCacheBoxBox = 1, kCacheConvex = 2, kCacheMesh = 3 };
+
+}  // namespace minksum::detail
