@@ -61,6 +61,8 @@ class FclMeshPair {
   ~FclMeshPair();
   /// fcl::distance with B placed by the pose (A at the identity); nearest points in A's frame.
   double distance(const Pose& pose, Eigen::Vector3d* pa = nullptr, Eigen::Vector3d* pb = nullptr);
+  /// Bytes of A's BVH: its nodes, vertices, triangles and primitive indices.
+  size_t bytes_a() const;
 
  private:
   struct Impl;

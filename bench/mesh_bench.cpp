@@ -6,6 +6,12 @@
 // octree build. MeshDistance/concentric_spheres/* is the octree's worst case: a sphere of 6,240
 // triangles inside one of radius 1/0.9 times its own, nearly concentric (random rotation, centre
 // offsets up to 1e-3), so that every triangle is about as near as any; max_us is its worst query.
+//
+// MeshDistance/<pair>/minksum|fcl_obbrss over banded poses (tools::banded_poses, seeded): the
+// bunny against itself and pairs of libcgal-demo meshes of other shapes (each scaled to a unit
+// bounding-box diagonal), 99 poses: 33 intersecting, 33 apart by less than 5 % of the smaller
+// mesh's diagonal (the near band, where haptics lives), 33 farther. Counters per band: median
+// and worst us, minksum's median culled percentage; bytes per triangle of each structure.
 #include <benchmark/benchmark.h>
 #include <minksum/minksum.hpp>
 
@@ -13,6 +19,7 @@
 #include <chrono>
 #include <map>
 #include <random>
+#include <tuple>
 
 #include "fcl_peer.hpp"
 #include "tools/mesh_io.hpp"
@@ -37,29 +44,70 @@ const tools::Mesh& mesh(const std::string& name) {
   static std::map<std::string, tools::Mesh> cache;
   if (!cache.count(name)) {
     std::string source;
-    cache[name] = name == "sphere_outer" ? tools::sphere_mesh(1.0, 40)
-                  : name == "sphere_inner" ? tools::sphere_mesh(0.9, 40)
-                                           : tools::demo_mesh(name, source);
+    tools::Mesh& m = cache[name];
+    if (name == "sphere_outer") m = tools::sphere_mesh(1.0, 40);
+    else if (name == "sphere_inner") m = tools::sphere_mesh(0.9, 40);
+    else if (name.find(".off") == std::string::npos || !tools::cgal_demo_mesh(name, m)) m = tools::demo_mesh(name, source);
   }
   return cache[name];
+}
+
+double diagonal(const tools::Mesh& m) {
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
+  for (const auto& t : m.triangles)
+    for (int k : t) lo = lo.cwiseMin(m.vertices[size_t(k)]), hi = hi.cwiseMax(m.vertices[size_t(k)]);
+  return (hi - lo).norm();
 }
 
 // A scene: mesh A, mesh B and B's poses.
 struct Scene {
   std::string a, b;
+  bool banded = false;  ///< banded_poses, not bench_poses
 };
 
+constexpr int kBandedPoses = 99;
+
 std::vector<Pose> poses_of(const Scene& scene) {
+  if (scene.banded) {  // the same poses for both methods: built once per scene
+    static std::map<std::string, std::vector<Pose>> cache;
+    std::vector<Pose>& poses = cache[scene.a + "|" + scene.b];
+    if (poses.empty()) {
+      const tools::Mesh &ma = mesh(scene.a), &mb = mesh(scene.b);
+      Octree A, B;
+      build_octree(ma.vertices, ma.triangles, A);
+      build_octree(mb.vertices, mb.triangles, B);
+      poses = tools::banded_poses(A, B, std::min(diagonal(ma), diagonal(mb)), 2026, kBandedPoses);
+    }
+    return poses;
+  }
   std::vector<Pose> poses = bench_poses();
   if (scene.a == "sphere_outer")
     for (Pose& p : poses) p.translation *= 1e-3 / 0.3;  // nearly concentric
   return poses;
 }
 
-void report_median(benchmark::State& state, std::vector<double>& us) {
-  std::sort(us.begin(), us.end());
-  state.counters["median_us"] = us[us.size() / 2];
-  state.counters["max_us"] = us.back();
+double median(std::vector<double> x) {
+  std::sort(x.begin(), x.end());
+  return x.empty() ? 0.0 : x[x.size() / 2];
+}
+
+// us[k]: the times of the k-th query, pose k % poses; culled[k] its least culled percentage.
+void report(benchmark::State& state, const Scene& scene, const std::vector<double>& us, const std::vector<double>& culled) {
+  state.counters["median_us"] = median(us);
+  state.counters["max_us"] = *std::max_element(us.begin(), us.end());
+  if (!scene.banded) return;
+  for (int band = 0; band < 3; ++band) {
+    std::vector<double> t, c;
+    for (size_t k = 0; k < us.size(); ++k)
+      if (tools::band_of(int(k % kBandedPoses), kBandedPoses) == band) {
+        t.push_back(us[k]);
+        if (!culled.empty()) c.push_back(culled[k]);
+      }
+    const std::string name = band == 0 ? "contact" : band == 1 ? "near" : "far";
+    state.counters[name + "_median_us"] = median(t);
+    state.counters[name + "_max_us"] = *std::max_element(t.begin(), t.end());
+    if (!c.empty()) state.counters[name + "_culled_pct"] = median(c);
+  }
 }
 
 void Minksum(benchmark::State& state, Scene scene) {
@@ -70,21 +118,24 @@ void Minksum(benchmark::State& state, Scene scene) {
   MeshWorkspace ws;
   make_workspace(A, B, ws);
   const auto poses = poses_of(scene);
-  std::vector<double> us;
-  double culled = 100, node_pairs = 0, triangle_pairs = 0;
+  std::vector<double> us, culled;
+  double node_pairs = 0, leaf_pairs = 0, triangle_pairs = 0;
   size_t k = 0;
   for (auto _ : state) {
     MeshDistance d;
     const auto t0 = std::chrono::steady_clock::now();
     mesh_distance(A, B, poses[k++ % poses.size()], ws, d);
     us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
-    culled = std::min({culled, d.culled_percent_a, d.culled_percent_b});
-    node_pairs += double(d.node_pairs), triangle_pairs += double(d.triangle_pairs);
+    culled.push_back(std::min(d.culled_percent_a, d.culled_percent_b));
+    node_pairs += double(d.node_pairs), leaf_pairs += double(d.leaf_pairs), triangle_pairs += double(d.triangle_pairs);
   }
-  report_median(state, us);
-  state.counters["min_culled_pct"] = culled;
+  report(state, scene, us, culled);
+  state.counters["min_culled_pct"] = *std::min_element(culled.begin(), culled.end());
+  state.counters["median_culled_pct"] = median(culled);
   state.counters["node_pairs"] = node_pairs / double(us.size());
+  state.counters["leaf_pairs"] = leaf_pairs / double(us.size());
   state.counters["triangle_pairs"] = triangle_pairs / double(us.size());
+  state.counters["bytes_per_triangle"] = double(A.bytes()) / double(ma.triangles.size());
 }
 
 void Fcl(benchmark::State& state, Scene scene) {
@@ -98,7 +149,8 @@ void Fcl(benchmark::State& state, Scene scene) {
     benchmark::DoNotOptimize(fcl.distance(poses[k++ % poses.size()]));
     us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
   }
-  report_median(state, us);
+  report(state, scene, us, {});
+  state.counters["bytes_per_triangle"] = double(fcl.bytes_a()) / double(ma.triangles.size());
 }
 
 void Build(benchmark::State& state, std::string name) {
@@ -119,6 +171,15 @@ const int kRegistered = [] {
     benchmark::RegisterBenchmark((base + "minksum").c_str(), Minksum, scene)->Unit(benchmark::kMicrosecond)->Iterations(300);
     benchmark::RegisterBenchmark((base + "fcl_obbrss").c_str(), Fcl, scene)->Unit(benchmark::kMicrosecond)->Iterations(300);
     benchmark::RegisterBenchmark((std::string("MeshBuild/") + label).c_str(), Build, file)->Unit(benchmark::kMillisecond);
+  }
+  // Banded poses: the bunny, and libcgal-demo meshes of other shapes paired (every one used).
+  for (auto [label, a, b] : {std::tuple{"bunny", "bun_zipper.ply", "bun_zipper.ply"}, std::tuple{"camel_bull", "camel.off", "bull.off"},
+                             std::tuple{"femur_turbine", "femur.off", "turbine.off"}, std::tuple{"fandisk_blade", "fandisk.off", "blade.off"},
+                             std::tuple{"blade_camel", "blade.off", "camel.off"}, std::tuple{"turbine_bull", "turbine.off", "bull.off"}}) {
+    const std::string base = std::string("MeshDistance/") + label + "/";
+    const Scene scene{a, b, true};
+    benchmark::RegisterBenchmark((base + "minksum").c_str(), Minksum, scene)->Unit(benchmark::kMicrosecond)->Iterations(3 * kBandedPoses);
+    benchmark::RegisterBenchmark((base + "fcl_obbrss").c_str(), Fcl, scene)->Unit(benchmark::kMicrosecond)->Iterations(3 * kBandedPoses);
   }
   return 0;
 }();

@@ -7,6 +7,7 @@
 #include <assimp/Importer.hpp>
 #include <assimp/LogStream.hpp>
 #include <assimp/scene.h>
+#include <Eigen/Geometry>
 #include <zlib.h>
 
 #include <algorithm>
@@ -17,6 +18,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <sstream>
 
 namespace minksum::tools {
@@ -153,6 +155,20 @@ bool tar_member(const std::string& archive, const std::string& member, std::stri
   return found;
 }
 
+// (libcgal-demo installs it there; its own doc directory is a link to that one.)
+constexpr const char* kDemoArchive = "/usr/share/doc/libcgal-dev/data.tar.gz";
+
+// data/meshes/<name> of libcgal-demo's archive, as it is.
+bool read_demo_archive(const std::string& name, Mesh& mesh) {
+  std::string text, error;
+  std::istringstream stream;
+  const std::string ext = std::filesystem::path(name).extension().string();
+  mesh = Mesh{};
+  return tar_member(kDemoArchive, "data/meshes/" + name, text) && (stream.str(text), true) && !ext.empty() &&
+         read_polygons(stream, kDemoArchive, ext.substr(1), mesh.vertices, &mesh.triangles, error) &&
+         !mesh.triangles.empty();
+}
+
 // A torus of 48 x 24 quads (2,304 triangles), radii 1 and 0.35.
 Mesh torus() {
   Mesh m;
@@ -172,6 +188,52 @@ Mesh torus() {
 }
 
 }  // namespace
+
+bool cgal_demo_mesh(const std::string& name, Mesh& mesh) {
+  if (!read_demo_archive(name, mesh)) return false;
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const auto& t : mesh.triangles)
+    for (int k : t) lo = lo.cwiseMin(mesh.vertices[size_t(k)]), hi = hi.cwiseMax(mesh.vertices[size_t(k)]);
+  const Eigen::Vector3d center = (lo + hi) / 2;
+  const double scale = 1 / (hi - lo).norm();
+  for (auto& v : mesh.vertices) v = (v - center) * scale;
+  return true;
+}
+
+std::vector<Pose> banded_poses(const Octree& a, const Octree& b, double size, unsigned seed, int count) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1), unit(0, 1);
+  MeshWorkspace ws;
+  make_workspace(a, b, ws);
+  const double reach = std::sqrt(3.0) * (a.nodes[0].half + b.nodes[0].half);  // beyond: apart
+  std::vector<Pose> poses;
+  while (int(poses.size()) < count) {
+    const int band = band_of(int(poses.size()), count);
+    Pose p;
+    p.rotation = Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized().toRotationMatrix();
+    const Eigen::Vector3d dir = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
+    const Eigen::Vector3d base = a.nodes[0].center - p.rotation * b.nodes[0].center;
+    const auto distance = [&](double s) {
+      p.translation = base + s * dir;
+      MeshDistance d;
+      mesh_distance(a, b, p, ws, d);
+      return d.distance;
+    };
+    // Target distance, or (contact) the depth to move in from first touching.
+    const double target = size * (band == 0 ? 0.002 + 0.048 * unit(rng) : band == 1 ? 0.001 + 0.049 * unit(rng)
+                                                                            : 0.05 + 0.45 * unit(rng));
+    if (distance(0) > 0) continue;  // nested, not crossing: another direction
+    double lo = 0, hi = reach + target;  // distance(lo) <= goal < distance(hi)
+    const double goal = band == 0 ? 0 : target;
+    for (int k = 0; k < 60 && hi - lo > 1e-13 * size; ++k) {
+      const double mid = (lo + hi) / 2;
+      (distance(mid) <= goal ? lo : hi) = mid;
+    }
+    const double d = distance(band == 0 ? lo - target : hi);
+    if (band == 0 ? d == 0 : d > 0 && (band == 1 ? d < 0.05 * size : d >= 0.05 * size)) poses.push_back(p);
+  }
+  return poses;
+}
 
 Mesh sphere_mesh(double radius, int rings) {
   Mesh m;
@@ -249,13 +311,8 @@ Mesh demo_mesh(const std::string& name, std::string& source) {
       }
     if (dir == dir.root_path() || dir.empty()) break;
   }
-  const std::string archive = "/usr/share/doc/libcgal-dev/data.tar.gz";
-  std::string off;
-  std::istringstream off_stream;
-  if (tar_member(archive, "data/meshes/bunny00.off", off) && (off_stream.str(off), true) &&
-      read_polygons(off_stream, archive, "off", mesh.vertices, &mesh.triangles, error) &&
-      !mesh.triangles.empty()) {
-    source = archive + ":data/meshes/bunny00.off";
+  if (read_demo_archive("bunny00.off", mesh)) {
+    source = std::string(kDemoArchive) + ":data/meshes/bunny00.off";
     return mesh;
   }
   source = "generated torus (no ../shared/data, no libcgal-demo)";

@@ -24,6 +24,20 @@ bool read_mesh(const std::string& path, Mesh& mesh, std::string& error);
 /// torus. `source` says which one was used.
 Mesh demo_mesh(const std::string& name, std::string& source);
 
+/// A mesh of Debian's libcgal-demo, data/meshes/`name` in its data.tar.gz (e.g. "camel.off"),
+/// moved and scaled so that its bounding box is centred at the origin with diagonal 1; false if
+/// the package or the member is absent.
+bool cgal_demo_mesh(const std::string& name, Mesh& mesh);
+
+/// Seeded poses of mesh B against mesh A in three bands of `size` (say the smaller mesh's
+/// bounding-box diagonal): the first third intersect (up to 5 % deep), the second are apart by
+/// less than 5 %, the rest by 5-50 %. Each has a random rotation and direction; B is moved along
+/// the direction by bisection on mesh_distance to a random distance in its band.
+std::vector<Pose> banded_poses(const Octree& a, const Octree& b, double size, unsigned seed, int count);
+
+/// The band of the k-th of `count` banded poses: 0 contact, 1 near (< 5 %), 2 far.
+inline int band_of(int k, int count) { return 3 * k / count; }
+
 /// A UV sphere about the origin: a vertex at each pole, rings - 1 circles of 2 rings vertices,
 /// 4 rings (rings - 1) triangles.
 Mesh sphere_mesh(double radius, int rings);
