@@ -135,6 +135,10 @@ double triangle_distance(const Vector3d (&s_in)[3], const Vector3d (&t_in)[3], V
 
 namespace {
 
+// Deepest level an octree may have (the bound of mesh_contact's stack; a cube 2^-20 of the
+// root's is far below any leaf the adaptive rule keeps).
+constexpr int kDepthCap = 20;
+
 // The node's tight box (its cube clipped to its triangles' bounding box) and its slab along the
 // triangles' area-weighted mean normal (any unit normal gives a valid slab; a flat patch a thin
 // one). Both hold the parts of the triangles inside the cube, since they hold the triangles.
@@ -191,8 +195,7 @@ Status build_octree(const std::vector<Vector3d>& vertices,
   out = Octree{};
   if (triangles.empty()) return Status::TooFewPoints;
   if (options.max_depth < -1 || options.max_depth > 24 || options.leaf_size < 1) return Status::InvalidMesh;
-  const int max_depth = options.max_depth >= 0 ? options.max_depth
-                        : std::max(1, int(std::floor(std::log(triangles.size() / 128.0) / std::log(4.0))));
+  const int max_depth = options.max_depth >= 0 ? options.max_depth : kDepthCap;
   for (const auto& v : vertices)
     if (!finite(v)) return Status::NonFinite;
   for (const auto& v : vertices)
@@ -248,7 +251,7 @@ Status build_octree(const std::vector<Vector3d>& vertices,
     std::vector<int> list = std::move(lists[i]);
     out.depth = std::max(out.depth, level[i]);
     fit_bounds(vertices, triangles, list, out.nodes[i]);
-    if (int(list.size()) <= options.leaf_size || level[i] >= max_depth) {
+    const auto make_leaf = [&] {
       out.nodes[i].first = int(out.items.size());
       out.nodes[i].count = int(list.size());
       out.items.insert(out.items.end(), list.begin(), list.end());
@@ -263,6 +266,9 @@ Status build_octree(const std::vector<Vector3d>& vertices,
       for (int k : used) out.corners.push_back(vertices[k]);
       ++out.leaves;
       out.max_leaf = std::max(out.max_leaf, int(list.size()));
+    };
+    if (int(list.size()) <= options.leaf_size || level[i] >= max_depth) {
+      make_leaf();
       continue;
     }
     const Vector3d c = out.nodes[i].center;
@@ -288,6 +294,15 @@ Status build_octree(const std::vector<Vector3d>& vertices,
       for (int lane = 0; lane < 8 * n; ++lane)
         if (hits->hit[lane]) sub[lane % 8].push_back(list[first + lane / 8]);
     }
+    // Adaptive: split only where it separates the triangles. A split whose largest child keeps
+    // nearly all of them (triangles longer than the cube: a thin tube, a sliver fan) or that
+    // lists them many times over would cost node pairs and gain no pruning: a leaf instead.
+    size_t largest = 0, listed = 0;
+    for (const auto& x : sub) largest = std::max(largest, x.size()), listed += x.size();
+    if (10 * largest > 9 * list.size() || listed > 3 * list.size()) {
+      make_leaf();
+      continue;
+    }
     const int first_child = int(out.nodes.size());
     for (int octant = 0; octant < 8; ++octant) {
       if (sub[octant].empty()) continue;
@@ -306,10 +321,18 @@ Status build_octree(const std::vector<Vector3d>& vertices,
   return Status::Ok;
 }
 
+namespace {
+
+// The node pairs of the search wait in a heap of kHeapPairs, nearest bound first; past that it
+// goes on depth first, where each split pops one pair and pushes at most 8: the stack never
+// grows by more than 7 per level of the current path plus one.
+constexpr size_t kHeapPairs = 4096;
+size_t queue_capacity(const Octree& a, const Octree& b) { return kHeapPairs + size_t(8 * (a.depth + b.depth) + 16); }
+
+}  // namespace
+
 void make_workspace(const Octree& a, const Octree& b, MeshWorkspace& ws) {
-  // Depth first, each split pops one pair and pushes at most 8: the stack never holds more than
-  // 7 per level of the current path plus one.
-  ws.stack.assign(size_t(8 * (a.depth + b.depth) + 16), MeshWorkspace::Entry{});
+  ws.stack.assign(queue_capacity(a, b), MeshWorkspace::Entry{});
   ws.moved_center.assign(b.triangles.size(), Vector3d::Zero());
   ws.center_stamp.assign(b.triangles.size(), 0);
   ws.seen_a.assign(a.triangles.size(), 0);
@@ -347,7 +370,7 @@ Status search(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace&
       ws.center_stamp.size() != b.triangles.size() ||
       ws.hits.size() < size_t(b.max_leaf) || ws.near_r.size() < size_t(b.max_leaf) ||
       ws.near_lo.size() < size_t(b.max_leaf) || ws.proj_b.size() < size_t(b.max_leaf) || ws.proj_a.size() < size_t(a.max_leaf) || ws.pass_a.size() < size_t(a.max_leaf) ||
-      ws.near_normal.size() < size_t(b.max_leaf) || ws.near_corners.size() < size_t(3 * b.max_leaf) || ws.stack.size() < size_t(8 * (a.depth + b.depth) + 16))
+      ws.near_normal.size() < size_t(b.max_leaf) || ws.near_corners.size() < size_t(3 * b.max_leaf) || ws.stack.size() < queue_capacity(a, b))
     return Status::InvalidMesh;  // a workspace made for other octrees
   if (++ws.stamp == 0) {  // stamps wrapped: forget every old mark
     std::fill(ws.center_stamp.begin(), ws.center_stamp.end(), 0u);
@@ -413,13 +436,35 @@ Status search(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace&
     });
   };
   bool first_leaf_pair = true;
+  // Best first: node pairs leave the heap nearest bound first, so the leaf pair that holds the
+  // answer is opened before any pair whose bound exceeds it, and `best` is tight early (with
+  // the answer known from the start, the search costs a fifth on the bunny: the loose `best`
+  // of a depth-first search opened leaf pairs it did not need). The heap is fixed-size: when
+  // it is full, it is sorted farthest first and the search goes on depth first on that stack
+  // (nearest on top), as exact, with a bounded stack (queue_capacity).
+  using Entry = MeshWorkspace::Entry;
+  Entry* queue = ws.stack.data();
+  const auto farther = [](const Entry& x, const Entry& y) { return x.bound2 > y.bound2; };
   size_t top = 0;
-  ws.stack[top++] = {0, 0, bound2(0, 0)};
+  bool heap = true;
+  const auto push = [&](const Entry& e) {
+    if (heap && top == kHeapPairs) {
+      std::sort(queue, queue + top, farther);
+      heap = false;
+    }
+    queue[top++] = e;
+    if (heap) std::push_heap(queue, queue + top, farther);
+  };
+  push({0, 0, bound2(0, 0)});
   out.node_pairs = 1;
   while (top > 0) {
-    const MeshWorkspace::Entry e = ws.stack[--top];
+    if (heap) std::pop_heap(queue, queue + top, farther);
+    const Entry e = queue[--top];
     const int i = e.a, j = e.b;
-    if (e.bound2 >= best * best) continue;  // a nearer pair was found since it was pushed
+    if (e.bound2 >= best * best) {  // a nearer pair was found since it was pushed
+      if (heap) break;              // and the rest are no nearer
+      continue;
+    }
     const Octree::Node &na = a.nodes[i], &nb = b.nodes[j];
     if (na.first_child < 0 && nb.first_child < 0) {
       if (first_leaf_pair) {  // the paper's U: the maximum distance of the first leaf pair
@@ -461,6 +506,7 @@ Status search(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace&
       // Pruned where the separation exceeds best * |axis| (NaN while best is infinite and the
       // axis zero: then nothing is pruned; for a zero axis every separation is 0).
       if (lo_b - hi_a > best * axis_len) continue;
+      ++out.leaf_pairs;
       const Vector3d* corners_a = &a.item_corners[size_t(3) * size_t(na.first)];
       const Vector3d* corners_b = &b.item_corners[size_t(3) * size_t(nb.first)];
       for (int x = 0; x < na.count; ++x) {
@@ -501,10 +547,9 @@ Status search(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace&
         const Vector3d* ca3 = corners_a + 3 * x;
         const Vector3d sa[3] = {ca3[0], ca3[1], ca3[2]};
         if (!slab_near(slab_b, shift_b, nb, sa)) continue;
-        int k = pass++;
-        for (; k > 0 && ws.proj_a[ws.pass_a[k - 1]] < ws.proj_a[x]; --k) ws.pass_a[k] = ws.pass_a[k - 1];
-        ws.pass_a[k] = x;
+        ws.pass_a[pass++] = x;
       }
+      std::sort(ws.pass_a.begin(), ws.pass_a.begin() + pass, [&](int x, int y) { return ws.proj_a[x] > ws.proj_a[y]; });
       for (int p = 0; p < pass && best > 0; ++p) {
         const int x = ws.pass_a[p];
         const double top_a = ws.proj_a[x];
@@ -559,10 +604,9 @@ Status search(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace&
       ++out.node_pairs;
       if (b2 < best * best) kids[n++] = {b2, c};
     }
-    for (int k = 1; k < n; ++k)  // insertion sort, farthest first
+    for (int k = 1; k < n; ++k)  // insertion sort, farthest first (nearest on top when depth first)
       for (int m = k; m > 0 && kids[m - 1].first < kids[m].first; --m) std::swap(kids[m - 1], kids[m]);
-    for (int k = 0; k < n; ++k)
-      ws.stack[top++] = {split_a ? kids[k].second : i, split_a ? j : kids[k].second, kids[k].first};
+    for (int k = 0; k < n; ++k) push({split_a ? kids[k].second : i, split_a ? j : kids[k].second, kids[k].first});
   }
   out.distance = best;
   out.intersecting = best == 0;

@@ -12,12 +12,12 @@
 
 namespace minksum {
 
-/// How an octree is built. Defaults suit meshes of 10^3 - 10^5 triangles.
+/// How an octree is built. The octree adapts to the mesh: a node is split while it holds more
+/// than leaf_size triangles and the split separates them (no child keeps over 90 % of them and
+/// they are listed at most 3 times over), so leaves follow the local density.
 struct OctreeOptions {
-  /// Levels below the root, at most; -1 (the default): floor(log4(triangles / 128)), at least 1,
-  /// which puts about 64-256 triangles in a leaf of a surface mesh (measured best on the bunnies).
-  int max_depth = -1;
-  int leaf_size = 16;  ///< a node with more triangles than this is split (until max_depth)
+  int max_depth = -1;   ///< levels below the root, at most (-1: 20; at most 24)
+  int leaf_size = 64;   ///< a node with more triangles than this is split if that separates them
 };
 
 /// An octree of cubes over one triangle mesh, in flat arrays (built once, read-only after).
@@ -106,14 +106,15 @@ struct MeshDistance {
   bool intersecting = false;  ///< the meshes share a point
   double first_bound = 0;     ///< U of the first leaf pair reached (its cubes' max distance)
   long node_pairs = 0;        ///< node pairs whose bound was evaluated
+  long leaf_pairs = 0;        ///< leaf pairs opened (their triangles tested)
   long triangle_pairs = 0;    ///< exact triangle-triangle distances computed
   int candidates_a = 0, candidates_b = 0;  ///< distinct triangles that reached that stage
   double culled_percent_a = 0, culled_percent_b = 0;  ///< 100 * (1 - candidates / triangles)
 };
 
-/// Exact minimum distance between mesh A and mesh B placed by `pose`: depth-first
-/// branch-and-bound over node pairs, nearest first, pruning pairs whose cube distance bound
-/// reaches the best triangle distance found so far. No allocation with a workspace from
+/// Exact minimum distance between mesh A and mesh B placed by `pose`: best-first
+/// branch-and-bound over node pairs (a fixed-size heap, then depth first if it fills), pruning
+/// pairs whose distance bound reaches the best triangle distance found so far. No allocation with a workspace from
 /// make_workspace(a, b); InvalidBox for a pose that is not a finite proper rotation.
 Status mesh_distance(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace& ws,
                      MeshDistance& out);
