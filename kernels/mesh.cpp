@@ -331,6 +331,16 @@ size_t queue_capacity(const Octree& a, const Octree& b) { return kHeapPairs + si
 
 }  // namespace
 
+Status build_octree(const std::vector<Vector3d>& points, Octree& out, const OctreeOptions& options) {
+  // Nothing in the octree or the search needs an area: a zero-area triangle's box, slab and
+  // sphere bound its point, and triangle_distance takes degenerate triangles.
+  std::vector<std::array<int, 3>> triangles(points.size());
+  for (size_t k = 0; k < points.size(); ++k) triangles[k] = {int(k), int(k), int(k)};
+  const Status s = build_octree(points, triangles, out, options);
+  out.points = s == Status::Ok;
+  return s;
+}
+
 void make_workspace(const Octree& a, const Octree& b, MeshWorkspace& ws) {
   ws.stack.assign(queue_capacity(a, b), MeshWorkspace::Entry{});
   ws.moved_center.assign(b.triangles.size(), Vector3d::Zero());
@@ -429,6 +439,7 @@ Status search(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace&
     }
     return std::max(cheap, gx * gx);
   };
+  const bool clouds = a.points && b.points;
   detail::TrianglePairs pairs;  // (on the stack: no allocation)
   const auto flush = [&] {
     pairs.flush([&](double d, const Vector3d& pa, const Vector3d& pb, int ta, int tb) {
@@ -572,6 +583,14 @@ Status search(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace&
         }
         for (int h = 0; h < hits; ++h) {
           const int y = ws.hits[h], tb = ws.near_b[y];
+          if (clouds) {  // two points: their distance, no triangle kernel (bit-equal to it)
+            const double d = (sa[0] - ws.near_corners[3 * y]).norm();
+            ++out.triangle_pairs;
+            if (ws.seen_a[ta] != ws.stamp) ws.seen_a[ta] = ws.stamp, ++out.candidates_a;
+            if (ws.seen_b[tb] != ws.stamp) ws.seen_b[tb] = ws.stamp, ++out.candidates_b;
+            if (d < best) best = d, out.point_a = sa[0], out.point_b = ws.near_corners[3 * y], out.triangle_a = ta, out.triangle_b = tb;
+            continue;
+          }
           const Vector3d sb[3] = {ws.near_corners[3 * y], ws.near_corners[3 * y + 1], ws.near_corners[3 * y + 2]};
           // Separation along the centre line: a lower bound as tight as the triangles are flat
           // (squared, so no root: gap >= best |axis|).

@@ -52,6 +52,7 @@ struct Octree {
   int depth = 0;                                 ///< deepest level reached
   int leaves = 0;                                ///< number of leaves
   int max_leaf = 0;                              ///< most triangles in one leaf
+  bool points = false;                           ///< built from a point cloud (every triangle a point)
   size_t bytes() const;                          ///< memory held by the arrays
 };
 
@@ -62,6 +63,13 @@ struct Octree {
 Status build_octree(const std::vector<Eigen::Vector3d>& vertices,
                     const std::vector<std::array<int, 3>>& triangles, Octree& out,
                     const OctreeOptions& options = {});
+
+/// Builds the octree of a point cloud (points without faces, as from a scanner, the paper's
+/// Section 5.1 closing remark): point k becomes the zero-area triangle (k, k, k), so
+/// mesh_distance gives the exact closest pair of points of two clouds, or of a cloud and a mesh,
+/// and triangle_a/b name the points. Duplicate points are listed once; the same rejections as
+/// for a mesh (TooFewPoints for no points).
+Status build_octree(const std::vector<Eigen::Vector3d>& points, Octree& out, const OctreeOptions& options = {});
 
 /// Rigid placement of mesh B in mesh A's frame: x_A = rotation * x_B + translation.
 struct Pose {
