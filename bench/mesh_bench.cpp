@@ -12,6 +12,10 @@
 // bounding-box diagonal), 99 poses: 33 intersecting, 33 apart by less than 5 % of the smaller
 // mesh's diagonal (the near band, where haptics lives), 33 farther. Counters per band: median
 // and worst us, minksum's median culled percentage; bytes per triangle of each structure.
+//
+// PointDistance/<pair>/minksum|nanoflann: clouds sampled from the same meshes' surfaces (50K to
+// 200K points), the same banded poses; the exact closest pair of points, both structures built
+// beforehand (PointBuild/<cloud>/minksum|nanoflann times the builds, with bytes per point).
 #include <benchmark/benchmark.h>
 #include <minksum/minksum.hpp>
 
@@ -22,6 +26,7 @@
 #include <tuple>
 
 #include "fcl_peer.hpp"
+#include "nanoflann_peer.hpp"
 #include "tools/mesh_io.hpp"
 
 namespace {
@@ -162,6 +167,71 @@ void Build(benchmark::State& state, std::string name) {
   }
 }
 
+// A cloud of `count` points sampled from a mesh's surface (seeded), cached.
+const std::vector<Eigen::Vector3d>& cloud(const std::string& name, int count) {
+  static std::map<std::pair<std::string, int>, std::vector<Eigen::Vector3d>> cache;
+  auto& c = cache[{name, count}];
+  if (c.empty()) c = tools::sample_surface(mesh(name), count, 2026);
+  return c;
+}
+
+struct CloudScene {
+  std::string a, b;  // the meshes sampled
+  int na = 0, nb = 0;  // points per cloud
+};
+
+void PointMinksum(benchmark::State& state, CloudScene scene) {
+  const auto &ca = cloud(scene.a, scene.na), &cb = cloud(scene.b, scene.nb);
+  Octree A, B;
+  build_octree(ca, A);
+  build_octree(cb, B);
+  MeshWorkspace ws;
+  make_workspace(A, B, ws);
+  const auto poses = poses_of(Scene{scene.a, scene.b, true});
+  std::vector<double> us, culled;
+  size_t k = 0;
+  for (auto _ : state) {
+    MeshDistance d;
+    const auto t0 = std::chrono::steady_clock::now();
+    mesh_distance(A, B, poses[k++ % poses.size()], ws, d);
+    us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
+    culled.push_back(std::min(d.culled_percent_a, d.culled_percent_b));
+  }
+  report(state, Scene{scene.a, scene.b, true}, us, culled);
+  state.counters["median_culled_pct"] = median(culled);
+}
+
+void PointNanoflann(benchmark::State& state, CloudScene scene) {
+  const auto &ca = cloud(scene.a, scene.na), &cb = cloud(scene.b, scene.nb);
+  peers::NanoflannCloudPair pair(ca, cb);
+  const auto poses = poses_of(Scene{scene.a, scene.b, true});
+  std::vector<double> us;
+  size_t k = 0;
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    benchmark::DoNotOptimize(pair.distance(poses[k++ % poses.size()]));
+    us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
+  }
+  report(state, Scene{scene.a, scene.b, true}, us, {});
+}
+
+void PointBuildMinksum(benchmark::State& state, std::pair<std::string, int> what) {
+  const auto& c = cloud(what.first, what.second);
+  for (auto _ : state) {
+    Octree A;
+    build_octree(c, A);
+    state.counters["bytes_per_point"] = double(A.bytes()) / double(c.size());
+  }
+}
+
+void PointBuildNanoflann(benchmark::State& state, std::pair<std::string, int> what) {
+  const auto& c = cloud(what.first, what.second);
+  for (auto _ : state) {
+    peers::NanoflannCloudPair pair(c, {});  // the tree goes on the larger cloud: this one
+    state.counters["bytes_per_point"] = double(pair.bytes()) / double(c.size());
+  }
+}
+
 const int kRegistered = [] {
   for (auto [label, file] : {std::pair{"bunny_res2", "bun_zipper_res2.ply"}, std::pair{"bunny_full", "bun_zipper.ply"},
                              std::pair{"concentric_spheres", "sphere_outer"}}) {
@@ -180,6 +250,17 @@ const int kRegistered = [] {
     const Scene scene{a, b, true};
     benchmark::RegisterBenchmark((base + "minksum").c_str(), Minksum, scene)->Unit(benchmark::kMicrosecond)->Iterations(3 * kBandedPoses);
     benchmark::RegisterBenchmark((base + "fcl_obbrss").c_str(), Fcl, scene)->Unit(benchmark::kMicrosecond)->Iterations(3 * kBandedPoses);
+  }
+  for (const CloudScene& c : {CloudScene{"camel.off", "bull.off", 100000, 100000}, CloudScene{"femur.off", "turbine.off", 50000, 200000},
+                              CloudScene{"fandisk.off", "blade.off", 150000, 150000}}) {
+    const std::string base = "PointDistance/" + c.a.substr(0, c.a.size() - 4) + "_" + c.b.substr(0, c.b.size() - 4) + "/";
+    benchmark::RegisterBenchmark((base + "minksum").c_str(), PointMinksum, c)->Unit(benchmark::kMicrosecond)->Iterations(kBandedPoses);
+    benchmark::RegisterBenchmark((base + "nanoflann").c_str(), PointNanoflann, c)->Unit(benchmark::kMicrosecond)->Iterations(kBandedPoses);
+    for (const auto& [name, n] : {std::pair{c.a, c.na}, std::pair{c.b, c.nb}}) {
+      const std::string label = "PointBuild/" + name.substr(0, name.size() - 4) + "_" + std::to_string(n / 1000) + "k/";
+      benchmark::RegisterBenchmark((label + "minksum").c_str(), PointBuildMinksum, std::pair{name, n})->Unit(benchmark::kMillisecond)->Iterations(3);
+      benchmark::RegisterBenchmark((label + "nanoflann").c_str(), PointBuildNanoflann, std::pair{name, n})->Unit(benchmark::kMillisecond)->Iterations(3);
+    }
   }
   return 0;
 }();

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -39,7 +40,7 @@ std::string json(const MeshDistance& d, double time_us) {
 
 bool load_mesh(const std::string& path, tools::Mesh& mesh) {
   std::string error;
-  if (tools::read_mesh(path, mesh, error)) return true;
+  if (tools::read_mesh(path, mesh, error, true)) return true;  // faceless PLY, OFF, OBJ, XYZ: a cloud
   std::fprintf(stderr, "minksum: %s\n", error.c_str());
   return false;
 }
@@ -90,9 +91,15 @@ int cmd_distance(int argc, char** argv) {
     poses.push_back(mesh_pose(p));
   } else {
     // B beside A: shifted along +x by 1.1 x A's bounding-box width.
-    Eigen::Vector3d lo = ma.vertices[ma.triangles[0][0]], hi = lo;
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
     for (const auto& t : ma.triangles)
       for (int v : t) lo = lo.cwiseMin(ma.vertices[v]), hi = hi.cwiseMax(ma.vertices[v]);
+    if (ma.triangles.empty())  // a cloud
+      for (const auto& v : ma.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+    if (!std::isfinite(hi.x() - lo.x())) {
+      std::fprintf(stderr, "minksum: %s: %s\n", files[0].c_str(), to_string(Status::NonFinite));
+      return 2;
+    }
     Pose p;
     p.translation.x() = 1.1 * (hi.x() - lo.x());
     poses.push_back(p);
@@ -102,18 +109,20 @@ int cmd_distance(int argc, char** argv) {
   const std::string names[2] = {files.empty() ? "demo mesh" : files[0], files.empty() ? "demo mesh" : files[1]};
   for (int k = 0; k < 2; ++k) {
     const tools::Mesh& mesh = k == 0 ? ma : mb;
-    if (const Status s = build_octree(mesh.vertices, mesh.triangles, k == 0 ? A : B); s != Status::Ok) {
+    if (const Status s = tools::build_tree(mesh, k == 0 ? A : B); s != Status::Ok) {
       std::fprintf(stderr, "minksum: %s: %s\n", names[k].c_str(), to_string(s));
       return 2;
     }
   }
   const double build_us = (now_us() - t0) / 2;
   const bool human = !as_json && poses_file.empty();  // else one JSON line per pose
+  const auto size = [](const tools::Mesh& m) {
+    return m.triangles.empty() ? std::to_string(m.vertices.size()) + " points" : std::to_string(m.triangles.size()) + " triangles";
+  };
   if (human)
-    std::printf("octrees: %zu and %zu triangles, depth %d and %d, %d and %d leaves, %.1f and %.1f KiB, "
-                "%.0f us per build\n",
-                ma.triangles.size(), mb.triangles.size(), A.depth, B.depth, A.leaves, B.leaves,
-                A.bytes() / 1024.0, B.bytes() / 1024.0, build_us);
+    std::printf("octrees: %s and %s, depth %d and %d, %d and %d leaves, %.1f and %.1f KiB, %.0f us per build\n",
+                size(ma).c_str(), size(mb).c_str(), A.depth, B.depth, A.leaves, B.leaves, A.bytes() / 1024.0,
+                B.bytes() / 1024.0, build_us);
   MeshWorkspace ws;
   make_workspace(A, B, ws);
   ProximityCache cache;  // --coherent: consecutive poses share it
@@ -131,8 +140,9 @@ int cmd_distance(int argc, char** argv) {
     if (!human) {
       std::printf("%s\n", json(d, time).c_str());
     } else {
-      std::printf("%s distance %.17g between triangles %d and %d (%s)\n", brute ? "all-pairs" : "octree",
-                  d.distance, d.triangle_a, d.triangle_b, d.intersecting ? "intersecting" : "separated");
+      std::printf("%s distance %.17g between %s %d and %s %d (%s)\n", brute ? "all-pairs" : "octree", d.distance,
+                  ma.triangles.empty() ? "point" : "triangle", d.triangle_a, mb.triangles.empty() ? "point" : "triangle",
+                  d.triangle_b, d.intersecting ? "intersecting" : "separated");
       std::printf("candidates %d and %d triangles (%.2f%% and %.2f%% culled), %ld node pairs, "
                   "%ld triangle pairs, %.1f us\n",
                   d.candidates_a, d.candidates_b, d.culled_percent_a, d.culled_percent_b, d.node_pairs,

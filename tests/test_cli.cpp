@@ -320,6 +320,33 @@ TEST(Cli, DistanceBetweenMeshes) {
   EXPECT_NE(demo.out.find("culled"), std::string::npos) << demo.out;
 }
 
+std::vector<double> field(const std::string& out, const std::string& key);
+
+// Files of vertices without faces (XYZ text, PLY) are point clouds: the closest pair of points,
+// and a cloud against a mesh, as all pairs give them.
+TEST(Cli, DistanceBetweenPointClouds) {
+  const std::string xyz = write("cloud.xyz", "0 0 0\n1 0 0\n1 0 0\n0 1 0\n");  // a duplicate point
+  const std::string ply = write("cloud.ply", "ply\nformat ascii 1.0\nelement vertex 2\nproperty double x\n"
+                                             "property double y\nproperty double z\nend_header\n0 0 3\n0.25 0 5\n");
+  // B moved by (1, 0, -1): its points at (1, 0, 2) and (1.25, 0, 4); the nearest is (1, 0, 0), 2 away.
+  for (const std::string mode : {"", " --brute"}) {
+    const CliRun r = run("distance " + xyz + " " + ply + " --pose \"1 0 0 0 1 0 -1\" --json" + mode);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(field(r.out, "distance"), std::vector<double>{2}) << r.out;
+  }
+  const CliRun human = run("distance " + xyz + " " + ply);
+  ASSERT_EQ(human.code, 0) << human.err;
+  EXPECT_NE(human.out.find("4 points and 2 points"), std::string::npos) << human.out;
+  // A cloud against a mesh (the cube [-1, 1]^3 of cube_off): the point (1, 0, 2) is 1 above it.
+  const CliRun mesh = run("distance " + cube_off("cloud_cube.off") + " " + ply + " --pose \"1 0 0 0 1 0 -1\" --json");
+  ASSERT_EQ(mesh.code, 0) << mesh.err;
+  EXPECT_NEAR(field(mesh.out, "distance").at(0), 1, 1e-15) << mesh.out;
+  expect_rejected("distance " + xyz + " " + write("cloud_nan.xyz", "0 0 0\n1 nan 0\n"), "cloud_nan.xyz:2:");
+  expect_rejected("distance " + xyz + " " + write("cloud_empty.ply", "ply\nformat ascii 1.0\nelement vertex 0\nproperty double x\n"
+                                                                      "property double y\nproperty double z\nend_header\n"),
+                  "no vertices");
+}
+
 TEST(Cli, DistanceRejectsBadInput) {
   const std::string a = cube_off("da.off");
   expect_rejected("distance " + a + " " + cube_off("dnan.off", "nan 0 1"), "dnan.off:10:");  // file:line

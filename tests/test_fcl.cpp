@@ -10,6 +10,8 @@
 #include "checks.hpp"
 #include "bullet_peer.hpp"
 #include "fcl_peer.hpp"
+#include "nanoflann_peer.hpp"
+#include "tools/mesh_io.hpp"
 #include "tools/shapes.hpp"
 
 namespace minksum {
@@ -94,6 +96,34 @@ TEST(VersusFclMeshes, BunnyRes2Distance) {
     separated += !got.intersecting;
   }
   EXPECT_GT(separated, n / 2);
+}
+
+// The point-cloud peer (nanoflann, one bounded nearest-neighbour query per point of the smaller
+// cloud) and the octree both equal every pair of points, with the tree on either cloud.
+TEST(VersusNanoflann, CloudsEqualBruteForce) {
+  const tools::Mesh bunny = test::test_mesh("bun_zipper_res4.ply", 16);
+  const tools::Mesh a{tools::sample_surface(bunny, 3000, 1), {}}, b{tools::sample_surface(bunny, 2000, 2), {}};
+  Octree A, B;
+  ASSERT_EQ(build_octree(a.vertices, A), Status::Ok);
+  ASSERT_EQ(build_octree(b.vertices, B), Status::Ok);
+  MeshWorkspace ws;
+  make_workspace(A, B, ws);
+  peers::NanoflannCloudPair ab(a.vertices, b.vertices), ba(b.vertices, a.vertices);
+  std::mt19937_64 rng(23);
+  const int n = test::scaled(20);
+  for (int k = 0; k < n; ++k) {
+    const Pose pose = test::random_pose(rng, 0.02 + 0.2 * k / n);
+    const MeshDistance want = tools::brute_distance(a, b, pose);
+    MeshDistance got;
+    ASSERT_EQ(mesh_distance(A, B, pose, ws, got), Status::Ok);
+    EXPECT_NEAR(got.distance, want.distance, 1e-15) << "pose " << k;
+    int ia = -1, ib = -1;
+    EXPECT_NEAR(ab.distance(pose, &ia, &ib), want.distance, 1e-15) << "pose " << k;
+    EXPECT_NEAR((a.vertices[size_t(ia)] - (pose.rotation * b.vertices[size_t(ib)] + pose.translation)).norm(), want.distance, 1e-15);
+    Pose back;
+    back.rotation = pose.rotation.transpose(), back.translation = -(back.rotation * pose.translation);
+    EXPECT_NEAR(ba.distance(back), want.distance, 1e-15) << "pose " << k;
+  }
 }
 
 }  // namespace

@@ -83,7 +83,7 @@ class ErrorLog : public Assimp::LogStream {
 
 }  // namespace
 
-bool read_mesh(const std::string& path, Mesh& mesh, std::string& error) {
+bool read_mesh(const std::string& path, Mesh& mesh, std::string& error, bool cloud_ok) {
   // OFF, OBJ and PLY go through the strict reader (by extension, else by content): assimp
   // 5.2.5 crashes, hangs or aborts on some malformed OFF and PLY files (found by fuzzing) and
   // gives no line numbers. STL goes to assimp once it is shaped like an STL file.
@@ -98,8 +98,8 @@ bool read_mesh(const std::string& path, Mesh& mesh, std::string& error) {
   if (ext != ".stl") {
     if (!read_polygons(in, path, ext.empty() ? ext : ext.substr(1), mesh.vertices, &mesh.triangles, error))
       return false;
-    if (mesh.triangles.empty()) {
-      error = path + ": no triangles in the file";
+    if (mesh.triangles.empty() && !(cloud_ok && !mesh.vertices.empty())) {
+      error = path + (cloud_ok ? ": no points in the file" : ": no triangles in the file");
       return false;
     }
     return true;
@@ -258,8 +258,52 @@ Mesh sphere_mesh(double radius, int rings) {
   return m;
 }
 
-MeshDistance brute_distance(const Mesh& a, const Mesh& b, const Pose& pose) {
+Status build_tree(const Mesh& mesh, Octree& out) {
+  return mesh.triangles.empty() ? build_octree(mesh.vertices, out) : build_octree(mesh.vertices, mesh.triangles, out);
+}
+
+std::vector<Eigen::Vector3d> sample_surface(const Mesh& mesh, int count, unsigned seed) {
+  std::vector<double> area(mesh.triangles.size());
+  const auto corner = [&](size_t t, int k) { return mesh.vertices[size_t(mesh.triangles[t][size_t(k)])]; };
+  for (size_t t = 0; t < area.size(); ++t) area[t] = (corner(t, 1) - corner(t, 0)).cross(corner(t, 2) - corner(t, 0)).norm();
+  std::mt19937 rng(seed);
+  std::discrete_distribution<size_t> pick(area.begin(), area.end());
+  std::uniform_real_distribution<double> unit(0, 1);
+  std::vector<Eigen::Vector3d> points;
+  for (int k = 0; k < count; ++k) {
+    const size_t t = pick(rng);
+    double u = unit(rng), v = unit(rng);
+    if (u + v > 1) u = 1 - u, v = 1 - v;
+    points.push_back(corner(t, 0) + u * (corner(t, 1) - corner(t, 0)) + v * (corner(t, 2) - corner(t, 0)));
+  }
+  return points;
+}
+
+// Two clouds: every pair of points, |p - q| (the octree's path goes through triangle_distance).
+MeshDistance brute_cloud_distance(const Mesh& a, const Mesh& b, const Pose& pose) {
+  MeshDistance out;
+  out.distance = std::numeric_limits<double>::infinity();
+  for (size_t j = 0; j < b.vertices.size(); ++j) {
+    const Eigen::Vector3d q = pose.rotation * b.vertices[j] + pose.translation;
+    for (size_t i = 0; i < a.vertices.size(); ++i)
+      if (const double d = (a.vertices[i] - q).norm(); d < out.distance)
+        out.distance = d, out.point_a = a.vertices[i], out.point_b = q, out.triangle_a = int(i), out.triangle_b = int(j);
+  }
+  out.intersecting = out.distance == 0;
+  out.triangle_pairs = long(a.vertices.size() * b.vertices.size());
+  return out;
+}
+
+MeshDistance brute_distance(const Mesh& a_in, const Mesh& b_in, const Pose& pose) {
   using Eigen::Vector3d;
+  if (a_in.triangles.empty() && b_in.triangles.empty()) return brute_cloud_distance(a_in, b_in, pose);
+  const auto as_mesh = [](const Mesh& m) {
+    Mesh out = m;
+    if (out.triangles.empty())
+      for (size_t k = 0; k < out.vertices.size(); ++k) out.triangles.push_back({int(k), int(k), int(k)});
+    return out;
+  };
+  const Mesh a = as_mesh(a_in), b = as_mesh(b_in);
   std::vector<Vector3d> moved;
   for (const auto& v : b.vertices) moved.push_back(pose.rotation * v + pose.translation);
   // Bounding sphere of each triangle: centroid and largest corner distance.
@@ -275,12 +319,16 @@ MeshDistance brute_distance(const Mesh& a, const Mesh& b, const Pose& pose) {
   std::vector<double> ra, rb;
   spheres(a.vertices, a.triangles, ca, ra);
   spheres(moved, b.triangles, cb, rb);
+  // B's spheres in flat arrays: the skip test (squared: |c| > best + ra + rb) runs n^2 times.
+  std::vector<double> bx(cb.size()), by(cb.size()), bz(cb.size());
+  for (size_t j = 0; j < cb.size(); ++j) bx[j] = cb[j].x(), by[j] = cb[j].y(), bz[j] = cb[j].z();
   MeshDistance out;
   out.distance = std::numeric_limits<double>::infinity();
   for (size_t i = 0; i < a.triangles.size() && out.distance > 0; ++i) {
     const Vector3d s[3] = {a.vertices[a.triangles[i][0]], a.vertices[a.triangles[i][1]], a.vertices[a.triangles[i][2]]};
     for (size_t j = 0; j < b.triangles.size(); ++j) {
-      if ((ca[i] - cb[j]).norm() - ra[i] - rb[j] > out.distance) continue;
+      const double dx = bx[j] - ca[i].x(), dy = by[j] - ca[i].y(), dz = bz[j] - ca[i].z(), reach = out.distance + ra[i] + rb[j];
+      if (dx * dx + dy * dy + dz * dz > reach * reach) continue;
       const Vector3d t[3] = {moved[b.triangles[j][0]], moved[b.triangles[j][1]], moved[b.triangles[j][2]]};
       Vector3d p, q;
       ++out.triangle_pairs;

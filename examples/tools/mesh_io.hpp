@@ -8,7 +8,7 @@
 
 namespace minksum::tools {
 
-/// A triangle mesh as the library's octree takes it.
+/// A triangle mesh as the library's octree takes it; no triangles: a point cloud.
 struct Mesh {
   std::vector<Eigen::Vector3d> vertices;      ///< positions
   std::vector<std::array<int, 3>> triangles;  ///< vertex indices
@@ -16,8 +16,15 @@ struct Mesh {
 
 /// Reads a PLY, OBJ, OFF or STL mesh (polygons are triangulated; points and lines dropped;
 /// vertices kept as they are: no welding). STL is read by assimp, the others by read_polygons.
-/// On failure returns false and sets `error` to "path: what is wrong".
-bool read_mesh(const std::string& path, Mesh& mesh, std::string& error);
+/// With `cloud_ok`, a PLY, OFF, OBJ or XYZ text file of vertices without faces is a point cloud
+/// (no triangles). On failure returns false and sets `error` to "path: what is wrong".
+bool read_mesh(const std::string& path, Mesh& mesh, std::string& error, bool cloud_ok = false);
+
+/// The octree of a mesh, or of a point cloud (a Mesh without triangles).
+Status build_tree(const Mesh& mesh, Octree& out);
+
+/// `count` points on the mesh's surface, uniform by area (seeded).
+std::vector<Eigen::Vector3d> sample_surface(const Mesh& mesh, int count, unsigned seed);
 
 /// The demo mesh: `name` in ../shared/data (searched from the working directory up), else
 /// data/meshes/bunny00.off from Debian's libcgal-demo (its data.tar.gz), else a generated
@@ -44,6 +51,7 @@ Mesh sphere_mesh(double radius, int rings);
 
 /// All-pairs triangle distance (for checking mesh_distance): every pair is enumerated, a pair
 /// is skipped only if its bounding spheres are already farther apart than the best distance.
+/// A point cloud's points are zero-area triangles; two clouds: plain point-point distances.
 MeshDistance brute_distance(const Mesh& a, const Mesh& b, const Pose& pose);
 
 }  // namespace minksum::tools

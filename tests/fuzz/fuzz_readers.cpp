@@ -1,8 +1,8 @@
 // The file readers on arbitrary bytes, through a file as the CLI reads them: the vertex-file
 // reader (OFF, OBJ, PLY, text) and the mesh loader (PLY, OBJ, OFF: the strict reader; STL:
 // assimp after a shape check),
-// each followed by what the CLI does next (a hull; an octree and a distance query). Either a
-// clear error or a result without NaN.
+// each followed by what the CLI does next (a hull; an octree and a distance query; faceless
+// PLY, OFF, OBJ and text files as point clouds). Either a clear error or a result without NaN.
 #include "fuzz_common.hpp"
 
 #include <fstream>
@@ -36,13 +36,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
     return 0;
   }
+  // As `minksum distance` reads: a file of vertices without faces is a point cloud.
   tools::Mesh mesh;
-  if (!tools::read_mesh(file, mesh, error)) {
+  if (!tools::read_mesh(file, mesh, error, true)) {
     if (error.empty()) fuzz::fail("a failed mesh read without a message");
     return 0;
   }
   Octree tree;
-  if (build_octree(mesh.vertices, mesh.triangles, tree) != Status::Ok) return 0;  // e.g. NaN
+  if (tools::build_tree(mesh, tree) != Status::Ok) return 0;  // e.g. NaN
   MeshWorkspace ws;
   make_workspace(tree, tree, ws);
   // B: a copy turned about a generic axis and moved by a fraction of the mesh's size that the
@@ -50,6 +51,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   double extent = 0;
   for (const auto& t : mesh.triangles)
     for (int k : t) extent = std::max(extent, mesh.vertices[k].cwiseAbs().maxCoeff());
+  if (mesh.triangles.empty())
+    for (const auto& v : mesh.vertices) extent = std::max(extent, v.cwiseAbs().maxCoeff());
   Pose pose;
   pose.rotation = Eigen::AngleAxisd(0.1 + data[0] / 40.0, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
   pose.translation = Eigen::Vector3d(0.3, -0.2, 0.1) * extent * (data[size - 1] % 8) / 2.0;
@@ -57,7 +60,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (mesh_distance(tree, tree, pose, ws, d) != Status::Ok) return 0;
   if (!(d.distance >= 0 && std::isfinite(d.distance))) fuzz::fail("mesh distance not finite and >= 0");
   // The octree prunes with lower bounds only: it must find what all pairs find.
-  if (mesh.triangles.size() <= 300) {
+  if (std::max(mesh.triangles.size(), mesh.triangles.empty() ? mesh.vertices.size() : 0) <= 300) {
     const MeshDistance want = tools::brute_distance(mesh, mesh, pose);
     if (!(std::abs(d.distance - want.distance) <= 1e-12 * (1 + 4 * extent)))
       fuzz::fail("mesh distance differs from all pairs");

@@ -1,0 +1,30 @@
+// nanoflann (Debian's libnanoflann-dev), the kd-tree peer of the point-cloud distance: shared by
+// the benchmarks and the tests (it is checked against brute force too).
+#pragma once
+
+#include <minksum/mesh.hpp>
+
+#include <memory>
+#include <vector>
+
+namespace minksum::peers {
+
+/// Two point clouds and a kd-tree over the larger one, built once.
+class NanoflannCloudPair {
+ public:
+  /// Copies the clouds and builds the kd-tree (leaf size 10, nanoflann's default).
+  NanoflannCloudPair(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b);
+  ~NanoflannCloudPair();
+  /// The closest pair of points, B placed by the pose in A's frame: one nearest-neighbour query
+  /// per point of the smaller cloud, each bounded by the best distance so far (nanoflann prunes
+  /// with it). Returns the distance; ia, ib name the points.
+  double distance(const Pose& pose, int* ia = nullptr, int* ib = nullptr);
+  /// Bytes of the kd-tree: nanoflann's node pool and index array (the points are the caller's).
+  size_t bytes() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace minksum::peers

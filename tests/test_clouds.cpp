@@ -1,0 +1,211 @@
+// The adaptive octree on meshes of other shapes than the bunny (libcgal-demo's), point clouds and
+// degenerate meshes, all against brute force (tools::brute_distance: every pair, skipped only by
+// exact sphere bounds; two clouds: plain point-point distances).
+#include <gtest/gtest.h>
+#include <minksum/minksum.hpp>
+
+#include "checks.hpp"
+#include "tools/mesh_io.hpp"
+
+#include <cstdlib>
+#include <random>
+
+namespace {
+
+using namespace minksum;
+using Eigen::Vector3d;
+
+double diagonal(const tools::Mesh& m) {
+  Vector3d lo = Vector3d::Constant(1e300), hi = -lo;
+  for (const auto& v : m.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+  return (hi - lo).norm();
+}
+
+// The octree's answer equals brute force: the distance, the verdict, witnesses that realise it.
+void expect_brute(const tools::Mesh& ma, const Octree& A, const tools::Mesh& mb, const Octree& B, const Pose& pose,
+                  MeshWorkspace& ws, const std::string& what) {
+  MeshDistance got;
+  ASSERT_EQ(mesh_distance(A, B, pose, ws, got), Status::Ok) << what;
+  const MeshDistance want = tools::brute_distance(ma, mb, pose);
+  const double tol = 1e-12 * (1 + diagonal(ma) + pose.translation.norm());
+  ASSERT_NEAR(got.distance, want.distance, tol) << what;
+  ASSERT_EQ(got.intersecting, want.intersecting) << what;
+  EXPECT_NEAR((got.point_a - got.point_b).norm(), got.distance, tol) << what;
+}
+
+// The benchmark's mesh pairs (bench/mesh_bench.cpp), libcgal-demo's meshes scaled to a unit
+// diagonal.
+const std::vector<std::pair<std::string, std::string>> kPairs = {
+    {"camel.off", "bull.off"}, {"femur.off", "turbine.off"}, {"fandisk.off", "blade.off"},
+    {"blade.off", "camel.off"}, {"turbine.off", "bull.off"}};
+
+// `per_pair` banded poses of every pair (a third in contact, a third within 5 %, a third
+// farther), then two touching poses per mesh: a copy turned half a turn about the z axis through
+// its highest vertex (exact in binary: the vertex maps to itself), which shares that vertex, and
+// the same copy lifted 1e-9 of the size.
+void sweep(int per_pair) {
+  for (const auto& [na, nb] : kPairs) {
+    tools::Mesh ma, mb;
+    if (!tools::cgal_demo_mesh(na, ma) || !tools::cgal_demo_mesh(nb, mb)) GTEST_SKIP() << "libcgal-demo is absent";
+    Octree A, B;
+    ASSERT_EQ(build_octree(ma.vertices, ma.triangles, A), Status::Ok);
+    ASSERT_EQ(build_octree(mb.vertices, mb.triangles, B), Status::Ok);
+    MeshWorkspace ws;
+    make_workspace(A, B, ws);
+    const auto poses = tools::banded_poses(A, B, 1.0, 7, per_pair);
+    for (size_t k = 0; k < poses.size(); ++k) {
+      expect_brute(ma, A, mb, B, poses[k], ws, na + " " + nb + " pose " + std::to_string(k));
+      if (testing::Test::HasFatalFailure()) return;
+    }
+    MeshWorkspace self;
+    make_workspace(A, A, self);
+    size_t top = 0;
+    for (size_t v = 0; v < ma.vertices.size(); ++v)
+      if (ma.vertices[v].z() > ma.vertices[top].z()) top = v;
+    Pose half;
+    half.rotation = Eigen::Vector3d(-1, -1, 1).asDiagonal();
+    half.translation = Vector3d(2 * ma.vertices[top].x(), 2 * ma.vertices[top].y(), 0);
+    MeshDistance touch;
+    ASSERT_EQ(mesh_distance(A, A, half, self, touch), Status::Ok);
+    EXPECT_EQ(touch.distance, 0.0) << na << " touching its turned copy";
+    expect_brute(ma, A, ma, A, half, self, na + " touching");
+    half.translation.z() += 1e-9;
+    expect_brute(ma, A, ma, A, half, self, na + " 1e-9 apart");
+  }
+}
+
+TEST(AdaptiveOctree, EqualsBruteForceOnTheBenchmarkMeshes) { sweep(test::scaled(6)); }
+
+// The full sweep of the closing note: MINKSUM_FULL_SWEEP=1 runs 201 poses per pair (1,005 in
+// all, plus the touching ones); without it the test is skipped.
+TEST(AdaptiveOctree, FullSweep) {
+  if (!std::getenv("MINKSUM_FULL_SWEEP")) GTEST_SKIP() << "set MINKSUM_FULL_SWEEP=1 (about 20 minutes)";
+  sweep(201);
+}
+
+// Leaves follow the local density: thin, long or flat parts do not force a global depth.
+TEST(AdaptiveOctree, LeavesAreSizedToTheSurface) {
+  tools::Mesh m;
+  if (!tools::cgal_demo_mesh("camel.off", m)) GTEST_SKIP() << "libcgal-demo is absent";
+  Octree tree;
+  ASSERT_EQ(build_octree(m.vertices, m.triangles, tree), Status::Ok);
+  const OctreeOptions defaults;
+  int small = 0;
+  double smallest = 1e300, largest = 0;
+  for (const auto& n : tree.nodes)
+    if (n.first_child < 0) {
+      small += n.count <= defaults.leaf_size;
+      smallest = std::min(smallest, n.half), largest = std::max(largest, n.half);
+    }
+  // Most leaves hold at most leaf_size triangles; the rest are kept whole because splitting
+  // them would not separate them. Their cubes differ by 8x or more in size (one global depth
+  // would give one size).
+  EXPECT_GT(small, tree.leaves * 3 / 4);
+  EXPECT_GE(largest / smallest, 8.0);
+}
+
+// Clouds sampled from surfaces (so that many points are about as near as any), plus duplicate,
+// single, collinear and coplanar clouds, against every pair of points.
+TEST(PointCloud, EqualsBruteForce) {
+  const tools::Mesh bunny = test::test_mesh("bun_zipper_res4.ply", 16);
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const auto cloud = [](std::vector<Vector3d> pts) { return tools::Mesh{std::move(pts), {}}; };
+  std::vector<tools::Mesh> clouds;
+  clouds.push_back(cloud(tools::sample_surface(bunny, test::scaled(20000), 1)));
+  clouds.push_back(cloud(tools::sample_surface(bunny, 3000, 2)));
+  std::vector<Vector3d> dup = tools::sample_surface(bunny, 500, 3);
+  dup.insert(dup.end(), dup.begin(), dup.end());  // every point twice
+  clouds.push_back(cloud(dup));
+  clouds.push_back(cloud({Vector3d(0.01, -0.02, 0.03)}));
+  std::vector<Vector3d> line, plane;
+  for (int k = 0; k < 700; ++k) line.push_back(Vector3d(1, 2, 3) * (k * 1e-4));
+  for (int k = 0; k < 900; ++k) plane.push_back(Vector3d(0.1 * u(rng), 0.1 * u(rng), 0.0));
+  clouds.push_back(cloud(line));
+  clouds.push_back(cloud(plane));
+  std::vector<Octree> trees(clouds.size());
+  for (size_t k = 0; k < clouds.size(); ++k) ASSERT_EQ(build_octree(clouds[k].vertices, trees[k]), Status::Ok);
+  const int poses = test::scaled(5);
+  for (size_t i = 0; i < clouds.size(); ++i)
+    for (size_t j = 0; j < clouds.size(); ++j) {
+      MeshWorkspace ws;
+      make_workspace(trees[i], trees[j], ws);
+      const int n = i == 0 && j == 0 ? 2 : poses;  // 20K x 20K pairs: two poses
+      for (int k = 0; k < n; ++k) {
+        const Pose pose = test::random_pose(rng, 0.02 + 0.2 * k / poses);
+        expect_brute(clouds[i], trees[i], clouds[j], trees[j], pose, ws,
+                     "clouds " + std::to_string(i) + " " + std::to_string(j) + " pose " + std::to_string(k));
+        if (HasFatalFailure()) return;
+      }
+    }
+  // A cloud against itself unmoved: every point coincides.
+  MeshWorkspace ws;
+  make_workspace(trees[2], trees[2], ws);
+  MeshDistance d;
+  ASSERT_EQ(mesh_distance(trees[2], trees[2], Pose{}, ws, d), Status::Ok);
+  EXPECT_EQ(d.distance, 0.0);
+  EXPECT_TRUE(d.intersecting);
+}
+
+// A cloud against a mesh: the nearest point of the cloud to the surface.
+TEST(PointCloud, AgainstAMeshEqualsBruteForce) {
+  const tools::Mesh mesh = test::test_mesh("bun_zipper_res3.ply", 24);
+  const tools::Mesh points{tools::sample_surface(test::test_mesh("bun_zipper_res4.ply", 16), 5000, 4), {}};
+  Octree M, C;
+  ASSERT_EQ(build_octree(mesh.vertices, mesh.triangles, M), Status::Ok);
+  ASSERT_EQ(build_octree(points.vertices, C), Status::Ok);
+  MeshWorkspace mc, cm;
+  make_workspace(M, C, mc);
+  make_workspace(C, M, cm);
+  std::mt19937_64 rng(5);
+  const int poses = test::scaled(15);
+  for (int k = 0; k < poses; ++k) {
+    const Pose pose = test::random_pose(rng, 0.03 + 0.2 * k / poses);
+    expect_brute(mesh, M, points, C, pose, mc, "mesh-cloud pose " + std::to_string(k));
+    Pose back;  // the same placement seen from the cloud
+    back.rotation = pose.rotation.transpose(), back.translation = -(back.rotation * pose.translation);
+    expect_brute(points, C, mesh, M, back, cm, "cloud-mesh pose " + std::to_string(k));
+    if (HasFatalFailure()) return;
+  }
+}
+
+TEST(PointCloud, RejectsBadClouds) {
+  Octree t;
+  EXPECT_EQ(build_octree(std::vector<Vector3d>{}, t), Status::TooFewPoints);
+  EXPECT_EQ(build_octree({Vector3d(0, 0, 0), Vector3d(std::nan(""), 0, 0)}, t), Status::NonFinite);
+  EXPECT_EQ(build_octree({Vector3d(0, 0, 0), Vector3d(1e300, 0, 0)}, t), Status::OutOfRange);
+}
+
+// Zero-area and duplicate triangles, a mesh of one triangle, and a mesh 1e6 from the origin.
+TEST(AdaptiveOctree, DegenerateMeshesKeepWorking) {
+  const tools::Mesh base = test::test_mesh("bun_zipper_res4.ply", 16);
+  tools::Mesh degenerate = base;
+  for (size_t k = 0; k < base.triangles.size(); k += 7) {
+    const auto& t = base.triangles[k];
+    degenerate.triangles.push_back({t[0], t[1], t[1]});                     // a segment
+    degenerate.triangles.push_back({t[2], t[2], t[2]});                     // a point
+    degenerate.triangles.push_back(t);                                      // a duplicate
+    degenerate.vertices.push_back((base.vertices[t[0]] + base.vertices[t[1]]) / 2);
+    degenerate.triangles.push_back({t[0], t[1], int(degenerate.vertices.size()) - 1});  // collinear
+  }
+  tools::Mesh single{{Vector3d(0, 0, 0), Vector3d(0.05, 0, 0), Vector3d(0, 0.05, 0.01)}, {{0, 1, 2}}};
+  tools::Mesh far = base;
+  for (auto& v : far.vertices) v += Vector3d(1e6, -1e6, 1e6);
+  std::mt19937_64 rng(9);
+  for (const auto* m : {&degenerate, &single, &far}) {
+    Octree A, B;
+    ASSERT_EQ(build_octree(m->vertices, m->triangles, A), Status::Ok);
+    ASSERT_EQ(build_octree(base.vertices, base.triangles, B), Status::Ok);
+    MeshWorkspace ws;
+    make_workspace(A, B, ws);
+    const Vector3d shift = m == &far ? Vector3d(1e6, -1e6, 1e6) : Vector3d::Zero();
+    for (int k = 0; k < test::scaled(10); ++k) {
+      Pose pose = test::random_pose(rng, 0.02 + 0.2 * k / 10.0);
+      pose.translation += shift;
+      expect_brute(*m, A, base, B, pose, ws, "degenerate set, pose " + std::to_string(k));
+      if (HasFatalFailure()) return;
+    }
+  }
+}
+
+}  // namespace
