@@ -294,12 +294,25 @@ Status build_octree(const std::vector<Vector3d>& vertices,
       for (int lane = 0; lane < 8 * n; ++lane)
         if (hits->hit[lane]) sub[lane % 8].push_back(list[first + lane / 8]);
     }
-    // Adaptive: split only where it separates the triangles. A split whose largest child keeps
-    // nearly all of them (triangles longer than the cube: a thin tube, a sliver fan) or that
-    // lists them many times over would cost node pairs and gain no pruning: a leaf instead.
+    // Adaptive: split only where it separates the triangles. A split that lists them many
+    // times over (triangles longer than the child cubes), or whose largest child keeps nearly
+    // all of them while they reach well beyond it (a fan of slivers about a vertex), would cost
+    // node pairs and gain no pruning: the leaf tests whole triangles. A leaf instead. (Nearly
+    // all in one child, but small: a dense patch; the split narrows in on it.)
     size_t largest = 0, listed = 0;
-    for (const auto& x : sub) largest = std::max(largest, x.size()), listed += x.size();
-    if (10 * largest > 9 * list.size() || listed > 3 * list.size()) {
+    int big = 0;
+    for (int octant = 0; octant < 8; ++octant) {
+      listed += sub[octant].size();
+      if (sub[octant].size() > largest) largest = sub[octant].size(), big = octant;
+    }
+    bool separates = listed <= 3 * list.size();
+    if (separates && 10 * largest > 9 * list.size()) {
+      Vector3d lo = Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+      for (int t : sub[big])
+        for (int k : triangles[t]) lo = lo.cwiseMin(vertices[k]), hi = hi.cwiseMax(vertices[k]);
+      separates = (hi - lo).maxCoeff() <= 4 * h;  // within twice the child cube's side
+    }
+    if (!separates) {
       make_leaf();
       continue;
     }

@@ -13,8 +13,9 @@
 namespace minksum {
 
 /// How an octree is built. The octree adapts to the mesh: a node is split while it holds more
-/// than leaf_size triangles and the split separates them (no child keeps over 90 % of them and
-/// they are listed at most 3 times over), so leaves follow the local density.
+/// than leaf_size triangles and the split separates them (they are listed at most 3 times over,
+/// and a child that keeps over 90 % of them holds triangles within twice its size), so leaves
+/// follow the local density.
 struct OctreeOptions {
   int max_depth = -1;   ///< levels below the root, at most (-1: 20; at most 24)
   int leaf_size = 64;   ///< a node with more triangles than this is split if that separates them
