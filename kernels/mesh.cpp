@@ -481,9 +481,14 @@ Status search(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace&
   };
   push({0, 0, bound2(0, 0)});
   out.node_pairs = 1;
-  while (top > 0) {
-    if (heap) std::pop_heap(queue, queue + top, farther);
-    const Entry e = queue[--top];
+  Entry e{};
+  bool next = false;  // e holds the pair to visit next, not yet queued
+  while (next || top > 0) {
+    if (!next) {
+      if (heap) std::pop_heap(queue, queue + top, farther);
+      e = queue[--top];
+    }
+    next = false;
     const int i = e.a, j = e.b;
     if (e.bound2 >= best * best) {  // a nearer pair was found since it was pushed
       if (heap) break;              // and the rest are no nearer
@@ -638,6 +643,13 @@ Status search(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace&
     }
     for (int k = 1; k < n; ++k)  // insertion sort, farthest first (nearest on top when depth first)
       for (int m = k; m > 0 && kids[m - 1].first < kids[m].first; --m) std::swap(kids[m - 1], kids[m]);
+    // The nearest child goes on at once when no queued pair is nearer: it would leave the
+    // heap next anyway (a push and a pop saved per level).
+    if (n > 0 && (!heap || top == 0 || kids[n - 1].first <= queue[0].bound2)) {
+      --n;
+      e = {split_a ? kids[n].second : i, split_a ? j : kids[n].second, kids[n].first};
+      next = true;
+    }
     for (int k = 0; k < n; ++k) push({split_a ? kids[k].second : i, split_a ? j : kids[k].second, kids[k].first});
   }
   out.distance = best;
