@@ -54,8 +54,23 @@ def queries(p, r):
 
 
 def mesh(p, r):
-    return p[0] in ("MeshDistance", "MeshBuild") and [
+    return p[0] in ("MeshDistance", "MeshBuild") and "near_median_us" not in r and [
         "/".join(p[:3]), r.get("median_us", ""), r.get("max_us", ""), r.get("min_culled_pct", ""), us(r)]
+
+
+BANDS = ("contact", "near", "far")
+
+
+def mesh_bands(p, r):
+    """The banded pose sets (MeshDistance and PointDistance rows with per-band counters)."""
+    if "near_median_us" not in r:
+        return False
+    return [p[0], p[1], p[2], r["median_us"], r["max_us"]] + [r[f"{b}_{k}"] for b in BANDS for k in ("median_us", "max_us")] + [
+        r.get("median_culled_pct", ""), r.get("bytes_per_triangle", "")]
+
+
+def point_build(p, r):
+    return p[0] == "PointBuild" and [p[1], p[2], us(r) / 1e3, r.get("bytes_per_point", "")]
 
 
 def trajectory(p, r):
@@ -73,7 +88,44 @@ TABLES = {
     "queries": (["benchmark", "time_ns"], queries),
     "mesh": (["benchmark", "median_us", "max_us", "min_culled_pct", "mean_us"], mesh),
     "trajectory": (["pair", "method", "ns_per_query", "contact_share", "warm_share", "median_us", "max_us"], trajectory),
+    "mesh_bands": (["set", "pair", "method", "median_us", "max_us"] + [f"{b}_{k}" for b in BANDS for k in ("median_us", "max_us")]
+                   + ["median_culled_pct", "bytes_per_triangle"], mesh_bands),
+    "point_build": (["cloud", "method", "build_ms", "bytes_per_point"], point_build),
 }
+
+
+def bands_markdown(directory):
+    """Per pair and band: minksum against its peer (FCL, nanoflann), median and worst us; culling; memory."""
+    rows = list(csv.DictReader(open(f"{directory}/mesh_bands.csv")))
+    out = []
+    for kind, peer, unit in (("MeshDistance", "fcl_obbrss", "triangle"), ("PointDistance", "nanoflann", "point")):
+        pairs = [r for r in rows if r["set"] == kind and r["method"] == "minksum"]
+        if not pairs:
+            continue
+        out.append(f"| {kind} pair | band | minksum median | {peer} median | ratio | minksum worst | {peer} worst | "
+                   f"worst ratio | minksum culled % (median) | bytes / {unit}: minksum, {peer} |")
+        out.append("|---|---|---|---|---|---|---|---|---|---|")
+        for m in pairs:
+            f = next(r for r in rows if r["set"] == kind and r["pair"] == m["pair"] and r["method"] == peer)
+            for band in ("all",) + BANDS:
+                key = "" if band == "all" else band + "_"
+                mm, fm = float(m[key + "median_us"]), float(f[key + "median_us"])
+                mx, fx = float(m[key + "max_us"]), float(f[key + "max_us"])
+                memory = ""
+                if band == "all" and m["bytes_per_triangle"]:
+                    memory = f"{float(m['bytes_per_triangle']):.0f}, {float(f['bytes_per_triangle']):.0f}"
+                culled = f"{float(m['median_culled_pct']):.2f}" if band == "all" else ""
+                out.append(f"| {m['pair'] if band == 'all' else ''} | {band} | {mm:.1f} | {fm:.1f} | {fm / mm:.1f}x | "
+                           f"{mx:.1f} | {fx:.1f} | {fx / mx:.1f}x | {culled} | {memory} |")
+        out.append("")
+    builds = list(csv.DictReader(open(f"{directory}/point_build.csv")))
+    if builds:
+        out.append("| cloud | method | build [ms] | bytes / point |")
+        out.append("|---|---|---|---|")
+        for b in builds:
+            out.append(f"| {b['cloud']} | {b['method']} | {float(b['build_ms']):.1f} | {float(b['bytes_per_point']):.0f} |")
+    with open(f"{directory}/mesh_bands.md", "w") as f:
+        f.write("\n".join(out) + "\n")
 
 
 def main(directory):
@@ -86,6 +138,7 @@ def main(directory):
                 x = row(r["name"].split("/"), r)
                 if x:
                     out.writerow([num(v) for v in x])
+    bands_markdown(directory)
 
 
 if __name__ == "__main__":
