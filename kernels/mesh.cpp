@@ -336,11 +336,11 @@ Status build_octree(const std::vector<Vector3d>& vertices,
 
 namespace {
 
-// The node pairs of the search wait in a heap of kHeapPairs, nearest bound first; past that it
-// goes on depth first, where each split pops one pair and pushes at most 8: the stack never
-// grows by more than 7 per level of the current path plus one.
+// The node pairs of the search wait in a heap (kHeapPairs by default), nearest bound first; past
+// that it goes on depth first, where each split pops one pair and pushes at most 8: the stack
+// never grows by more than 7 per level of the current path plus one (depth_reserve).
 constexpr size_t kHeapPairs = 4096;
-size_t queue_capacity(const Octree& a, const Octree& b) { return kHeapPairs + size_t(8 * (a.depth + b.depth) + 16); }
+size_t depth_reserve(const Octree& a, const Octree& b) { return size_t(8 * (a.depth + b.depth) + 16); }
 
 }  // namespace
 
@@ -355,7 +355,7 @@ Status build_octree(const std::vector<Vector3d>& points, Octree& out, const Octr
 }
 
 void make_workspace(const Octree& a, const Octree& b, MeshWorkspace& ws) {
-  ws.stack.assign(queue_capacity(a, b), MeshWorkspace::Entry{});
+  ws.stack.assign(kHeapPairs + depth_reserve(a, b), MeshWorkspace::Entry{});
   ws.moved_center.assign(b.triangles.size(), Vector3d::Zero());
   ws.center_stamp.assign(b.triangles.size(), 0);
   ws.seen_a.assign(a.triangles.size(), 0);
@@ -393,7 +393,7 @@ Status search(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace&
       ws.center_stamp.size() != b.triangles.size() ||
       ws.hits.size() < size_t(b.max_leaf) || ws.near_r.size() < size_t(b.max_leaf) ||
       ws.near_lo.size() < size_t(b.max_leaf) || ws.proj_b.size() < size_t(b.max_leaf) || ws.proj_a.size() < size_t(a.max_leaf) || ws.pass_a.size() < size_t(a.max_leaf) ||
-      ws.near_normal.size() < size_t(b.max_leaf) || ws.near_corners.size() < size_t(3 * b.max_leaf) || ws.stack.size() < queue_capacity(a, b))
+      ws.near_normal.size() < size_t(b.max_leaf) || ws.near_corners.size() < size_t(3 * b.max_leaf) || ws.stack.size() <= depth_reserve(a, b))
     return Status::InvalidMesh;  // a workspace made for other octrees
   if (++ws.stamp == 0) {  // stamps wrapped: forget every old mark
     std::fill(ws.center_stamp.begin(), ws.center_stamp.end(), 0u);
@@ -465,14 +465,16 @@ Status search(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace&
   // the answer known from the start, the search costs a fifth on the bunny: the loose `best`
   // of a depth-first search opened leaf pairs it did not need). The heap is fixed-size: when
   // it is full, it is sorted farthest first and the search goes on depth first on that stack
-  // (nearest on top), as exact, with a bounded stack (queue_capacity).
+  // (nearest on top), as exact, with a bounded stack (depth_reserve). The heap takes what the
+  // workspace's stack holds beyond that reserve.
   using Entry = MeshWorkspace::Entry;
   Entry* queue = ws.stack.data();
   const auto farther = [](const Entry& x, const Entry& y) { return x.bound2 > y.bound2; };
+  const size_t heap_pairs = ws.stack.size() - depth_reserve(a, b);
   size_t top = 0;
   bool heap = true;
   const auto push = [&](const Entry& e) {
-    if (heap && top == kHeapPairs) {
+    if (heap && top == heap_pairs) {
       std::sort(queue, queue + top, farther);
       heap = false;
     }

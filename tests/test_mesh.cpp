@@ -79,19 +79,24 @@ TEST(MeshDistance, ConcentricSpheresWorstCase) {
   Octree A, B;
   ASSERT_EQ(build_octree(outer.vertices, outer.triangles, A), Status::Ok);
   ASSERT_EQ(build_octree(inner.vertices, inner.triangles, B), Status::Ok);
-  MeshWorkspace ws;
+  MeshWorkspace ws, tiny;
   make_workspace(A, B, ws);
+  make_workspace(A, B, tiny);
+  tiny.stack.resize(size_t(8 * (A.depth + B.depth) + 16 + 2));
   std::mt19937_64 rng(5);
   const double all_pairs = double(outer.triangles.size()) * double(inner.triangles.size());
   for (int k = 0; k < test::scaled(20); ++k) {
     Pose pose = test::random_pose(rng, 0);
     pose.translation = 1e-3 * test::random_pose(rng, 1).translation;  // nearly concentric
-    MeshDistance got;
+    MeshDistance got, small;
     ASSERT_EQ(mesh_distance(A, B, pose, ws, got), Status::Ok);
     const MeshDistance want = tools::brute_distance(outer, inner, pose);
     ASSERT_NEAR(got.distance, want.distance, 1e-12) << "pose " << k;
     EXPECT_GT(got.distance, 0.05) << "pose " << k;
     EXPECT_LT(double(got.triangle_pairs), 0.1 * all_pairs) << "pose " << k;
+    // A heap of 2 pairs fills at once: the rest of the search is depth first, as exact.
+    ASSERT_EQ(mesh_distance(A, B, pose, tiny, small), Status::Ok);
+    EXPECT_NEAR(small.distance, want.distance, 1e-12) << "pose " << k;
   }
 }
 

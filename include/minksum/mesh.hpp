@@ -86,7 +86,9 @@ struct MeshWorkspace {
     int a = 0, b = 0;    ///< node of A, node of B
     double bound2 = 0;   ///< lower bound of their squared distance
   };
-  std::vector<Entry> stack;                  ///< node pairs still to visit
+  /// Node pairs still to visit: a heap of what it holds beyond 8 (depth_a + depth_b) + 16
+  /// (4,096 from make_workspace), then that reserve for the depth-first fallback.
+  std::vector<Entry> stack;
   std::vector<Eigen::Vector3d> moved_center; ///< B's sphere centres in A's frame, on demand
   std::vector<unsigned> center_stamp;        ///< query stamp per triangle of B
   std::vector<unsigned> seen_a, seen_b;      ///< query stamp per candidate triangle
