@@ -139,9 +139,9 @@ namespace {
 // root's is far below any leaf the adaptive rule keeps).
 constexpr int kDepthCap = 20;
 
-// The node's tight box (its cube clipped to its triangles' bounding box) and its slab along the
-// triangles' area-weighted mean normal (any unit normal gives a valid slab; a flat patch a thin
-// one). Both hold the parts of the triangles inside the cube, since they hold the triangles.
+// The node's box (its triangles' bounding box) and its slab along the triangles' area-weighted
+// mean normal (any unit normal gives a valid slab; a flat patch a thin one). Both hold the
+// node's triangles whole, so every bound of the search holds for whole triangles.
 void fit_bounds(const std::vector<Vector3d>& v, const std::vector<std::array<int, 3>>& tris,
                 const std::vector<int>& list, Octree::Node& node) {
   Vector3d lo = Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo, n = Vector3d::Zero();
@@ -150,8 +150,6 @@ void fit_bounds(const std::vector<Vector3d>& v, const std::vector<std::array<int
     for (int k : x) lo = lo.cwiseMin(v[k]), hi = hi.cwiseMax(v[k]);
     n += (v[x[1]] - v[x[0]]).cross(v[x[2]] - v[x[0]]);
   }
-  const Vector3d cube = Vector3d::Constant(node.half);
-  lo = lo.cwiseMax(node.center - cube), hi = hi.cwiseMin(node.center + cube);
   node.box_center = (lo + hi) / 2;
   node.box_half = ((hi - lo) / 2).cwiseMax(0.0) * (1 + 1e-12) + Vector3d::Constant(1e-15 * (1 + node.center.norm()));
   node.normal = n.norm() > 0 ? Vector3d(n.normalized()) : Vector3d::UnitZ();
@@ -243,10 +241,6 @@ Status build_octree(const std::vector<Vector3d>& vertices,
     if (!copy[k]) lists[0].push_back(int(k));
   out.nodes.emplace_back();
   out.nodes[0].center = center, out.nodes[0].half = root_half;
-  auto cubes = std::make_unique<BoxBatch<double, 64>>();
-  auto batch = std::make_unique<TriangleBatch<double, 64>>();
-  auto hits = std::make_unique<BoxTriangleOverlap<double, 64>>();
-  cubes->count = batch->count = 64;
   for (size_t i = 0; i < out.nodes.size(); ++i) {
     std::vector<int> list = std::move(lists[i]);
     out.depth = std::max(out.depth, level[i]);
@@ -271,51 +265,30 @@ Status build_octree(const std::vector<Vector3d>& vertices,
       make_leaf();
       continue;
     }
-    const Vector3d c = out.nodes[i].center;
-    const double h = out.nodes[i].half / 2;
-    // Which triangles meet each child cube: the box-triangle overlap kernel (Akenine-Moller's
-    // 13 axes, relative to the cube's centre), 8 triangles x 8 cubes per call (lane = 8
-    // triangle + octant). Cubes are inflated by a few ulps of the coordinates, so that a
-    // triangle on a cube face goes to both sides.
-    for (int lane = 0; lane < 64; ++lane) {
-      Box cube;
-      cube.center = c + h * Vector3d(lane & 1 ? 1 : -1, lane & 2 ? 1 : -1, lane & 4 ? 1 : -1);
-      cube.half_extents.setConstant(h * (1 + 1e-9) + 1e-13 * size);
-      cubes->set(lane, cube);
-    }
+    // Each triangle goes to the child cube that holds its centroid (listed once: a triangle pair
+    // is tested in one leaf pair only; the boxes bound whole triangles, so a box may reach
+    // beyond its cube). All in one child (a dense patch): the cube narrows in on it, no level
+    // is made; 60 halvings are below any double's resolution (identical centroids: a leaf).
     std::vector<int> sub[8];
-    for (size_t first = 0; first < list.size(); first += 8) {
-      const int n = int(std::min<size_t>(8, list.size() - first));
-      for (int lane = 0; lane < 64; ++lane) {
-        const auto& tri = triangles[list[first + std::min(lane / 8, n - 1)]];
-        batch->set(lane, Triangle{vertices[tri[0]], vertices[tri[1]], vertices[tri[2]]});
+    for (int tries = 0;; ++tries) {
+      const Vector3d c = out.nodes[i].center;
+      for (auto& x : sub) x.clear();
+      for (int t : list) {
+        const Vector3d m = out.spheres[size_t(t)].head<3>();
+        sub[(m.x() > c.x()) | (m.y() > c.y()) << 1 | (m.z() > c.z()) << 2].push_back(t);
       }
-      box_triangle_overlap(*cubes, *batch, *hits);
-      for (int lane = 0; lane < 8 * n; ++lane)
-        if (hits->hit[lane]) sub[lane % 8].push_back(list[first + lane / 8]);
+      const auto full = std::find_if(std::begin(sub), std::end(sub), [&](const auto& x) { return x.size() == list.size(); });
+      if (full == std::end(sub) || tries == 60) break;
+      const int octant = int(full - std::begin(sub));
+      out.nodes[i].half /= 2;
+      out.nodes[i].center += out.nodes[i].half * Vector3d(octant & 1 ? 1 : -1, octant & 2 ? 1 : -1, octant & 4 ? 1 : -1);
     }
-    // Adaptive: split only where it separates the triangles. A split that lists them many
-    // times over (triangles longer than the child cubes), or whose largest child keeps nearly
-    // all of them while they reach well beyond it (a fan of slivers about a vertex), would cost
-    // node pairs and gain no pruning: the leaf tests whole triangles. A leaf instead. (Nearly
-    // all in one child, but small: a dense patch; the split narrows in on it.)
-    size_t largest = 0, listed = 0;
-    int big = 0;
-    for (int octant = 0; octant < 8; ++octant) {
-      listed += sub[octant].size();
-      if (sub[octant].size() > largest) largest = sub[octant].size(), big = octant;
-    }
-    bool separates = listed <= 3 * list.size();
-    if (separates && 10 * largest > 9 * list.size()) {
-      Vector3d lo = Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-      for (int t : sub[big])
-        for (int k : triangles[t]) lo = lo.cwiseMin(vertices[k]), hi = hi.cwiseMax(vertices[k]);
-      separates = (hi - lo).maxCoeff() <= 4 * h;  // within twice the child cube's side
-    }
-    if (!separates) {
+    if (std::any_of(std::begin(sub), std::end(sub), [&](const auto& x) { return x.size() == list.size(); })) {
       make_leaf();
       continue;
     }
+    const Vector3d c = out.nodes[i].center;
+    const double h = out.nodes[i].half / 2;
     const int first_child = int(out.nodes.size());
     for (int octant = 0; octant < 8; ++octant) {
       if (sub[octant].empty()) continue;
@@ -409,6 +382,13 @@ Status search(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace&
   // query, then O(15) per node pair. Lower bound of the squared distance of two nodes'
   // contents, the largest of: their boxes apart along A's axes (B's box inside its bounding
   // box in A's frame) or B's, along a cross axis, and each slab apart from the other's box.
+  // Why each is a lower bound: a node's triangles lie in its box and its slab (fit_bounds, whole
+  // triangles); for sets X in box P and Y in box Q, and any unit axis L, every x - y has
+  // |L . (x - y)| >= (gap of the projections of P and Q on L), so the distance is at least that
+  // gap (the separating-axis gap); along the boxes' own axes the gaps of all three axes add in
+  // quadrature, since x - y then has each coordinate at least its gap. A slab is the set
+  // lo <= n . x <= hi: projections on n again. Rounding: boxes and slabs are padded by 1e-12 of
+  // their coordinates (fit_bounds), more than the error of these few products.
   double best = std::numeric_limits<double>::infinity();
   if (seed_a >= 0 && size_t(seed_a) < a.triangles.size() && seed_b >= 0 && size_t(seed_b) < b.triangles.size()) {
     Vector3d sa[3], sb[3];
@@ -499,9 +479,9 @@ Status search(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace&
     const Octree::Node &na = a.nodes[i], &nb = b.nodes[j];
     if (na.first_child < 0 && nb.first_child < 0) {
       if (first_leaf_pair) {  // the paper's U: the maximum distance of the first leaf pair
-        Box ca, cb;
-        ca.center = na.center, ca.half_extents.setConstant(na.half);
-        cb.center = R * nb.center + t, cb.rotation = R, cb.half_extents.setConstant(nb.half);
+        Box ca, cb;  // (their boxes: they hold the leaves' triangles, which may reach beyond the cubes)
+        ca.center = na.box_center, ca.half_extents = na.box_half;
+        cb.center = R * nb.box_center + t, cb.rotation = R, cb.half_extents = nb.box_half;
         Proximity p;
         proximity(ca, cb, p, kWantMaxDistance);
         out.first_bound = p.max_distance;
@@ -511,7 +491,9 @@ Status search(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace&
       // distance, then the separation along the centre line, then the exact distance. A
       // triangle's sphere (centre c in the node's own frame) is tested against the node's box
       // and slab first, then its corners against the slab: exact for the flat patches that
-      // face each other, where the spheres overlap for every pair.
+      // face each other, where the spheres overlap for every pair. (Valid: a triangle lies in
+      // its sphere, so its distance to the other node's triangles, which lie in that node's box
+      // and slab, is at least the sphere's distance to them minus its radius.)
       const auto sphere_near = [&best](const Vector3d& c, double r, const Octree::Node& n) {
         const double d = n.normal.dot(c), reach = best + r;
         if (d - n.slab_hi >= reach || n.slab_lo - d >= reach) return false;
@@ -528,6 +510,9 @@ Status search(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace&
       // distinct corners (B's projected in B's frame): nearly their distance for two patches
       // facing each other, where boxes and slabs are loose by a leaf's size. Then per
       // triangle (A's highest corner, B's lowest), to prune triangles and pairs behind.
+      // (Valid: a triangle is the hull of its corners, so its projection on any line spans
+      // its corners' projections; a gap g between the projections on a line of length |axis|
+      // means every pair of points is at least g / |axis| apart.)
       const Vector3d axis = R * nb.box_center + t - na.box_center, axis_b = R.transpose() * axis;
       const double axis_len = axis.norm(), shift = axis.dot(t);
       double hi_a = -std::numeric_limits<double>::infinity(), lo_b = -hi_a;

@@ -97,10 +97,9 @@ TEST(AdaptiveOctree, LeavesAreSizedToTheSurface) {
       small += n.count <= defaults.leaf_size;
       smallest = std::min(smallest, n.half), largest = std::max(largest, n.half);
     }
-  // Most leaves hold at most leaf_size triangles; the rest are kept whole because splitting
-  // them would not separate them. Their cubes differ by 8x or more in size (one global depth
-  // would give one size).
-  EXPECT_GT(small, tree.leaves * 3 / 4);
+  // Every leaf holds at most leaf_size triangles (no two centroids coincide here), and the
+  // leaves' cubes differ by 8x or more in size (one global depth would give one size).
+  EXPECT_EQ(small, tree.leaves);
   EXPECT_GE(largest / smallest, 8.0);
 }
 

@@ -306,13 +306,15 @@ TEST(MeshContact, PosedBoxOnAFloorIsPushedStraightUp) {
 
 // Every triangle is listed in every leaf whose cube it meets: checked against the exact
 // box-triangle proximity of the general path, for every (leaf, triangle) pair of a small mesh.
-TEST(Octree, LeavesListEveryTriangleTheyMeet) {
-  const tools::Mesh m = test::test_mesh("bun_zipper_res4.ply", 16);
+// Every triangle is listed in exactly one leaf (copies of an earlier one in none), and its
+// corners lie in the box and the slab of that leaf and of every node above it: the bounds the
+// search prunes with.
+TEST(Octree, EveryTriangleOnceInsideItsNodesBounds) {
+  const tools::Mesh m = test::test_mesh("bun_zipper_res3.ply", 24);
   Octree A;
   OctreeOptions options;
-  options.max_depth = 3;
+  options.leaf_size = 8;  // a deep tree
   ASSERT_EQ(build_octree(m.vertices, m.triangles, A, options), Status::Ok);
-  // A triangle with the corners of an earlier one need not be listed (the bunny has some).
   std::vector<bool> copy(m.triangles.size());
   std::set<std::array<double, 9>> seen;
   for (size_t t = 0; t < m.triangles.size(); ++t) {
@@ -321,23 +323,29 @@ TEST(Octree, LeavesListEveryTriangleTheyMeet) {
     std::sort(c.begin(), c.end());
     copy[t] = !seen.insert({c[0][0], c[0][1], c[0][2], c[1][0], c[1][1], c[1][2], c[2][0], c[2][1], c[2][2]}).second;
   }
+  std::vector<int> parent(A.nodes.size(), -1), times(m.triangles.size(), 0);
+  for (size_t i = 0; i < A.nodes.size(); ++i)
+    for (int c = A.nodes[i].first_child; c >= 0 && c < A.nodes[i].first_child + A.nodes[i].child_count; ++c) parent[size_t(c)] = int(i);
   int checked = 0;
-  for (const auto& n : A.nodes) {
-    if (n.first_child >= 0) continue;
-    std::vector<bool> listed(m.triangles.size());
-    for (int x = n.first; x < n.first + n.count; ++x) listed[A.items[x]] = true;
-    Box cube;
-    cube.center = n.center, cube.half_extents.setConstant(n.half);
-    for (size_t t = 0; t < m.triangles.size(); ++t) {
-      if (listed[t] || copy[t]) continue;
-      const Triangle tri{m.vertices[m.triangles[t][0]], m.vertices[m.triangles[t][1]], m.vertices[m.triangles[t][2]]};
-      Proximity p;
-      if (proximity(cube, tri, p) != Status::Ok) continue;  // degenerate triangle
-      ASSERT_FALSE(p.intersecting && p.penetration_depth > 1e-12 * n.half) << "triangle " << t << " missing";
-      ++checked;
+  for (size_t i = 0; i < A.nodes.size(); ++i) {
+    if (A.nodes[i].first_child >= 0) continue;
+    for (int x = A.nodes[i].first; x < A.nodes[i].first + A.nodes[i].count; ++x) {
+      const int t = A.items[size_t(x)];
+      ++times[size_t(t)];
+      for (int n = int(i); n >= 0; n = parent[size_t(n)], ++checked) {
+        const Octree::Node& node = A.nodes[size_t(n)];
+        for (int k : m.triangles[size_t(t)]) {
+          const Vector3d& v = m.vertices[size_t(k)];
+          ASSERT_LE(((v - node.box_center).cwiseAbs() - node.box_half).maxCoeff(), 0.0) << "triangle " << t << " node " << n;
+          ASSERT_GE(node.normal.dot(v), node.slab_lo) << "triangle " << t << " node " << n;
+          ASSERT_LE(node.normal.dot(v), node.slab_hi) << "triangle " << t << " node " << n;
+        }
+      }
     }
   }
-  EXPECT_GT(checked, 1000);
+  for (size_t t = 0; t < m.triangles.size(); ++t) ASSERT_EQ(times[t], copy[t] ? 0 : 1) << "triangle " << t;
+  EXPECT_GT(A.depth, 3);
+  EXPECT_GT(checked, 10000);
 }
 
 }  // namespace

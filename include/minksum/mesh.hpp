@@ -13,21 +13,21 @@
 namespace minksum {
 
 /// How an octree is built. The octree adapts to the mesh: a node is split while it holds more
-/// than leaf_size triangles and the split separates them (they are listed at most 3 times over,
-/// and a child that keeps over 90 % of them holds triangles within twice its size), so leaves
-/// follow the local density.
+/// than leaf_size triangles, each going to the child cube that holds its centroid; where all go
+/// to one child (a dense patch), the cube narrows in on them without a level. Leaves follow the
+/// local density; there is no global depth.
 struct OctreeOptions {
   int max_depth = -1;   ///< levels below the root, at most (-1: 20; at most 24)
-  int leaf_size = 64;   ///< a node with more triangles than this is split if that separates them
+  int leaf_size = 64;   ///< a node with more triangles than this is split
 };
 
 /// An octree of cubes over one triangle mesh, in flat arrays (built once, read-only after).
-/// A triangle is listed in every leaf whose cube it overlaps, so the leaves' cubes cover the
-/// mesh and each bounds the parts of its triangles inside it.
+/// Each triangle is listed once, in the leaf whose cube holds its centroid; each node bounds its
+/// triangles whole (so its box may reach beyond its cube).
 struct Octree {
   /// One cube; children are contiguous and only non-empty ones are kept. Besides the cube,
-  /// two bounds of what the node's triangles have inside it: their box (the cube clipped to
-  /// the triangles' bounding box) and their slab (between two planes of the mean normal).
+  /// two bounds of the node's triangles: their box (bounding box, axis-aligned in the mesh's
+  /// frame) and their slab (between two planes of the mean normal).
   struct Node {
     Eigen::Vector3d center = Eigen::Vector3d::Zero();  ///< cube centre (mesh frame)
     double half = 0;         ///< half side length
@@ -115,7 +115,7 @@ struct MeshDistance {
   Eigen::Vector3d point_b = Eigen::Vector3d::Zero();  ///< closest point on B (A's frame)
   int triangle_a = -1, triangle_b = -1;  ///< the triangles holding them
   bool intersecting = false;  ///< the meshes share a point
-  double first_bound = 0;     ///< U of the first leaf pair reached (its cubes' max distance)
+  double first_bound = 0;     ///< U of the first leaf pair reached (its boxes' max distance)
   long node_pairs = 0;        ///< node pairs whose bound was evaluated
   long leaf_pairs = 0;        ///< leaf pairs opened (their triangles tested)
   long triangle_pairs = 0;    ///< exact triangle-triangle distances computed
