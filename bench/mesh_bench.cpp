@@ -124,11 +124,8 @@ void report(benchmark::State& state, const Scene& scene, const std::vector<doubl
   }
 }
 
-void Minksum(benchmark::State& state, Scene scene) {
-  const tools::Mesh &ma = mesh(scene.a), &mb = mesh(scene.b);
-  Octree A, B;
-  build_octree(ma.vertices, ma.triangles, A);
-  build_octree(mb.vertices, mb.triangles, B);
+// The timed queries of minksum between two built octrees, and their counters.
+void run_minksum(benchmark::State& state, const Octree& A, const Octree& B, const Scene& scene) {
   MeshWorkspace ws;
   make_workspace(A, B, ws);
   const auto poses = poses_of(scene);
@@ -149,6 +146,14 @@ void Minksum(benchmark::State& state, Scene scene) {
   state.counters["node_pairs"] = node_pairs / double(us.size());
   state.counters["leaf_pairs"] = leaf_pairs / double(us.size());
   state.counters["triangle_pairs"] = triangle_pairs / double(us.size());
+}
+
+void Minksum(benchmark::State& state, Scene scene) {
+  const tools::Mesh &ma = mesh(scene.a), &mb = mesh(scene.b);
+  Octree A, B;
+  build_octree(ma.vertices, ma.triangles, A);
+  build_octree(mb.vertices, mb.triangles, B);
+  run_minksum(state, A, B, scene);
   state.counters["bytes_per_triangle"] = double(A.bytes()) / double(ma.triangles.size());
 }
 
@@ -190,24 +195,10 @@ struct CloudScene {
 };
 
 void PointMinksum(benchmark::State& state, CloudScene scene) {
-  const auto &ca = cloud(scene.a, scene.na), &cb = cloud(scene.b, scene.nb);
   Octree A, B;
-  build_octree(ca, A);
-  build_octree(cb, B);
-  MeshWorkspace ws;
-  make_workspace(A, B, ws);
-  const auto poses = poses_of(Scene{scene.a, scene.b, true});
-  std::vector<double> us, culled;
-  size_t k = 0;
-  for (auto _ : state) {
-    MeshDistance d;
-    const auto t0 = std::chrono::steady_clock::now();
-    mesh_distance(A, B, poses[k++ % poses.size()], ws, d);
-    us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
-    culled.push_back(std::min(d.culled_percent_a, d.culled_percent_b));
-  }
-  report(state, Scene{scene.a, scene.b, true}, us, culled);
-  state.counters["median_culled_pct"] = median(culled);
+  build_octree(cloud(scene.a, scene.na), A);
+  build_octree(cloud(scene.b, scene.nb), B);
+  run_minksum(state, A, B, Scene{scene.a, scene.b, true});
 }
 
 void PointNanoflann(benchmark::State& state, CloudScene scene) {
