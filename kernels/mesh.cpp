@@ -456,7 +456,12 @@ Status search(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace&
   // workspace's stack holds beyond that reserve.
   using Entry = MeshWorkspace::Entry;
   Entry* queue = ws.stack.data();
-  const auto farther = [](const Entry& x, const Entry& y) { return x.bound2 > y.bound2; };
+  // A total order (ties, such as the many bounds of 0 in contact, broken by the nodes): the
+  // pairs a seeded search keeps then leave in the cold search's order, so that it opens no
+  // pair the cold one does not (while the heap has room).
+  const auto farther = [](const Entry& x, const Entry& y) {
+    return x.bound2 != y.bound2 ? x.bound2 > y.bound2 : x.a != y.a ? x.a > y.a : x.b > y.b;
+  };
   const size_t heap_pairs = ws.stack.size() - depth_reserve(a, b);
   size_t top = 0;
   bool heap = true;
@@ -636,13 +641,12 @@ Status search(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace&
       if (b2 < best * best) kids[n++] = {b2, c};
     }
     for (int k = 1; k < n; ++k)  // insertion sort, farthest first (nearest on top when depth first)
-      for (int m = k; m > 0 && kids[m - 1].first < kids[m].first; --m) std::swap(kids[m - 1], kids[m]);
+      for (int m = k; m > 0 && kids[m - 1] < kids[m]; --m) std::swap(kids[m - 1], kids[m]);  // (bound, node)
     // The nearest child goes on at once when no queued pair is nearer: it would leave the
     // heap next anyway (a push and a pop saved per level).
-    if (n > 0 && (!heap || top == 0 || kids[n - 1].first <= queue[0].bound2)) {
-      --n;
-      e = {split_a ? kids[n].second : i, split_a ? j : kids[n].second, kids[n].first};
-      next = true;
+    if (n > 0) {
+      const Entry nearest{split_a ? kids[n - 1].second : i, split_a ? j : kids[n - 1].second, kids[n - 1].first};
+      if (!heap || top == 0 || farther(queue[0], nearest)) --n, e = nearest, next = true;
     }
     for (int k = 0; k < n; ++k) push({split_a ? kids[k].second : i, split_a ? j : kids[k].second, kids[k].first});
   }
