@@ -11,7 +11,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <memory>
 
 namespace minksum {
 
@@ -746,25 +745,11 @@ Status mesh_contact(const Octree& a, const ConvexShape& shape, const Eigen::Isom
   const auto corners = [&](int tri, Vector3d (&t)[3]) {
     for (int k = 0; k < 3; ++k) t[k] = a.vertices[a.triangles[tri][k]];
   };
-  // Pass 1: the overlapped triangles (each once) and the area vector of their parts inside the
-  // tool, whose direction is the push-out direction (a sum over the contact patch: it turns
+  // Pass 1: the overlapped triangles (each once: a triangle is listed in one leaf) and the area
+  // vector of their parts inside the tool, whose direction is the push-out direction (a sum over the contact patch: it turns
   // continuously as the tool slides, unlike any single triangle's normal).
   int hit[kMaxContactTriangles], hits = 0;
   ws.part_start[0] = 0;
-  // Triangles seen so far: open addressing over a fixed table (twice the capacity).
-  struct {
-    int slot[4 * kMaxContactTriangles];
-    int used = 0;
-    bool insert(int key) {  // false if present
-      if (used == 0) std::fill(std::begin(slot), std::end(slot), -1);
-      unsigned h = unsigned(key) * 2654435761u;
-      for (;; ++h) {
-        int& e = slot[h % (4 * kMaxContactTriangles)];
-        if (e == key) return false;
-        if (e < 0) return used < 2 * kMaxContactTriangles ? (e = key, ++used, true) : true;
-      }
-    }
-  } seen;
   Vector3d area = Vector3d::Zero();
   int stack[8 * 25 + 8], top = 0;
   stack[top++] = 0;
@@ -781,7 +766,6 @@ Status mesh_contact(const Octree& a, const ConvexShape& shape, const Eigen::Isom
       corners(tri, t);
       const Vector3d tlo = t[0].cwiseMin(t[1]).cwiseMin(t[2]), thi = t[0].cwiseMax(t[1]).cwiseMax(t[2]);
       if ((tlo.array() > hi.array()).any() || (thi.array() < lo.array()).any()) continue;
-      if (!seen.insert(tri)) continue;  // already met in another leaf
       ++out.tested;
       const Vector3d* poly;
       const int m = clip(t, poly);
