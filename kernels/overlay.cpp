@@ -1,5 +1,5 @@
-// A (+) B of two placed shapes by overlaying their Gauss maps, output-sensitively, for operands
-// of any size (Barki, Denis & Dupont 2009; Fogel & Halperin 2007; arc crossings after
+// A (+) B of two placed shapes by overlaying their Gauss maps exactly, output-sensitively, for
+// operands of any size (Barki, Denis & Dupont 2009; Fogel & Halperin 2007; arc crossings after
 // Gregorius, GDC 2013).
 //
 // The facets of A (+) B are the vertices of the overlay of the two Gauss maps:
@@ -7,38 +7,34 @@
 //    of B along N (a vertex; an edge or a face where N lies on B's arcs: merged facets);
 //  - likewise each face normal of B that is not also one of A;
 //  - each proper crossing of an arc e_A with an arc e_B: the parallelogram e_A (+) e_B.
-// Arc e lies on the great circle of pole c = N_L x N_R (a positive multiple of its edge), so
-// which side of it a normal N lies on is the sign of c . N = det(N, N_L, N_R). The float value,
-// c computed from the same normals, is within 2e-15 of the exact one for unit normals, so its
-// sign is kept when it clears kFilter (a static filter, Shewchuk 1997); inside, the exact
-// predicate decides (orient, predicates.hpp). Every sign is thus the exact sign on the normals
-// as stored, and the walks see one consistent map, however close to parallel two faces are.
+// Arc e lies on the great circle of pole c = G_L x G_R (a positive multiple of its edge), so the
+// side of it a normal G lies on is the sign of det(G, G_L, G_R). The Gauss normals G are exact
+// (shape_data.hpp: canonical, so parallel faces of two shapes have the same vector), and every
+// sign is the exact one, zero included: a double evaluation decides it when it clears kFilter
+// (a static filter, Shewchuk 1997), exact expansions on the stack when it does not
+// (predicates.hpp). The overlay computed is therefore the exact overlay of the two maps as
+// stored, ties and all; no perturbation and no rational arithmetic.
 //
-// The algorithm walks (O(|E_A| + |E_B| + output) after the first support, which is a linear
-// scan):
-//  1. Every face normal of A is located in B's map (the cell of B's support vertex), breadth
-//     first over A's faces, each climbing from a neighbour's cell (hill climbing on B's
-//     vertices, a few steps); the first one from B's best vertex. Likewise B's in A's map.
-//  2. Every arc of A is walked through B's map from the cell of N_L to the cell of N_R: B's
-//     support moves one cell at a time, never back (the support of B's projection onto the
-//     arc's plane turns by less than pi), and each move crosses one arc of B, a parallelogram
-//     facet when the crossing is proper. Arcs are taken face by face in that breadth-first
-//     order, so that consecutive walks stay in one region of B's map (and of the cache).
-//  3. The facets are written, their vertices (pairs (i, j)) hashed once, numbered in (i, j)
-//     order by a counting sort, and Euler's formula checked.
-// A normal that lies exactly on a great circle (parallel faces, an edge parallel to a face,
-// touching arcs) makes a sign 0. The walks then follow the overlay of A and of B turned by an
-// infinitesimal rotation about a fixed generic axis k (simulation of simplicity: the first
-// nonzero term of the sign's expansion in the rotation angle, evaluated exactly), which is
-// generic, so every step is decided; only crossings that are proper without the rotation
-// become facets, and the facets at face normals on B's (or A's) arcs and normals are the
-// merged polygons of the exact overlay, read off the directions around the normal (the
-// sector loops below). Such a result is also checked as a closed manifold whose every plane
-// supports A and B; a failure of any step (which only an invalid shape or an axis k that
-// happens to be special causes) leaves the hull corrector to answer.
+// The algorithm (O(|E_A| + |E_B| + output) after one linear scan for the first support):
+//  1. Every face normal of A is located in B's map (a cell, an arc or a face normal: the
+//     support feature of B along it), breadth first over A's faces, each climbing from a
+//     neighbour's location (each step raises B's support along the normal).
+//  2. Every arc of A is walked through B's map from its first normal's location to its
+//     second's. In a cell, the walk leaves where the cell's corners, read counter-clockwise,
+//     pass from the right of the arc's circle to its left: across a side (a proper crossing, a
+//     parallelogram facet) or through a corner (a face normal of B on the arc); from a corner
+//     it goes on into the cell, or along the arc of B, that holds its direction.
+//  3. Every face normal of B is located in A's map, climbing from the cell a crossing of one of
+//     its arcs puts it next to, else from a neighbour's location.
+//  4. The facets are written: a face normal inside a cell gives its face with one vertex of the
+//     other operand; one on an arc or a face normal gives the merged polygon, read off the
+//     rays of both maps around it (merged_facet); a crossing gives its parallelogram. Their
+//     vertices (pairs (i, j)) are hashed once, numbered in (i, j) order by a counting sort, and
+//     Euler's formula checked (and, where features merged, the closed manifold).
+// A step that fails (only a shape whose map rounding made invalid can make one) leaves the hull
+// corrector to answer.
 #include <algorithm>
 #include <cmath>
-#include <gmpxx.h>
 
 #include "overlay.hpp"
 #include "predicates.hpp"
@@ -50,117 +46,34 @@ using Eigen::Vector3d;
 
 namespace {
 
-// The perturbation's rotation axis: generic (no face normal or arc pole of a real shape is
-// parallel to it), exactly representable.
-const Vector3d kAxis(0.7165812272381351, 0.3040129830587513, 0.6278406398735125);
+// The static filter of every sign: |G| components are at most 2 (canonical normals, turned),
+// so c . G is within 192 ulp(1) ~ 2.2e-14 of det(G, G_L, G_R); 1e-13 leaves a margin.
+constexpr double kFilter = 1e-13;
 
-// Exact sign of det(k, p, q x r) = (k . q)(p . r) - (k . r)(p . q).
-int det_k_cross(const Vector3d& p, const Vector3d& q, const Vector3d& r) {
-  const auto m = [](double x) { return mpq_class(x); };
-  const auto dot = [&m](const Vector3d& x, const Vector3d& y) {
-    return mpq_class(m(x.x()) * m(y.x()) + m(x.y()) * m(y.y()) + m(x.z()) * m(y.z()));
-  };
-  return sgn(dot(kAxis, q) * dot(p, r) - dot(kAxis, r) * dot(p, q));
+// The exact side of X's arc e (its pole) on which Y's normal f lies: sign det(G_f, G_L, G_R).
+inline int side(const Placed& X, int e, const Placed& Y, int f) {
+  const double v = X.cx[e] * Y.gx[f] + X.cy[e] * Y.gy[f] + X.cz[e] * Y.gz[f];
+  if (v > kFilter) return 1;
+  if (v < -kFilter) return -1;
+  return orient(Y.gauss(f), X.gauss(X.L(e)), X.gauss(X.R(e)));
 }
 
-int exact_sign_of_dot(const Vector3d& x, const Vector3d& y) {
-  return sgn(mpq_class(x.x()) * mpq_class(y.x()) + mpq_class(x.y()) * mpq_class(y.y()) +
-             mpq_class(x.z()) * mpq_class(y.z()));
+// Whether Y's normal f lies beyond the side of X's cell at `slot` (the cell across is higher
+// along it): +1, 0 on the side's circle, -1.
+inline int beyond(const Placed& X, int slot_arc, const Placed& Y, int f) {
+  return slot_arc >= 0 ? side(X, slot_arc, Y, f) : -side(X, ~slot_arc, Y, f);
 }
 
-// The side of arc e's great circle (pole c = N_L x N_R) on which the normal n lies, when it lies
-// on the circle exactly: +-2 by the infinitesimal rotation of B about kAxis (n_moves: n is B's,
-// else the arc is), 0 if even that leaves it on the circle.
-[[gnu::noinline]] int perturbed_side(const Vector3d& n, const Vector3d& nl, const Vector3d& nr, bool n_moves) {
-  // First order: (k x n) . c when n turns, n . (k x c) = -det(k, n, c) when the arc does.
-  if (const int first = det_k_cross(n, nl, nr)) return 2 * (n_moves ? first : -first);
-  // Second order (k x (k x n)) . c = n . (k x (k x c)) = (k . n)(k . c), given n . c = 0.
-  return 2 * exact_sign_of_dot(kAxis, n) * orient(kAxis, nl, nr);
+using Loc = Location;
+
+// A cell of X in the closure of a location's feature.
+int some_cell(const Placed& X, const Loc& l) {
+  if (l.kind == Loc::Cell) return l.id;
+  if (l.kind == Loc::Arc) return X.m->arc[l.id].u;
+  return X.m->loop_cell[X.m->loop_start[l.id]];
 }
 
-// The float filter of every sign (see the top of the file).
-constexpr double kFilter = 1e-14;
-
-// The sign of v when it clears the filter, else 0.
-inline int margin_sign(double v) { return v > kFilter ? 1 : v < -kFilter ? -1 : 0; }
-
-}  // namespace
-
-int Placed::exact_side(int e, const Placed& other, int f) const {
-  const Vector3d n = other.normal(f), nl = normal(L(e)), nr = normal(R(e));
-  if (const int s = orient(n, nl, nr)) return s;
-  return perturbed_side(n, nl, nr, other.moves);
-}
-
-void place(const ShapeData& s, const Eigen::Isometry3d& pose, bool negate, PlacedBuffers& buf, Placed& out) {
-  out.s = &s, out.negate = negate;
-  const Eigen::Matrix3d M = (negate ? -1.0 : 1.0) * pose.linear();
-  out.linear = M, out.turned = M != Eigen::Matrix3d::Identity();
-  const Vector3d t = (negate ? -1.0 : 1.0) * pose.translation();
-  // x' = M x (+ t), by component over the arrays (vectorised).
-  const auto transform = [&M](const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& z,
-                              std::vector<double> (&o)[3], const Vector3d& shift) {
-    const size_t n = x.size();
-    for (int r = 0; r < 3; ++r) {
-      o[r].resize(n);
-      const double m0 = M(r, 0), m1 = M(r, 1), m2 = M(r, 2), c = shift[r];
-      double* out = o[r].data();
-      for (size_t k = 0; k < n; ++k) out[k] = m0 * x[k] + m1 * y[k] + m2 * z[k] + c;
-    }
-  };
-  if (M == Eigen::Matrix3d::Identity()) {
-    out.nx = s.nx.data(), out.ny = s.ny.data(), out.nz = s.nz.data();
-    out.sx = s.sx.data(), out.sy = s.sy.data(), out.sz = s.sz.data();
-  } else {
-    // The poles from the placed normals themselves (not rotated): the filter's bound holds
-    // against the exact predicate on those normals whatever the pose's rounding.
-    transform(s.nx, s.ny, s.nz, buf.n, Vector3d::Zero());
-    for (auto& d : buf.d) d.resize(s.sx.size());
-    out.nx = buf.n[0].data(), out.ny = buf.n[1].data(), out.nz = buf.n[2].data();
-    out.sx = buf.d[0].data(), out.sy = buf.d[1].data(), out.sz = buf.d[2].data();
-    fill_poles(s, negate, out.nx, out.ny, out.nz, buf.d[0].data(), buf.d[1].data(), buf.d[2].data());
-  }
-  if (M == Eigen::Matrix3d::Identity() && t == Vector3d::Zero()) {
-    out.px = s.px.data(), out.py = s.py.data(), out.pz = s.pz.data();
-  } else {
-    transform(s.px, s.py, s.pz, buf.p, t);
-    out.px = buf.p[0].data(), out.py = buf.p[1].data(), out.pz = buf.p[2].data();
-  }
-}
-
-// The exact place of a normal in a map: inside a cell, inside an arc, or on a face normal.
-struct Feature {
-  enum Kind { Cell, Arc, Face } kind;
-  int id;
-};
-
-namespace {
-
-// The feature of map X holding the normal f of Y, given a cell whose closure holds it: the
-// arcs of the cell whose great circles hold it exactly (none: the cell; one: that arc; two:
-// their common face). False for anything else.
-bool exact_feature(const Placed& X, int cell, const Placed& Y, int f, Feature& out) {
-  const ShapeData& s = *X.s;
-  const Vector3d n = Y.normal(f);
-  int zeros[2], nz = 0;
-  for (int k = s.cell_start[cell]; k < s.cell_start[cell + 1]; ++k) {
-    const int e = s.cell_slot[k].arc >= 0 ? s.cell_slot[k].arc : ~s.cell_slot[k].arc;
-    if (orient(n, X.normal(X.L(e)), X.normal(X.R(e))) != 0) continue;
-    if (nz == 2) return false;
-    zeros[nz++] = e;
-  }
-  if (nz == 0) {
-    out = {Feature::Cell, cell};
-  } else if (nz == 1) {
-    out = {Feature::Arc, zeros[0]};
-  } else {
-    const int l0 = X.L(zeros[0]), r0 = X.R(zeros[0]), l1 = X.L(zeros[1]), r1 = X.R(zeros[1]);
-    out = {Feature::Face, (l0 == l1 || l0 == r1) ? l0 : r0};
-  }
-  return true;
-}
-
-// The cell of X best along the normal f of Y, by a linear scan (the first support only).
+// The cell of X best along the unit normal f of Y, by a linear scan (the first support only).
 int best_cell(const Placed& X, const Placed& Y, int f) {
   const ShapeData& s = *X.s;
   int best = 0;
@@ -173,95 +86,137 @@ int best_cell(const Placed& X, const Placed& Y, int f) {
   return best;
 }
 
-// The cell of map X whose (perturbed) region holds the normal f of Y, by climbing from `cell`
-// across the arcs it lies beyond (each step raises X's support along the normal); -1 on
-// failure. `clean`: no side of the final cell was decided by the perturbation.
-int climb(const Placed& X, const Placed& Y, int f, int cell, bool& clean) {
-  const ShapeData& s = *X.s;
-  const double nx = Y.nx[f], ny = Y.ny[f], nz = Y.nz[f];
-  const double *sx = X.sx, *sy = X.sy, *sz = X.sz;
-  const int* start = s.cell_start.data();
-  const ShapeData::Slot* slot = s.cell_slot.data();
-  clean = true;
-  for (int steps = 0; steps <= s.cells; ++steps) {
-    int next = -1;
-    for (int k = start[cell], end = start[cell + 1]; k < end; ++k) {
-      const double v = sx[k] * nx + sy[k] * ny + sz[k] * nz;
-      if (v < -kFilter) continue;
-      int b = v > kFilter ? 1 : X.exact_beyond(k, Y, f);
-      if (b == 0) return -1;
+// The exact location of Y's normal f in X's map, climbing from `cell` across the sides it lies
+// beyond (each step raises X's support along the normal); false on failure. Where no side is
+// strictly beyond, the cell is a support vertex, and the sides whose circles hold the normal
+// tell the feature: none, the cell; one, that arc; two (consecutive), their common face.
+bool climb(const Placed& X, const Placed& Y, int f, int cell, Loc& out) {
+  const MapLayout& m = *X.m;
+  for (int steps = 0; steps <= X.s->cells; ++steps) {
+    int zeros = 0, z[2] = {-1, -1}, next = -1;
+    const int begin = m.cell_start[cell], end = m.cell_start[cell + 1];
+    for (int k = begin; k < end; ++k) {
+      const int b = beyond(X, m.cell_slot[k].arc, Y, f);
       if (b > 0) {
-        next = slot[k].next;
+        next = m.cell_slot[k].next;
         break;
       }
-      if (b == -2) clean = false;  // on the arc's circle exactly
+      if (b == 0 && zeros++ < 2) z[zeros - 1] = k;
     }
-    if (next < 0) return cell;
-    cell = next;
-    clean = true;
+    if (next >= 0) {
+      cell = next;
+      continue;
+    }
+    const auto arc_of = [&m](int k) { return m.cell_slot[k].arc >= 0 ? m.cell_slot[k].arc : ~m.cell_slot[k].arc; };
+    if (zeros == 0) {
+      out = {Loc::Cell, cell};
+    } else if (zeros == 1) {
+      out = {Loc::Arc, arc_of(z[0])};
+    } else if (zeros == 2 && (z[1] == z[0] + 1 || (z[0] == begin && z[1] == end - 1))) {
+      out = {Loc::Face, m.cell_slot[z[1] == z[0] + 1 ? z[0] : z[1]].face};  // the face between them
+    } else {
+      return false;
+    }
+    return true;
   }
-  return -1;
+  return false;
 }
 
-// Walks arc ea of A from the normal of its face `from`, which B's cell `cell` holds, towards the
-// normal of its other face `to`: to the cell `target` when that is known (>= 0), else until a
-// cell holds it, certified (it lies beyond none of the cell's arcs; `clean`: none of those
-// sides was decided by the perturbation). Returns the last cell (-1 on failure) and appends
-// the proper crossings. From a cell the next move is across the one arc e_B that crosses e_A:
-// N_to lies beyond it and N_from does not (e_B's circle separates N_L and N_R: s3 != s4; the
-// arc it came in by has N_to behind it), e_A's circle separates e_B's ends (s1 != s2), and not
-// at the antipode (s1 == s4).
-int walk(const Placed& A, const Placed& B, int ea, int from, int cell, int target, std::vector<Crossing>& out,
-         bool& clean) {
-  const ShapeData& sb = *B.s;
-  const bool from_left = A.L(ea) == from;
-  const int to = from_left ? A.R(ea) : A.L(ea);
-  const double tx = A.nx[to], ty = A.ny[to], tz = A.nz[to], fx = A.nx[from], fy = A.ny[from], fz = A.nz[from];
-  const Vector3d da = A.pole(ea);
-  const double *sx = B.sx, *sy = B.sy, *sz = B.sz, *nx = B.nx, *ny = B.ny, *nz = B.nz;
-  const int* start = sb.cell_start.data();
-  const ShapeData::Slot* slot = sb.cell_slot.data();
-  for (int steps = 0; cell != target; ++steps) {
-    if (steps > sb.cells) return -1;
-    int k = start[cell], exit = -1, s1 = 0, s2 = 0, s3 = 0, s4 = 0;
-    bool beyond_some = false;
-    clean = true;
-    for (const int end = start[cell + 1]; k < end; ++k) {
-      const double vt = sx[k] * tx + sy[k] * ty + sz[k] * tz;
-      if (vt < -kFilter) continue;
-      const int to_beyond = vt > kFilter ? 1 : B.exact_beyond(k, A, to);
-      if (to_beyond <= 0) {
-        if (to_beyond == 0) return -1;
-        clean &= to_beyond == -1;
-        continue;
+// Whether face R of arc e of X lies ahead of the normal `from` (inside e) along the common
+// circle of e and an arc of A from `from` to `to`: two points of a great circle are on the same
+// side of the plane through `from` and an axis off the circle iff they lie within the same half
+// turn from it.
+bool right_end_ahead(const Placed& X, int e, const Vector3d& from, const Vector3d& to) {
+  const Vector3d c = X.pole(e).cwiseAbs();
+  const int k = c.x() >= c.y() && c.x() >= c.z() ? 0 : c.y() >= c.z() ? 1 : 2;
+  const Vector3d axis = Vector3d::Unit(k);
+  return orient(axis, from, X.gauss(X.R(e))) == orient(axis, from, to);
+}
+
+// Walks arc ea of A from its face `from` to its other face through B's map (step 2 of the
+// file's comment), appending the proper crossings; false on failure.
+bool walk(const Placed& A, const Placed& B, int ea, int from, const Loc& start, const Loc& target,
+          std::vector<Crossing>& out) {
+  const MapLayout& m = *B.m;
+  const int to = A.L(ea) == from ? A.R(ea) : A.L(ea), tsign = A.L(ea) == from ? 1 : -1;
+  // The side of the arc's circle, seen along its way, on which B's normal g lies (left: +).
+  const auto sigma = [&](int g) { return tsign * side(A, ea, B, g); };
+  enum { InCell, AtFace, Along } kind;
+  int id = start.id, entry = -1, head = -1;  // entry: a slot of the cell whose face lies right
+  switch (start.kind) {
+    case Loc::Cell: kind = InCell; break;
+    case Loc::Face: kind = AtFace; break;
+    default: {  // from inside arc e of B: across it, or along it
+      const MapLayout::Arc& a = m.arc[id];
+      if (sigma(a.L) == 0 && sigma(a.R) == 0) {
+        kind = Along, head = right_end_ahead(B, id, A.gauss(from), A.gauss(to)) ? a.R : a.L;
+      } else {
+        const int s = side(B, id, A, to);  // the side of e's circle the arc goes to
+        if (s == 0) return false;
+        kind = InCell, entry = m.arc_slot[2 * id + (s > 0)], id = s > 0 ? a.v : a.u;
+        if (sigma(m.cell_slot[entry].face) >= 0) return false;
       }
-      beyond_some = true;
-      const double vf = sx[k] * fx + sy[k] * fy + sz[k] * fz;
-      const int from_beyond = vf < -kFilter ? -1 : vf > kFilter ? 1 : B.exact_beyond(k, A, from);
-      if (from_beyond >= 0) {
-        if (from_beyond == 0) return -1;
-        continue;
-      }
-      // s3, s4: the signs of d_B . N_L and d_B . N_R (read from u, the slot's direction is d_B).
-      const int a = slot[k].arc, e = a >= 0 ? a : ~a, sign = a >= 0 ? 1 : -1;
-      s3 = sign * (from_left ? from_beyond : to_beyond), s4 = sign * (from_left ? to_beyond : from_beyond);
-      const int gl = B.L(e), gr = B.R(e);
-      s1 = margin_sign(da.x() * nx[gl] + da.y() * ny[gl] + da.z() * nz[gl]);
-      if (!s1 && !(s1 = A.exact_side(ea, B, gl))) return -1;
-      if ((s1 > 0) != (s4 > 0)) continue;
-      s2 = margin_sign(da.x() * nx[gr] + da.y() * ny[gr] + da.z() * nz[gr]);
-      if (!s2 && !(s2 = A.exact_side(ea, B, gr))) return -1;
-      if ((s1 > 0) == (s2 > 0)) continue;
-      exit = e;
-      break;
     }
-    if (exit < 0) return target < 0 && !beyond_some ? cell : -1;
-    // Proper without the perturbation: a parallelogram facet (else arcs touch or overlap, and
-    // the facets there are the merged ones at face normals).
-    if (s1 * s1 + s2 * s2 + s3 * s3 + s4 * s4 == 4) out.push_back({ea, exit, s1 > 0});
-    cell = slot[k].next;
   }
-  return cell;
+  for (int steps = 0; steps <= 2 * (B.s->cells + B.s->faces); ++steps) {
+    if (kind == Along) {  // along arc id of B, to its face normal head
+      if (target.kind == Loc::Arc && target.id == id) return true;
+      kind = AtFace, id = head;
+      continue;
+    }
+    if (kind == AtFace) {  // on face normal id of B: into the cell, or along the arc, ahead
+      if (target.kind == Loc::Face && target.id == id) return true;
+      const int first = m.loop_start[id], n = m.loop_start[id + 1] - first;
+      int prev = sigma(m.loop_face[first + n - 1]), k = 0;
+      for (; k < n; ++k) {
+        const int now = sigma(m.loop_face[first + k]);
+        if (prev < 0 && now >= 0) break;
+        prev = now;
+      }
+      if (k == n) return false;
+      if (sigma(m.loop_face[first + k]) == 0) {  // along ray k
+        kind = Along, head = m.loop_face[first + k], id = m.loop_arc[first + k];
+      } else {  // into cell k; its corner after `entry` (across ray k - 1) lies right
+        const int s = m.loop_slot[first + k], c = m.loop_cell[first + k];
+        kind = InCell, id = c, entry = s + 1 < m.cell_start[c + 1] ? s + 1 : m.cell_start[c];
+      }
+      continue;
+    }
+    // In cell id: arrived, or out across the side or through the corner ahead.
+    if (target.kind == Loc::Cell && target.id == id) return true;
+    if (target.kind == Loc::Arc && (m.arc[target.id].u == id || m.arc[target.id].v == id)) return true;
+    const int begin = m.cell_start[id], end = m.cell_start[id + 1], n = end - begin;
+    int k = -1, now = 0;
+    if (entry >= 0) {  // corners after the entry, until one is not right of the circle
+      for (int t = 1, s = entry; t < n; ++t) {
+        s = s + 1 < end ? s + 1 : begin;
+        if ((now = sigma(m.cell_slot[s].face)) >= 0) {
+          k = s;
+          break;
+        }
+      }
+    } else {  // from inside: the corner where right turns to left
+      int prev = sigma(m.cell_slot[end - 1].face);
+      for (int s = begin; s < end; ++s) {
+        now = sigma(m.cell_slot[s].face);
+        if (prev < 0 && now >= 0) {
+          k = s;
+          break;
+        }
+        prev = now;
+      }
+    }
+    if (k < 0) return false;
+    if (now == 0) {
+      kind = AtFace, id = m.cell_slot[k].face;
+      continue;
+    }
+    // Across side k (between the corner before it, right, and corner k, left): a crossing.
+    const int arc = m.cell_slot[k].arc, eb = arc >= 0 ? arc : ~arc;
+    out.push_back({ea, eb, tsign * (m.arc[eb].L == m.cell_slot[k].face ? 1 : -1) > 0});
+    entry = m.slot_twin[k], id = m.cell_slot[k].next;
+  }
+  return false;
 }
 
 // The normal of the parallelogram of two edges within 1e-4 rad of parallel, whose arcs
@@ -285,28 +240,163 @@ Vector3d near_parallel_normal(const Vector3d& a1, const Vector3d& a2, const Vect
   return std::cos(theta) * u + std::sin(theta) * w;
 }
 
-// The directions leaving a facet normal along the arcs of feature f of X, each towards a normal
-// m, with the cell counter-clockwise after it (seen from outside).
-void directions(const Placed& X, const Feature& f, bool from_a, std::vector<OverlayScratch::Dir>& out) {
-  using Dir = OverlayScratch::Dir;
-  const ShapeData& s = *X.s;
-  const auto add = [&](int e, bool towards_r) {
-    // Walking towards R, cell v is on the left (counter-clockwise) side; towards L, cell u.
-    out.push_back(towards_r ? Dir{X.normal(X.R(e)), s.arc[e].v, from_a} : Dir{X.normal(X.L(e)), s.arc[e].u, from_a});
-  };
-  if (f.kind == Feature::Face)
-    for (int k = s.loop_start[f.id]; k < s.loop_start[f.id + 1]; ++k) add(s.loop_arc[k], X.L(s.loop_arc[k]) == f.id);
-  if (f.kind == Feature::Arc) add(f.id, true), add(f.id, false);
+// The rays of X's feature at a facet normal, counter-clockwise: a face's arcs (each between
+// two cells of its loop), or an arc's two directions.
+void rays_of(const Placed& X, const Loc& f, std::vector<Overlay::Ray>& out) {
+  const MapLayout& m = *X.m;
+  out.clear();
+  if (f.kind == Loc::Face) {
+    const int first = m.loop_start[f.id], n = m.loop_start[f.id + 1] - first;
+    for (int k = 0; k < n; ++k) out.push_back({m.loop_face[first + k], m.loop_cell[first + (k + 1) % n]});
+  } else if (f.kind == Loc::Arc) {
+    // Towards R the cell on the left is v; towards L, u.
+    const MapLayout::Arc& a = m.arc[f.id];
+    out.push_back({a.R, a.v});
+    out.push_back({a.L, a.u});
+  }
 }
 
 }  // namespace
 
-inline void OverlayScratch::begin_facet(MinkowskiSum& out, const Vector3d& n, bool loose_offset) {
+Vector3d Placed::edge(int e) const {
+  const int v = s->cell_vertex[m->arc[e].v], u = s->cell_vertex[m->arc[e].u];
+  const Vector3d d(s->px[v] - s->px[u], s->py[v] - s->py[u], s->pz[v] - s->pz[u]);
+  return turned ? Vector3d(linear * d) : d;
+}
+
+void place(const ShapeData& s, const Eigen::Isometry3d& pose, bool negate, PlacedBuffers& buf, Placed& out) {
+  out.s = &s, out.m = &s.map[negate], out.negate = negate;
+  const Eigen::Matrix3d M = (negate ? -1.0 : 1.0) * pose.linear();
+  out.linear = M, out.turned = M != Eigen::Matrix3d::Identity();
+  const Vector3d t = (negate ? -1.0 : 1.0) * pose.translation();
+  // x' = M x (+ t), by component over the arrays (vectorised); `flush` zeroes what falls below
+  // kTinyComponent (Gauss normals: the expansions' range).
+  const auto transform = [&M](const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& z,
+                              std::vector<double> (&o)[3], const Vector3d& shift, bool flush) {
+    const size_t n = x.size();
+    for (int r = 0; r < 3; ++r) {
+      o[r].resize(n);
+      const double m0 = M(r, 0), m1 = M(r, 1), m2 = M(r, 2), c = shift[r];
+      double* out = o[r].data();
+      for (size_t k = 0; k < n; ++k) out[k] = m0 * x[k] + m1 * y[k] + m2 * z[k] + c;
+      if (flush)
+        for (size_t k = 0; k < n; ++k) out[k] = std::abs(out[k]) < kTinyComponent ? 0.0 : out[k];
+    }
+  };
+  const bool identity = M == Eigen::Matrix3d::Identity();
+  if (identity) {
+    out.gx = s.gx.data(), out.gy = s.gy.data(), out.gz = s.gz.data();
+    out.nx = s.nx.data(), out.ny = s.ny.data(), out.nz = s.nz.data();
+  } else {
+    transform(s.gx, s.gy, s.gz, buf.g, Vector3d::Zero(), true);
+    transform(s.nx, s.ny, s.nz, buf.n, Vector3d::Zero(), false);
+    out.gx = buf.g[0].data(), out.gy = buf.g[1].data(), out.gz = buf.g[2].data();
+    out.nx = buf.n[0].data(), out.ny = buf.n[1].data(), out.nz = buf.n[2].data();
+  }
+  // The poles from the placed normals themselves (not turned): the filter's bound holds against
+  // the exact predicate on those normals whatever the pose's rounding.
+  const MapLayout& m = *out.m;
+  for (auto& c : buf.c) c.resize(size_t(s.arcs));
+  double *cx = buf.c[0].data(), *cy = buf.c[1].data(), *cz = buf.c[2].data();
+  for (int e = 0; e < s.arcs; ++e) {
+    const int l = m.arc[e].L, r = m.arc[e].R;
+    cx[e] = out.gy[l] * out.gz[r] - out.gz[l] * out.gy[r];
+    cy[e] = out.gz[l] * out.gx[r] - out.gx[l] * out.gz[r];
+    cz[e] = out.gx[l] * out.gy[r] - out.gy[l] * out.gx[r];
+  }
+  out.cx = cx, out.cy = cy, out.cz = cz;
+  if (identity && t == Vector3d::Zero()) {
+    out.px = s.px.data(), out.py = s.py.data(), out.pz = s.pz.data();
+  } else {
+    transform(s.px, s.py, s.pz, buf.p, t, false);
+    out.px = buf.p[0].data(), out.py = buf.p[1].data(), out.pz = buf.p[2].data();
+  }
+}
+
+bool Overlay::locate_a_normals(const Placed& A, const Placed& B) {
+  const MapLayout& ma = *A.m;
+  const int F = A.s->faces;
+  loc_b.assign(size_t(F), {Loc::Cell, -1}), queue.resize(size_t(F));
+  if (!climb(B, A, 0, best_cell(B, A, 0), loc_b[0])) return false;
+  queue[0] = 0;
+  int tail = 1;
+  for (int q = 0; q < tail; ++q) {
+    const int f = queue[q];
+    for (int k = ma.loop_start[f]; k < ma.loop_start[f + 1]; ++k) {
+      const int g = ma.loop_face[k];
+      if (loc_b[g].id >= 0) continue;
+      if (!climb(B, A, g, some_cell(B, loc_b[f]), loc_b[g])) return false;
+      queue[tail++] = g;
+    }
+  }
+  return tail == F;
+}
+
+bool Overlay::walk_a_arcs(const Placed& A, const Placed& B) {
+  crossings.clear();
+  for (int e = 0; e < A.s->arcs; ++e) {
+    const int l = A.L(e), r = A.R(e);
+    const Loc &from = loc_b[l], &to = loc_b[r];
+    if (from.kind == Loc::Cell && to.kind == Loc::Cell && from.id == to.id) continue;  // one cell: no crossing
+    if (!walk(A, B, e, l, from, to, crossings)) return false;
+  }
+  return true;
+}
+
+bool Overlay::locate_b_normals(const Placed& A, const Placed& B) {
+  const MapLayout &ma = *A.m, &mb = *B.m;
+  const int F = B.s->faces;
+  loc_a.assign(size_t(F), {Loc::Cell, -1}), hint.assign(size_t(F), -1), queue.resize(size_t(F));
+  // A crossing's B arc has its L on the `up` side of the A arc: next to that side's cell.
+  for (const Crossing& x : crossings) {
+    const MapLayout::Arc& a = ma.arc[x.ea];
+    hint[mb.arc[x.eb].L] = x.up ? a.v : a.u, hint[mb.arc[x.eb].R] = x.up ? a.u : a.v;
+  }
+  if (!climb(A, B, 0, hint[0] >= 0 ? hint[0] : best_cell(A, B, 0), loc_a[0])) return false;
+  queue[0] = 0;
+  int tail = 1;
+  for (int q = 0; q < tail; ++q) {
+    const int g = queue[q];
+    for (int k = mb.loop_start[g]; k < mb.loop_start[g + 1]; ++k) {
+      const int h = mb.loop_face[k];
+      if (loc_a[h].id >= 0) continue;
+      if (!climb(A, B, h, hint[h] >= 0 ? hint[h] : some_cell(A, loc_a[g]), loc_a[h])) return false;
+      queue[tail++] = h;
+    }
+  }
+  return tail == F;
+}
+
+bool Overlay::run(const Placed& A, const Placed& B, MinkowskiSum& out) {
+  const ShapeData &sa = *A.s, &sb = *B.s;
+  dedupe_all = sa.polytope_ref->flat || sb.polytope_ref->flat;
+  map_normals = std::max(sa.pole_slack, sb.pole_slack) > 1e-10;
+  merged = false;
+  if (!locate_a_normals(A, B) || !walk_a_arcs(A, B) || !locate_b_normals(A, B)) return false;
+  // The facets: one per face normal (B's on A's skipped) and crossing; loops grow as written.
+  out.planes.resize(size_t(sa.faces + sb.faces) + crossings.size());
+  loose.resize(out.planes.size()), start.resize(out.planes.size() + 1);
+  nf = nl = start[0] = 0;
+  id_key.clear();
+  const size_t entries = sa.map[0].loop_cell.size() + sb.map[0].loop_cell.size() + 4 * crossings.size();
+  if (loop.size() < entries) loop.resize(entries);
+  unsigned size = 64;  // twice the vertices at most (each is in three loops or more)
+  for (shift = 58; 3 * size < 2 * entries; size *= 2) --shift;
+  slot_key.assign(size, kEmpty), slot_id.resize(size), mask = size - 1;
+  if (!face_facets(A, B, out)) return false;
+  crossing_facets(A, B, out);
+  return number_and_write(A, B, out);
+}
+
+inline void Overlay::begin_facet(MinkowskiSum& out, const Vector3d& n, bool loose_offset, int length) {
+  // Room for this loop, whatever the facets before it took (merged facets are longer than
+  // either face).
+  if (loop.size() < size_t(nl + length)) loop.resize(2 * size_t(nl + length));
   out.planes[nf].normal = n;
   loose[nf] = loose_offset;
 }
 
-inline void OverlayScratch::add_pair(int i, int j) {
+inline void Overlay::add_pair(int i, int j) {
   // Open addressing on the key (i, j) (Fibonacci hashing), grown at half load.
   const std::uint64_t key = std::uint64_t(i) << 32 | std::uint64_t(unsigned(j));
   unsigned h = unsigned((key * 0x9E3779B97F4A7C15ull) >> shift);
@@ -323,7 +413,7 @@ inline void OverlayScratch::add_pair(int i, int j) {
   if (2 * id_key.size() > mask) grow();
 }
 
-void OverlayScratch::grow() {
+void Overlay::grow() {
   const unsigned size = 2 * (mask + 1);
   slot_key.assign(size, kEmpty), slot_id.resize(size), mask = size - 1, --shift;
   for (size_t id = 0; id < id_key.size(); ++id) {
@@ -333,11 +423,12 @@ void OverlayScratch::grow() {
   }
 }
 
-inline void OverlayScratch::end_facet() {
+inline void Overlay::end_facet(bool dedupe) {
   const int first = start[nf];
   int n = nl - first;
-  // A flat operand's prism has zero-length arcs: drop the repeated vertices they make, and the
-  // facets left with fewer than three (no area).
+  // A flat operand's prism has zero-length arcs, and merged facets meet rays of both maps at
+  // one angle: drop the repeated vertices they make, and the facets left with fewer than three
+  // (no area).
   if (dedupe) {
     int m = 0;
     for (int k = 0; k < n; ++k)
@@ -354,121 +445,49 @@ inline void OverlayScratch::end_facet() {
   start[++nf] = nl;
 }
 
-bool OverlayScratch::run(const Placed& A, const Placed& B, MinkowskiSum& out) {
+bool Overlay::face_facets(const Placed& A, const Placed& B, MinkowskiSum& out) {
   const ShapeData &sa = *A.s, &sb = *B.s;
-  crossings.clear();
-  dedupe = sa.polytope_ref->flat || sb.polytope_ref->flat;
-  map_normals = std::max(sa.pole_slack, sb.pole_slack) > 1e-10;
-  perturbed = false;
-  // 1. A's face normals in B's map, and the crossings: breadth first over A's faces from the
-  //    first (located by B's best vertex and a climb), every arc of a located face is walked
-  //    to its other face, whose normal the walk locates if it is not yet (so that consecutive
-  //    walks stay in one region of B's map, and of the cache).
-  loc_b.assign(size_t(sa.faces), -1), clean_b.resize(size_t(sa.faces)), queue.resize(size_t(sa.faces));
-  walked.assign(size_t(sa.arcs), 0);
-  bool clean = true;
-  if ((loc_b[0] = climb(B, A, 0, best_cell(B, A, 0), clean)) < 0) return false;
-  clean_b[0] = clean, queue[0] = 0;
-  int tail = 1;
-  for (int q = 0; q < tail; ++q) {
-    const int f = queue[q];
-    for (int k = sa.loop_start[f]; k < sa.loop_start[f + 1]; ++k) {
-      const int e = sa.loop_arc[k], g = sa.loop_face[k];
-      if (walked[e]) continue;
-      walked[e] = 1;
-      const int end = walk(A, B, e, f, loc_b[f], loc_b[g], crossings, clean);
-      if (end < 0) return false;
-      if (loc_b[g] < 0) loc_b[g] = end, clean_b[g] = clean, queue[tail++] = g;
-    }
-  }
-  if (tail != sa.faces) return false;
-  // 2. B's face normals in A's map, breadth first too, each climbing from the cell a crossing
-  //    of one of its arcs puts it in (the side of e_A's circle it lies on: s1 or s2), else from
-  //    a neighbour's.
-  loc_a.assign(size_t(sb.faces), -1), clean_a.resize(size_t(sb.faces)), hint.assign(size_t(sb.faces), -1);
-  queue.resize(size_t(sb.faces));
-  for (const Crossing& x : crossings) {
-    const ShapeData::Arc& a = sa.arc[x.ea];
-    hint[B.L(x.eb)] = x.up ? a.v : a.u, hint[B.R(x.eb)] = x.up ? a.u : a.v;
-  }
-  if ((loc_a[0] = climb(A, B, 0, hint[0] >= 0 ? hint[0] : best_cell(A, B, 0), clean)) < 0) return false;
-  clean_a[0] = clean, queue[0] = 0, tail = 1;
-  for (int q = 0; q < tail; ++q) {
-    const int g = queue[q];
-    for (int k = sb.loop_start[g]; k < sb.loop_start[g + 1]; ++k) {
-      const int h = sb.loop_face[k];
-      if (loc_a[h] >= 0) continue;
-      if ((loc_a[h] = climb(A, B, h, hint[h] >= 0 ? hint[h] : loc_a[g], clean)) < 0) return false;
-      clean_a[h] = clean, queue[tail++] = h;
-    }
-  }
-  if (tail != sb.faces) return false;
-  // 3. The facets: at most one per face normal and crossing, each loop at most as long as the
-  //    face's (a merged one as both features': sector_loop makes room), four per crossing.
-  const size_t facets = size_t(sa.faces + sb.faces) + crossings.size();
-  const size_t entries = sa.loop_cell.size() + sb.loop_cell.size() + 4 * crossings.size();
-  out.planes.resize(facets), loose.resize(facets), start.resize(facets + 1), loop.resize(entries);
-  nf = nl = start[0] = 0;
-  id_key.clear();
-  unsigned size = 64;  // twice the vertices at most (each is in three loops or more)
-  for (shift = 58; 3 * size < 2 * entries; size *= 2) --shift;
-  slot_key.assign(size, kEmpty), slot_id.resize(size), mask = size - 1;
-  if (!face_facets(A, B, out)) return false;
-  crossing_facets(A, B, out);
-  return number_and_write(A, B, out);
-}
-
-bool OverlayScratch::face_facets(const Placed& A, const Placed& B, MinkowskiSum& out) {
-  const ShapeData &sa = *A.s, &sb = *B.s;
-  // A's faces: face f (+) the vertex of its cell of B, or the merged facet where f's normal lies
-  // on B's arcs.
-  coincide.assign(size_t(sb.faces), -1);
+  const MapLayout &ma = *A.m, &mb = *B.m;
+  // A's faces: face f (+) the vertex of its cell of B, or the merged facet.
   for (int f = 0; f < sa.faces; ++f) {
-    if (clean_b[f]) {  // from its smallest pair: the face's smallest vertex
-      const int j = sb.cell_vertex[loc_b[f]], first = sa.loop_start[f], n = sa.loop_start[f + 1] - first;
-      const int* cell = &sa.loop_cell[first];
-      begin_facet(out, A.normal(f), map_normals);
-      for (int k = sa.loop_least[f], m = 0; m < n; ++m, k = k + 1 < n ? k + 1 : 0) add_pair(sa.cell_vertex[cell[k]], j);
-      end_facet();
+    const Loc& l = loc_b[f];
+    if (l.kind != Loc::Cell) {
+      if (!merged_facet(A, {Loc::Face, f}, B, l, true, out)) return false;
       continue;
     }
-    perturbed = true;
-    Feature fb;
-    if (!exact_feature(B, loc_b[f], A, f, fb) || fb.kind == Feature::Cell) return false;
-    if (fb.kind == Feature::Face) coincide[fb.id] = f;
-    sector_loop(A, {Feature::Face, f}, B, fb, A.normal(f), out);
+    // From its smallest pair: the face's smallest vertex.
+    const int j = sb.cell_vertex[l.id], first = ma.loop_start[f], n = ma.loop_start[f + 1] - first;
+    const int* cell = &ma.loop_cell[first];
+    begin_facet(out, A.unit(f), map_normals, n);
+    for (int k = ma.loop_least[f], m = 0; m < n; ++m, k = k + 1 < n ? k + 1 : 0) add_pair(sa.cell_vertex[cell[k]], j);
+    end_facet(dedupe_all);
   }
-  // B's faces, but those with the normal of one of A's (done above).
+  // B's faces, but those on a face normal of A (written above).
   for (int g = 0; g < sb.faces; ++g) {
-    if (clean_a[g]) {  // (-B's loops run the other way)
-      if (coincide[g] >= 0) return false;
-      const int i = sa.cell_vertex[loc_a[g]], first = sb.loop_start[g], n = sb.loop_start[g + 1] - first;
-      const int* cell = &sb.loop_cell[first];
-      const int step = B.negate ? n - 1 : 1;
-      begin_facet(out, B.normal(g), map_normals);
-      for (int k = sb.loop_least[g], m = 0; m < n; ++m, k = k + step < n ? k + step : k + step - n)
-        add_pair(i, sb.cell_vertex[cell[k]]);
-      end_facet();
+    const Loc& l = loc_a[g];
+    if (l.kind == Loc::Face) {
+      if (loc_b[l.id].kind != Loc::Face || loc_b[l.id].id != g) return false;  // A's side saw the same
       continue;
     }
-    perturbed = true;
-    Feature fa;
-    if (!exact_feature(A, loc_a[g], B, g, fa) || fa.kind == Feature::Cell) return false;
-    if (fa.kind == Feature::Face) {
-      if (coincide[g] != fa.id) return false;  // A's side must have found the same pair
+    if (l.kind == Loc::Arc) {
+      if (!merged_facet(A, l, B, {Loc::Face, g}, false, out)) return false;
       continue;
     }
-    sector_loop(A, fa, B, {Feature::Face, g}, B.normal(g), out);
+    const int i = sa.cell_vertex[l.id], first = mb.loop_start[g], n = mb.loop_start[g + 1] - first;
+    const int* cell = &mb.loop_cell[first];
+    begin_facet(out, B.unit(g), map_normals, n);
+    for (int k = mb.loop_least[g], m = 0; m < n; ++m, k = k + 1 < n ? k + 1 : 0) add_pair(i, sb.cell_vertex[cell[k]]);
+    end_facet(dedupe_all);
   }
   return true;
 }
 
-void OverlayScratch::crossing_facets(const Placed& A, const Placed& B, MinkowskiSum& out) {
+void Overlay::crossing_facets(const Placed& A, const Placed& B, MinkowskiSum& out) {
   const ShapeData &sa = *A.s, &sb = *B.s;
   for (const Crossing& x : crossings) {
-    const ShapeData::Arc &a = sa.arc[x.ea], &b = sb.arc[x.eb];
-    // The parallelogram e_A (+) e_B, normal +-(d_A x d_B), the sign from s1 (its crossing point
-    // X = a N_L' + b N_R', a, b > 0, has N_L' . (c x d_B) = -|d_B|^2 (d_A . N_L'), so
+    const MapLayout::Arc &a = A.m->arc[x.ea], &b = B.m->arc[x.eb];
+    // The parallelogram e_A (+) e_B, normal +-(d_A x d_B), the sign from `up` (its crossing
+    // point X = a G_L' + b G_R', a, b > 0, has G_L' . (c x d_B) = -|d_B|^2 (d_A . G_L'), so
     // X = -s1 c / |c|). The cross product of edges within 1e-4 rad of parallel cancels (its
     // direction is good to 1e-16 / sin(angle) only): there the crossing point itself, from the
     // normals, which are perpendicular to the edges to rounding whatever the angle.
@@ -488,61 +507,76 @@ void OverlayScratch::crossing_facets(const Placed& A, const Placed& B, Minkowski
       const double cp2 = cp.squaredNorm();
       n = cp2 > 1e-8 * pa.squaredNorm() * pb.squaredNorm()
               ? Vector3d(cp * ((x.up ? -1 : 1) / std::sqrt(cp2)))
-              : near_parallel_normal(A.normal(A.L(x.ea)), A.normal(A.R(x.ea)), B.normal(B.L(x.eb)), B.normal(B.R(x.eb)));
+              : near_parallel_normal(A.unit(A.L(x.ea)), A.unit(A.R(x.ea)), B.unit(B.L(x.eb)), B.unit(B.R(x.eb)));
     }
-    // The cells around the crossing: (v1, p) (v1, q) (v0, q) (v0, p), with p, q = w0, w1 when
-    // s1 < 0 and w1, w0 when s1 > 0; from the smallest pair.
+    // The cells around the crossing: (v1, p) (v1, q) (v0, q) (v0, p), with p, q = w0, w1
+    // when s1 < 0 and w1, w0 when s1 > 0; from the smallest pair.
     const int p = sb.cell_vertex[x.up ? b.v : b.u], q = sb.cell_vertex[x.up ? b.u : b.v];
     const int a0 = sa.cell_vertex[a.u], a1 = sa.cell_vertex[a.v];
     const int pairs[8] = {a1, p, a1, q, a0, q, a0, p};
     const int first = a1 < a0 ? (p < q ? 0 : 1) : (q < p ? 2 : 3);
-    begin_facet(out, n, parallel || map_normals);
+    begin_facet(out, n, parallel || map_normals, 4);
     for (int k = 0; k < 4; ++k) add_pair(pairs[2 * ((first + k) & 3)], pairs[2 * ((first + k) & 3) + 1]);
-    end_facet();
+    end_facet(dedupe_all);
   }
 }
 
-void OverlayScratch::sector_loop(const Placed& A, const Feature& fa, const Placed& B, const Feature& fb,
-                                 const Vector3d& n, MinkowskiSum& out) {
-  dirs.clear();
-  directions(A, fa, true, dirs);
-  directions(B, fb, false, dirs);
-  const Vector3d ref = dirs[0].m;
-  const auto tangent = [&](const Vector3d& m) { return Vector3d(m - n.dot(m) * n); };
-  // Angle classes about n from ref: 0 = ref's direction, 1 = (0, 180), 2 = 180, 3 = (180, 360).
-  const auto angle_class = [&](const Vector3d& m) {
-    const int s = orient(n, ref, m);
-    if (s != 0) return s > 0 ? 1 : 3;
-    return tangent(ref).dot(tangent(m)) > 0 ? 0 : 2;
-  };
-  keyed.clear();
-  for (const auto& d : dirs) keyed.emplace_back(angle_class(d.m), d);
-  const auto same = [&](const auto& x, const auto& y) {
-    return x.first == y.first && (x.first % 2 == 0 || orient(n, x.second.m, y.second.m) == 0);
-  };
-  std::sort(keyed.begin(), keyed.end(), [&](const auto& x, const auto& y) {
-    if (x.first != y.first) return x.first < y.first;
-    return x.first % 2 == 1 && orient(n, x.second.m, y.second.m) > 0;
-  });
-  // The cell before the first direction is the one after the last direction of each map.
-  int ca = fa.kind == Feature::Cell ? fa.id : -1, cb = fb.kind == Feature::Cell ? fb.id : -1;
-  for (const auto& [cls, d] : keyed) (d.from_a ? ca : cb) = d.after;
-  if (loop.size() < size_t(nl) + keyed.size()) loop.resize(2 * (size_t(nl) + keyed.size()));
-  begin_facet(out, n, true);
-  for (size_t k = 0; k < keyed.size(); ++k) {
-    const Dir& d = keyed[k].second;
-    (d.from_a ? ca : cb) = d.after;
-    if (k + 1 < keyed.size() && same(keyed[k], keyed[k + 1])) continue;  // one merged boundary
+// The facet at a normal where A's feature fa and B's feature fb meet, one of them a face (the
+// reference: its rays split the turn around the normal into sectors of less than pi): the
+// other's rays are placed among them (each in the sector [r_k, r_k+1) that holds it, exactly;
+// on r_k itself where both point the same way), and every sector between two consecutive rays
+// of either map is an overlay cell, a vertex (i, j) of the facet, counter-clockwise.
+bool Overlay::merged_facet(const Placed& A, const Loc& fa, const Placed& B, const Loc& fb, bool normal_of_a,
+                           MinkowskiSum& out) {
+  merged = true;
+  const bool a_ref = fa.kind == Loc::Face;
+  const Placed &R = a_ref ? A : B, &O = a_ref ? B : A;
+  std::vector<Ray> &ref = rays[0], &other = rays[1];
+  rays_of(R, a_ref ? fa : fb, ref);
+  rays_of(O, a_ref ? fb : fa, other);
+  const Vector3d n = normal_of_a ? A.gauss(fa.id) : B.gauss(fb.id);
+  const int nr = int(ref.size()), no = int(other.size());
+  // Sector of each ray of O: k with r_k <= o < r_k+1 counter-clockwise (2k + 1 when o is r_k's
+  // direction, 2k + 2 when strictly inside), so that sorting by it orders every ray.
+  ray_sector.resize(size_t(no));
+  for (int j = 0; j < no; ++j) {
+    const Vector3d o = O.gauss(other[j].to);
+    int k = 0;
+    for (; k < nr; ++k) {
+      const int s0 = orient(n, R.gauss(ref[k].to), o), s1 = orient(n, o, R.gauss(ref[(k + 1) % nr].to));
+      if (s0 >= 0 && s1 > 0) break;
+    }
+    if (k == nr) return false;
+    ray_sector[j] = 2 * k + (orient(n, R.gauss(ref[k].to), o) == 0 ? 1 : 2);
+  }
+  // The cells before the first ray of R: R's cell before it, O's after its last ray (in the
+  // order of the sectors, which is O's own order turned to start after r_0).
+  int first_o = 0;  // where O's (counter-clockwise) sectors fall back to a smaller one
+  for (int j = 0; j < no; ++j)
+    if (ray_sector[(j + no - 1) % no] > ray_sector[j]) first_o = j;
+  int cell_r = ref[nr - 1].after, cell_o = other[(first_o + no - 1) % no].after;
+  begin_facet(out, normal_of_a ? A.unit(fa.id) : B.unit(fb.id), true, nr + no);
+  int j = first_o, taken = 0;
+  const auto emit = [&] {
+    const int ca = a_ref ? cell_r : cell_o, cb = a_ref ? cell_o : cell_r;
     add_pair(A.s->cell_vertex[ca], B.s->cell_vertex[cb]);
+  };
+  for (int k = 0; k < nr; ++k) {
+    cell_r = ref[k].after;
+    // O's rays along r_k, then inside the sector after it.
+    while (taken < no && ray_sector[j] == 2 * k + 1) cell_o = other[j].after, j = (j + 1) % no, ++taken;
+    emit();
+    while (taken < no && ray_sector[j] == 2 * k + 2) {
+      cell_o = other[j].after, j = (j + 1) % no, ++taken;
+      emit();
+    }
   }
-  // (Repeats: two maps' directions that coincide on one side; the loop is the merged polygon.)
-  const bool was = dedupe;
-  dedupe = true;
-  end_facet();
-  dedupe = was;
+  if (taken != no) return false;
+  end_facet(true);
+  return true;
 }
 
-bool OverlayScratch::number_and_write(const Placed& A, const Placed& B, MinkowskiSum& out) {
+bool Overlay::number_and_write(const Placed& A, const Placed& B, MinkowskiSum& out) {
   const int nva = int(A.s->px.size()), F = nf, S = nl, V = int(id_key.size());
   out.planes.resize(size_t(F));
   // A closed polytope: every edge in two loops (E = S / 2), and V - E + F = 2.
@@ -586,9 +620,8 @@ bool OverlayScratch::number_and_write(const Placed& A, const Placed& B, Minkowsk
   out.euler_ok = true;
   out.corrected = false;
   out.method = Method::Fast;
-  // Facets from the exact overlay's degenerate places: proven a closed manifold whose planes
-  // support A and B before they count.
-  return !perturbed || (closed_manifold(out) && planes_support(A, B, out));
+  // Facets where features merged: proven a closed manifold whose planes support A and B.
+  return !merged || (closed_manifold(out) && planes_support(A, B, out));
 }
 
 }  // namespace minksum::detail

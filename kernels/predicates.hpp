@@ -1,4 +1,5 @@
-// Sign-robust orientation predicate on double vectors (internal).
+// Exact predicates on doubles (internal): a floating-point filter in front of exact expansions
+// on the stack (expansion.hpp). No rational arithmetic, no allocation.
 #pragma once
 
 #include <Eigen/Core>
@@ -8,44 +9,43 @@
 
 namespace minksum::detail {
 
-/// Exact sign of det[p; q; r] = p . (q x r) for the given doubles: -1, 0 or +1.
-/// Filtered: a double evaluation with a forward error bound, exact rationals (GMP) only when
-/// the double result is too close to zero to trust (Shewchuk-style static filter).
-int orient(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& r);
+/// Components below this are flushed to zero in the Gauss normals (shape.cpp, overlay.cpp),
+/// so that no product of three components underflows and the expansions stay exact.
+constexpr double kTinyComponent = 0x1p-300;
 
-/// The Newell normal sum_k p_k x p_(k+1) of a closed loop, summed exactly and then rounded:
-/// independent of the loop's start and of translation, and exactly negated for the negated,
-/// reversed loop, so that parallel faces of A and -A get bitwise opposite normals.
-Eigen::Vector3d exact_newell(const std::vector<Eigen::Vector3d>& points,
-                             const std::vector<int>& loop);
+/// The exact sign of det[p; q; r], the side of the plane spanned by q and r on which p lies;
+/// exact for the doubles as given when every component is 0 or within [2^-300, 2^300].
+int orient_exact(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& r);
 
-/// q x r in double with the absolute values of its six products, for repeated orient calls.
-struct Cross {
-  Eigen::Vector3d q, r;    ///< the factors, kept for the exact fallback
-  Eigen::Vector3d value;   ///< q x r rounded
-  Eigen::Vector3d bound;   ///< per component |q_j r_k| + |q_k r_j|
-};
-
-/// Builds the cached cross product q x r.
-Cross make_cross(const Eigen::Vector3d& q, const Eigen::Vector3d& r);
-
-/// The exact sign of p . (q x r) in rational arithmetic (the filter's fallback).
-int exact_orient(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& r);
-
-/// The same sign as orient(p, c.q, c.r), reusing the cached cross product. Inline: the
-/// filter decides almost every call in a few multiply-adds.
-inline int orient(const Eigen::Vector3d& p, const Cross& c) {
-  const double det = p.dot(c.value);
-  // The permanent bounds every rounding error of the six products and their sums.
-  const double perm = p.cwiseAbs().dot(c.bound);
+/// The same sign, decided by a double evaluation whenever its error bound allows (Shewchuk's
+/// static filter: the permanent bounds every rounding error), else by orient_exact.
+inline int orient(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& r) {
+  const double a = q.y() * r.z(), b = q.z() * r.y(), c = q.z() * r.x(), d = q.x() * r.z(), e = q.x() * r.y(),
+               f = q.y() * r.x();
+  const double det = p.x() * (a - b) + p.y() * (c - d) + p.z() * (e - f);
+  const double perm = std::abs(p.x()) * (std::abs(a) + std::abs(b)) + std::abs(p.y()) * (std::abs(c) + std::abs(d)) +
+                      std::abs(p.z()) * (std::abs(e) + std::abs(f));
   // Shewchuk's o3derrboundA is (7 + 56 eps) eps ~ 7.8e-16; 1e-15 is a safe round-up.
-  // Products that may have underflowed (perm < 1e-290) go to the exact path as well.
-  if (std::abs(det) > 1e-15 * perm && perm > 1e-290) return det > 0 ? 1 : -1;
-  if (perm == 0.0) return 0;  // every product is exactly zero
-  // A repeated or exactly opposite row (antipodal normals are common: A and -A, symmetric
-  // solids) makes the determinant exactly 0; the filter cannot see that.
-  if (p == c.q || p == c.r || c.q == c.r || p == -c.q || p == -c.r || c.q == -c.r) return 0;
-  return exact_orient(p, c.q, c.r);
+  if (std::abs(det) > 1e-15 * perm) return det > 0 ? 1 : -1;
+  return orient_exact(p, q, r);
 }
+
+/// The Newell normal sum_k p_k x p_(k+1) of a closed loop, summed exactly and rounded once:
+/// independent of the loop's start and of translation, and exactly negated for the negated,
+/// reversed loop. `exact` (if given) tells whether the rounded vector is the exact one.
+Eigen::Vector3d exact_newell(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& loop,
+                             bool* exact = nullptr);
+
+/// The cross product (q - p) x n, computed exactly and rounded once (a flat polygon's side
+/// normal, outward for a counter-clockwise edge p -> q about n); `exact` as for exact_newell.
+Eigen::Vector3d exact_edge_cross(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& n,
+                                 bool* exact = nullptr);
+
+/// The canonical representative of a direction for the exact predicates: an exact vector v
+/// (exact = true) is divided by the greatest common divisor of its components (as integers
+/// times a common power of two), so that parallel exact vectors become the same vector; every
+/// vector is then scaled by a power of two to a largest component in [0.5, 1) and components
+/// below kTinyComponent are flushed to zero. Zero stays zero.
+Eigen::Vector3d canonical_direction(const Eigen::Vector3d& v, bool exact);
 
 }  // namespace minksum::detail

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "predicates.hpp"
 #include "shape_data.hpp"
 
 namespace minksum {
@@ -33,8 +34,15 @@ bool take_vertices(const ConvexPolytope& p, ShapeData& s, double& extent) {
 
 bool unit(const Vector3d& n) { return n.allFinite() && std::abs(n.squaredNorm() - 1) <= 1e-12; }
 
+// What prepare builds a layout from: the arcs (u, v; faces found from the loops) and each
+// face's loop of cells, counter-clockwise from outside.
+struct Topology {
+  std::vector<int> arc_u, arc_v;
+  std::vector<int> loop_start, loop_cell;
+};
+
 // A flat polygon: the thin prism of ShapeData's comment.
-Status prepare_flat(const ConvexPolytope& p, ShapeData& s, double extent) {
+Status prepare_flat(const ConvexPolytope& p, ShapeData& s, double extent, Topology& t) {
   if (p.faces.size() != 2) return Status::InvalidMesh;
   const std::vector<int>& top = p.faces[0].loop;
   const int K = int(top.size()), V = int(p.vertices.size());
@@ -45,167 +53,222 @@ Status prepare_flat(const ConvexPolytope& p, ShapeData& s, double extent) {
   for (int v : top)
     if (v < 0 || v >= V || std::abs(n.dot(p.vertices[v] - p.vertices[top[0]])) > 1e-9 * extent) return Status::InvalidMesh;
   s.faces = K + 2, s.arcs = 3 * K, s.cells = 2 * K;
-  s.nx.resize(size_t(s.faces)), s.ny.resize(size_t(s.faces)), s.nz.resize(size_t(s.faces));
-  const auto set_normal = [&s](int f, const Vector3d& m) { s.nx[f] = m.x(), s.ny[f] = m.y(), s.nz[f] = m.z(); };
-  set_normal(0, n), set_normal(1, -n);
+  s.gx.resize(size_t(s.faces)), s.gy.resize(size_t(s.faces)), s.gz.resize(size_t(s.faces));
+  const auto set_normal = [&s](int f, const Vector3d& m) { s.gx[f] = m.x(), s.gy[f] = m.y(), s.gz[f] = m.z(); };
+  bool exact = true;
+  Vector3d g = exact_newell(p.vertices, top, &exact);
+  if (!(g.dot(n) > 0)) return Status::InvalidMesh;
+  g = canonical_direction(exact ? g : n, exact);  // (as a solid's faces)
+  set_normal(0, g), set_normal(1, -g);
   for (int k = 0; k < K; ++k) {
-    const Vector3d d = p.vertices[top[(k + 1) % K]] - p.vertices[top[k]];
-    const Vector3d side = d.cross(n);  // outward in the polygon's plane (its loop is counter-clockwise about n)
-    if (!(side.norm() > 0)) return Status::InvalidMesh;
-    set_normal(2 + k, side.normalized());
+    const Vector3d &a = p.vertices[top[k]], &b = p.vertices[top[(k + 1) % K]];
+    bool side_exact = exact;
+    // Outward in the polygon's plane (its loop is counter-clockwise about n).
+    const Vector3d side = canonical_direction(exact_edge_cross(a, b, g, &side_exact), side_exact);
+    if (side == Vector3d::Zero()) return Status::InvalidMesh;
+    set_normal(2 + k, side);
   }
   s.cell_vertex.resize(size_t(s.cells)), s.vertex_cell.resize(size_t(V));
   for (int c = 0; c < 2 * K; ++c) s.cell_vertex[c] = top[c % K];
   for (int k = 0; k < K; ++k) s.vertex_cell[top[k]] = k;
   // Cells: k is the top copy of top[k], K + k its bottom copy. Side k's loop is
   // top(k+1) -> top(k) -> bottom(k) -> bottom(k+1), which fixes the arcs' orientation.
-  s.arc.resize(size_t(s.arcs)), s.dir.resize(size_t(s.arcs));
-  const auto set_arc = [&](int e, ShapeData::Arc a, const Vector3d& d) { s.arc[e] = a, s.dir[e] = d; };
-  for (int k = 0; k < K; ++k) {
-    const int k1 = (k + 1) % K, side = 2 + k, prev_side = 2 + (k + K - 1) % K;
-    const Vector3d d = p.vertices[top[k1]] - p.vertices[top[k]];
-    set_arc(3 * k, {k, k1, 0, side}, d);                 // top face edge
-    set_arc(3 * k + 1, {K + k1, K + k, 1, side}, -d);    // bottom face edge
-    // The zero-length edge at top[k], from the top copy down: its arc's pole o_k x o_(k-1)
-    // points along -n, so -n (times the polygon's width, the scale of the margins) stands
-    // for its direction.
-    set_arc(3 * k + 2, {k, K + k, side, prev_side}, -extent * n);
-  }
-  // Loops: top 0..K-1, bottom (K + K-1)..K, side k as above; arcs between consecutive cells.
-  s.loop_start.assign(size_t(s.faces) + 1, 0);
-  s.loop_cell.clear(), s.loop_arc.clear();
-  const auto add = [&](int cell, int arc) { s.loop_cell.push_back(cell), s.loop_arc.push_back(arc); };
-  for (int k = 0; k < K; ++k) add(k, 3 * k);
-  s.loop_start[1] = K;
-  for (int k = K - 1; k >= 0; --k) add(K + k, 3 * ((k + K - 1) % K) + 1);
-  s.loop_start[2] = 2 * K;
+  t.arc_u.resize(size_t(s.arcs)), t.arc_v.resize(size_t(s.arcs)), s.dir.resize(size_t(s.arcs));
+  const auto set_arc = [&](int e, int u, int v, const Vector3d& d) { t.arc_u[e] = u, t.arc_v[e] = v, s.dir[e] = d; };
   for (int k = 0; k < K; ++k) {
     const int k1 = (k + 1) % K;
-    add(k1, 3 * k), add(k, 3 * k + 2), add(K + k, 3 * k + 1), add(K + k1, 3 * k1 + 2);
-    s.loop_start[3 + k] = 2 * K + 4 * (k + 1);
+    const Vector3d d = p.vertices[top[k1]] - p.vertices[top[k]];
+    set_arc(3 * k, k, k1, d);               // top face edge
+    set_arc(3 * k + 1, K + k1, K + k, -d);  // bottom face edge
+    // The zero-length edge at top[k], from the top copy down: its arc's pole s_k x s_(k-1)
+    // points along -n, so -n (times the polygon's width, the scale of the margins) stands
+    // for its direction.
+    set_arc(3 * k + 2, k, K + k, -extent * n);
+  }
+  // Loops: top 0..K-1, bottom (K + K-1)..K, side k as above.
+  t.loop_start.assign(1, 0), t.loop_cell.clear();
+  for (int k = 0; k < K; ++k) t.loop_cell.push_back(k);
+  t.loop_start.push_back(K);
+  for (int k = K - 1; k >= 0; --k) t.loop_cell.push_back(K + k);
+  t.loop_start.push_back(2 * K);
+  for (int k = 0; k < K; ++k) {
+    const int k1 = (k + 1) % K;
+    for (int c : {k1, k, K + k, K + k1}) t.loop_cell.push_back(c);
+    t.loop_start.push_back(int(t.loop_cell.size()));
   }
   return Status::Ok;
 }
 
-Status faces_from_polytope(const ConvexPolytope& p, double extent, ShapeData& s);
+// A solid: its own faces, edges and vertices.
+Status prepare_solid(const ConvexPolytope& p, ShapeData& s, Topology& t) {
+  const int V = int(p.vertices.size()), F = int(p.faces.size()), E = int(p.edges.size());
+  if (V < 4 || F < 4 || V - E + F != 2) return Status::InvalidMesh;
+  s.faces = F, s.arcs = E, s.cells = V;
+  s.gx.resize(size_t(F)), s.gy.resize(size_t(F)), s.gz.resize(size_t(F));
+  t.loop_start.assign(1, 0), t.loop_cell.clear();
+  for (int f = 0; f < F; ++f) {
+    const Face& face = p.faces[f];
+    if (!unit(face.normal) || face.loop.size() < 3) return Status::InvalidMesh;
+    for (int v : face.loop)
+      if (v < 0 || v >= V) return Status::InvalidMesh;
+    bool exact = true;
+    const Vector3d g = exact_newell(p.vertices, face.loop, &exact);
+    if (!(g.dot(face.normal) > 0)) return Status::InvalidMesh;  // a loop against its normal
+    // Where the exact normal is not a double, the face's own (a moved polytope's is turned
+    // from an exact one; the loop's rounded vertices would tilt it by their rounding).
+    const Vector3d c = canonical_direction(exact ? g : face.normal, exact);
+    s.gx[f] = c.x(), s.gy[f] = c.y(), s.gz[f] = c.z();
+    t.loop_cell.insert(t.loop_cell.end(), face.loop.begin(), face.loop.end());
+    t.loop_start.push_back(int(t.loop_cell.size()));
+  }
+  t.arc_u.resize(size_t(E)), t.arc_v.resize(size_t(E)), s.dir.resize(size_t(E));
+  for (int e = 0; e < E; ++e) {
+    const Edge& x = p.edges[e];
+    if (x.v0 < 0 || x.v0 >= V || x.v1 < 0 || x.v1 >= V || x.v0 == x.v1) return Status::InvalidMesh;
+    t.arc_u[e] = x.v0, t.arc_v[e] = x.v1;
+    s.dir[e] = p.vertices[x.v1] - p.vertices[x.v0];  // (convex at the edge: checked on the poles)
+  }
+  s.cell_vertex.resize(size_t(V)), s.vertex_cell.resize(size_t(V));
+  for (int v = 0; v < V; ++v) s.cell_vertex[v] = s.vertex_cell[v] = v;
+  return Status::Ok;
+}
+
+// One orientation's layout from the arcs and the face loops (reversed: the layout of -B, each
+// loop read backwards). Each loop step a -> b is an arc whose L (a = u) or R (a = v) is the
+// face; at cell a, that arc is followed counter-clockwise by the face and then by the arc of
+// the loop's previous step, which orders every cell's slots.
+Status build_layout(const Topology& t, int cells, bool reversed, MapLayout& m, std::vector<int>& scratch) {
+  const int E = int(t.arc_u.size()), F = int(t.loop_start.size()) - 1;
+  m.arc.resize(size_t(E));
+  for (int e = 0; e < E; ++e) m.arc[e] = {t.arc_u[e], t.arc_v[e], -1, -1};
+  m.cell_start.assign(size_t(cells) + 1, 0);
+  for (int e = 0; e < E; ++e) ++m.cell_start[size_t(t.arc_u[e]) + 1], ++m.cell_start[size_t(t.arc_v[e]) + 1];
+  for (int c = 0; c < cells; ++c) m.cell_start[c + 1] += m.cell_start[c];
+  const int S = 2 * E;
+  // Unordered slots: scratch[0, S) their (signed) arcs, [S, 2S) successors, [2S, 3S) faces,
+  // [3S, 3S + E) and [3S + E, 3S + 2E) each arc's slot at u and at v, then per-cell fill.
+  scratch.assign(size_t(3 * S + 2 * E + cells), -1);
+  int *arc_of = scratch.data(), *succ = arc_of + S, *face = succ + S, *at_u = face + S, *at_v = at_u + E,
+      *fill = at_v + E;
+  std::copy(m.cell_start.begin(), m.cell_start.end() - 1, fill);
+  for (int e = 0; e < E; ++e) {
+    arc_of[at_u[e] = fill[t.arc_u[e]]++] = e;
+    arc_of[at_v[e] = fill[t.arc_v[e]]++] = ~e;
+  }
+  m.loop_start = t.loop_start;
+  const size_t L = t.loop_cell.size();
+  m.loop_cell.resize(L), m.loop_arc.resize(L), m.loop_face.resize(L), m.loop_slot.resize(L), m.loop_least.resize(size_t(F));
+  for (int f = 0; f < F; ++f) {
+    const int first = t.loop_start[f], n = t.loop_start[f + 1] - first;
+    for (int k = 0; k < n; ++k) m.loop_cell[first + k] = t.loop_cell[first + (reversed ? n - 1 - k : k)];
+    for (int k = 0; k < n; ++k) {
+      const int a = m.loop_cell[first + k], b = m.loop_cell[first + (k + 1) % n];
+      if (a < 0 || a >= cells || b < 0 || b >= cells) return Status::InvalidMesh;
+      int found = -1;
+      for (int s = m.cell_start[a]; s < m.cell_start[a + 1] && found < 0; ++s) {
+        const int e = arc_of[s] >= 0 ? arc_of[s] : ~arc_of[s];
+        if ((arc_of[s] >= 0 ? t.arc_v[e] : t.arc_u[e]) == b) found = s;
+      }
+      if (found < 0 || face[found] >= 0) return Status::InvalidMesh;  // no such edge, or used twice
+      face[found] = f;
+      const int e = arc_of[found] >= 0 ? arc_of[found] : ~arc_of[found];
+      (arc_of[found] >= 0 ? m.arc[e].L : m.arc[e].R) = f;
+      m.loop_arc[first + k] = e, m.loop_slot[first + k] = found;
+    }
+    for (int k = 0; k < n; ++k) {
+      // At cell k, the previous step's arc: its slot there (cell k is that arc's other end).
+      const int prev = m.loop_arc[first + (k + n - 1) % n], c = m.loop_cell[first + k];
+      succ[m.loop_slot[first + k]] = t.arc_u[prev] == c ? at_u[prev] : at_v[prev];
+    }
+  }
+  // Every slot has its face and successor; each cell's slots form one cycle.
+  m.cell_slot.resize(size_t(S));
+  std::vector<int>& order = m.slot_twin;  // (reused: old slot -> new slot, then the twins)
+  order.assign(size_t(S), -1);
+  for (int c = 0; c < cells; ++c) {
+    const int begin = m.cell_start[c], end = m.cell_start[c + 1];
+    if (end - begin < 3) return Status::InvalidMesh;
+    int s = begin;
+    for (int k = begin; k < end; ++k) {
+      if (s < begin || s >= end || order[s] >= 0 || face[s] < 0) return Status::InvalidMesh;
+      order[s] = k;
+      s = succ[s];
+    }
+    if (s != begin) return Status::InvalidMesh;
+  }
+  for (int s = 0; s < S; ++s) {
+    const int e = arc_of[s] >= 0 ? arc_of[s] : ~arc_of[s];
+    m.cell_slot[order[s]] = {arc_of[s], arc_of[s] >= 0 ? t.arc_v[e] : t.arc_u[e], face[s]};
+  }
+  for (int& s : m.loop_slot) s = order[s];
+  m.arc_slot.resize(size_t(S));
+  for (int e = 0; e < E; ++e) at_u[e] = m.arc_slot[2 * e] = order[at_u[e]], at_v[e] = m.arc_slot[2 * e + 1] = order[at_v[e]];
+  for (int e = 0; e < E; ++e) order[at_u[e]] = at_v[e], order[at_v[e]] = at_u[e];
+  for (int f = 0; f < F; ++f)
+    for (int k = m.loop_start[f]; k < m.loop_start[f + 1]; ++k) {
+      const MapLayout::Arc& a = m.arc[m.loop_arc[k]];
+      m.loop_face[k] = a.L == f ? a.R : a.L;
+    }
+  for (const MapLayout::Arc& a : m.arc)
+    if (a.L < 0 || a.R < 0 || a.L == a.R) return Status::InvalidMesh;
+  return Status::Ok;
+}
+
+// Convex at every edge (each pole along its edge; a prism's zero-length edges: along -normal)
+// and at every vertex (each cell's corners turn counter-clockwise, exactly).
+Status check_map(ShapeData& s) {
+  const MapLayout& m = s.map[0];
+  const auto g = [&s](int f) { return Vector3d(s.gx[f], s.gy[f], s.gz[f]); };
+  s.pole_slack = 0;
+  for (int e = 0; e < s.arcs; ++e) {
+    const Vector3d c = g(m.arc[e].L).cross(g(m.arc[e].R));
+    if (!(s.dir[e].dot(c) > 0)) return Status::InvalidMesh;
+    s.pole_slack = std::max(s.pole_slack, s.dir[e].normalized().cross(c.normalized()).norm());
+  }
+  for (int c = 0; c < s.cells; ++c) {
+    const int begin = m.cell_start[c], n = m.cell_start[c + 1] - begin;
+    for (int k = 0; k < n; ++k) {
+      const int f0 = m.cell_slot[begin + (k + n - 1) % n].face, f1 = m.cell_slot[begin + k].face,
+                f2 = m.cell_slot[begin + (k + 1) % n].face;
+      if (orient(g(f0), g(f1), g(f2)) <= 0) return Status::InvalidMesh;
+    }
+  }
+  return Status::Ok;
+}
 
 }  // namespace
 
 Status prepare(const ConvexPolytope& p, ShapeData& s) {
+  thread_local Topology topology;
+  thread_local std::vector<int> scratch;
   s.polytope_ref = &p;
   double extent = 0;
   if (!take_vertices(p, s, extent)) return Status::InvalidMesh;
-  if (p.flat) {
-    if (const Status st = prepare_flat(p, s, extent); st != Status::Ok) return st;
-  } else {
-    const int V = int(p.vertices.size()), F = int(p.faces.size()), E = int(p.edges.size());
-    if (V < 4 || F < 4 || V - E + F != 2) return Status::InvalidMesh;
-    s.faces = F, s.arcs = E, s.cells = V;
-    s.nx.resize(size_t(F)), s.ny.resize(size_t(F)), s.nz.resize(size_t(F));
-    for (int f = 0; f < F; ++f) {
-      const Vector3d& n = p.faces[f].normal;
-      if (!unit(n)) return Status::InvalidMesh;
-      s.nx[f] = n.x(), s.ny[f] = n.y(), s.nz[f] = n.z();
+  const Status built = p.flat ? prepare_flat(p, s, extent, topology) : prepare_solid(p, s, topology);
+  if (built != Status::Ok) return built;
+  for (int r = 0; r < 2; ++r)
+    if (build_layout(topology, s.cells, r == 1, s.map[r], scratch) != Status::Ok) return Status::InvalidMesh;
+  // The faces the loops give each edge are the ones it lists (the Edge contract).
+  if (!p.flat)
+    for (int e = 0; e < s.arcs; ++e)
+      if (s.map[0].arc[e].L != p.edges[e].left || s.map[0].arc[e].R != p.edges[e].right) return Status::InvalidMesh;
+  if (check_map(s) != Status::Ok) return Status::InvalidMesh;
+  // Per face, where its loop has its smallest vertex: the sums' loops start there.
+  for (MapLayout& m : s.map)
+    for (int f = 0; f < s.faces; ++f) {
+      const int first = m.loop_start[f], n = m.loop_start[f + 1] - first;
+      int least = 0;
+      for (int k = 1; k < n; ++k)
+        if (s.cell_vertex[m.loop_cell[first + k]] < s.cell_vertex[m.loop_cell[first + least]]) least = k;
+      m.loop_least[f] = least;
     }
-    s.arc.resize(size_t(E)), s.dir.resize(size_t(E));
-    for (int e = 0; e < E; ++e) {
-      const Edge& x = p.edges[e];
-      if (x.v0 < 0 || x.v0 >= V || x.v1 < 0 || x.v1 >= V || x.v0 == x.v1 || x.left < 0 || x.left >= F ||
-          x.right < 0 || x.right >= F || x.left == x.right)
-        return Status::InvalidMesh;
-      s.arc[e] = {x.v0, x.v1, x.left, x.right};
-      s.dir[e] = p.vertices[x.v1] - p.vertices[x.v0];  // (convex at the edge: checked on the poles below)
-    }
-    s.cell_vertex.resize(size_t(V)), s.vertex_cell.resize(size_t(V));
-    for (int v = 0; v < V; ++v) s.cell_vertex[v] = s.vertex_cell[v] = v;
-  }
-  // Every cell's arcs (a counting sort by cell); then each face's loop, with the arc of each
-  // step found among its first cell's arcs, on the side the face must have it.
-  s.cell_start.assign(size_t(s.cells) + 1, 0);
-  for (const ShapeData::Arc& a : s.arc) ++s.cell_start[size_t(a.u) + 1], ++s.cell_start[size_t(a.v) + 1];
-  for (int c = 0; c < s.cells; ++c) s.cell_start[c + 1] += s.cell_start[c];
-  s.fill.assign(s.cell_start.begin(), s.cell_start.end() - 1);
-  const size_t slots = size_t(2 * s.arcs);
-  s.cell_slot.resize(slots), s.sx.resize(slots), s.sy.resize(slots), s.sz.resize(slots);
-  s.arc_slot.resize(size_t(s.arcs)), s.arc_slot_v.resize(size_t(s.arcs));
-  for (int e = 0; e < s.arcs; ++e) {
-    const ShapeData::Arc& a = s.arc[e];
-    s.arc_slot[e] = s.fill[a.u], s.arc_slot_v[e] = s.fill[a.v];
-    s.cell_slot[s.fill[a.u]++] = {e, a.v};
-    s.cell_slot[s.fill[a.v]++] = {~e, a.u};
-  }
-  fill_poles(s, false, s.nx.data(), s.ny.data(), s.nz.data(), s.sx.data(), s.sy.data(), s.sz.data());
-  // Each pole along its edge (a prism's zero-length edges: along -normal): convex at every edge,
-  // and the edges listed in the Edge orientation.
-  s.pole_slack = 0;
-  for (int e = 0; e < s.arcs; ++e) {
-    const int k = s.arc_slot[e];
-    const Vector3d c(s.sx[k], s.sy[k], s.sz[k]);
-    if (!(s.dir[e].dot(c) > 0)) return Status::InvalidMesh;
-    s.pole_slack = std::max(s.pole_slack, s.dir[e].normalized().cross(c.normalized()).norm());
-  }
-  for (int c = 0; c < s.cells; ++c)
-    if (s.cell_start[c + 1] - s.cell_start[c] < 3) return Status::InvalidMesh;
-  if (!p.flat && faces_from_polytope(p, extent, s) != Status::Ok) return Status::InvalidMesh;  // (a prism's are built)
-  // Per loop step, the face across its arc; per face, where its loop has its smallest vertex
-  // (the loops of the sum's facets start there).
-  s.loop_face.resize(s.loop_arc.size()), s.loop_least.resize(size_t(s.faces));
+  s.nx.resize(size_t(s.faces)), s.ny.resize(size_t(s.faces)), s.nz.resize(size_t(s.faces));
   for (int f = 0; f < s.faces; ++f) {
-    int least = s.loop_start[f];
-    for (int k = s.loop_start[f]; k < s.loop_start[f + 1]; ++k) {
-      const ShapeData::Arc& a = s.arc[s.loop_arc[k]];
-      s.loop_face[k] = a.L == f ? a.R : a.L;
-      if (s.cell_vertex[s.loop_cell[k]] < s.cell_vertex[s.loop_cell[least]]) least = k;
-    }
-    s.loop_least[f] = least - s.loop_start[f];
+    const Vector3d n = Vector3d(s.gx[f], s.gy[f], s.gz[f]).normalized();
+    s.nx[f] = n.x(), s.ny[f] = n.y(), s.nz[f] = n.z();
   }
   return Status::Ok;
 }
-
-void fill_poles(const ShapeData& s, bool swap, const double* nx, const double* ny, const double* nz, double* sx,
-                double* sy, double* sz) {
-  const ShapeData::Arc* arc = s.arc.data();
-  const int *at_u = s.arc_slot.data(), *at_v = s.arc_slot_v.data();
-  for (int e = 0; e < s.arcs; ++e) {
-    const int l = swap ? arc[e].R : arc[e].L, r = swap ? arc[e].L : arc[e].R;
-    const double x = ny[l] * nz[r] - nz[l] * ny[r], y = nz[l] * nx[r] - nx[l] * nz[r], z = nx[l] * ny[r] - ny[l] * nx[r];
-    sx[at_u[e]] = x, sy[at_u[e]] = y, sz[at_u[e]] = z;
-    sx[at_v[e]] = -x, sy[at_v[e]] = -y, sz[at_v[e]] = -z;
-  }
-}
-
-namespace {
-
-// The face loops of a solid, as cells and arcs, checked against the edges.
-Status faces_from_polytope(const ConvexPolytope& p, double extent, ShapeData& s) {
-  s.loop_start.assign(size_t(s.faces) + 1, 0);
-  s.loop_cell.clear(), s.loop_arc.clear();
-  s.side_used.assign(size_t(2 * s.arcs), 0);
-  for (int f = 0; f < s.faces; ++f) {
-    const Face& face = p.faces[f];
-    const int n = int(face.loop.size());
-    if (n < 3) return Status::InvalidMesh;
-    const Vector3d& first = p.vertices[size_t(face.loop[0] >= 0 && face.loop[0] < s.cells ? face.loop[0] : 0)];
-    for (int k = 0; k < n; ++k) {
-      const int a = face.loop[k], b = face.loop[(k + 1) % n];
-      if (a < 0 || a >= s.cells || b < 0 || b >= s.cells) return Status::InvalidMesh;
-      if (std::abs(face.normal.dot(p.vertices[a] - first)) > 1e-9 * extent) return Status::InvalidMesh;
-      int found = -1;
-      for (int i = s.cell_start[a]; i < s.cell_start[a + 1]; ++i) {
-        const ShapeData::Slot& slot = s.cell_slot[i];
-        const int e = slot.arc >= 0 ? slot.arc : ~slot.arc;
-        if (slot.next == b && (slot.arc >= 0 ? s.arc[e].L : s.arc[e].R) == f) found = e;
-      }
-      if (found < 0 || s.side_used[2 * found + (s.arc[found].u == a ? 0 : 1)]++) return Status::InvalidMesh;
-      s.loop_cell.push_back(a), s.loop_arc.push_back(found);
-    }
-    s.loop_start[f + 1] = int(s.loop_cell.size());
-  }
-  if (int(s.loop_cell.size()) != 2 * s.arcs) return Status::InvalidMesh;  // every arc has two sides
-  return Status::Ok;
-}
-
-}  // namespace
 
 }  // namespace detail
 
@@ -226,7 +289,7 @@ Status adopt(Status built, ConvexPolytope&& p, ConvexShape& out) {
   auto data = std::make_shared<detail::ShapeData>();
   data->polytope = std::move(p);
   if (const Status s = detail::prepare(data->polytope, *data); s != Status::Ok) return s;
-  data->fill = {}, data->side_used = {}, data->dir = {};  // scratch of prepare
+  data->dir = {};  // (prepare's: the edges' directions, checked against the poles)
   detail::ShapeAccess::set(std::move(data), out);
   return Status::Ok;
 }

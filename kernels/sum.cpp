@@ -147,10 +147,11 @@ bool planes_support(const Placed& A, const Placed& B, const MinkowskiSum& m) {
   // No neighbour of vertex v (through the arcs of its cell) is higher along n: local is global.
   const auto extreme = [tol](const Placed& x, int v, const Vector3d& n) {
     const ShapeData& s = *x.s;
+    const MapLayout& m = *x.m;
     const int cell = s.vertex_cell[v];
     const double top = n.dot(x.point(v));
-    for (int k = s.cell_start[cell]; k < s.cell_start[cell + 1]; ++k)
-      if (n.dot(x.point(s.cell_vertex[s.cell_slot[k].next])) > top + tol) return false;
+    for (int k = m.cell_start[cell]; k < m.cell_start[cell + 1]; ++k)
+      if (n.dot(x.point(s.cell_vertex[m.cell_slot[k].next])) > top + tol) return false;
     return true;
   };
   for (int f = 0; f < m.F; ++f)
@@ -169,11 +170,10 @@ Status sum_placed(const ShapeData& a, const Eigen::Isometry3d& pose_a, const Sha
       (pose_a.linear() * a.polytope_ref->faces[0].normal).cross(pose_b.linear() * b.polytope_ref->faces[0].normal).norm() <= 1e-12)
     return out = MinkowskiSum{}, Status::DegenerateResult;
   thread_local PlacedBuffers buffer_a, buffer_b;
-  thread_local OverlayScratch scratch;
+  thread_local Overlay scratch;
   Placed A, B;
   place(a, pose_a, false, buffer_a, A);
   place(b, pose_b, difference, buffer_b, B);
-  B.moves = true;
   if (scratch.run(A, B, out)) return Status::Ok;
   // Section 3 of the paper: an inconsistent result is rebuilt from the hull.
   const Status s = hull_corrector(points(A), points(B), out);
