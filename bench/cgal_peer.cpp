@@ -11,6 +11,7 @@
 #include <CGAL/convex_hull_3.h>
 #include <CGAL/minkowski_sum_3.h>
 
+#include <algorithm>
 #include <map>
 #include <numeric>
 #include <set>
@@ -53,17 +54,17 @@ int cgal_nef_sum(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen:
   return int(sum.number_of_vertices());
 }
 
-// V, E, F of the exact hull of the pairwise sums a + s b, computed exactly (not rounded to
-// double first), with coplanar triangles merged (union-find over facets).
-ExactCounts exact_counts(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b, double s) {
-  std::vector<Epeck::Point_3> p;
-  for (const auto& u : a)
-    for (const auto& v : b)
-      p.emplace_back(Epeck::FT(u.x()) + Epeck::FT(s) * Epeck::FT(v.x()), Epeck::FT(u.y()) + Epeck::FT(s) * Epeck::FT(v.y()),
-                     Epeck::FT(u.z()) + Epeck::FT(s) * Epeck::FT(v.z()));
-  CGAL::Polyhedron_3<Epeck> hull;
-  CGAL::convex_hull_3(p.begin(), p.end(), hull);
-  std::map<CGAL::Polyhedron_3<Epeck>::Facet_const_handle, int> id;
+namespace {
+
+// The structure of the hull of `points` (exact predicates of kernel K on its coordinates):
+// triangles merged where exactly coplanar (union-find over facets); a true vertex touches at
+// least three merged facets. With `facets`, each merged facet's true vertices, sorted.
+template <class K>
+ExactCounts hull_structure(const std::vector<typename K::Point_3>& points, std::vector<std::vector<Eigen::Vector3d>>* facets) {
+  CGAL::Polyhedron_3<K> hull;
+  CGAL::convex_hull_3(points.begin(), points.end(), hull);
+  using Facet = typename CGAL::Polyhedron_3<K>::Facet_const_handle;
+  std::map<Facet, int> id;
   for (auto f = hull.facets_begin(); f != hull.facets_end(); ++f) id.emplace(f, int(id.size()));
   std::vector<int> parent(id.size());
   std::iota(parent.begin(), parent.end(), 0);
@@ -85,14 +86,62 @@ ExactCounts exact_counts(const std::vector<Eigen::Vector3d>& a, const std::vecto
     classes.insert(x);
     if (x != y) adjacent.insert({std::min(x, y), std::max(x, y)});
   }
-  int V = 0;  // a true vertex touches at least three merged facets
+  std::map<int, std::vector<Eigen::Vector3d>> corners;
+  int V = 0;
   for (auto v = hull.vertices_begin(); v != hull.vertices_end(); ++v) {
     std::set<int> around;
     auto h = v->vertex_begin();
     do around.insert(find(id[h->facet()])); while (++h != v->vertex_begin());
-    V += around.size() >= 3;
+    if (around.size() < 3) continue;
+    ++V;
+    const Eigen::Vector3d p(CGAL::to_double(v->point().x()), CGAL::to_double(v->point().y()), CGAL::to_double(v->point().z()));
+    for (int c : around) corners[c].push_back(p);
+  }
+  if (facets) {
+    facets->clear();
+    for (auto& [c, pts] : corners) {
+      std::sort(pts.begin(), pts.end(), [](const Eigen::Vector3d& x, const Eigen::Vector3d& y) {
+        return std::lexicographical_compare(x.data(), x.data() + 3, y.data(), y.data() + 3);
+      });
+      facets->push_back(std::move(pts));
+    }
   }
   return {V, int(adjacent.size()), int(classes.size())};
+}
+
+// Whether every pairwise sum a + s b is a double exactly (then Epick's exact predicates on the
+// doubles decide the structure; else Epeck computes the sums exactly).
+bool sums_are_doubles(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b, double s) {
+  for (const auto& u : a)
+    for (const auto& v : b)
+      for (int k = 0; k < 3; ++k) {
+        const double x = u[k] + s * v[k], back = x - u[k];
+        if (back != s * v[k] || x - back != u[k]) return false;
+      }
+  return true;
+}
+
+}  // namespace
+
+// V, E, F of the exact hull of the pairwise sums a + s b, computed exactly (not rounded to
+// double first), with coplanar triangles merged.
+ExactCounts exact_counts(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b, double s) {
+  if (sums_are_doubles(a, b, s)) return exact_structure(a, b, s, nullptr);
+  std::vector<Epeck::Point_3> p;
+  for (const auto& u : a)
+    for (const auto& v : b)
+      p.emplace_back(Epeck::FT(u.x()) + Epeck::FT(s) * Epeck::FT(v.x()), Epeck::FT(u.y()) + Epeck::FT(s) * Epeck::FT(v.y()),
+                     Epeck::FT(u.z()) + Epeck::FT(s) * Epeck::FT(v.z()));
+  return hull_structure<Epeck>(p, nullptr);
+}
+
+ExactCounts exact_structure(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b, double s,
+                            std::vector<std::vector<Eigen::Vector3d>>* facets) {
+  if (!sums_are_doubles(a, b, s)) return {-1, -1, -1};
+  std::vector<Epick::Point_3> p;
+  for (const auto& u : a)
+    for (const auto& v : b) p.emplace_back(u.x() + s * v.x(), u.y() + s * v.y(), u.z() + s * v.z());
+  return hull_structure<Epick>(p, facets);
 }
 
 }  // namespace minksum::peers

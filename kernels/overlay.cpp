@@ -73,14 +73,16 @@ int some_cell(const Placed& X, const Loc& l) {
   return X.m->loop_cell[X.m->loop_start[l.id]];
 }
 
-// The cell of X best along the unit normal f of Y, by a linear scan (the first support only).
+// The cell of X best along the normal f of Y, by a linear scan of X's placed vertices (the
+// first support only; the climb from it decides exactly).
 int best_cell(const Placed& X, const Placed& Y, int f) {
   const ShapeData& s = *X.s;
+  const Vector3d n = Y.unit(f);
   int best = 0;
   double top = -std::numeric_limits<double>::infinity();
   for (int c = 0; c < s.cells; ++c) {
     const int v = s.cell_vertex[c];
-    const double h = Y.nx[f] * X.px[v] + Y.ny[f] * X.py[v] + Y.nz[f] * X.pz[v];
+    const double h = n.x() * X.px[v] + n.y() * X.py[v] + n.z() * X.pz[v];
     if (h > top) top = h, best = c;
   }
   return best;
@@ -258,21 +260,28 @@ void rays_of(const Placed& X, const Loc& f, std::vector<Overlay::Ray>& out) {
 
 }  // namespace
 
+Vector3d Placed::unit(int f) const {
+  const Vector3d n(s->nx[f], s->ny[f], s->nz[f]);
+  return turned ? Vector3d(world * n) : n;
+}
+
 Vector3d Placed::edge(int e) const {
   const int v = s->cell_vertex[m->arc[e].v], u = s->cell_vertex[m->arc[e].u];
   const Vector3d d(s->px[v] - s->px[u], s->py[v] - s->py[u], s->pz[v] - s->pz[u]);
-  return turned ? Vector3d(linear * d) : d;
+  return turned ? Vector3d(world * d) : d;
 }
 
-void place(const ShapeData& s, const Eigen::Isometry3d& pose, bool negate, PlacedBuffers& buf, Placed& out) {
+void place(const ShapeData& s, const Eigen::Isometry3d& pose, const Eigen::Matrix3d& frame, bool negate,
+           PlacedBuffers& buf, Placed& out) {
+  const double sign = negate ? -1.0 : 1.0;
   out.s = &s, out.m = &s.map[negate], out.negate = negate;
-  const Eigen::Matrix3d M = (negate ? -1.0 : 1.0) * pose.linear();
-  out.linear = M, out.turned = M != Eigen::Matrix3d::Identity();
-  const Vector3d t = (negate ? -1.0 : 1.0) * pose.translation();
+  out.world = sign * pose.linear(), out.frame = sign * frame;
+  out.turned = out.world != Eigen::Matrix3d::Identity();
+  const Vector3d t = sign * pose.translation();
   // x' = M x (+ t), by component over the arrays (vectorised); `flush` zeroes what falls below
   // kTinyComponent (Gauss normals: the expansions' range).
-  const auto transform = [&M](const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& z,
-                              std::vector<double> (&o)[3], const Vector3d& shift, bool flush) {
+  const auto transform = [](const Eigen::Matrix3d& M, const std::vector<double>& x, const std::vector<double>& y,
+                            const std::vector<double>& z, std::vector<double> (&o)[3], const Vector3d& shift, bool flush) {
     const size_t n = x.size();
     for (int r = 0; r < 3; ++r) {
       o[r].resize(n);
@@ -283,32 +292,35 @@ void place(const ShapeData& s, const Eigen::Isometry3d& pose, bool negate, Place
         for (size_t k = 0; k < n; ++k) out[k] = std::abs(out[k]) < kTinyComponent ? 0.0 : out[k];
     }
   };
-  const bool identity = M == Eigen::Matrix3d::Identity();
-  if (identity) {
-    out.gx = s.gx.data(), out.gy = s.gy.data(), out.gz = s.gz.data();
-    out.nx = s.nx.data(), out.ny = s.ny.data(), out.nz = s.nz.data();
+  if (frame == Eigen::Matrix3d::Identity()) {  // the prepared normals and poles (-B's negated)
+    if (negate) {
+      transform(out.frame, s.gx, s.gy, s.gz, buf.g, Vector3d::Zero(), false);
+      out.gx = buf.g[0].data(), out.gy = buf.g[1].data(), out.gz = buf.g[2].data();
+    } else {
+      out.gx = s.gx.data(), out.gy = s.gy.data(), out.gz = s.gz.data();
+    }
+    const auto& c = s.pole[negate];
+    out.cx = c[0].data(), out.cy = c[1].data(), out.cz = c[2].data();
   } else {
-    transform(s.gx, s.gy, s.gz, buf.g, Vector3d::Zero(), true);
-    transform(s.nx, s.ny, s.nz, buf.n, Vector3d::Zero(), false);
+    transform(out.frame, s.gx, s.gy, s.gz, buf.g, Vector3d::Zero(), true);
     out.gx = buf.g[0].data(), out.gy = buf.g[1].data(), out.gz = buf.g[2].data();
-    out.nx = buf.n[0].data(), out.ny = buf.n[1].data(), out.nz = buf.n[2].data();
+    // The poles from the turned normals themselves (not turned): the filter's bound holds
+    // against the exact predicate on those normals whatever the rotation's rounding.
+    const MapLayout& m = *out.m;
+    for (auto& c : buf.c) c.resize(size_t(s.arcs));
+    double *cx = buf.c[0].data(), *cy = buf.c[1].data(), *cz = buf.c[2].data();
+    for (int e = 0; e < s.arcs; ++e) {
+      const int l = m.arc[e].L, r = m.arc[e].R;
+      cx[e] = out.gy[l] * out.gz[r] - out.gz[l] * out.gy[r];
+      cy[e] = out.gz[l] * out.gx[r] - out.gx[l] * out.gz[r];
+      cz[e] = out.gx[l] * out.gy[r] - out.gy[l] * out.gx[r];
+    }
+    out.cx = cx, out.cy = cy, out.cz = cz;
   }
-  // The poles from the placed normals themselves (not turned): the filter's bound holds against
-  // the exact predicate on those normals whatever the pose's rounding.
-  const MapLayout& m = *out.m;
-  for (auto& c : buf.c) c.resize(size_t(s.arcs));
-  double *cx = buf.c[0].data(), *cy = buf.c[1].data(), *cz = buf.c[2].data();
-  for (int e = 0; e < s.arcs; ++e) {
-    const int l = m.arc[e].L, r = m.arc[e].R;
-    cx[e] = out.gy[l] * out.gz[r] - out.gz[l] * out.gy[r];
-    cy[e] = out.gz[l] * out.gx[r] - out.gx[l] * out.gz[r];
-    cz[e] = out.gx[l] * out.gy[r] - out.gy[l] * out.gx[r];
-  }
-  out.cx = cx, out.cy = cy, out.cz = cz;
-  if (identity && t == Vector3d::Zero()) {
+  if (!out.turned && t == Vector3d::Zero()) {
     out.px = s.px.data(), out.py = s.py.data(), out.pz = s.pz.data();
   } else {
-    transform(s.px, s.py, s.pz, buf.p, t, false);
+    transform(out.world, s.px, s.py, s.pz, buf.p, t, false);
     out.px = buf.p[0].data(), out.py = buf.p[1].data(), out.pz = buf.p[2].data();
   }
 }
@@ -493,6 +505,7 @@ void Overlay::crossing_facets(const Placed& A, const Placed& B, MinkowskiSum& ou
     // normals, which are perpendicular to the edges to rounding whatever the angle.
     // Edges that stray from their arcs' poles (faces planar only to a tolerance, see
     // ShapeData::pole_slack) would tilt the plane out of the crossing's cells: there the poles.
+    // (Poles are in the overlay frame, A's body frame: a normal from them is turned by A's pose.)
     const Vector3d da = map_normals ? A.pole(x.ea) : A.edge(x.ea), db = map_normals ? B.pole(x.eb) : B.edge(x.eb);
     const Vector3d c = da.cross(db);
     const double c2 = c.squaredNorm();
@@ -500,14 +513,18 @@ void Overlay::crossing_facets(const Placed& A, const Placed& B, MinkowskiSum& ou
     Vector3d n;
     if (!parallel) {
       n = c * ((x.up ? -1 : 1) / std::sqrt(c2));
+      if (map_normals && A.turned) n = A.world * n;
     } else {
       // Edges that cancel (or a prism's zero-length edge) on arcs whose circles do not: the
       // circles' crossing, from the poles; circles that coincide too: near_parallel_normal.
       const Vector3d pa = A.pole(x.ea), pb = B.pole(x.eb), cp = pa.cross(pb);
       const double cp2 = cp.squaredNorm();
-      n = cp2 > 1e-8 * pa.squaredNorm() * pb.squaredNorm()
-              ? Vector3d(cp * ((x.up ? -1 : 1) / std::sqrt(cp2)))
-              : near_parallel_normal(A.unit(A.L(x.ea)), A.unit(A.R(x.ea)), B.unit(B.L(x.eb)), B.unit(B.R(x.eb)));
+      if (cp2 > 1e-8 * pa.squaredNorm() * pb.squaredNorm()) {
+        n = cp * ((x.up ? -1 : 1) / std::sqrt(cp2));
+        if (A.turned) n = A.world * n;
+      } else {
+        n = near_parallel_normal(A.unit(A.L(x.ea)), A.unit(A.R(x.ea)), B.unit(B.L(x.eb)), B.unit(B.R(x.eb)));
+      }
     }
     // The cells around the crossing: (v1, p) (v1, q) (v0, q) (v0, p), with p, q = w0, w1
     // when s1 < 0 and w1, w0 when s1 > 0; from the smallest pair.

@@ -11,37 +11,45 @@
 
 namespace minksum::detail {
 
-/// One operand in the world frame: its Gauss normals, unit normals, arc poles and vertices
-/// turned (and for -B negated) into scratch, or the body arrays themselves under the identity;
-/// -B reads the shape's second layout (MapLayout).
+/// One operand of a sum. The overlay is computed in A's body frame: the structure of a sum
+/// depends only on the relative rotation of its operands, and two shapes under one rotation
+/// (copies, mirrored pairs, aligned boxes turned together) keep every tie exact there. So A's
+/// Gauss normals and poles are the prepared ones, B's are turned by R_A^T R_B (exactly the
+/// identity when both poses have the same rotation), and -B reads the shape's second layout
+/// (MapLayout). The output is in the world frame: vertices placed by each pose, normals and
+/// edges turned from the body frame by `world`.
 struct Placed {
   const ShapeData* s = nullptr;
   const MapLayout* m = nullptr;
   bool negate = false;                       ///< this is -B
-  const double *gx, *gy, *gz;                ///< Gauss normals (the predicates' input)
-  const double *nx, *ny, *nz;                ///< unit normals
-  const double *cx, *cy, *cz;                ///< per arc: its pole G_L x G_R
-  const double *px, *py, *pz;                ///< vertices
-  Eigen::Matrix3d linear;                    ///< the pose's rotation (negated for -B)
-  bool turned = false;                       ///< linear is not the identity
+  const double *gx, *gy, *gz;                ///< Gauss normals in the overlay frame (the predicates' input)
+  const double *cx, *cy, *cz;                ///< per arc: its pole G_L x G_R in the overlay frame
+  const double *px, *py, *pz;                ///< vertices in the world frame
+  Eigen::Matrix3d world;                     ///< body -> world rotation (negated for -B)
+  Eigen::Matrix3d frame;                     ///< body -> overlay frame rotation (negated for -B)
+  bool turned = false;                       ///< world is not the identity
   int L(int e) const { return m->arc[e].L; }
   int R(int e) const { return m->arc[e].R; }
   Eigen::Vector3d gauss(int f) const { return {gx[f], gy[f], gz[f]}; }
-  Eigen::Vector3d unit(int f) const { return {nx[f], ny[f], nz[f]}; }
   Eigen::Vector3d pole(int e) const { return {cx[e], cy[e], cz[e]}; }
   Eigen::Vector3d point(int v) const { return {px[v], py[v], pz[v]}; }
-  /// Arc e's edge p_v - p_u (zero for a prism's zero-length edges), turned from the body frame:
-  /// a translation far larger than the shape would leave only rounding in the placed points.
+  /// Face f's unit normal in the world frame.
+  Eigen::Vector3d unit(int f) const;
+  /// Arc e's edge p_v - p_u in the world frame (zero for a prism's zero-length edges), turned
+  /// from the body frame: a translation far larger than the shape would leave only rounding in
+  /// the placed points.
   Eigen::Vector3d edge(int e) const;
 };
 
-/// World-frame copies of one operand's arrays (per thread, reused).
+/// Copies of one operand's arrays turned or moved (per thread, reused).
 struct PlacedBuffers {
-  std::vector<double> g[3], n[3], c[3], p[3];
+  std::vector<double> g[3], c[3], p[3];
 };
 
-/// Places shape s by `pose` (negated for -B): turns into `buf` only what the pose changes.
-void place(const ShapeData& s, const Eigen::Isometry3d& pose, bool negate, PlacedBuffers& buf, Placed& out);
+/// Places shape s by `pose` (negated for -B), its Gauss map turned into the overlay frame by
+/// `frame` (A: the identity; B: R_A^T R_B): turns into `buf` only what the pose changes.
+void place(const ShapeData& s, const Eigen::Isometry3d& pose, const Eigen::Matrix3d& frame, bool negate,
+           PlacedBuffers& buf, Placed& out);
 
 /// Where a normal of one operand lies in the other's Gauss map, exactly: inside a cell, inside
 /// an arc, or on a face normal.

@@ -248,28 +248,42 @@ Vector3d box_corner(const Box& box, int code) {
 }
 
 Status polytope_from_box(const Box& box, ConvexPolytope& out) {
-  out = ConvexPolytope{};
-  if (const Status s = check_box(box); s != Status::Ok) return s;
-  const Eigen::Matrix3d& R = box.rotation;
-  for (int k = 0; k < 8; ++k) {
-    out.vertices.push_back(box_corner(box, k));
-    out.input_index.push_back(k);
+  if (const Status s = check_box(box); s != Status::Ok) {
+    out = ConvexPolytope{};
+    return s;
   }
+  // Filled in place (a reused polytope keeps its capacity: the box-box sum's general path
+  // allocates nothing).
+  const Eigen::Matrix3d& R = box.rotation;
+  out.vertices.resize(8), out.input_index.resize(8), out.faces.resize(6), out.edges.clear(), out.flat = false;
+  for (int k = 0; k < 8; ++k) out.vertices[k] = box_corner(box, k), out.input_index[k] = k;
   for (int a = 0; a < 3; ++a) {
     const int b = (a + 1) % 3, c = (a + 2) % 3;
     for (int sign = 0; sign < 2; ++sign) {
       const int base = sign << a;
       // Corners around the face in the (b, c) plane: counter-clockwise about +axis a.
-      std::vector<int> loop = {base, base | (1 << b), base | (1 << b) | (1 << c), base | (1 << c)};
-      Vector3d n = R.col(a);
-      if (sign == 0) {
-        std::reverse(loop.begin(), loop.end());
-        n = -n;
-      }
-      out.faces.push_back(Face{loop, n, n.dot(out.vertices[loop[0]])});
+      Face& f = out.faces[2 * a + sign];
+      f.loop.assign({base, base | (1 << b), base | (1 << b) | (1 << c), base | (1 << c)});
+      f.normal = R.col(a);
+      if (sign == 0) std::reverse(f.loop.begin(), f.loop.end()), f.normal = -f.normal;
+      f.offset = f.normal.dot(out.vertices[f.loop[0]]);
     }
   }
-  return edges_from_loops(out) ? Status::Ok : Status::InvalidBox;
+  // The 12 edges (v0 < v1: the corners that differ in one bit), each with the faces whose loops
+  // walk it either way.
+  for (int v0 = 0; v0 < 8; ++v0)
+    for (int a = 0; a < 3; ++a) {
+      if (v0 >> a & 1) continue;
+      Edge e{v0, v0 | 1 << a, -1, -1};
+      for (int f = 0; f < 6; ++f)
+        for (int k = 0; k < 4; ++k) {
+          const int p = out.faces[f].loop[k], q = out.faces[f].loop[(k + 1) % 4];
+          if (p == e.v0 && q == e.v1) e.left = f;
+          if (p == e.v1 && q == e.v0) e.right = f;
+        }
+      out.edges.push_back(e);
+    }
+  return Status::Ok;
 }
 
 Status check_triangle(const Triangle& t) {

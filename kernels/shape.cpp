@@ -41,6 +41,14 @@ struct Topology {
   std::vector<int> loop_start, loop_cell;
 };
 
+// Where a face's exact Newell normal g is not a double, its own unit normal n stands for it (a
+// moved polytope's is turned from an exact one, while its loop's rounded vertices would tilt it
+// by their rounding), with the components g proves zero set to zero: a face exactly parallel to
+// an axis stays so, and its ties with the faces of other shapes stay exact.
+Vector3d own_normal(const Vector3d& n, const Vector3d& g) {
+  return Vector3d(g.x() == 0 ? 0.0 : n.x(), g.y() == 0 ? 0.0 : n.y(), g.z() == 0 ? 0.0 : n.z());
+}
+
 // A flat polygon: the thin prism of ShapeData's comment.
 Status prepare_flat(const ConvexPolytope& p, ShapeData& s, double extent, Topology& t) {
   if (p.faces.size() != 2) return Status::InvalidMesh;
@@ -58,7 +66,7 @@ Status prepare_flat(const ConvexPolytope& p, ShapeData& s, double extent, Topolo
   bool exact = true;
   Vector3d g = exact_newell(p.vertices, top, &exact);
   if (!(g.dot(n) > 0)) return Status::InvalidMesh;
-  g = canonical_direction(exact ? g : n, exact);  // (as a solid's faces)
+  g = canonical_direction(exact ? g : own_normal(n, g), exact);  // (as a solid's faces)
   set_normal(0, g), set_normal(1, -g);
   for (int k = 0; k < K; ++k) {
     const Vector3d &a = p.vertices[top[k]], &b = p.vertices[top[(k + 1) % K]];
@@ -114,9 +122,7 @@ Status prepare_solid(const ConvexPolytope& p, ShapeData& s, Topology& t) {
     bool exact = true;
     const Vector3d g = exact_newell(p.vertices, face.loop, &exact);
     if (!(g.dot(face.normal) > 0)) return Status::InvalidMesh;  // a loop against its normal
-    // Where the exact normal is not a double, the face's own (a moved polytope's is turned
-    // from an exact one; the loop's rounded vertices would tilt it by their rounding).
-    const Vector3d c = canonical_direction(exact ? g : face.normal, exact);
+    const Vector3d c = canonical_direction(exact ? g : own_normal(face.normal, g), exact);
     s.gx[f] = c.x(), s.gy[f] = c.y(), s.gz[f] = c.z();
     t.loop_cell.insert(t.loop_cell.end(), face.loop.begin(), face.loop.end());
     t.loop_start.push_back(int(t.loop_cell.size()));
@@ -262,6 +268,18 @@ Status prepare(const ConvexPolytope& p, ShapeData& s) {
         if (s.cell_vertex[m.loop_cell[first + k]] < s.cell_vertex[m.loop_cell[first + least]]) least = k;
       m.loop_least[f] = least;
     }
+  // The poles in the body frame: a sum whose operands are not turned against each other reads
+  // them as they are (-B's are -G_R x -G_L, the negation of the shape's, exactly).
+  for (int r = 0; r < 2; ++r) {
+    for (auto& c : s.pole[r]) c.resize(size_t(s.arcs));
+    for (int e = 0; e < s.arcs; ++e) {
+      const MapLayout::Arc& a = s.map[0].arc[e];
+      const double sign = r ? -1.0 : 1.0;
+      s.pole[r][0][e] = sign * (s.gy[a.L] * s.gz[a.R] - s.gz[a.L] * s.gy[a.R]);
+      s.pole[r][1][e] = sign * (s.gz[a.L] * s.gx[a.R] - s.gx[a.L] * s.gz[a.R]);
+      s.pole[r][2][e] = sign * (s.gx[a.L] * s.gy[a.R] - s.gy[a.L] * s.gx[a.R]);
+    }
+  }
   s.nx.resize(size_t(s.faces)), s.ny.resize(size_t(s.faces)), s.nz.resize(size_t(s.faces));
   for (int f = 0; f < s.faces; ++f) {
     const Vector3d n = Vector3d(s.gx[f], s.gy[f], s.gz[f]).normalized();

@@ -51,6 +51,7 @@ struct ShapeData {
   std::vector<double> gx, gy, gz;
   std::vector<double> nx, ny, nz;                // unit face normals (the sums' planes)
   MapLayout map[2];                              // [0] the shape's own, [1] that of -B
+  std::vector<double> pole[2][3];                // per arc, in each layout: G_L x G_R (for -B: -G_R x -G_L)
   std::vector<int> cell_vertex;                  // per cell: its polytope vertex
   std::vector<int> vertex_cell;                  // per vertex: a cell of it (a prism's top copy)
   std::vector<double> px, py, pz;                // polytope vertices

@@ -172,8 +172,11 @@ Status sum_placed(const ShapeData& a, const Eigen::Isometry3d& pose_a, const Sha
   thread_local PlacedBuffers buffer_a, buffer_b;
   thread_local Overlay scratch;
   Placed A, B;
-  place(a, pose_a, false, buffer_a, A);
-  place(b, pose_b, difference, buffer_b, B);
+  // The overlay in A's body frame: B turned by R_A^T R_B, exactly the identity under one rotation.
+  const Eigen::Matrix3d relative = pose_a.linear() == pose_b.linear() ? Eigen::Matrix3d::Identity()
+                                                                       : Eigen::Matrix3d(pose_a.linear().transpose() * pose_b.linear());
+  place(a, pose_a, Eigen::Matrix3d::Identity(), false, buffer_a, A);
+  place(b, pose_b, relative, difference, buffer_b, B);
   if (scratch.run(A, B, out)) return Status::Ok;
   // Section 3 of the paper: an inconsistent result is rebuilt from the hull.
   const Status s = hull_corrector(points(A), points(B), out);
@@ -243,8 +246,8 @@ Status sum_dispatch(const ConvexPolytope& a, const ConvexPolytope& b, bool diffe
   // support the sum) is rebuilt from the hull.
   thread_local detail::PlacedBuffers buffer_a, buffer_b;
   detail::Placed A, B;
-  detail::place(prepared_a, identity, false, buffer_a, A);
-  detail::place(prepared_b, identity, difference, buffer_b, B);
+  detail::place(prepared_a, identity, identity.linear(), false, buffer_a, A);
+  detail::place(prepared_b, identity, identity.linear(), difference, buffer_b, B);
   if (!out.euler_ok || !detail::planes_support(A, B, out)) return corrector();
   return Status::Ok;
 }
@@ -303,7 +306,7 @@ Status minkowski_sum(const Box& a, const Box& b, MinkowskiSum& out) {
   // Out of general position (parallel edges, three coplanar ones) facets merge, and the loops
   // are not meaningful: the general path.
   if (!sum.general[0] || __builtin_popcountll(used) != 32) {
-    ConvexPolytope pa, pb;  // vertex k is box_corner(k), as the kernel's codes number them
+    thread_local ConvexPolytope pa, pb;  // vertex k is box_corner(k), as the kernel's codes number them
     polytope_from_box(a, pa), polytope_from_box(b, pb);
     return minkowski_sum(pa, pb, out, Method::Fast);
   }

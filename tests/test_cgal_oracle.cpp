@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 #include <minksum/minksum.hpp>
 
+#include <algorithm>
 #include <random>
 
 #include "cgal_peer.hpp"
@@ -76,6 +77,237 @@ TEST(ExactOracle, IdenticalAndMirroredPolytopes) {
 }
 
 TEST(ExactOracle, ThinBox) { expect_matches_oracle(box({1, 1, 1e-7}), exact_rotated(scaled(tools::cube_points(), 30))); }
+
+// --- Exact ties: integer grids and degenerate families (issue 29) --------------------------
+
+// A sum's facets as their vertices' points, each list sorted (as exact_structure gives them).
+std::vector<std::vector<Vector3d>> point_facets(const MinkowskiSum& m) {
+  std::vector<std::vector<Vector3d>> out;
+  for (int f = 0; f < m.F; ++f) {
+    std::vector<Vector3d> pts;
+    for (int v : m.facet(f)) pts.push_back(m.vertices[v].point);
+    std::sort(pts.begin(), pts.end(), [](const Vector3d& x, const Vector3d& y) {
+      return std::lexicographical_compare(x.data(), x.data() + 3, y.data(), y.data() + 3);
+    });
+    out.push_back(std::move(pts));
+  }
+  std::sort(out.begin(), out.end(), [](const auto& x, const auto& y) {
+    return std::lexicographical_compare(x.begin(), x.end(), y.begin(), y.end(), [](const Vector3d& p, const Vector3d& q) {
+      return std::lexicographical_compare(p.data(), p.data() + 3, q.data(), q.data() + 3);
+    });
+  });
+  return out;
+}
+
+// m is the exact A (+) sB of the point sets (whose pairwise sums are doubles): CGAL's exact hull
+// of the pairwise sums with coplanar triangles merged has the same V, E, F, and every facet the
+// same vertices; and the fast path did not need the corrector.
+testing::AssertionResult equals_exact(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, double s,
+                                      const MinkowskiSum& m) {
+  std::vector<std::vector<Vector3d>> facets;
+  const peers::ExactCounts e = peers::exact_structure(a, b, s, &facets);
+  if (e.V < 0) return testing::AssertionFailure() << "the pairwise sums are not doubles";
+  if (m.corrected) return testing::AssertionFailure() << "the corrector ran";
+  if (m.V != e.V || m.E != e.E || m.F != e.F)
+    return testing::AssertionFailure() << "V, E, F " << m.V << "/" << m.E << "/" << m.F << ", exact " << e.V << "/" << e.E << "/" << e.F;
+  std::sort(facets.begin(), facets.end(), [](const auto& x, const auto& y) {
+    return std::lexicographical_compare(x.begin(), x.end(), y.begin(), y.end(), [](const Vector3d& p, const Vector3d& q) {
+      return std::lexicographical_compare(p.data(), p.data() + 3, q.data(), q.data() + 3);
+    });
+  });
+  if (point_facets(m) != facets) return testing::AssertionFailure() << "a facet has other vertices than the exact one";
+  return testing::AssertionSuccess();
+}
+
+// Both sums (A (+) B, A (-) B) of the point sets, through the polytopes and through prepared
+// shapes, against the exact structure.
+void expect_exact_both_ways(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b) {
+  ConvexPolytope A, B;
+  ASSERT_EQ(polytope_from_points(a, A), Status::Ok);
+  ASSERT_EQ(polytope_from_points(b, B), Status::Ok);
+  ConvexShape SA, SB;
+  ASSERT_EQ(shape_from_points(a, SA), Status::Ok);
+  ASSERT_EQ(shape_from_points(b, SB), Status::Ok);
+  const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();
+  for (double s : {1.0, -1.0}) {
+    MinkowskiSum m, posed;
+    ASSERT_EQ(s > 0 ? minkowski_sum(A, B, m) : minkowski_difference(A, B, m), Status::Ok);
+    EXPECT_TRUE(equals_exact(a, b, s, m)) << "sign " << s;
+    ASSERT_EQ(s > 0 ? minkowski_sum(SA, I, SB, I, posed) : minkowski_difference(SA, I, SB, I, posed), Status::Ok);
+    EXPECT_TRUE(equals_exact(a, b, s, posed)) << "shapes, sign " << s;
+  }
+}
+
+// The inputs of issue 29: ties that overflowed the loop buffer (a merged facet longer than the
+// face it was counted as) and ties that split a facet (a face normal rounded off an arc's
+// circle).
+TEST(ExactTies, TheLoopBufferOverflow) {
+  const std::vector<Vector3d> a = {{2, 11, 0}, {-2, 14, 0}, {3, 4, 5}, {6, 8, 5}};
+  const auto cube = scaled(tools::cube_points(), 0.5);
+  expect_exact_both_ways(a, cube);
+  expect_exact_both_ways(cube, a);
+}
+
+TEST(ExactTies, TheSplitFacet) {
+  const std::vector<Vector3d> a = {{-1, 2, -2}, {0, 2, -2}, {-2, -1, 2}, {1, -1, 0}, {0, 2, 0}, {1, -2, -2}, {1, 1, 1}, {1, 0, -2}};
+  const std::vector<Vector3d> b = {{-2, 0, 0}, {1, -1, 2}, {-2, -1, 2}, {0, -1, 2}, {-2, 2, 0}};
+  expect_exact_both_ways(a, b);
+  ConvexPolytope A, B;
+  ASSERT_EQ(polytope_from_points(a, A), Status::Ok);
+  ASSERT_EQ(polytope_from_points(b, B), Status::Ok);
+  MinkowskiSum m;
+  ASSERT_EQ(minkowski_sum(A, B, m), Status::Ok);
+  EXPECT_EQ(m.V, 18);  // and the oracle's too (above)
+  EXPECT_EQ(m.E, 36);
+  EXPECT_EQ(m.F, 20);
+}
+
+// FCL's signed-distance "regression 7" (a robotics user's box pair): a box turned about z by a
+// quarter turn less 0.000796 rad, and one turned by a product of quarter turns whose matrix has
+// 6e-17 where zeros belong, both centred at (0.75, 0, 0.15). Their world corners are what a
+// user sums; the sums are not doubles, so the exact counts come from CGAL's exact kernel.
+TEST(ExactTies, FclBoxRegression7) {
+  Box b1, b2;
+  b1.half_extents = Vector3d(0.050000000000000002776, 0.55000000000000004441, 0.2999999999999999889) / 2;
+  b1.rotation << 0.00079632671073326442932, -0.99999968293183538748, 0, 0.99999968293183538748, 0.00079632671073326442932, 0, 0, 0, 1;
+  b1.center = Vector3d(0.75000000000000055511, -2.4083553715553102684e-15, 0.14999999999999999445);
+  b2.half_extents = Vector3d(0.25, 0.2000000000000000111, 0.14999999999999999445) / 2;
+  b2.rotation << 6.1232339957367660359e-17, 0, 1, -1, 6.1232339957367660359e-17, 6.1232339957367660359e-17,
+      -6.1232339957367660359e-17, -1, 3.7493994566546440196e-33;
+  b2.center = Vector3d(0.75, 0, 0.14999999999999999445);
+  ConvexPolytope A, B;
+  ASSERT_EQ(polytope_from_box(b1, A), Status::Ok);
+  ASSERT_EQ(polytope_from_box(b2, B), Status::Ok);
+  for (double s : {1.0, -1.0}) {
+    MinkowskiSum m;
+    ASSERT_EQ(s > 0 ? minkowski_sum(A, B, m) : minkowski_difference(A, B, m), Status::Ok);
+    EXPECT_FALSE(m.corrected);
+    EXPECT_TRUE(test::valid_sum(A.vertices, B.vertices, s, A, B, m, 1e-12, 1e-12, 500));
+    const peers::ExactCounts e = peers::exact_counts(A.vertices, B.vertices, s);
+    EXPECT_EQ(m.V, e.V) << "sign " << s;
+    EXPECT_EQ(m.E, e.E) << "sign " << s;
+    EXPECT_EQ(m.F, e.F) << "sign " << s;
+  }
+  MinkowskiSum boxes;  // the box-box entry (its general path: the boxes are not in general position)
+  ASSERT_EQ(minkowski_sum(b1, b2, boxes), Status::Ok);
+  EXPECT_EQ(boxes.F, peers::exact_counts(A.vertices, B.vertices, 1).F);
+}
+
+// Integer points in [-r, r]^3, r = 1 ... 8, 4 to 40 of them: ties everywhere (parallel faces and
+// edges, coplanar points, faces on faces). 20 shards of 5,000 pairs, each as a sum and a
+// difference, through the polytopes; one pair in ten also through prepared shapes under
+// signed-permutation poses and integer translations (which keep every tie exact).
+class IntegerGrids : public testing::TestWithParam<int> {};
+
+Eigen::Isometry3d signed_permutation_pose(std::mt19937_64& rng) {
+  static const int kPerm[6][3] = {{0, 1, 2}, {1, 2, 0}, {2, 0, 1}, {1, 0, 2}, {0, 2, 1}, {2, 1, 0}};
+  const int p = int(rng() % 6);
+  double sign[3] = {rng() % 2 ? 1.0 : -1.0, rng() % 2 ? 1.0 : -1.0, 0};
+  sign[2] = (p < 3 ? 1 : -1) * sign[0] * sign[1];  // a rotation: determinant +1
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear().setZero();
+  for (int k = 0; k < 3; ++k) pose.linear()(k, kPerm[p][k]) = sign[k];
+  std::uniform_int_distribution<int> t(-20, 20);
+  pose.translation() = Vector3d(t(rng), t(rng), t(rng));
+  return pose;
+}
+
+std::vector<Vector3d> moved(const std::vector<Vector3d>& pts, const Eigen::Isometry3d& pose) {
+  std::vector<Vector3d> out;
+  for (const auto& p : pts) out.push_back(pose * p);
+  return out;
+}
+
+// The posed sums of prepared shapes under exact poses against the exact structure of the moved
+// points.
+void expect_posed_exact(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, const Eigen::Isometry3d& pa,
+                        const Eigen::Isometry3d& pb, double s) {
+  ConvexShape SA, SB;
+  ASSERT_EQ(shape_from_points(a, SA), Status::Ok);
+  ASSERT_EQ(shape_from_points(b, SB), Status::Ok);
+  MinkowskiSum m;
+  ASSERT_EQ(s > 0 ? minkowski_sum(SA, pa, SB, pb, m) : minkowski_difference(SA, pa, SB, pb, m), Status::Ok);
+  // The shapes' vertices are their input points in input order less duplicates and interior ones.
+  EXPECT_TRUE(equals_exact(moved(SA.polytope().vertices, pa), moved(SB.polytope().vertices, pb), s, m));
+}
+
+TEST_P(IntegerGrids, SumsAndDifferencesAreTheExactHull) {
+  std::mt19937_64 rng(29000 + unsigned(GetParam()));
+  std::uniform_int_distribution<int> radius(1, 8), count(4, 40);
+  int checked = 0;
+  for (int k = 0; k < test::scaled(5000); ++k) {
+    SCOPED_TRACE("shard " + std::to_string(GetParam()) + " pair " + std::to_string(k));
+    std::vector<Vector3d> pts[2];
+    for (auto& p : pts) {
+      const int r = radius(rng), n = count(rng);
+      std::uniform_int_distribution<int> c(-r, r);
+      for (int i = 0; i < n; ++i) p.emplace_back(c(rng), c(rng), c(rng));
+    }
+    ConvexPolytope A, B;
+    if (polytope_from_points(pts[0], A) != Status::Ok || polytope_from_points(pts[1], B) != Status::Ok) continue;
+    const bool coplanar_flats = A.flat && B.flat && A.faces[0].normal.cross(B.faces[0].normal).norm() <= 1e-12;
+    for (double s : {1.0, -1.0}) {
+      MinkowskiSum m;
+      const Status st = s > 0 ? minkowski_sum(A, B, m) : minkowski_difference(A, B, m);
+      if (coplanar_flats) {
+        ASSERT_EQ(st, Status::DegenerateResult);
+        continue;
+      }
+      ASSERT_EQ(st, Status::Ok);
+      ASSERT_TRUE(equals_exact(pts[0], pts[1], s, m)) << "sign " << s;
+      ++checked;
+    }
+    if (k % 10 == 0 && !coplanar_flats)
+      expect_posed_exact(pts[0], pts[1], signed_permutation_pose(rng), signed_permutation_pose(rng), k % 20 == 0 ? 1 : -1);
+  }
+  EXPECT_GT(checked, test::scaled(5000));
+}
+
+INSTANTIATE_TEST_SUITE_P(Shards, IntegerGrids, testing::Range(0, 20));
+
+// The degenerate families (tools::degenerate_pair: aligned boxes, boxes about a shared axis,
+// aligned prisms of 8 to 64 sides, a box with a prism, two copies, A (-) A, coplanar faces), 300
+// seeded members each, sum and difference: through the polytopes, and through prepared shapes
+// at poses that keep the family's ties (the same signed permutation for both; for the copies and
+// the mirrored pair any common rotation, whose rounding is the same for both).
+class DegenerateFamilies : public testing::TestWithParam<int> {};
+
+TEST_P(DegenerateFamilies, HaveTheExactStructure) {
+  const int family = GetParam();
+  std::mt19937_64 rng(2900 + unsigned(family));
+  for (int k = 0; k < test::scaled(300); ++k) {
+    const tools::DegeneratePair pair = tools::degenerate_pair(family, rng);
+    SCOPED_TRACE(pair.name + " " + std::to_string(k));
+    expect_exact_both_ways(pair.a, pair.b);
+    Eigen::Isometry3d pose = signed_permutation_pose(rng), pb = pose;
+    pb.translation() = signed_permutation_pose(rng).translation();
+    expect_posed_exact(pair.a, pair.b, pose, pb, pair.difference || k % 2 ? -1 : 1);
+    if (pair.name == "identical" || pair.name == "mirrored") {
+      // A common generic rotation: the structure of the body-frame pair.
+      std::uniform_real_distribution<double> u(-1, 1);
+      Eigen::Isometry3d turn = Eigen::Isometry3d::Identity();
+      turn.linear() = tools::axis_angle(Vector3d(u(rng), u(rng), u(rng)), 3 * u(rng));
+      ConvexShape SA, SB;
+      ASSERT_EQ(shape_from_points(pair.a, SA), Status::Ok);
+      ASSERT_EQ(shape_from_points(pair.b, SB), Status::Ok);
+      MinkowskiSum m;
+      const double s = pair.difference ? -1 : 1;
+      ASSERT_EQ(s > 0 ? minkowski_sum(SA, turn, SB, turn, m) : minkowski_difference(SA, turn, SB, turn, m), Status::Ok);
+      std::vector<std::vector<Vector3d>> unused;
+      const peers::ExactCounts e = peers::exact_structure(pair.a, pair.b, s, &unused);
+      EXPECT_FALSE(m.corrected);
+      EXPECT_EQ(m.V, e.V);
+      EXPECT_EQ(m.E, e.E);
+      EXPECT_EQ(m.F, e.F);
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Families, DegenerateFamilies, testing::Range(0, tools::kDegenerateFamilies),
+                         [](const testing::TestParamInfo<int>& info) {
+                           std::mt19937_64 rng(1);
+                           return tools::degenerate_pair(info.param, rng).name;
+                         });
 
 // CGAL's exact polytope distance (an LP-type solver over the input points, exact Gmpzf
 // arithmetic) as the oracle of minksum's distances: its squared distance is an exact ratio.

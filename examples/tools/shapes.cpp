@@ -148,6 +148,86 @@ Box random_box(std::mt19937_64& rng, double spread, double max_half) {
   return b;
 }
 
+namespace {
+
+// An axis-aligned box of integer half extents h.
+std::vector<Vector3d> int_box(const Vector3d& h, const Vector3d& c = Vector3d::Zero()) {
+  std::vector<Vector3d> p;
+  for (const auto& q : cube_points()) p.push_back(c + q.cwiseProduct(h));
+  return p;
+}
+
+// A prism over the n-gon of radius r (rounded to integers: convex, exactly planar sides), z in
+// [-h, h], the polygon scaled by k (an integer: sides parallel to those of k = 1) and turned by
+// `phase` of a step.
+std::vector<Vector3d> int_prism(int n, double r, double h, int k, double phase) {
+  std::vector<Vector3d> p;
+  for (int i = 0; i < n; ++i) {
+    const double t = 2 * M_PI * (i + phase) / n;
+    const double x = k * std::round(r * std::cos(t)), y = k * std::round(r * std::sin(t));
+    p.emplace_back(x, y, -h), p.emplace_back(x, y, h);
+  }
+  return p;
+}
+
+// Integer points in [-r, r]^3.
+std::vector<Vector3d> int_points(std::mt19937_64& rng, int n, int r) {
+  std::uniform_int_distribution<int> c(-r, r);
+  std::vector<Vector3d> p;
+  for (int k = 0; k < n; ++k) p.emplace_back(c(rng), c(rng), c(rng));
+  return p;
+}
+
+}  // namespace
+
+DegeneratePair degenerate_pair(int family, std::mt19937_64& rng) {
+  std::uniform_int_distribution<int> small(1, 8), size(10, 40);
+  const auto extents = [&] { return Vector3d(small(rng), small(rng), small(rng)); };
+  switch (family) {
+    case 0: return {"aligned_boxes", int_box(extents()), int_box(extents())};
+    case 1: {  // B turned about z by (a, b, c), a^2 + b^2 = c^2: both scaled by c, exact
+      static const int kTriples[5][3] = {{3, 4, 5}, {5, 12, 13}, {8, 15, 17}, {7, 24, 25}, {20, 21, 29}};
+      const int* t = kTriples[rng() % 5];
+      const double a = (rng() % 2 ? 1 : -1) * t[0], b = (rng() % 2 ? 1 : -1) * t[1], c = t[2];
+      std::vector<Vector3d> B;
+      for (const auto& q : int_box(extents())) B.emplace_back(a * q.x() - b * q.y(), b * q.x() + a * q.y(), c * q.z());
+      return {"boxes_shared_axis", scaled(int_box(extents()), c), B};
+    }
+    case 2: case 3: case 4: case 5: {
+      const int n = 8 << (family - 2);
+      return {"prisms_" + std::to_string(n), int_prism(n, 10000, size(rng), 1, 0), int_prism(n, 10000, size(rng), 1 + int(rng() % 3), 0)};
+    }
+    case 6: return {"box_prism", int_box(1000 * extents()), int_prism(16, 10000, size(rng), 1, 0.5)};
+    case 7: {
+      const auto p = int_points(rng, size(rng), small(rng));
+      return {"identical", p, p};
+    }
+    case 8: {
+      const auto p = int_points(rng, size(rng), small(rng));
+      return {"mirrored", p, p, true};
+    }
+    default: {  // B: A's points on or above the plane z = 0, and points below it inside A's box
+      const int r = small(rng);
+      auto a = int_points(rng, size(rng), r);
+      a.push_back(Vector3d(0, 0, -r - 1)), a.push_back(Vector3d(0, 0, r + 1));
+      std::vector<Vector3d> b;
+      for (const auto& p : a)
+        if (p.z() >= 0) b.push_back(p);
+      for (const auto& p : int_points(rng, 6, r)) b.push_back(Vector3d(p.x(), p.y(), -std::abs(p.z()) - 1));
+      return {"coplanar_faces", a, b};
+    }
+  }
+}
+
+std::vector<DegeneratePair> degenerate_pairs() {
+  std::vector<DegeneratePair> out;
+  for (int f = 0; f < kDegenerateFamilies; ++f) {
+    std::mt19937_64 rng(1);
+    out.push_back(degenerate_pair(f, rng));
+  }
+  return out;
+}
+
 Triangle random_triangle(std::mt19937_64& rng, double spread) {
   std::uniform_real_distribution<double> u(-1, 1);
   const Vector3d c = spread * Vector3d(u(rng), u(rng), u(rng));

@@ -60,6 +60,26 @@ std::vector<Eigen::Vector3d> scaled(std::vector<Eigen::Vector3d> pts, double s);
 /// dodecahedron times 30, B turned by exact_rotated (the same structures as table1_pairs()).
 std::vector<Table1Pair> exact_table1_pairs();
 
+/// One pair of a degenerate family: integer coordinates, so that every tie of the family
+/// (parallel faces and edges, a face on a face) is exact, and a sum or a difference.
+struct DegeneratePair {
+  std::string name;                   ///< e.g. "aligned_boxes", "prisms_32"
+  std::vector<Eigen::Vector3d> a, b;  ///< vertex sets
+  bool difference = false;            ///< A (-) B (the mirrored family), else A (+) B
+};
+
+/// The degenerate families, in order: aligned_boxes, boxes_shared_axis (B turned about z by a
+/// Pythagorean angle, exact), prisms_8 ... prisms_64 (aligned n-gon prisms, B's polygon a
+/// multiple of A's: parallel sides), box_prism, identical, mirrored (A (-) A) and
+/// coplanar_faces (B keeps A's upper faces).
+constexpr int kDegenerateFamilies = 10;
+
+/// A seeded random member of family `family` (0 ... kDegenerateFamilies - 1).
+DegeneratePair degenerate_pair(int family, std::mt19937_64& rng);
+
+/// One fixed member of every family (seed 1): the benchmark's Degenerate rows.
+std::vector<DegeneratePair> degenerate_pairs();
+
 /// Applies R to every point.
 std::vector<Eigen::Vector3d> rotated(const std::vector<Eigen::Vector3d>& pts,
                                      const Eigen::Matrix3d& R);
