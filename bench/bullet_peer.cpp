@@ -6,6 +6,7 @@
 #include <BulletCollision/NarrowPhaseCollision/btGjkPairDetector.h>
 #include <BulletCollision/NarrowPhaseCollision/btPointCollector.h>
 #include <BulletCollision/NarrowPhaseCollision/btVoronoiSimplexSolver.h>
+#include <LinearMath/btConvexHullComputer.h>
 
 namespace minksum::peers {
 
@@ -38,6 +39,13 @@ std::unique_ptr<btConvexShape> hull(const ConvexPolytope& p) {
   return h;
 }
 }  // namespace
+
+int bullet_hull(const std::vector<Eigen::Vector3d>& points) {
+  // One computer per thread, reused as a user's loop would (its arrays keep their capacity).
+  thread_local btConvexHullComputer computer;
+  const btScalar shrink = computer.compute(points.data()->data(), int(sizeof(Eigen::Vector3d)), int(points.size()), 0, 0);
+  return shrink < 0 ? -1 : computer.faces.size();
+}
 
 BulletPair::BulletPair(const Eigen::Vector3d& half_a, const Eigen::Vector3d& half_b) : impl_(std::make_unique<Impl>()) {
   impl_->a = std::make_unique<btBoxShape>(bt(half_a));

@@ -7,8 +7,13 @@
 
 #include <Eigen/Geometry>
 #include <memory>
+#include <vector>
 
 namespace minksum::peers {
+
+/// btConvexHullComputer (Bullet's exact-integer hull, Preparata & Hong, planar n-gon faces) on
+/// the points; returns its face count, or -1 if it fails.
+int bullet_hull(const std::vector<Eigen::Vector3d>& points);
 
 /// Bullet's answer for one pose.
 struct BulletAnswer {

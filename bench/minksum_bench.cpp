@@ -19,6 +19,12 @@
 //                  Surface_mesh of triangles (coplanar triangles not merged)
 //   cgal_nef       CGAL minkowski_sum_3 on Nef polyhedra (Epeck): the exact sum, the Nef
 //                  polyhedra built in the loop from the operands' hulls
+//   bullet_hull    Bullet's btConvexHullComputer on the pairwise sums (formed in the loop):
+//                  planar n-gon faces with half-edges, what a game or robotics user reaches for
+// Degenerate/<case>/<method>: the degenerate families of tools::degenerate_pairs() (aligned
+// boxes, boxes about a shared axis, aligned prisms of 8 to 64 sides, a box with a prism, two
+// copies, A (-) A, coplanar faces; integer coordinates, every tie exact) by osm_prepared (the
+// shapes in their body frames, identity poses), qhull and bullet_hull.
 // Scaling/<n>/<method>: random polytopes of n points on a sphere per operand (seeded), for
 // n = 8 ... 512, by osm_prepared, qhull and cgal_quickhull, and n = 2048 by osm_prepared alone
 // (4 million pairwise sums are too slow to hull in every report): how the cost grows with
@@ -30,6 +36,7 @@
 #include <memory>
 #include <stdexcept>
 
+#include "bullet_peer.hpp"
 #include "cgal_peer.hpp"
 #include "hull.hpp"
 #include "tools/shapes.hpp"
@@ -125,18 +132,46 @@ void Table1Kernel(benchmark::State& state) {
   state.counters["kernel"] = m.method == Method::Kernel;
 }
 
-void Table1Qhull(benchmark::State& state, int row) {
-  const Prepared p = prepare(row);
+
+// The pairwise sums a + s b, formed in the timed loop as a hull method's user must.
+void pairwise_sums(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b, double s,
+                   std::vector<Eigen::Vector3d>& out) {
+  out.clear();
+  for (const auto& p : a)
+    for (const auto& q : b) out.push_back(p + s * q);
+}
+
+// A hull peer on the pairwise sums (qhull: merged facets with ordered loops; bullet_hull).
+void HullPeer(benchmark::State& state, const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
+              double s, bool bullet) {
   std::vector<detail::HullFacet> facets;
   std::vector<Eigen::Vector3d> sums;
+  int count = 0;
   for (auto _ : state) {
-    sums.clear();
-    for (const auto& a : p.A.vertices)
-      for (const auto& b : p.B.vertices) sums.push_back(a + b);
-    detail::qhull_facets(sums, facets);
-    benchmark::DoNotOptimize(facets.data());
+    pairwise_sums(a, b, s, sums);
+    if (bullet) {
+      count = peers::bullet_hull(sums);
+    } else {
+      detail::qhull_facets(sums, facets);
+      count = int(facets.size());
+    }
+    benchmark::DoNotOptimize(count);
   }
-  state.counters["facets"] = double(facets.size());
+  state.counters["facets"] = count;
+}
+
+void DegeneratePrepared(benchmark::State& state, const tools::DegeneratePair& pair) {
+  PreparedShapes p = prepare_shapes(pair.a, pair.b, Eigen::Matrix3d::Identity());
+  const Eigen::Isometry3d identity = Eigen::Isometry3d::Identity();
+  MinkowskiSum m;
+  Status s = Status::Ok;
+  for (auto _ : state) {
+    s = pair.difference ? minkowski_difference(p.A, identity, p.B, identity, m) : minkowski_sum(p.A, identity, p.B, identity, m);
+    benchmark::DoNotOptimize(m.planes.data());
+  }
+  if (s != Status::Ok || m.corrected) state.SkipWithError("the prepared sum failed or needed the corrector");
+  state.counters["facets"] = m.F;
+  state.counters["vertices"] = m.V;
 }
 
 void Table1Cgal(benchmark::State& state, int row, bool nef) {
@@ -163,21 +198,11 @@ void ScalingPrepared(benchmark::State& state, int n) {
                                      tools::sphere_points(n, 2000 + unsigned(n)), tools::table1_rotation()));
 }
 
-void ScalingPeer(benchmark::State& state, int n, bool cgal) {
+void ScalingCgal(benchmark::State& state, int n) {
   const Prepared p = scaling_pair(n);
-  std::vector<detail::HullFacet> facets;
-  std::vector<Eigen::Vector3d> sums;
   int count = 0;
   for (auto _ : state) {
-    if (cgal) {
-      count = peers::cgal_quickhull(p.A.vertices, p.B.vertices);
-    } else {
-      sums.clear();
-      for (const auto& a : p.A.vertices)
-        for (const auto& b : p.B.vertices) sums.push_back(a + b);
-      detail::qhull_facets(sums, facets);
-      count = int(facets.size());
-    }
+    count = peers::cgal_quickhull(p.A.vertices, p.B.vertices);
     benchmark::DoNotOptimize(count);
   }
   state.counters["facets"] = count;
@@ -187,8 +212,9 @@ const int kRegistered = [] {
   for (int n : {8, 12, 16, 24, 32, 48, 64, 128, 256, 512}) {
     const std::string base = "Scaling/" + std::to_string(n) + "/";
     benchmark::RegisterBenchmark((base + "osm_prepared").c_str(), ScalingPrepared, n)->Unit(benchmark::kMicrosecond);
-    benchmark::RegisterBenchmark((base + "qhull").c_str(), ScalingPeer, n, false)->Unit(benchmark::kMicrosecond);
-    benchmark::RegisterBenchmark((base + "cgal_quickhull").c_str(), ScalingPeer, n, true)->Unit(benchmark::kMicrosecond);
+    const Prepared p = scaling_pair(n);
+    benchmark::RegisterBenchmark((base + "qhull").c_str(), HullPeer, p.A.vertices, p.B.vertices, 1.0, false)->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark((base + "cgal_quickhull").c_str(), ScalingCgal, n)->Unit(benchmark::kMicrosecond);
   }
   benchmark::RegisterBenchmark("Scaling/2048/osm_prepared", ScalingPrepared, 2048)->Unit(benchmark::kMicrosecond);
   const auto pairs = tools::table1_pairs();
@@ -206,12 +232,22 @@ const int kRegistered = [] {
           ->Unit(benchmark::kMicrosecond);
       benchmark::RegisterBenchmark((base + "osm_kernel_single").c_str(), Table1Kernel)->Unit(benchmark::kMicrosecond);
     }
-    benchmark::RegisterBenchmark((base + "qhull").c_str(), Table1Qhull, row)
+    const Prepared p = prepare(row);
+    benchmark::RegisterBenchmark((base + "qhull").c_str(), HullPeer, p.A.vertices, p.B.vertices, 1.0, false)
+        ->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark((base + "bullet_hull").c_str(), HullPeer, p.A.vertices, p.B.vertices, 1.0, true)
         ->Unit(benchmark::kMicrosecond);
     benchmark::RegisterBenchmark((base + "cgal_quickhull").c_str(), Table1Cgal, row, false)
         ->Unit(benchmark::kMicrosecond);
     benchmark::RegisterBenchmark((base + "cgal_nef").c_str(), Table1Cgal, row, true)
         ->Unit(benchmark::kMillisecond);
+  }
+  for (const auto& pair : tools::degenerate_pairs()) {
+    const std::string base = "Degenerate/" + pair.name + "/";
+    const double sign = pair.difference ? -1 : 1;
+    benchmark::RegisterBenchmark((base + "osm_prepared").c_str(), DegeneratePrepared, pair)->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark((base + "qhull").c_str(), HullPeer, pair.a, pair.b, sign, false)->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark((base + "bullet_hull").c_str(), HullPeer, pair.a, pair.b, sign, true)->Unit(benchmark::kMicrosecond);
   }
   return 0;
 }();

@@ -16,21 +16,24 @@
 // stored, ties and all; no perturbation and no rational arithmetic.
 //
 // The algorithm (O(|E_A| + |E_B| + output) after one linear scan for the first support):
-//  1. Every face normal of A is located in B's map (a cell, an arc or a face normal: the
-//     support feature of B along it), breadth first over A's faces, each climbing from a
-//     neighbour's location (each step raises B's support along the normal).
-//  2. Every arc of A is walked through B's map from its first normal's location to its
-//     second's. In a cell, the walk leaves where the cell's corners, read counter-clockwise,
+//  1. Every arc of A is walked through B's map, breadth first over A's faces from the first,
+//     whose normal is located by climbing from B's best vertex (each step raises B's support
+//     along it). In a cell, the walk leaves where the cell's corners, read counter-clockwise,
 //     pass from the right of the arc's circle to its left: across a side (a proper crossing, a
 //     parallelogram facet) or through a corner (a face normal of B on the arc); from a corner
-//     it goes on into the cell, or along the arc of B, that holds its direction.
-//  3. Every face normal of B is located in A's map, climbing from the cell a crossing of one of
-//     its arcs puts it next to, else from a neighbour's location.
-//  4. The facets are written: a face normal inside a cell gives its face with one vertex of the
-//     other operand; one on an arc or a face normal gives the merged polygon, read off the
-//     rays of both maps around it (merged_facet); a crossing gives its parallelogram. Their
-//     vertices (pairs (i, j)) are hashed once, numbered in (i, j) order by a counting sort, and
-//     Euler's formula checked (and, where features merged, the closed manifold).
+//     it goes on into the cell, or along the arc of B, that holds its direction. A walk towards
+//     a normal not yet located finds it too: it has arrived when that normal is not beyond the
+//     side it leaves by, one sign a step; so every normal of A ends located exactly (in a cell,
+//     inside an arc or on a face normal of B: the support feature of B along it).
+//  2. Every face normal of B is located in A's map: those on A's arcs and normals by the walks
+//     that met them; the others from a located neighbour across their common arc, which no arc
+//     of A crosses (the same cell) or one crosses (the cell across it); else by climbing.
+//  3. The facets are written straight into the result: a face normal inside a cell gives its
+//     face with one vertex of the other operand; one on an arc or a face normal gives the
+//     merged polygon, read off the rays of both maps around it (merged_facet); a crossing gives
+//     its parallelogram. Their vertices (pairs (i, j)) are hashed once, numbered in (i, j)
+//     order by a counting sort, and Euler's formula checked (and, where features merged, the
+//     closed manifold).
 // A step that fails (only a shape whose map rounding made invalid can make one) leaves the hull
 // corrector to answer.
 #include <algorithm>
@@ -135,16 +138,27 @@ bool right_end_ahead(const Placed& X, int e, const Vector3d& from, const Vector3
   return orient(axis, from, X.gauss(X.R(e))) == orient(axis, from, to);
 }
 
-// Walks arc ea of A from its face `from` to its other face through B's map (step 2 of the
-// file's comment), appending the proper crossings; false on failure.
-bool walk(const Placed& A, const Placed& B, int ea, int from, const Loc& start, const Loc& target,
-          std::vector<Crossing>& out) {
+// The other side of cell `cell` at its corner `corner`, next to the side at `slot`.
+int side_beside(const MapLayout& m, int cell, int slot, int corner) {
+  const int begin = m.cell_start[cell], end = m.cell_start[cell + 1];
+  if (m.cell_slot[slot].face == corner) return slot + 1 < end ? slot + 1 : begin;  // corner after the side
+  return slot > begin ? slot - 1 : end - 1;
+}
+
+// Walks arc ea of A from its face `from` (at `start` in B's map) to its other face through B's
+// map (step 1 of the file's comment), appending the proper crossings, and noting in loc_a the
+// face normals of B it passes through (inside the arc). The other face's location `target` is
+// known, or found (known false). False on failure.
+bool walk(const Placed& A, const Placed& B, int ea, int from, const Loc& start, Loc& target, bool known,
+          std::vector<Crossing>& out, std::vector<Loc>& loc_a) {
   const MapLayout& m = *B.m;
   const int to = A.L(ea) == from ? A.R(ea) : A.L(ea), tsign = A.L(ea) == from ? 1 : -1;
-  // The side of the arc's circle, seen along its way, on which B's normal g lies (left: +).
+  // The side of the arc's circle, seen along its way, on which B's normal g lies (left: +);
+  // whether the far end lies beyond a side of a cell (at `slot`).
   const auto sigma = [&](int g) { return tsign * side(A, ea, B, g); };
+  const auto past = [&](int slot) { return beyond(B, m.cell_slot[slot].arc, A, to); };
   enum { InCell, AtFace, Along } kind;
-  int id = start.id, entry = -1, head = -1;  // entry: a slot of the cell whose face lies right
+  int id = start.id, entry = -1, head = -1;  // entry: a slot of the cell whose corner lies right
   switch (start.kind) {
     case Loc::Cell: kind = InCell; break;
     case Loc::Face: kind = AtFace; break;
@@ -162,21 +176,26 @@ bool walk(const Placed& A, const Placed& B, int ea, int from, const Loc& start, 
   }
   for (int steps = 0; steps <= 2 * (B.s->cells + B.s->faces); ++steps) {
     if (kind == Along) {  // along arc id of B, to its face normal head
-      if (target.kind == Loc::Arc && target.id == id) return true;
+      if (known ? target.kind == Loc::Arc && target.id == id : false) return true;
+      if (!known) {  // arrived if the far end is not past the other side at head of a cell of the arc
+        const int cell = m.arc[id].u, q = past(side_beside(m, cell, m.arc_slot[2 * id], head));
+        if (q <= 0) return target = q < 0 ? Loc{Loc::Arc, id} : Loc{Loc::Face, head}, true;
+      }
       kind = AtFace, id = head;
+      loc_a[id] = {Loc::Arc, ea};
       continue;
     }
     if (kind == AtFace) {  // on face normal id of B: into the cell, or along the arc, ahead
-      if (target.kind == Loc::Face && target.id == id) return true;
+      if (known && target.kind == Loc::Face && target.id == id) return true;
       const int first = m.loop_start[id], n = m.loop_start[id + 1] - first;
-      int prev = sigma(m.loop_face[first + n - 1]), k = 0;
+      int prev = sigma(m.loop_face[first + n - 1]), k = 0, now = 0;
       for (; k < n; ++k) {
-        const int now = sigma(m.loop_face[first + k]);
+        now = sigma(m.loop_face[first + k]);
         if (prev < 0 && now >= 0) break;
         prev = now;
       }
       if (k == n) return false;
-      if (sigma(m.loop_face[first + k]) == 0) {  // along ray k
+      if (now == 0) {  // along ray k
         kind = Along, head = m.loop_face[first + k], id = m.loop_arc[first + k];
       } else {  // into cell k; its corner after `entry` (across ray k - 1) lies right
         const int s = m.loop_slot[first + k], c = m.loop_cell[first + k];
@@ -185,8 +204,8 @@ bool walk(const Placed& A, const Placed& B, int ea, int from, const Loc& start, 
       continue;
     }
     // In cell id: arrived, or out across the side or through the corner ahead.
-    if (target.kind == Loc::Cell && target.id == id) return true;
-    if (target.kind == Loc::Arc && (m.arc[target.id].u == id || m.arc[target.id].v == id)) return true;
+    if (known && target.kind == Loc::Cell && target.id == id) return true;
+    if (known && target.kind == Loc::Arc && (m.arc[target.id].u == id || m.arc[target.id].v == id)) return true;
     const int begin = m.cell_start[id], end = m.cell_start[id + 1], n = end - begin;
     int k = -1, now = 0;
     if (entry >= 0) {  // corners after the entry, until one is not right of the circle
@@ -209,12 +228,23 @@ bool walk(const Placed& A, const Placed& B, int ea, int from, const Loc& start, 
       }
     }
     if (k < 0) return false;
-    if (now == 0) {
-      kind = AtFace, id = m.cell_slot[k].face;
+    if (now == 0) {  // through corner k: arrived if the far end is past neither side at it
+      const int corner = m.cell_slot[k].face;
+      if (!known) {
+        const int q1 = past(k), q2 = past(k + 1 < end ? k + 1 : begin);
+        if (q1 < 0 && q2 < 0) return target = {Loc::Cell, id}, true;
+        if (q1 == 0 && q2 == 0) return target = {Loc::Face, corner}, true;
+        if (q1 <= 0 && q2 <= 0) return false;
+      }
+      kind = AtFace, id = corner;
+      loc_a[id] = {Loc::Arc, ea};
       continue;
     }
-    // Across side k (between the corner before it, right, and corner k, left): a crossing.
+    // Across side k (between the corner before it, right, and corner k, left): arrived if the
+    // far end is not past it, else a crossing.
     const int arc = m.cell_slot[k].arc, eb = arc >= 0 ? arc : ~arc;
+    if (!known)
+      if (const int q = past(k); q <= 0) return target = q < 0 ? Loc{Loc::Cell, id} : Loc{Loc::Arc, eb}, true;
     out.push_back({ea, eb, tsign * (m.arc[eb].L == m.cell_slot[k].face ? 1 : -1) > 0});
     entry = m.slot_twin[k], id = m.cell_slot[k].next;
   }
@@ -259,17 +289,6 @@ void rays_of(const Placed& X, const Loc& f, std::vector<Overlay::Ray>& out) {
 }
 
 }  // namespace
-
-Vector3d Placed::unit(int f) const {
-  const Vector3d n(s->nx[f], s->ny[f], s->nz[f]);
-  return turned ? Vector3d(world * n) : n;
-}
-
-Vector3d Placed::edge(int e) const {
-  const int v = s->cell_vertex[m->arc[e].v], u = s->cell_vertex[m->arc[e].u];
-  const Vector3d d(s->px[v] - s->px[u], s->py[v] - s->py[u], s->pz[v] - s->pz[u]);
-  return turned ? Vector3d(world * d) : d;
-}
 
 void place(const ShapeData& s, const Eigen::Isometry3d& pose, const Eigen::Matrix3d& frame, bool negate,
            PlacedBuffers& buf, Placed& out) {
@@ -325,54 +344,77 @@ void place(const ShapeData& s, const Eigen::Isometry3d& pose, const Eigen::Matri
   }
 }
 
-bool Overlay::locate_a_normals(const Placed& A, const Placed& B) {
+bool Overlay::walk_a_arcs(const Placed& A, const Placed& B) {
   const MapLayout& ma = *A.m;
   const int F = A.s->faces;
-  loc_b.assign(size_t(F), {Loc::Cell, -1}), queue.resize(size_t(F));
+  loc_b.assign(size_t(F), {Loc::Cell, -1}), queue.resize(size_t(F)), walked.assign(size_t(A.s->arcs), 0);
+  loc_a.assign(size_t(B.s->faces), {Loc::Cell, -1}), crossings.clear();
   if (!climb(B, A, 0, best_cell(B, A, 0), loc_b[0])) return false;
   queue[0] = 0;
   int tail = 1;
+  // Breadth first over A's faces: each arc is walked once, from the face first reached, and
+  // locates the other face's normal if that is not located yet.
   for (int q = 0; q < tail; ++q) {
     const int f = queue[q];
     for (int k = ma.loop_start[f]; k < ma.loop_start[f + 1]; ++k) {
-      const int g = ma.loop_face[k];
-      if (loc_b[g].id >= 0) continue;
-      if (!climb(B, A, g, some_cell(B, loc_b[f]), loc_b[g])) return false;
-      queue[tail++] = g;
+      const int e = ma.loop_arc[k], g = ma.loop_face[k];
+      if (walked[e]) continue;
+      walked[e] = 1;
+      Loc& to = loc_b[g];
+      const bool known = to.id >= 0;
+      if (known && to.kind == Loc::Cell && loc_b[f].kind == Loc::Cell && to.id == loc_b[f].id) continue;  // one cell
+      if (!walk(A, B, e, f, loc_b[f], to, known, crossings, loc_a)) return false;
+      if (!known) queue[tail++] = g;
     }
   }
   return tail == F;
 }
 
-bool Overlay::walk_a_arcs(const Placed& A, const Placed& B) {
-  crossings.clear();
-  for (int e = 0; e < A.s->arcs; ++e) {
-    const int l = A.L(e), r = A.R(e);
-    const Loc &from = loc_b[l], &to = loc_b[r];
-    if (from.kind == Loc::Cell && to.kind == Loc::Cell && from.id == to.id) continue;  // one cell: no crossing
-    if (!walk(A, B, e, l, from, to, crossings)) return false;
-  }
-  return true;
-}
-
 bool Overlay::locate_b_normals(const Placed& A, const Placed& B) {
   const MapLayout &ma = *A.m, &mb = *B.m;
-  const int F = B.s->faces;
-  loc_a.assign(size_t(F), {Loc::Cell, -1}), hint.assign(size_t(F), -1), queue.resize(size_t(F));
-  // A crossing's B arc has its L on the `up` side of the A arc: next to that side's cell.
-  for (const Crossing& x : crossings) {
-    const MapLayout::Arc& a = ma.arc[x.ea];
-    hint[mb.arc[x.eb].L] = x.up ? a.v : a.u, hint[mb.arc[x.eb].R] = x.up ? a.u : a.v;
+  const int F = B.s->faces, E = B.s->arcs;
+  // B's normals on A's normals; the arcs of B a normal of A lies inside (a walk along them may
+  // change cell without a crossing); per arc of B, its crossings.
+  b_arc_crossings.assign(size_t(E), 0), b_arc_last.resize(size_t(E));
+  for (int f = 0; f < A.s->faces; ++f) {
+    if (loc_b[f].kind == Loc::Face) loc_a[loc_b[f].id] = {Loc::Face, f};
+    if (loc_b[f].kind == Loc::Arc) b_arc_crossings[loc_b[f].id] = 2;  // (climb across it)
   }
-  if (!climb(A, B, 0, hint[0] >= 0 ? hint[0] : best_cell(A, B, 0), loc_a[0])) return false;
-  queue[0] = 0;
-  int tail = 1;
+  for (int x = 0; x < int(crossings.size()); ++x) ++b_arc_crossings[crossings[x].eb], b_arc_last[crossings[x].eb] = x;
+  queue.resize(size_t(F)), queued.assign(size_t(F), 0);
+  int tail = 0;
+  for (int g = 0; g < F && tail == 0; ++g)
+    if (loc_a[g].id >= 0) queue[tail++] = g;
+  if (tail == 0) {
+    if (!climb(A, B, 0, best_cell(A, B, 0), loc_a[0])) return false;
+    queue[tail++] = 0;
+  }
+  queued[queue[0]] = 1;
+  // Breadth first over B's faces from a located one: across an arc of B that no arc of A
+  // crosses the cell stays; across one crossed once it is the cell on the crossing's far side.
   for (int q = 0; q < tail; ++q) {
     const int g = queue[q];
+    const Loc here = loc_a[g];
     for (int k = mb.loop_start[g]; k < mb.loop_start[g + 1]; ++k) {
-      const int h = mb.loop_face[k];
-      if (loc_a[h].id >= 0) continue;
-      if (!climb(A, B, h, hint[h] >= 0 ? hint[h] : some_cell(A, loc_a[g]), loc_a[h])) return false;
+      const int h = mb.loop_face[k], e = mb.loop_arc[k];
+      if (queued[h]) continue;
+      queued[h] = 1;
+      if (loc_a[h].id >= 0) {
+        queue[tail++] = h;
+        continue;
+      }
+      const int n = b_arc_crossings[e];
+      int cell = -1;
+      if (here.kind == Loc::Cell && n == 0) cell = here.id;
+      if (here.kind == Loc::Cell && n == 1) {
+        const MapLayout::Arc& a = ma.arc[crossings[b_arc_last[e]].ea];
+        cell = a.u == here.id ? a.v : a.v == here.id ? a.u : -1;
+      }
+      if (cell >= 0) {
+        loc_a[h] = {Loc::Cell, cell};
+      } else if (!climb(A, B, h, some_cell(A, here), loc_a[h])) {
+        return false;
+      }
       queue[tail++] = h;
     }
   }
@@ -384,14 +426,15 @@ bool Overlay::run(const Placed& A, const Placed& B, MinkowskiSum& out) {
   dedupe_all = sa.polytope_ref->flat || sb.polytope_ref->flat;
   map_normals = std::max(sa.pole_slack, sb.pole_slack) > 1e-10;
   merged = false;
-  if (!locate_a_normals(A, B) || !walk_a_arcs(A, B) || !locate_b_normals(A, B)) return false;
-  // The facets: one per face normal (B's on A's skipped) and crossing; loops grow as written.
-  out.planes.resize(size_t(sa.faces + sb.faces) + crossings.size());
-  loose.resize(out.planes.size()), start.resize(out.planes.size() + 1);
-  nf = nl = start[0] = 0;
-  id_key.clear();
+  if (!walk_a_arcs(A, B) || !locate_b_normals(A, B)) return false;
+  // The facets, written straight into `out`: at most one per face normal and crossing; loops
+  // grow as they are written (a merged facet is longer than either face).
+  const size_t facets = size_t(sa.faces + sb.faces) + crossings.size();
+  out.planes.resize(facets), out.loop_start.resize(facets + 1), loose.resize(facets);
   const size_t entries = sa.map[0].loop_cell.size() + sb.map[0].loop_cell.size() + 4 * crossings.size();
-  if (loop.size() < entries) loop.resize(entries);
+  if (out.loop_vertex.size() < entries) out.loop_vertex.resize(entries);
+  nf = nl = out.loop_start[0] = 0, ids = 0;
+  if (id_key.size() < entries) id_key.resize(entries);
   unsigned size = 64;  // twice the vertices at most (each is in three loops or more)
   for (shift = 58; 3 * size < 2 * entries; size *= 2) --shift;
   slot_key.assign(size, kEmpty), slot_id.resize(size), mask = size - 1;
@@ -401,42 +444,42 @@ bool Overlay::run(const Placed& A, const Placed& B, MinkowskiSum& out) {
 }
 
 inline void Overlay::begin_facet(MinkowskiSum& out, const Vector3d& n, bool loose_offset, int length) {
-  // Room for this loop, whatever the facets before it took (merged facets are longer than
-  // either face).
-  if (loop.size() < size_t(nl + length)) loop.resize(2 * size_t(nl + length));
+  // Room for this loop, whatever the facets before it took.
+  if (out.loop_vertex.size() < size_t(nl + length)) out.loop_vertex.resize(2 * size_t(nl + length));
+  if (id_key.size() < size_t(ids + length)) id_key.resize(2 * size_t(ids + length));
   out.planes[nf].normal = n;
   loose[nf] = loose_offset;
 }
 
-inline void Overlay::add_pair(int i, int j) {
+inline void Overlay::add_pair(MinkowskiSum& out, int i, int j) {
   // Open addressing on the key (i, j) (Fibonacci hashing), grown at half load.
   const std::uint64_t key = std::uint64_t(i) << 32 | std::uint64_t(unsigned(j));
   unsigned h = unsigned((key * 0x9E3779B97F4A7C15ull) >> shift);
   for (;; h = (h + 1) & mask) {
     if (slot_key[h] == key) {
-      loop[nl++] = slot_id[h];
+      out.loop_vertex[nl++] = slot_id[h];
       return;
     }
     if (slot_key[h] == kEmpty) break;
   }
-  const int id = int(id_key.size());
-  slot_key[h] = key, slot_id[h] = id, loop[nl++] = id;
-  id_key.push_back(key);
-  if (2 * id_key.size() > mask) grow();
+  slot_key[h] = key, slot_id[h] = ids, out.loop_vertex[nl++] = ids;
+  id_key[ids++] = key;
+  if (2 * unsigned(ids) > mask) grow();
 }
 
 void Overlay::grow() {
   const unsigned size = 2 * (mask + 1);
   slot_key.assign(size, kEmpty), slot_id.resize(size), mask = size - 1, --shift;
-  for (size_t id = 0; id < id_key.size(); ++id) {
+  for (int id = 0; id < ids; ++id) {
     unsigned g = unsigned((id_key[id] * 0x9E3779B97F4A7C15ull) >> shift);
     while (slot_key[g] != kEmpty) g = (g + 1) & mask;
-    slot_key[g] = id_key[id], slot_id[g] = int(id);
+    slot_key[g] = id_key[id], slot_id[g] = id;
   }
 }
 
-inline void Overlay::end_facet(bool dedupe) {
-  const int first = start[nf];
+inline void Overlay::end_facet(MinkowskiSum& out, bool dedupe) {
+  int* loop = out.loop_vertex.data();
+  const int first = out.loop_start[nf];
   int n = nl - first;
   // A flat operand's prism has zero-length arcs, and merged facets meet rays of both maps at
   // one angle: drop the repeated vertices they make, and the facets left with fewer than three
@@ -452,9 +495,9 @@ inline void Overlay::end_facet(bool dedupe) {
     // From its smallest pair, as every loop.
     int least = first;
     for (int k = first + 1; k < nl; ++k) least = id_key[loop[k]] < id_key[loop[least]] ? k : least;
-    std::rotate(loop.begin() + first, loop.begin() + least, loop.begin() + nl);
+    std::rotate(loop + first, loop + least, loop + nl);
   }
-  start[++nf] = nl;
+  out.loop_start[++nf] = nl;
 }
 
 bool Overlay::face_facets(const Placed& A, const Placed& B, MinkowskiSum& out) {
@@ -471,8 +514,8 @@ bool Overlay::face_facets(const Placed& A, const Placed& B, MinkowskiSum& out) {
     const int j = sb.cell_vertex[l.id], first = ma.loop_start[f], n = ma.loop_start[f + 1] - first;
     const int* cell = &ma.loop_cell[first];
     begin_facet(out, A.unit(f), map_normals, n);
-    for (int k = ma.loop_least[f], m = 0; m < n; ++m, k = k + 1 < n ? k + 1 : 0) add_pair(sa.cell_vertex[cell[k]], j);
-    end_facet(dedupe_all);
+    for (int k = ma.loop_least[f], m = 0; m < n; ++m, k = k + 1 < n ? k + 1 : 0) add_pair(out, sa.cell_vertex[cell[k]], j);
+    end_facet(out, dedupe_all);
   }
   // B's faces, but those on a face normal of A (written above).
   for (int g = 0; g < sb.faces; ++g) {
@@ -488,53 +531,60 @@ bool Overlay::face_facets(const Placed& A, const Placed& B, MinkowskiSum& out) {
     const int i = sa.cell_vertex[l.id], first = mb.loop_start[g], n = mb.loop_start[g + 1] - first;
     const int* cell = &mb.loop_cell[first];
     begin_facet(out, B.unit(g), map_normals, n);
-    for (int k = mb.loop_least[g], m = 0; m < n; ++m, k = k + 1 < n ? k + 1 : 0) add_pair(i, sb.cell_vertex[cell[k]]);
-    end_facet(dedupe_all);
+    for (int k = mb.loop_least[g], m = 0; m < n; ++m, k = k + 1 < n ? k + 1 : 0) add_pair(out, i, sb.cell_vertex[cell[k]]);
+    end_facet(out, dedupe_all);
   }
   return true;
 }
 
 void Overlay::crossing_facets(const Placed& A, const Placed& B, MinkowskiSum& out) {
   const ShapeData &sa = *A.s, &sb = *B.s;
-  for (const Crossing& x : crossings) {
+  // The loops: the cells around the crossing, (v1, p) (v1, q) (v0, q) (v0, p), with p, q =
+  // w0, w1 when s1 < 0 and w1, w0 when s1 > 0; from the smallest pair.
+  for (Crossing& x : crossings) {
     const MapLayout::Arc &a = A.m->arc[x.ea], &b = B.m->arc[x.eb];
-    // The parallelogram e_A (+) e_B, normal +-(d_A x d_B), the sign from `up` (its crossing
-    // point X = a G_L' + b G_R', a, b > 0, has G_L' . (c x d_B) = -|d_B|^2 (d_A . G_L'), so
-    // X = -s1 c / |c|). The cross product of edges within 1e-4 rad of parallel cancels (its
-    // direction is good to 1e-16 / sin(angle) only): there the crossing point itself, from the
-    // normals, which are perpendicular to the edges to rounding whatever the angle.
-    // Edges that stray from their arcs' poles (faces planar only to a tolerance, see
-    // ShapeData::pole_slack) would tilt the plane out of the crossing's cells: there the poles.
-    // (Poles are in the overlay frame, A's body frame: a normal from them is turned by A's pose.)
-    const Vector3d da = map_normals ? A.pole(x.ea) : A.edge(x.ea), db = map_normals ? B.pole(x.eb) : B.edge(x.eb);
-    const Vector3d c = da.cross(db);
-    const double c2 = c.squaredNorm();
-    const bool parallel = !(c2 > 1e-8 * da.squaredNorm() * db.squaredNorm());
-    Vector3d n;
-    if (!parallel) {
-      n = c * ((x.up ? -1 : 1) / std::sqrt(c2));
-      if (map_normals && A.turned) n = A.world * n;
-    } else {
-      // Edges that cancel (or a prism's zero-length edge) on arcs whose circles do not: the
-      // circles' crossing, from the poles; circles that coincide too: near_parallel_normal.
-      const Vector3d pa = A.pole(x.ea), pb = B.pole(x.eb), cp = pa.cross(pb);
-      const double cp2 = cp.squaredNorm();
-      if (cp2 > 1e-8 * pa.squaredNorm() * pb.squaredNorm()) {
-        n = cp * ((x.up ? -1 : 1) / std::sqrt(cp2));
-        if (A.turned) n = A.world * n;
-      } else {
-        n = near_parallel_normal(A.unit(A.L(x.ea)), A.unit(A.R(x.ea)), B.unit(B.L(x.eb)), B.unit(B.R(x.eb)));
-      }
-    }
-    // The cells around the crossing: (v1, p) (v1, q) (v0, q) (v0, p), with p, q = w0, w1
-    // when s1 < 0 and w1, w0 when s1 > 0; from the smallest pair.
     const int p = sb.cell_vertex[x.up ? b.v : b.u], q = sb.cell_vertex[x.up ? b.u : b.v];
     const int a0 = sa.cell_vertex[a.u], a1 = sa.cell_vertex[a.v];
     const int pairs[8] = {a1, p, a1, q, a0, q, a0, p};
     const int first = a1 < a0 ? (p < q ? 0 : 1) : (q < p ? 2 : 3);
-    begin_facet(out, n, parallel || map_normals, 4);
-    for (int k = 0; k < 4; ++k) add_pair(pairs[2 * ((first + k) & 3)], pairs[2 * ((first + k) & 3) + 1]);
-    end_facet(dedupe_all);
+    begin_facet(out, Vector3d::Zero(), map_normals, 4);
+    for (int k = 0; k < 4; ++k) add_pair(out, pairs[2 * ((first + k) & 3)], pairs[2 * ((first + k) & 3) + 1]);
+    x.facet = nf;
+    end_facet(out, dedupe_all);
+    if (x.facet == nf) x.facet = -1;  // dropped: a flat operand's zero-length edge
+  }
+  // The normals, in a loop of their own (its square roots and divisions overlap). The
+  // parallelogram e_A (+) e_B has normal +-(d_A x d_B), the sign from `up` (its crossing point
+  // X = a G_L' + b G_R', a, b > 0, has G_L' . (c x d_B) = -|d_B|^2 (d_A . G_L'), so X = -s1 c /
+  // |c|). The cross product of edges within 1e-4 rad of parallel cancels (its direction is good
+  // to 1e-16 / sin(angle) only): there the crossing point itself, from the normals, which are
+  // perpendicular to the edges to rounding whatever the angle. Edges that stray from their arcs'
+  // poles (faces planar only to a tolerance, see ShapeData::pole_slack) would tilt the plane out
+  // of the crossing's cells: there the poles (in the overlay frame, A's body frame: a normal from
+  // them is turned by A's pose). (A flat operand's degenerate parallelograms were dropped; their
+  // planes are skipped.)
+  for (const Crossing& x : crossings) {
+    if (x.facet < 0) continue;
+    const Vector3d da = map_normals ? A.pole(x.ea) : A.edge(x.ea), db = map_normals ? B.pole(x.eb) : B.edge(x.eb);
+    const Vector3d c = da.cross(db);
+    const double c2 = c.squaredNorm();
+    Vector3d& n = out.planes[x.facet].normal;
+    if (c2 > 1e-8 * da.squaredNorm() * db.squaredNorm()) {
+      n = c * ((x.up ? -1 : 1) / std::sqrt(c2));
+      if (map_normals && A.turned) n = A.world * n;
+      continue;
+    }
+    loose[x.facet] = true;
+    // Edges that cancel (or a prism's zero-length edge) on arcs whose circles do not: the
+    // circles' crossing, from the poles; circles that coincide too: near_parallel_normal.
+    const Vector3d pa = A.pole(x.ea), pb = B.pole(x.eb), cp = pa.cross(pb);
+    const double cp2 = cp.squaredNorm();
+    if (cp2 > 1e-8 * pa.squaredNorm() * pb.squaredNorm()) {
+      n = cp * ((x.up ? -1 : 1) / std::sqrt(cp2));
+      if (A.turned) n = A.world * n;
+    } else {
+      n = near_parallel_normal(A.unit(A.L(x.ea)), A.unit(A.R(x.ea)), B.unit(B.L(x.eb)), B.unit(B.R(x.eb)));
+    }
   }
 }
 
@@ -576,7 +626,7 @@ bool Overlay::merged_facet(const Placed& A, const Loc& fa, const Placed& B, cons
   int j = first_o, taken = 0;
   const auto emit = [&] {
     const int ca = a_ref ? cell_r : cell_o, cb = a_ref ? cell_o : cell_r;
-    add_pair(A.s->cell_vertex[ca], B.s->cell_vertex[cb]);
+    add_pair(out, A.s->cell_vertex[ca], B.s->cell_vertex[cb]);
   };
   for (int k = 0; k < nr; ++k) {
     cell_r = ref[k].after;
@@ -589,19 +639,19 @@ bool Overlay::merged_facet(const Placed& A, const Loc& fa, const Placed& B, cons
     }
   }
   if (taken != no) return false;
-  end_facet(true);
+  end_facet(out, true);
   return true;
 }
 
 bool Overlay::number_and_write(const Placed& A, const Placed& B, MinkowskiSum& out) {
-  const int nva = int(A.s->px.size()), F = nf, S = nl, V = int(id_key.size());
-  out.planes.resize(size_t(F));
+  const int nva = int(A.s->px.size()), F = nf, S = nl, V = ids;
+  out.planes.resize(size_t(F)), out.loop_start.resize(size_t(F) + 1), out.loop_vertex.resize(size_t(S));
   // A closed polytope: every edge in two loops (E = S / 2), and V - E + F = 2.
   if (S % 2 != 0 || F < 4 || V - S / 2 + F != 2) return false;
   // The vertices in (i, j) order: the ids counted by i, then sorted by j within one i by
   // insertion (a few per i); O(V + |V_A|).
   bucket.assign(size_t(nva) + 1, 0), order.resize(size_t(V)), final_id.resize(size_t(V));
-  for (const std::uint64_t key : id_key) ++bucket[size_t(key >> 32) + 1];
+  for (int id = 0; id < V; ++id) ++bucket[size_t(id_key[id] >> 32) + 1];
   for (int i = 0; i < nva; ++i) bucket[i + 1] += bucket[i];
   fill.assign(bucket.begin(), bucket.end() - 1);
   for (int id = 0; id < V; ++id) {
@@ -617,21 +667,21 @@ bool Overlay::number_and_write(const Placed& A, const Placed& B, MinkowskiSum& o
     final_id[order[v]] = v;
     out.vertices[v] = SumVertex{i, j, A.point(i) + B.point(j)};
   }
-  // The loops, each from its smallest vertex (so that a plane's pair does not depend on the
-  // path); offsets the support function at that pair, h_A(n) + h_B(n) (the paper's support
-  // planes), or, for merged facets and slivers, the largest over the loop (no vertex cut off).
-  out.loop_start.assign(start.begin(), start.begin() + F + 1), out.loop_vertex.resize(size_t(S));
-  const int *id = loop.data(), *final_of = final_id.data();
-  int* loop_vertex = out.loop_vertex.data();
-  for (int k = 0; k < S; ++k) loop_vertex[k] = final_of[id[k]];
+  // The loops (each from its smallest vertex, so that a plane's pair does not depend on the
+  // path) renumbered in place; offsets the support function at that pair, h_A(n) + h_B(n) (the
+  // paper's support planes), or, for merged facets and slivers, the largest over the loop (no
+  // vertex cut off).
+  int* loop = out.loop_vertex.data();
+  const int* final_of = final_id.data();
+  for (int k = 0; k < S; ++k) loop[k] = final_of[loop[k]];
   const SumVertex* vertex = out.vertices.data();
+  const int* start = out.loop_start.data();
   for (int f = 0; f < F; ++f) {
     SumPlane& plane = out.planes[f];
-    const SumVertex& first = vertex[loop_vertex[start[f]]];
+    const SumVertex& first = vertex[loop[start[f]]];
     plane.offset = plane.normal.dot(first.point), plane.i = first.i, plane.j = first.j;
     if (loose[f])
-      for (int k = start[f] + 1; k < start[f + 1]; ++k)
-        plane.offset = std::max(plane.offset, plane.normal.dot(vertex[loop_vertex[k]].point));
+      for (int k = start[f] + 1; k < start[f + 1]; ++k) plane.offset = std::max(plane.offset, plane.normal.dot(vertex[loop[k]].point));
   }
   out.V = V, out.E = S / 2, out.F = F;
   out.euler_ok = true;

@@ -34,11 +34,17 @@ struct Placed {
   Eigen::Vector3d pole(int e) const { return {cx[e], cy[e], cz[e]}; }
   Eigen::Vector3d point(int v) const { return {px[v], py[v], pz[v]}; }
   /// Face f's unit normal in the world frame.
-  Eigen::Vector3d unit(int f) const;
+  Eigen::Vector3d unit(int f) const {
+    const Eigen::Vector3d n(s->nx[f], s->ny[f], s->nz[f]);
+    return turned ? Eigen::Vector3d(world * n) : n;
+  }
   /// Arc e's edge p_v - p_u in the world frame (zero for a prism's zero-length edges), turned
   /// from the body frame: a translation far larger than the shape would leave only rounding in
   /// the placed points.
-  Eigen::Vector3d edge(int e) const;
+  Eigen::Vector3d edge(int e) const {
+    const Eigen::Vector3d d(s->ex[e], s->ey[e], s->ez[e]);
+    return turned ? Eigen::Vector3d(world * d) : d;
+  }
 };
 
 /// Copies of one operand's arrays turned or moved (per thread, reused).
@@ -59,10 +65,11 @@ struct Location {
 };
 
 /// A proper crossing of arc ea of A with arc eb of B; up: G_L(eb) lies on the positive side of
-/// ea's pole.
+/// ea's pole; its facet in the result (-1: none, a flat operand's degenerate one).
 struct Crossing {
   int ea, eb;
   bool up;
+  int facet = -1;
 };
 
 /// The overlay's scratch (one per thread: a sum allocates only while it grows) and its steps.
@@ -78,7 +85,6 @@ class Overlay {
   };
 
  private:
-  bool locate_a_normals(const Placed& A, const Placed& B);
   bool walk_a_arcs(const Placed& A, const Placed& B);
   bool locate_b_normals(const Placed& A, const Placed& B);
   bool face_facets(const Placed& A, const Placed& B, MinkowskiSum& out);
@@ -87,27 +93,30 @@ class Overlay {
                     MinkowskiSum& out);
   bool number_and_write(const Placed& A, const Placed& B, MinkowskiSum& out);
   void begin_facet(MinkowskiSum& out, const Eigen::Vector3d& n, bool loose, int length);
-  void add_pair(int i, int j);
-  void end_facet(bool dedupe);
+  void add_pair(MinkowskiSum& out, int i, int j);
+  void end_facet(MinkowskiSum& out, bool dedupe);
   void grow();
 
   std::vector<Location> loc_b, loc_a;  // A's face normals in B's map, B's in A's
-  std::vector<int> queue, hint;
+  std::vector<int> queue;
+  std::vector<char> walked, queued;
   std::vector<Crossing> crossings;
+  std::vector<int> b_arc_crossings;  // per arc of B: how many arcs of A cross it, and the last one
+  std::vector<int> b_arc_last;
   std::vector<Ray> rays[2];
   std::vector<int> ray_sector;
-  bool merged = false;  // some facet merges features (a tie): checked as a closed manifold
-  bool dedupe_all = false;  // a flat operand's zero-length arcs repeat vertices
+  bool merged = false;       // some facet merges features (a tie): checked as a closed manifold
+  bool dedupe_all = false;   // a flat operand's zero-length arcs repeat vertices
   bool map_normals = false;  // crossing normals from the poles, every offset the loop's largest
-  // Facets before numbering: a loop of provisional vertex ids per facet (start[k] ..
-  // start[k + 1]), whether its offset is the largest over the loop, and the hash of the pairs
-  // (key i 2^32 + j) giving the ids.
-  std::vector<int> start, loop;
+  // The facets are written straight into the result: a loop of provisional vertex ids per facet
+  // (numbered in (i, j) order at the end), whether its offset is the largest over the loop, and
+  // the hash of the pairs (key i 2^32 + j) giving the ids.
   std::vector<char> loose;
   int nf = 0, nl = 0;
   static constexpr std::uint64_t kEmpty = ~std::uint64_t(0);
   std::vector<std::uint64_t> slot_key, id_key;
   std::vector<int> slot_id, bucket, fill, order, final_id;
+  int ids = 0;
   unsigned mask = 0, shift = 58;  // table size - 1; 64 - log2(size)
 };
 

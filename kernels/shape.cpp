@@ -280,6 +280,11 @@ Status prepare(const ConvexPolytope& p, ShapeData& s) {
       s.pole[r][2][e] = sign * (s.gx[a.L] * s.gy[a.R] - s.gy[a.L] * s.gx[a.R]);
     }
   }
+  s.ex.resize(size_t(s.arcs)), s.ey.resize(size_t(s.arcs)), s.ez.resize(size_t(s.arcs));
+  for (int e = 0; e < s.arcs; ++e) {
+    const int u = s.cell_vertex[s.map[0].arc[e].u], v = s.cell_vertex[s.map[0].arc[e].v];
+    s.ex[e] = s.px[v] - s.px[u], s.ey[e] = s.py[v] - s.py[u], s.ez[e] = s.pz[v] - s.pz[u];
+  }
   s.nx.resize(size_t(s.faces)), s.ny.resize(size_t(s.faces)), s.nz.resize(size_t(s.faces));
   for (int f = 0; f < s.faces; ++f) {
     const Vector3d n = Vector3d(s.gx[f], s.gy[f], s.gz[f]).normalized();

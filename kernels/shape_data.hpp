@@ -55,12 +55,13 @@ struct ShapeData {
   std::vector<int> cell_vertex;                  // per cell: its polytope vertex
   std::vector<int> vertex_cell;                  // per vertex: a cell of it (a prism's top copy)
   std::vector<double> px, py, pz;                // polytope vertices
+  std::vector<double> ex, ey, ez;                // per arc: its edge p_v - p_u (a prism's zero-length ones: 0)
   double size = 0;                               // largest |coordinate|: the scale of the rounding
   /// The largest sine of the angle between an edge and its arc's pole: rounding (about
   /// 1e-16 / |G_L x G_R|), or faces planar only to a tolerance (Qhull's merged facets, a
   /// flat polygon's points within 1e-10 of its plane).
   double pole_slack = 0;
-  std::vector<Eigen::Vector3d> dir;              // per arc p_v - p_u (a prism's zero-length arcs: -normal x width)
+  std::vector<Eigen::Vector3d> dir;              // prepare's: per arc p_v - p_u (a prism's zero-length arcs: -normal x width)
 };
 
 /// The library's access to a shape's data.
