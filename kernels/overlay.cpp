@@ -53,12 +53,16 @@ namespace {
 // so c . G is within 192 ulp(1) ~ 2.2e-14 of det(G, G_L, G_R); 1e-13 leaves a margin.
 constexpr double kFilter = 1e-13;
 
-// The exact side of X's arc e (its pole) on which Y's normal f lies: sign det(G_f, G_L, G_R).
+// The exact side of X's arc e (its pole) on which Y's normal f lies: sign det(G_f, G_L, G_R):
+// the filter, then a zero for want of terms (no component of G_f meets a nonzero one of the
+// pole's), then the exact predicate.
 inline int side(const Placed& X, int e, const Placed& Y, int f) {
-  const double v = X.cx[e] * Y.gx[f] + X.cy[e] * Y.gy[f] + X.cz[e] * Y.gz[f];
+  const Vector3d &c = X.c[e], &g = Y.g[f];
+  const double v = c.x() * g.x() + c.y() * g.y() + c.z() * g.z();
   if (v > kFilter) return 1;
   if (v < -kFilter) return -1;
-  return orient(Y.gauss(f), X.gauss(X.L(e)), X.gauss(X.R(e)));
+  if ((Y.g_nonzero[f] & ~X.c_zero[e]) == 0) return 0;
+  return orient(g, X.g[X.L(e)], X.g[X.R(e)]);
 }
 
 // Whether Y's normal f lies beyond the side of X's cell at `slot` (the cell across is higher
@@ -145,33 +149,62 @@ int side_beside(const MapLayout& m, int cell, int slot, int corner) {
   return slot > begin ? slot - 1 : end - 1;
 }
 
-// Walks arc ea of A from its face `from` (at `start` in B's map) to its other face through B's
-// map (step 1 of the file's comment), appending the proper crossings, and noting in loc_a the
-// face normals of B it passes through (inside the arc). The other face's location `target` is
-// known, or found (known false). False on failure.
-bool walk(const Placed& A, const Placed& B, int ea, int from, const Loc& start, Loc& target, bool known,
-          std::vector<Crossing>& out, std::vector<Loc>& loc_a) {
+// Where a walk leaving a face normal of B starts: into cell id, whose corner after slot `entry`
+// lies right of the arc, or along arc id of B towards its face normal head.
+struct WalkStart {
+  bool along;
+  int id, entry, head;
+};
+
+// The start of a walk leaving face normal g of B in the direction of g's ray or sector
+// `sector` (place_rays: 2k + 1 along ray k, 2k + 2 strictly after it): into the cell after ray
+// k, whose corner after g (across ray k + 1) lies right of the walk, or along ray k.
+WalkStart start_at(const MapLayout& m, int g, int sector) {
+  const int first = m.loop_start[g], n = m.loop_start[g + 1] - first, k = (sector - 1) / 2;
+  if (sector % 2 == 1) return {true, m.loop_arc[first + k], -1, m.loop_face[first + k]};
+  const int after = (k + 1) % n, c = m.loop_cell[first + after], s = m.loop_slot[first + after];
+  return {false, c, s + 1 < m.cell_start[c + 1] ? s + 1 : m.cell_start[c], -1};
+}
+
+// Walks arc ea of A from its face `from` (at `start` in B's map; from a face normal of B, in the
+// direction `ahead` if given) to its other face through B's map (step 1 of the file's comment),
+// appending the proper crossings, and noting in loc_a the face normals of B it passes through
+// (inside the arc). The other face's location `target` is known, or found (known false). False
+// on failure.
+bool walk(const Placed& A, const Placed& B, int ea, int from, const Loc& start, const WalkStart* ahead, Loc& target,
+          bool known, std::vector<Crossing>& out, std::vector<Loc>& loc_a) {
   const MapLayout& m = *B.m;
   const int to = A.L(ea) == from ? A.R(ea) : A.L(ea), tsign = A.L(ea) == from ? 1 : -1;
-  // The side of the arc's circle, seen along its way, on which B's normal g lies (left: +);
-  // whether the far end lies beyond a side of a cell (at `slot`).
-  const auto sigma = [&](int g) { return tsign * side(A, ea, B, g); };
+  // The side of the arc's circle, seen along its way, on which B's normal g lies (left: +):
+  // side() with the arc's pole turned the way of the walk, kept in registers.
+  const Vector3d pole = double(tsign) * A.c[ea];
+  const auto sigma = [&](int g) {
+    const Vector3d& x = B.g[g];
+    const double v = pole.x() * x.x() + pole.y() * x.y() + pole.z() * x.z();
+    if (v > kFilter) return 1;
+    if (v < -kFilter) return -1;
+    if ((B.g_nonzero[g] & ~A.c_zero[ea]) == 0) return 0;
+    return tsign * orient(x, A.g[A.L(ea)], A.g[A.R(ea)]);
+  };
+  // Whether the far end lies beyond a side of a cell (at `slot`).
   const auto past = [&](int slot) { return beyond(B, m.cell_slot[slot].arc, A, to); };
   enum { InCell, AtFace, Along } kind;
   int id = start.id, entry = -1, head = -1;  // entry: a slot of the cell whose corner lies right
-  switch (start.kind) {
-    case Loc::Cell: kind = InCell; break;
-    case Loc::Face: kind = AtFace; break;
-    default: {  // from inside arc e of B: across it, or along it
-      const MapLayout::Arc& a = m.arc[id];
-      if (sigma(a.L) == 0 && sigma(a.R) == 0) {
-        kind = Along, head = right_end_ahead(B, id, A.gauss(from), A.gauss(to)) ? a.R : a.L;
-      } else {
-        const int s = side(B, id, A, to);  // the side of e's circle the arc goes to
-        if (s == 0) return false;
-        kind = InCell, entry = m.arc_slot[2 * id + (s > 0)], id = s > 0 ? a.v : a.u;
-        if (sigma(m.cell_slot[entry].face) >= 0) return false;
-      }
+  if (ahead) {  // from a face normal of B, the way the caller placed the arc's direction
+    kind = ahead->along ? Along : InCell, id = ahead->id, entry = ahead->entry, head = ahead->head;
+  } else if (start.kind == Loc::Cell) {
+    kind = InCell;
+  } else if (start.kind == Loc::Face) {
+    kind = AtFace;
+  } else {  // from inside arc e of B: across it, or along it
+    const MapLayout::Arc& a = m.arc[id];
+    if (sigma(a.L) == 0 && sigma(a.R) == 0) {
+      kind = Along, head = right_end_ahead(B, id, A.gauss(from), A.gauss(to)) ? a.R : a.L;
+    } else {
+      const int s = side(B, id, A, to);  // the side of e's circle the arc goes to
+      if (s == 0) return false;
+      kind = InCell, entry = m.arc_slot[2 * id + (s > 0)], id = s > 0 ? a.v : a.u;
+      if (sigma(m.cell_slot[entry].face) >= 0) return false;
     }
   }
   for (int steps = 0; steps <= 2 * (B.s->cells + B.s->faces); ++steps) {
@@ -182,7 +215,7 @@ bool walk(const Placed& A, const Placed& B, int ea, int from, const Loc& start, 
         if (q <= 0) return target = q < 0 ? Loc{Loc::Arc, id} : Loc{Loc::Face, head}, true;
       }
       kind = AtFace, id = head;
-      loc_a[id] = {Loc::Arc, ea};
+      if (!(known && target.kind == Loc::Face && target.id == id)) loc_a[id] = {Loc::Arc, ea};  // inside the arc
       continue;
     }
     if (kind == AtFace) {  // on face normal id of B: into the cell, or along the arc, ahead
@@ -237,7 +270,7 @@ bool walk(const Placed& A, const Placed& B, int ea, int from, const Loc& start, 
         if (q1 <= 0 && q2 <= 0) return false;
       }
       kind = AtFace, id = corner;
-      loc_a[id] = {Loc::Arc, ea};
+      if (!(known && target.kind == Loc::Face && target.id == id)) loc_a[id] = {Loc::Arc, ea};  // inside the arc
       continue;
     }
     // Across side k (between the corner before it, right, and corner k, left): arrived if the
@@ -288,6 +321,29 @@ void rays_of(const Placed& X, const Loc& f, std::vector<Overlay::Ray>& out) {
   }
 }
 
+// Places each ray of `other` (counter-clockwise about n) among the sectors of `ref` (counter-
+// clockwise, a face's: at least three, each turn less than pi): sector[j] = 2k + 1 when ray j
+// points as ref's ray k does, 2k + 2 when it lies strictly between rays k and k + 1. The other
+// rays run counter-clockwise too, so each one's search starts at the sector of the one before
+// (both lists are read about once). False if a ray fits no sector (a map bent by rounding).
+bool place_rays(const Vector3d& n, const Placed& R, const std::vector<Overlay::Ray>& ref, const Placed& O,
+                const std::vector<Overlay::Ray>& other, std::vector<int>& sector) {
+  const int nr = int(ref.size()), no = int(other.size());
+  sector.resize(size_t(no));
+  for (int j = 0, k = 0; j < no; ++j) {
+    const Vector3d& o = O.gauss(other[j].to);
+    for (int tried = 0;; k = (k + 1) % nr) {
+      const int s0 = orient(n, R.gauss(ref[k].to), o);
+      if (s0 >= 0 && orient(n, o, R.gauss(ref[(k + 1) % nr].to)) > 0) {
+        sector[j] = 2 * k + (s0 == 0 ? 1 : 2);
+        break;
+      }
+      if (++tried == nr) return false;
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 void place(const ShapeData& s, const Eigen::Isometry3d& pose, const Eigen::Matrix3d& frame, bool negate,
@@ -297,49 +353,44 @@ void place(const ShapeData& s, const Eigen::Isometry3d& pose, const Eigen::Matri
   out.world = sign * pose.linear(), out.frame = sign * frame;
   out.turned = out.world != Eigen::Matrix3d::Identity();
   const Vector3d t = sign * pose.translation();
-  // x' = M x (+ t), by component over the arrays (vectorised); `flush` zeroes what falls below
-  // kTinyComponent (Gauss normals: the expansions' range).
-  const auto transform = [](const Eigen::Matrix3d& M, const std::vector<double>& x, const std::vector<double>& y,
-                            const std::vector<double>& z, std::vector<double> (&o)[3], const Vector3d& shift, bool flush) {
-    const size_t n = x.size();
-    for (int r = 0; r < 3; ++r) {
-      o[r].resize(n);
-      const double m0 = M(r, 0), m1 = M(r, 1), m2 = M(r, 2), c = shift[r];
-      double* out = o[r].data();
-      for (size_t k = 0; k < n; ++k) out[k] = m0 * x[k] + m1 * y[k] + m2 * z[k] + c;
-      if (flush)
-        for (size_t k = 0; k < n; ++k) out[k] = std::abs(out[k]) < kTinyComponent ? 0.0 : out[k];
-    }
-  };
   if (frame == Eigen::Matrix3d::Identity()) {  // the prepared normals and poles (-B's negated)
     if (negate) {
-      transform(out.frame, s.gx, s.gy, s.gz, buf.g, Vector3d::Zero(), false);
-      out.gx = buf.g[0].data(), out.gy = buf.g[1].data(), out.gz = buf.g[2].data();
-    } else {
-      out.gx = s.gx.data(), out.gy = s.gy.data(), out.gz = s.gz.data();
+      buf.g.resize(s.gauss.size());
+      for (size_t f = 0; f < s.gauss.size(); ++f) buf.g[f] = -s.gauss[f];
     }
-    const auto& c = s.pole[negate];
-    out.cx = c[0].data(), out.cy = c[1].data(), out.cz = c[2].data();
+    out.g = negate ? buf.g.data() : s.gauss.data(), out.g_nonzero = s.gauss_nonzero.data();
+    out.c = s.pole[negate].data(), out.c_zero = s.pole_zero.data();
   } else {
-    transform(out.frame, s.gx, s.gy, s.gz, buf.g, Vector3d::Zero(), true);
-    out.gx = buf.g[0].data(), out.gy = buf.g[1].data(), out.gz = buf.g[2].data();
-    // The poles from the turned normals themselves (not turned): the filter's bound holds
-    // against the exact predicate on those normals whatever the rotation's rounding.
-    const MapLayout& m = *out.m;
-    for (auto& c : buf.c) c.resize(size_t(s.arcs));
-    double *cx = buf.c[0].data(), *cy = buf.c[1].data(), *cz = buf.c[2].data();
-    for (int e = 0; e < s.arcs; ++e) {
-      const int l = m.arc[e].L, r = m.arc[e].R;
-      cx[e] = out.gy[l] * out.gz[r] - out.gz[l] * out.gy[r];
-      cy[e] = out.gz[l] * out.gx[r] - out.gx[l] * out.gz[r];
-      cz[e] = out.gx[l] * out.gy[r] - out.gy[l] * out.gx[r];
+    // Turned, with components below kTinyComponent zeroed (the expansions' range); the poles
+    // from the turned normals themselves (not turned): the filter's bound holds against the
+    // exact predicate on those normals whatever the rotation's rounding.
+    const Eigen::Matrix3d& M = out.frame;
+    buf.g.resize(s.gauss.size()), buf.g_nonzero.resize(s.gauss.size());
+    for (size_t f = 0; f < s.gauss.size(); ++f) {
+      Vector3d v = M * s.gauss[f];
+      for (int k = 0; k < 3; ++k) v[k] = std::abs(v[k]) < kTinyComponent ? 0.0 : v[k];
+      buf.g[f] = v, buf.g_nonzero[f] = nonzero_mask(v);
     }
-    out.cx = cx, out.cy = cy, out.cz = cz;
+    const MapLayout& m = *out.m;
+    buf.c.resize(size_t(s.arcs)), buf.c_zero.resize(size_t(s.arcs));
+    for (int e = 0; e < s.arcs; ++e) {
+      const Vector3d &l = buf.g[m.arc[e].L], &r = buf.g[m.arc[e].R];
+      buf.c[e] = l.cross(r), buf.c_zero[e] = pole_zero_mask(l, r);
+    }
+    out.g = buf.g.data(), out.g_nonzero = buf.g_nonzero.data(), out.c = buf.c.data(), out.c_zero = buf.c_zero.data();
   }
   if (!out.turned && t == Vector3d::Zero()) {
     out.px = s.px.data(), out.py = s.py.data(), out.pz = s.pz.data();
   } else {
-    transform(out.world, s.px, s.py, s.pz, buf.p, t, false);
+    // x' = M x + t, by component over the arrays (vectorised).
+    const Eigen::Matrix3d& M = out.world;
+    const size_t n = s.px.size();
+    for (int r = 0; r < 3; ++r) {
+      buf.p[r].resize(n);
+      const double m0 = M(r, 0), m1 = M(r, 1), m2 = M(r, 2), c = t[r];
+      double* p = buf.p[r].data();
+      for (size_t k = 0; k < n; ++k) p[k] = m0 * s.px[k] + m1 * s.py[k] + m2 * s.pz[k] + c;
+    }
     out.px = buf.p[0].data(), out.py = buf.p[1].data(), out.pz = buf.p[2].data();
   }
 }
@@ -356,14 +407,23 @@ bool Overlay::walk_a_arcs(const Placed& A, const Placed& B) {
   // locates the other face's normal if that is not located yet.
   for (int q = 0; q < tail; ++q) {
     const int f = queue[q];
+    const Loc here = loc_b[f];
+    // From a face normal of B: A's rays there placed among B's once (not every walk reading
+    // all of B's rays: two prisms' caps would cost the product of their sides).
+    if (here.kind == Loc::Face) {
+      rays_of(A, {Loc::Face, f}, rays[1]), rays_of(B, here, rays[0]);
+      if (!place_rays(B.gauss(here.id), B, rays[0], A, rays[1], ray_sector)) return false;
+    }
     for (int k = ma.loop_start[f]; k < ma.loop_start[f + 1]; ++k) {
       const int e = ma.loop_arc[k], g = ma.loop_face[k];
       if (walked[e]) continue;
       walked[e] = 1;
       Loc& to = loc_b[g];
       const bool known = to.id >= 0;
-      if (known && to.kind == Loc::Cell && loc_b[f].kind == Loc::Cell && to.id == loc_b[f].id) continue;  // one cell
-      if (!walk(A, B, e, f, loc_b[f], to, known, crossings, loc_a)) return false;
+      if (known && to.kind == Loc::Cell && here.kind == Loc::Cell && to.id == here.id) continue;  // one cell
+      WalkStart ahead;
+      if (here.kind == Loc::Face) ahead = start_at(*B.m, here.id, ray_sector[size_t(k - ma.loop_start[f])]);
+      if (!walk(A, B, e, f, here, here.kind == Loc::Face ? &ahead : nullptr, to, known, crossings, loc_a)) return false;
       if (!known) queue[tail++] = g;
     }
   }
@@ -433,48 +493,101 @@ bool Overlay::run(const Placed& A, const Placed& B, MinkowskiSum& out) {
   out.planes.resize(facets), out.loop_start.resize(facets + 1), loose.resize(facets);
   const size_t entries = sa.map[0].loop_cell.size() + sb.map[0].loop_cell.size() + 4 * crossings.size();
   if (out.loop_vertex.size() < entries) out.loop_vertex.resize(entries);
-  nf = nl = out.loop_start[0] = 0, ids = 0;
-  if (id_key.size() < entries) id_key.resize(entries);
-  unsigned size = 64;  // twice the vertices at most (each is in three loops or more)
-  for (shift = 58; 3 * size < 2 * entries; size *= 2) --shift;
-  slot_key.assign(size, kEmpty), slot_id.resize(size), mask = size - 1;
+  nf = nl = out.loop_start[0] = 0;
+  pairs.reset(int(sa.px.size()), int(sb.px.size()), entries);
   if (!face_facets(A, B, out)) return false;
   crossing_facets(A, B, out);
   return number_and_write(A, B, out);
 }
 
+void PairNumbering::reset(int nva, int nvb, size_t entries) {
+  nva_ = nva, shift_b_ = 0;
+  while ((1 << shift_b_) < nvb) ++shift_b_;
+  words_ = size_t(nvb + 63) / 64;
+  dense_ = (size_t(nva) << shift_b_) <= kDenseCodes;
+  if (dense_) {
+    rows_.assign(size_t(nva) * words_, 0);
+    if (index_.size() < size_t(nva) << shift_b_) index_.resize(size_t(nva) << shift_b_);
+    return;
+  }
+  codes_ = 0;
+  if (key_.size() < entries) key_.resize(entries);
+  unsigned size = 64;  // twice the vertices at most (each is in three loops or more)
+  for (shift_ = 58; 3 * size < 2 * entries; size *= 2) --shift_;
+  slot_key_.assign(size, kEmpty), slot_code_.resize(size), mask_ = size - 1;
+}
+
+int PairNumbering::hashed(int i, int j) {
+  // Open addressing on the key (i, j) (Fibonacci hashing), grown at half load.
+  const std::uint64_t key = std::uint64_t(i) << 32 | std::uint64_t(unsigned(j));
+  unsigned h = unsigned((key * 0x9E3779B97F4A7C15ull) >> shift_);
+  for (;; h = (h + 1) & mask_) {
+    if (slot_key_[h] == key) return slot_code_[h];
+    if (slot_key_[h] == kEmpty) break;
+  }
+  if (key_.size() <= size_t(codes_)) key_.resize(2 * size_t(codes_) + 64);
+  slot_key_[h] = key, slot_code_[h] = codes_, key_[size_t(codes_)] = key;
+  if (2 * unsigned(++codes_) > mask_) grow();
+  return codes_ - 1;
+}
+
+void PairNumbering::grow() {
+  const unsigned size = 2 * (mask_ + 1);
+  slot_key_.assign(size, kEmpty), slot_code_.resize(size), mask_ = size - 1, --shift_;
+  for (int c = 0; c < codes_; ++c) {
+    unsigned g = unsigned((key_[size_t(c)] * 0x9E3779B97F4A7C15ull) >> shift_);
+    while (slot_key_[g] != kEmpty) g = (g + 1) & mask_;
+    slot_key_[g] = key_[size_t(c)], slot_code_[g] = c;
+  }
+}
+
+int PairNumbering::count() const {
+  if (!dense_) return codes_;
+  int n = 0;
+  for (const std::uint64_t w : rows_) n += bit_count(w);
+  return n;
+}
+
+template <class Emit>
+void PairNumbering::finish(int* codes, size_t n, Emit&& emit) {
+  if (dense_) {  // the rows in (i, j) order; each pair's index noted at its code
+    int v = 0;
+    for (size_t w = 0; w < rows_.size(); ++w) {
+      const int i = int(w / words_), base = int(w % words_) * 64;
+      for (std::uint64_t bits = rows_[w]; bits; bits &= bits - 1) {
+        const int j = base + __builtin_ctzll(bits);
+        index_[size_t(i << shift_b_ | j)] = v;
+        emit(v++, i, j);
+      }
+    }
+    for (size_t k = 0; k < n; ++k) codes[k] = index_[size_t(codes[k])];
+    return;
+  }
+  // The codes counted by i, then sorted by j within one i by insertion (a few per i).
+  const int V = codes_;
+  bucket_.assign(size_t(nva_) + 1, 0), order_.resize(size_t(V)), index_.resize(size_t(V));
+  for (int c = 0; c < V; ++c) ++bucket_[size_t(key_[size_t(c)] >> 32) + 1];
+  for (int i = 0; i < nva_; ++i) bucket_[i + 1] += bucket_[i];
+  fill_.assign(bucket_.begin(), bucket_.end() - 1);
+  for (int c = 0; c < V; ++c) {
+    const int i = int(key_[size_t(c)] >> 32), lo = bucket_[i];
+    int at = fill_[i]++;
+    for (; at > lo && key_[size_t(order_[at - 1])] > key_[size_t(c)]; --at) order_[at] = order_[at - 1];
+    order_[at] = c;
+  }
+  for (int v = 0; v < V; ++v) {
+    const std::uint64_t key = key_[size_t(order_[v])];
+    index_[size_t(order_[v])] = v;
+    emit(v, int(key >> 32), int(key & 0xffffffffu));
+  }
+  for (size_t k = 0; k < n; ++k) codes[k] = index_[size_t(codes[k])];
+}
+
 inline void Overlay::begin_facet(MinkowskiSum& out, const Vector3d& n, bool loose_offset, int length) {
   // Room for this loop, whatever the facets before it took.
   if (out.loop_vertex.size() < size_t(nl + length)) out.loop_vertex.resize(2 * size_t(nl + length));
-  if (id_key.size() < size_t(ids + length)) id_key.resize(2 * size_t(ids + length));
   out.planes[nf].normal = n;
   loose[nf] = loose_offset;
-}
-
-inline void Overlay::add_pair(MinkowskiSum& out, int i, int j) {
-  // Open addressing on the key (i, j) (Fibonacci hashing), grown at half load.
-  const std::uint64_t key = std::uint64_t(i) << 32 | std::uint64_t(unsigned(j));
-  unsigned h = unsigned((key * 0x9E3779B97F4A7C15ull) >> shift);
-  for (;; h = (h + 1) & mask) {
-    if (slot_key[h] == key) {
-      out.loop_vertex[nl++] = slot_id[h];
-      return;
-    }
-    if (slot_key[h] == kEmpty) break;
-  }
-  slot_key[h] = key, slot_id[h] = ids, out.loop_vertex[nl++] = ids;
-  id_key[ids++] = key;
-  if (2 * unsigned(ids) > mask) grow();
-}
-
-void Overlay::grow() {
-  const unsigned size = 2 * (mask + 1);
-  slot_key.assign(size, kEmpty), slot_id.resize(size), mask = size - 1, --shift;
-  for (int id = 0; id < ids; ++id) {
-    unsigned g = unsigned((id_key[id] * 0x9E3779B97F4A7C15ull) >> shift);
-    while (slot_key[g] != kEmpty) g = (g + 1) & mask;
-    slot_key[g] = id_key[id], slot_id[g] = id;
-  }
 }
 
 inline void Overlay::end_facet(MinkowskiSum& out, bool dedupe) {
@@ -494,7 +607,7 @@ inline void Overlay::end_facet(MinkowskiSum& out, bool dedupe) {
     if (n == 0) return;
     // From its smallest pair, as every loop.
     int least = first;
-    for (int k = first + 1; k < nl; ++k) least = id_key[loop[k]] < id_key[loop[least]] ? k : least;
+    for (int k = first + 1; k < nl; ++k) least = pairs.less(loop[k], loop[least]) ? k : least;
     std::rotate(loop + first, loop + least, loop + nl);
   }
   out.loop_start[++nf] = nl;
@@ -603,19 +716,7 @@ bool Overlay::merged_facet(const Placed& A, const Loc& fa, const Placed& B, cons
   rays_of(O, a_ref ? fb : fa, other);
   const Vector3d n = normal_of_a ? A.gauss(fa.id) : B.gauss(fb.id);
   const int nr = int(ref.size()), no = int(other.size());
-  // Sector of each ray of O: k with r_k <= o < r_k+1 counter-clockwise (2k + 1 when o is r_k's
-  // direction, 2k + 2 when strictly inside), so that sorting by it orders every ray.
-  ray_sector.resize(size_t(no));
-  for (int j = 0; j < no; ++j) {
-    const Vector3d o = O.gauss(other[j].to);
-    int k = 0;
-    for (; k < nr; ++k) {
-      const int s0 = orient(n, R.gauss(ref[k].to), o), s1 = orient(n, o, R.gauss(ref[(k + 1) % nr].to));
-      if (s0 >= 0 && s1 > 0) break;
-    }
-    if (k == nr) return false;
-    ray_sector[j] = 2 * k + (orient(n, R.gauss(ref[k].to), o) == 0 ? 1 : 2);
-  }
+  if (!place_rays(n, R, ref, O, other, ray_sector)) return false;
   // The cells before the first ray of R: R's cell before it, O's after its last ray (in the
   // order of the sectors, which is O's own order turned to start after r_0).
   int first_o = 0;  // where O's (counter-clockwise) sectors fall back to a smaller one
@@ -644,37 +745,17 @@ bool Overlay::merged_facet(const Placed& A, const Loc& fa, const Placed& B, cons
 }
 
 bool Overlay::number_and_write(const Placed& A, const Placed& B, MinkowskiSum& out) {
-  const int nva = int(A.s->px.size()), F = nf, S = nl, V = ids;
+  const int F = nf, S = nl, V = pairs.count();
   out.planes.resize(size_t(F)), out.loop_start.resize(size_t(F) + 1), out.loop_vertex.resize(size_t(S));
   // A closed polytope: every edge in two loops (E = S / 2), and V - E + F = 2.
   if (S % 2 != 0 || F < 4 || V - S / 2 + F != 2) return false;
-  // The vertices in (i, j) order: the ids counted by i, then sorted by j within one i by
-  // insertion (a few per i); O(V + |V_A|).
-  bucket.assign(size_t(nva) + 1, 0), order.resize(size_t(V)), final_id.resize(size_t(V));
-  for (int id = 0; id < V; ++id) ++bucket[size_t(id_key[id] >> 32) + 1];
-  for (int i = 0; i < nva; ++i) bucket[i + 1] += bucket[i];
-  fill.assign(bucket.begin(), bucket.end() - 1);
-  for (int id = 0; id < V; ++id) {
-    const int i = int(id_key[id] >> 32), lo = bucket[i];
-    int at = fill[i]++;
-    for (; at > lo && id_key[order[at - 1]] > id_key[id]; --at) order[at] = order[at - 1];
-    order[at] = id;
-  }
   out.vertices.resize(size_t(V));
-  for (int v = 0; v < V; ++v) {
-    const std::uint64_t key = id_key[order[v]];
-    const int i = int(key >> 32), j = int(key & 0xffffffffu);
-    final_id[order[v]] = v;
-    out.vertices[v] = SumVertex{i, j, A.point(i) + B.point(j)};
-  }
-  // The loops (each from its smallest vertex, so that a plane's pair does not depend on the
-  // path) renumbered in place; offsets the support function at that pair, h_A(n) + h_B(n) (the
-  // paper's support planes), or, for merged facets and slivers, the largest over the loop (no
-  // vertex cut off).
+  SumVertex* vertex = out.vertices.data();
   int* loop = out.loop_vertex.data();
-  const int* final_of = final_id.data();
-  for (int k = 0; k < S; ++k) loop[k] = final_of[loop[k]];
-  const SumVertex* vertex = out.vertices.data();
+  pairs.finish(loop, size_t(S), [&](int v, int i, int j) { vertex[v] = SumVertex{i, j, A.point(i) + B.point(j)}; });
+  // Offsets: the support function at the loop's first pair (the smallest, so that a plane's
+  // pair does not depend on the path), h_A(n) + h_B(n) (the paper's support planes), or, for
+  // merged facets and slivers, the largest over the loop (no vertex cut off).
   const int* start = out.loop_start.data();
   for (int f = 0; f < F; ++f) {
     SumPlane& plane = out.planes[f];
@@ -687,8 +768,11 @@ bool Overlay::number_and_write(const Placed& A, const Placed& B, MinkowskiSum& o
   out.euler_ok = true;
   out.corrected = false;
   out.method = Method::Fast;
-  // Facets where features merged: proven a closed manifold whose planes support A and B.
-  return !merged || (closed_manifold(out) && planes_support(A, B, out));
+  // Where features merged under a rotation (whose rounding could have bent a cell of B's map),
+  // the result is proven a closed manifold whose planes support A and B. (Unturned maps are
+  // the prepared ones, whose cells prepare proved convex, exactly.)
+  return !merged || B.frame.cwiseAbs() == Eigen::Matrix3d::Identity() ||
+         (closed_manifold(out) && planes_support(A, B, out));
 }
 
 }  // namespace minksum::detail

@@ -22,16 +22,18 @@ struct Placed {
   const ShapeData* s = nullptr;
   const MapLayout* m = nullptr;
   bool negate = false;                       ///< this is -B
-  const double *gx, *gy, *gz;                ///< Gauss normals in the overlay frame (the predicates' input)
-  const double *cx, *cy, *cz;                ///< per arc: its pole G_L x G_R in the overlay frame
+  const Eigen::Vector3d* g;                  ///< Gauss normals in the overlay frame (the predicates' input)
+  const Eigen::Vector3d* c;                  ///< per arc: its pole G_L x G_R in the overlay frame
+  const std::uint8_t* g_nonzero;             ///< per face: ShapeData::gauss_nonzero of g
+  const std::uint8_t* c_zero;                ///< per arc: ShapeData::pole_zero of c
   const double *px, *py, *pz;                ///< vertices in the world frame
   Eigen::Matrix3d world;                     ///< body -> world rotation (negated for -B)
   Eigen::Matrix3d frame;                     ///< body -> overlay frame rotation (negated for -B)
   bool turned = false;                       ///< world is not the identity
   int L(int e) const { return m->arc[e].L; }
   int R(int e) const { return m->arc[e].R; }
-  Eigen::Vector3d gauss(int f) const { return {gx[f], gy[f], gz[f]}; }
-  Eigen::Vector3d pole(int e) const { return {cx[e], cy[e], cz[e]}; }
+  const Eigen::Vector3d& gauss(int f) const { return g[f]; }
+  const Eigen::Vector3d& pole(int e) const { return c[e]; }
   Eigen::Vector3d point(int v) const { return {px[v], py[v], pz[v]}; }
   /// Face f's unit normal in the world frame.
   Eigen::Vector3d unit(int f) const {
@@ -49,7 +51,9 @@ struct Placed {
 
 /// Copies of one operand's arrays turned or moved (per thread, reused).
 struct PlacedBuffers {
-  std::vector<double> g[3], c[3], p[3];
+  std::vector<Eigen::Vector3d> g, c;
+  std::vector<std::uint8_t> g_nonzero, c_zero;
+  std::vector<double> p[3];
 };
 
 /// Places shape s by `pose` (negated for -B), its Gauss map turned into the overlay frame by
@@ -70,6 +74,58 @@ struct Crossing {
   int ea, eb;
   bool up;
   int facet = -1;
+};
+
+/// The number of set bits (without the POPCNT instruction the baseline build may not assume:
+/// the compiler's builtin is then a library call).
+inline int bit_count(std::uint64_t x) {
+  x = x - ((x >> 1) & 0x5555555555555555ull);
+  x = (x & 0x3333333333333333ull) + ((x >> 2) & 0x3333333333333333ull);
+  x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0full;
+  return int((x * 0x0101010101010101ull) >> 56);
+}
+
+/// The vertices of a sum, pairs (i, j), numbered in (i, j) order. While the loops are written
+/// each pair is stored as a code; once all are known the codes become vertex indices. Pairs
+/// live as bits in one row per vertex of A, and their indices in a table by code, when that
+/// table holds at most kDenseCodes (operands of up to some hundreds of vertices each); else in
+/// a hash table sorted by i at the end.
+class PairNumbering {
+ public:
+  static constexpr size_t kDenseCodes = size_t(1) << 18;  // 1 MB of indices, 32 KB of rows
+  /// Starts a sum of operands with nva and nvb vertices, whose loops hold about `entries` pairs.
+  void reset(int nva, int nvb, size_t entries);
+  /// The code of pair (i, j), registering it.
+  int code(int i, int j) {
+    if (dense_) {
+      rows_[size_t(i) * words_ + size_t(j >> 6)] |= std::uint64_t(1) << (j & 63);
+      return i << shift_b_ | j;
+    }
+    return hashed(i, j);
+  }
+  /// Whether the pair of code x comes before that of code y in (i, j) order.
+  bool less(int x, int y) const { return dense_ ? x < y : key_[size_t(x)] < key_[size_t(y)]; }
+  /// The number of distinct pairs.
+  int count() const;
+  /// Calls emit(k, i, j) for the pairs in (i, j) order and turns the codes in [codes, codes + n)
+  /// into their indices k.
+  template <class Emit>
+  void finish(int* codes, size_t n, Emit&& emit);
+
+ private:
+  int hashed(int i, int j);
+  void grow();
+  bool dense_ = true;
+  int nva_ = 0, shift_b_ = 0;
+  size_t words_ = 0;
+  std::vector<std::uint64_t> rows_;
+  std::vector<int> index_;  // by code: the pair's index (written for the pairs there are)
+  // Hash mode: the keys i 2^32 + j by code, the table (open addressing), and the sort by i.
+  static constexpr std::uint64_t kEmpty = ~std::uint64_t(0);
+  std::vector<std::uint64_t> key_, slot_key_;
+  std::vector<int> slot_code_, bucket_, fill_, order_;
+  int codes_ = 0;
+  unsigned mask_ = 0, shift_ = 58;  // table size - 1; 64 - log2(size)
 };
 
 /// The overlay's scratch (one per thread: a sum allocates only while it grows) and its steps.
@@ -93,9 +149,8 @@ class Overlay {
                     MinkowskiSum& out);
   bool number_and_write(const Placed& A, const Placed& B, MinkowskiSum& out);
   void begin_facet(MinkowskiSum& out, const Eigen::Vector3d& n, bool loose, int length);
-  void add_pair(MinkowskiSum& out, int i, int j);
+  void add_pair(MinkowskiSum& out, int i, int j) { out.loop_vertex[size_t(nl++)] = pairs.code(i, j); }
   void end_facet(MinkowskiSum& out, bool dedupe);
-  void grow();
 
   std::vector<Location> loc_b, loc_a;  // A's face normals in B's map, B's in A's
   std::vector<int> queue;
@@ -108,16 +163,11 @@ class Overlay {
   bool merged = false;       // some facet merges features (a tie): checked as a closed manifold
   bool dedupe_all = false;   // a flat operand's zero-length arcs repeat vertices
   bool map_normals = false;  // crossing normals from the poles, every offset the loop's largest
-  // The facets are written straight into the result: a loop of provisional vertex ids per facet
-  // (numbered in (i, j) order at the end), whether its offset is the largest over the loop, and
-  // the hash of the pairs (key i 2^32 + j) giving the ids.
+  // The facets are written straight into the result: loops of pair codes, and whether each
+  // facet's offset is the largest over its loop.
   std::vector<char> loose;
   int nf = 0, nl = 0;
-  static constexpr std::uint64_t kEmpty = ~std::uint64_t(0);
-  std::vector<std::uint64_t> slot_key, id_key;
-  std::vector<int> slot_id, bucket, fill, order, final_id;
-  int ids = 0;
-  unsigned mask = 0, shift = 58;  // table size - 1; 64 - log2(size)
+  PairNumbering pairs;
 };
 
 /// Every directed edge of the loops appears once, and its reverse once: a closed 2-manifold.

@@ -27,6 +27,7 @@ inline int orient(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eige
                       std::abs(p.z()) * (std::abs(e) + std::abs(f));
   // Shewchuk's o3derrboundA is (7 + 56 eps) eps ~ 7.8e-16; 1e-15 is a safe round-up.
   if (std::abs(det) > 1e-15 * perm) return det > 0 ? 1 : -1;
+  if (perm == 0) return 0;  // every product has a zero factor (none underflows in the callers' range)
   return orient_exact(p, q, r);
 }
 

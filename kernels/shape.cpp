@@ -61,8 +61,8 @@ Status prepare_flat(const ConvexPolytope& p, ShapeData& s, double extent, Topolo
   for (int v : top)
     if (v < 0 || v >= V || std::abs(n.dot(p.vertices[v] - p.vertices[top[0]])) > 1e-9 * extent) return Status::InvalidMesh;
   s.faces = K + 2, s.arcs = 3 * K, s.cells = 2 * K;
-  s.gx.resize(size_t(s.faces)), s.gy.resize(size_t(s.faces)), s.gz.resize(size_t(s.faces));
-  const auto set_normal = [&s](int f, const Vector3d& m) { s.gx[f] = m.x(), s.gy[f] = m.y(), s.gz[f] = m.z(); };
+  s.gauss.resize(size_t(s.faces));
+  const auto set_normal = [&s](int f, const Vector3d& m) { s.gauss[f] = m; };
   bool exact = true;
   Vector3d g = exact_newell(p.vertices, top, &exact);
   if (!(g.dot(n) > 0)) return Status::InvalidMesh;
@@ -112,7 +112,7 @@ Status prepare_solid(const ConvexPolytope& p, ShapeData& s, Topology& t) {
   const int V = int(p.vertices.size()), F = int(p.faces.size()), E = int(p.edges.size());
   if (V < 4 || F < 4 || V - E + F != 2) return Status::InvalidMesh;
   s.faces = F, s.arcs = E, s.cells = V;
-  s.gx.resize(size_t(F)), s.gy.resize(size_t(F)), s.gz.resize(size_t(F));
+  s.gauss.resize(size_t(F));
   t.loop_start.assign(1, 0), t.loop_cell.clear();
   for (int f = 0; f < F; ++f) {
     const Face& face = p.faces[f];
@@ -123,7 +123,7 @@ Status prepare_solid(const ConvexPolytope& p, ShapeData& s, Topology& t) {
     const Vector3d g = exact_newell(p.vertices, face.loop, &exact);
     if (!(g.dot(face.normal) > 0)) return Status::InvalidMesh;  // a loop against its normal
     const Vector3d c = canonical_direction(exact ? g : own_normal(face.normal, g), exact);
-    s.gx[f] = c.x(), s.gy[f] = c.y(), s.gz[f] = c.z();
+    s.gauss[f] = c;
     t.loop_cell.insert(t.loop_cell.end(), face.loop.begin(), face.loop.end());
     t.loop_start.push_back(int(t.loop_cell.size()));
   }
@@ -224,7 +224,7 @@ Status build_layout(const Topology& t, int cells, bool reversed, MapLayout& m, s
 // and at every vertex (each cell's corners turn counter-clockwise, exactly).
 Status check_map(ShapeData& s) {
   const MapLayout& m = s.map[0];
-  const auto g = [&s](int f) { return Vector3d(s.gx[f], s.gy[f], s.gz[f]); };
+  const auto g = [&s](int f) { return s.gauss[f]; };
   s.pole_slack = 0;
   for (int e = 0; e < s.arcs; ++e) {
     const Vector3d c = g(m.arc[e].L).cross(g(m.arc[e].R));
@@ -270,16 +270,14 @@ Status prepare(const ConvexPolytope& p, ShapeData& s) {
     }
   // The poles in the body frame: a sum whose operands are not turned against each other reads
   // them as they are (-B's are -G_R x -G_L, the negation of the shape's, exactly).
-  for (int r = 0; r < 2; ++r) {
-    for (auto& c : s.pole[r]) c.resize(size_t(s.arcs));
-    for (int e = 0; e < s.arcs; ++e) {
-      const MapLayout::Arc& a = s.map[0].arc[e];
-      const double sign = r ? -1.0 : 1.0;
-      s.pole[r][0][e] = sign * (s.gy[a.L] * s.gz[a.R] - s.gz[a.L] * s.gy[a.R]);
-      s.pole[r][1][e] = sign * (s.gz[a.L] * s.gx[a.R] - s.gx[a.L] * s.gz[a.R]);
-      s.pole[r][2][e] = sign * (s.gx[a.L] * s.gy[a.R] - s.gy[a.L] * s.gx[a.R]);
-    }
+  for (auto& c : s.pole) c.resize(size_t(s.arcs));
+  s.pole_zero.resize(size_t(s.arcs)), s.gauss_nonzero.resize(size_t(s.faces));
+  for (int e = 0; e < s.arcs; ++e) {
+    const MapLayout::Arc& a = s.map[0].arc[e];
+    s.pole[0][e] = s.gauss[a.L].cross(s.gauss[a.R]), s.pole[1][e] = -s.pole[0][e];
+    s.pole_zero[e] = pole_zero_mask(s.gauss[a.L], s.gauss[a.R]);
   }
+  for (int f = 0; f < s.faces; ++f) s.gauss_nonzero[f] = nonzero_mask(s.gauss[f]);
   s.ex.resize(size_t(s.arcs)), s.ey.resize(size_t(s.arcs)), s.ez.resize(size_t(s.arcs));
   for (int e = 0; e < s.arcs; ++e) {
     const int u = s.cell_vertex[s.map[0].arc[e].u], v = s.cell_vertex[s.map[0].arc[e].v];
@@ -287,7 +285,7 @@ Status prepare(const ConvexPolytope& p, ShapeData& s) {
   }
   s.nx.resize(size_t(s.faces)), s.ny.resize(size_t(s.faces)), s.nz.resize(size_t(s.faces));
   for (int f = 0; f < s.faces; ++f) {
-    const Vector3d n = Vector3d(s.gx[f], s.gy[f], s.gz[f]).normalized();
+    const Vector3d n = s.gauss[f].normalized();
     s.nx[f] = n.x(), s.ny[f] = n.y(), s.nz[f] = n.z();
   }
   return Status::Ok;

@@ -3,6 +3,7 @@
 
 #include <minksum/shape.hpp>
 
+#include <cstdint>
 #include <vector>
 
 namespace minksum::detail {
@@ -48,10 +49,15 @@ struct ShapeData {
   /// Gauss normals, the only input of the map's predicates: each face's exact Newell normal
   /// made canonical (canonical_direction), so that exactly parallel faces of any two shapes
   /// have the same vector; rounded once where it is not representable.
-  std::vector<double> gx, gy, gz;
+  std::vector<Eigen::Vector3d> gauss;
+  std::vector<std::uint8_t> gauss_nonzero;       // per face: bit k set iff component k of its Gauss normal is not 0
   std::vector<double> nx, ny, nz;                // unit face normals (the sums' planes)
   MapLayout map[2];                              // [0] the shape's own, [1] that of -B
-  std::vector<double> pole[2][3];                // per arc, in each layout: G_L x G_R (for -B: -G_R x -G_L)
+  std::vector<Eigen::Vector3d> pole[2];          // per arc, in each layout: G_L x G_R (for -B: -G_R x -G_L)
+  /// Per arc: bit k set iff component k of its pole is 0 for want of a term (each product of
+  /// that 2 x 2 minor has a zero factor): with gauss_nonzero, a sign that is 0 without
+  /// arithmetic (axis-aligned and prism normals).
+  std::vector<std::uint8_t> pole_zero;
   std::vector<int> cell_vertex;                  // per cell: its polytope vertex
   std::vector<int> vertex_cell;                  // per vertex: a cell of it (a prism's top copy)
   std::vector<double> px, py, pz;                // polytope vertices
@@ -71,6 +77,17 @@ struct ShapeAccess {
   /// Makes `out` hold `data`.
   static void set(std::shared_ptr<const ShapeData> data, ConvexShape& out) { out.data_ = std::move(data); }
 };
+
+/// Bit k set iff component k of G_L x G_R is 0 for want of a term (see ShapeData::pole_zero).
+inline std::uint8_t pole_zero_mask(const Eigen::Vector3d& l, const Eigen::Vector3d& r) {
+  const auto none = [&](int a, int b) { return (l[a] == 0 || r[b] == 0) && (l[b] == 0 || r[a] == 0); };
+  return std::uint8_t(none(1, 2) | none(2, 0) << 1 | none(0, 1) << 2);
+}
+
+/// Bit k set iff component k of v is not 0.
+inline std::uint8_t nonzero_mask(const Eigen::Vector3d& v) {
+  return std::uint8_t((v.x() != 0) | (v.y() != 0) << 1 | (v.z() != 0) << 2);
+}
 
 /// Prepares p into `out`, reusing its capacity (the convenience entry points keep one per
 /// thread); InvalidMesh when p breaks the ConvexPolytope contract (see shape_from_polytope).
