@@ -35,6 +35,10 @@ def table1(p, r):
     return p[0] == "Table1" and [p[1], p[2], us(r), facets(r), per_facet_ns(r)]
 
 
+def degenerate(p, r):
+    return p[0] == "Degenerate" and [p[1], p[2], us(r), facets(r), per_facet_ns(r)]
+
+
 def scaling(p, r):
     return p[0] == "Scaling" and [p[1], p[2], us(r), facets(r), int(p[1]) ** 2, per_facet_ns(r)]
 
@@ -80,6 +84,7 @@ def trajectory(p, r):
 
 TABLES = {
     "table1": (["pair", "method", "time_us", "facets", "ns_per_facet"], table1),
+    "degenerate": (["case", "method", "time_us", "facets", "ns_per_facet"], degenerate),
     "scaling": (["n", "method", "time_us", "facets", "pairs", "ns_per_facet"], scaling),
     "speed_error": (["set", "method", "precision", "isa", "s_per_case", "max_rel_error", "exact_structure"],
                     speed_error),

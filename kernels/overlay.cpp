@@ -309,15 +309,14 @@ Vector3d near_parallel_normal(const Vector3d& a1, const Vector3d& a2, const Vect
 // two cells of its loop), or an arc's two directions.
 void rays_of(const Placed& X, const Loc& f, std::vector<Overlay::Ray>& out) {
   const MapLayout& m = *X.m;
-  out.clear();
   if (f.kind == Loc::Face) {
     const int first = m.loop_start[f.id], n = m.loop_start[f.id + 1] - first;
-    for (int k = 0; k < n; ++k) out.push_back({m.loop_face[first + k], m.loop_cell[first + (k + 1) % n]});
-  } else if (f.kind == Loc::Arc) {
-    // Towards R the cell on the left is v; towards L, u.
+    out.resize(size_t(n));
+    for (int k = 0; k < n; ++k) out[k] = {m.loop_face[first + k], m.loop_cell[first + (k + 1 < n ? k + 1 : 0)]};
+  } else {  // an arc: towards R the cell on the left is v; towards L, u
     const MapLayout::Arc& a = m.arc[f.id];
-    out.push_back({a.R, a.v});
-    out.push_back({a.L, a.u});
+    out.resize(2);
+    out[0] = {a.R, a.v}, out[1] = {a.L, a.u};
   }
 }
 
@@ -333,6 +332,10 @@ bool place_rays(const Vector3d& n, const Placed& R, const std::vector<Overlay::R
   for (int j = 0, k = 0; j < no; ++j) {
     const Vector3d& o = O.gauss(other[j].to);
     for (int tried = 0;; k = (k + 1) % nr) {
+      if (R.gauss(ref[k].to) == o) {  // the same normal (copies, aligned shapes): the same ray
+        sector[j] = 2 * k + 1;
+        break;
+      }
       const int s0 = orient(n, R.gauss(ref[k].to), o);
       if (s0 >= 0 && orient(n, o, R.gauss(ref[(k + 1) % nr].to)) > 0) {
         sector[j] = 2 * k + (s0 == 0 ? 1 : 2);
@@ -399,6 +402,7 @@ bool Overlay::walk_a_arcs(const Placed& A, const Placed& B) {
   const MapLayout& ma = *A.m;
   const int F = A.s->faces;
   loc_b.assign(size_t(F), {Loc::Cell, -1}), queue.resize(size_t(F)), walked.assign(size_t(A.s->arcs), 0);
+  face_sector.resize(ma.loop_cell.size());
   loc_a.assign(size_t(B.s->faces), {Loc::Cell, -1}), crossings.clear();
   if (!climb(B, A, 0, best_cell(B, A, 0), loc_b[0])) return false;
   queue[0] = 0;
@@ -413,6 +417,7 @@ bool Overlay::walk_a_arcs(const Placed& A, const Placed& B) {
     if (here.kind == Loc::Face) {
       rays_of(A, {Loc::Face, f}, rays[1]), rays_of(B, here, rays[0]);
       if (!place_rays(B.gauss(here.id), B, rays[0], A, rays[1], ray_sector)) return false;
+      std::copy(ray_sector.begin(), ray_sector.end(), face_sector.begin() + ma.loop_start[f]);
     }
     for (int k = ma.loop_start[f]; k < ma.loop_start[f + 1]; ++k) {
       const int e = ma.loop_arc[k], g = ma.loop_face[k];
@@ -422,7 +427,7 @@ bool Overlay::walk_a_arcs(const Placed& A, const Placed& B) {
       const bool known = to.id >= 0;
       if (known && to.kind == Loc::Cell && here.kind == Loc::Cell && to.id == here.id) continue;  // one cell
       WalkStart ahead;
-      if (here.kind == Loc::Face) ahead = start_at(*B.m, here.id, ray_sector[size_t(k - ma.loop_start[f])]);
+      if (here.kind == Loc::Face) ahead = start_at(*B.m, here.id, face_sector[size_t(k)]);
       if (!walk(A, B, e, f, here, here.kind == Loc::Face ? &ahead : nullptr, to, known, crossings, loc_a)) return false;
       if (!known) queue[tail++] = g;
     }
@@ -709,14 +714,20 @@ void Overlay::crossing_facets(const Placed& A, const Placed& B, MinkowskiSum& ou
 bool Overlay::merged_facet(const Placed& A, const Loc& fa, const Placed& B, const Loc& fb, bool normal_of_a,
                            MinkowskiSum& out) {
   merged = true;
-  const bool a_ref = fa.kind == Loc::Face;
+  // The reference is B's face where there is one (A's rays among it were placed by the walks
+  // when both are faces), else A's.
+  const bool a_ref = fb.kind != Loc::Face;
   const Placed &R = a_ref ? A : B, &O = a_ref ? B : A;
   std::vector<Ray> &ref = rays[0], &other = rays[1];
   rays_of(R, a_ref ? fa : fb, ref);
   rays_of(O, a_ref ? fb : fa, other);
-  const Vector3d n = normal_of_a ? A.gauss(fa.id) : B.gauss(fb.id);
   const int nr = int(ref.size()), no = int(other.size());
-  if (!place_rays(n, R, ref, O, other, ray_sector)) return false;
+  if (fa.kind == Loc::Face && fb.kind == Loc::Face) {
+    const int first = A.m->loop_start[fa.id];
+    ray_sector.assign(face_sector.begin() + first, face_sector.begin() + first + no);
+  } else if (!place_rays(normal_of_a ? A.gauss(fa.id) : B.gauss(fb.id), R, ref, O, other, ray_sector)) {
+    return false;
+  }
   // The cells before the first ray of R: R's cell before it, O's after its last ray (in the
   // order of the sectors, which is O's own order turned to start after r_0).
   int first_o = 0;  // where O's (counter-clockwise) sectors fall back to a smaller one

@@ -154,18 +154,19 @@ class Overlay {
 
   std::vector<Location> loc_b, loc_a;  // A's face normals in B's map, B's in A's
   std::vector<int> queue;
-  std::vector<char> walked, queued;
+  std::vector<int> walked, queued;  // (int: a char store would alias every pointer the loops hold)
   std::vector<Crossing> crossings;
   std::vector<int> b_arc_crossings;  // per arc of B: how many arcs of A cross it, and the last one
   std::vector<int> b_arc_last;
   std::vector<Ray> rays[2];
   std::vector<int> ray_sector;
+  std::vector<int> face_sector;  // per loop position of A: its ray's sector about B's coincident face (place_rays)
   bool merged = false;       // some facet merges features (a tie): checked as a closed manifold
   bool dedupe_all = false;   // a flat operand's zero-length arcs repeat vertices
   bool map_normals = false;  // crossing normals from the poles, every offset the loop's largest
   // The facets are written straight into the result: loops of pair codes, and whether each
   // facet's offset is the largest over its loop.
-  std::vector<char> loose;
+  std::vector<int> loose;
   int nf = 0, nl = 0;
   PairNumbering pairs;
 };
