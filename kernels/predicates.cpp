@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <numeric>
 
 #include "expansion.hpp"
@@ -24,17 +25,18 @@ int orient_exact(const Vector3d& p, const Vector3d& q, const Vector3d& r) {
 
 namespace {
 
-// A growing expansion of at most 64 components, compressed when it fills (it then holds at
-// most one component per 53 bits of exponent range: fewer than 45).
+// A growing expansion, compressed when it passes 60 components (it then holds at most one
+// component per 53 bits of exponent range: fewer than 45), in two buffers used in turn.
 struct Accumulator {
-  double e[128];
+  double buf[2][72];
+  double* e = buf[0];
   int n = 0;
-  void add(double x) {
-    if (x == 0) return;
-    double h[129];
-    const int m = n ? expansion::sum(n, e, 1, &x, h) : (h[0] = x, 1);
-    std::copy(h, h + m, e), n = m;
-    if (n >= 64) compress();
+  // Adds the expansion x of k <= 4 components.
+  void add(const double* x, int k) {
+    double* h = e == buf[0] ? buf[1] : buf[0];
+    n = n ? expansion::sum(n, e, k, x, h) : (std::copy(x, x + k, h), k);
+    e = h;
+    if (n > 60) compress();
   }
   // Shewchuk's compress: the same value in as few components as possible.
   void compress() {
@@ -72,7 +74,50 @@ struct Accumulator {
 
 }  // namespace
 
+namespace {
+
+// The binary exponent e of a finite nonzero x with 2^(e-1) <= |x| < 2^e (std::frexp's), and
+// 2^e, from the bits (no library call; subnormals, which the callers do not scale, excluded).
+int exponent_of(double x) {
+  std::uint64_t bits;
+  std::memcpy(&bits, &x, sizeof bits);
+  return int((bits >> 52) & 0x7ff) - 1022;
+}
+double power_of_two(int e) {  // for -1022 < e < 1024
+  const std::uint64_t bits = std::uint64_t(e + 1023) << 52;
+  double x;
+  std::memcpy(&x, &bits, sizeof x);
+  return x;
+}
+
+// The Newell normal in double when that is exact: every coordinate an integer times 2^s with
+// at most 24 bits (so each product has at most 48 and a sum of up to 32 of them at most 53),
+// after scaling by a power of two; false otherwise (the expansions decide).
+bool small_integer_newell(const std::vector<Vector3d>& points, const std::vector<int>& loop, Vector3d& out) {
+  if (loop.size() > 16) return false;
+  double top = 0;
+  for (int v : loop) top = std::max(top, points[v].cwiseAbs().maxCoeff());
+  if (!(top > 0x1p-400 && top < 0x1p400)) return false;
+  const double up = power_of_two(24 - exponent_of(top));  // the largest coordinate now below 2^24
+  Vector3d n = Vector3d::Zero();
+  for (size_t k = 0; k < loop.size(); ++k) {
+    const Vector3d a = points[loop[k]] * up, b = points[loop[(k + 1) % loop.size()]] * up;
+    for (int d = 0; d < 3; ++d)
+      if (double(std::int64_t(a[d])) != a[d]) return false;  // (|a| < 2^24: the cast is exact)
+    n += a.cross(b);
+  }
+  out = n / (up * up);  // (an exact power of two)
+  return true;
+}
+
+}  // namespace
+
 Vector3d exact_newell(const std::vector<Vector3d>& points, const std::vector<int>& loop, bool* exact) {
+  Vector3d v;
+  if (small_integer_newell(points, loop, v)) {
+    if (exact) *exact = true;
+    return v;
+  }
   Accumulator n[3];
   bool ok = true;
   for (size_t k = 0; k < loop.size(); ++k) {
@@ -85,10 +130,10 @@ Vector3d exact_newell(const std::vector<Vector3d>& points, const std::vector<int
       // A product that underflows is not exact (subnormal coordinates).
       const double scale = std::abs(a[e] * b[f]) + std::abs(a[f] * b[e]);
       if (scale != 0 && scale < 0x1p-900) ok = false;
-      for (double x : m) n[d].add(x);
+      n[d].add(m, 4);
     }
   }
-  const Vector3d v(n[0].value(ok), n[1].value(ok), n[2].value(ok));
+  v = Vector3d(n[0].value(ok), n[1].value(ok), n[2].value(ok));
   if (exact) *exact = ok;
   return v;
 }
@@ -104,7 +149,7 @@ Vector3d exact_edge_cross(const Vector3d& p, const Vector3d& q, const Vector3d& 
     for (int h = 0; h < 2; ++h) {
       double m[4];
       expansion::minor2(d[a][h], n[b], d[b][h], n[a], m);
-      for (double x : m) acc.add(x);
+      acc.add(m, 4);
     }
     out[k] = acc.value(ok);
   }
@@ -116,29 +161,30 @@ Vector3d canonical_direction(const Vector3d& v, bool exact) {
   const double top = v.cwiseAbs().maxCoeff();
   if (!(top > 0)) return Vector3d::Zero();
   Vector3d w = v;
-  if (exact) {
+  if (exact && top > 0x1p-900 && top < 0x1p900) {
     // Integers m_k with v_k = m_k 2^low: low is the exponent of the lowest set bit of any
-    // component; within 63 bits of range the gcd is taken.
+    // component (a double is its 53-bit significand times 2^(e - 53)); within 63 bits of range
+    // the gcd is taken.
     int low = 1 << 20;
     for (int k = 0; k < 3; ++k)
       if (v[k] != 0) {
-        int e;
-        const double m = std::frexp(v[k], &e);  // v = m 2^e, 0.5 <= |m| < 1: 53 bits of m
-        const std::int64_t bits = std::int64_t(std::ldexp(std::abs(m), 53));
-        low = std::min(low, e - 53 + __builtin_ctzll(std::uint64_t(bits)));
+        const int e = exponent_of(v[k]);
+        const std::uint64_t significand = std::uint64_t(std::abs(v[k]) * power_of_two(53 - e));
+        low = std::min(low, e - 53 + __builtin_ctzll(significand));
       }
-    int high;
-    std::frexp(top, &high);
-    if (high - low <= 62) {
+    if (exponent_of(top) - low <= 62 && low > -1000) {
       std::uint64_t g = 0, mk[3];
-      for (int k = 0; k < 3; ++k) g = std::gcd(g, mk[k] = std::uint64_t(std::ldexp(std::abs(v[k]), -low)));
+      const double down = power_of_two(-low);
+      for (int k = 0; k < 3; ++k) g = std::gcd(g, mk[k] = std::uint64_t(std::abs(v[k]) * down));
       for (int k = 0; k < 3; ++k) w[k] = std::copysign(double(mk[k] / g), v[k]);  // fewer bits: exact
     }
   }
-  int e;
-  std::frexp(w.cwiseAbs().maxCoeff(), &e);
+  // To a largest component in [0.5, 1): a power of two (in two steps where one would leave
+  // the normal range).
+  const int e = exponent_of(w.cwiseAbs().maxCoeff());
+  const double half = power_of_two(-e / 2), rest = power_of_two(-e - (-e / 2));
   for (int k = 0; k < 3; ++k) {
-    w[k] = std::ldexp(w[k], -e);
+    w[k] = w[k] * half * rest;
     if (std::abs(w[k]) < kTinyComponent) w[k] = 0;
   }
   return w;

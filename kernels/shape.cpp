@@ -244,7 +244,7 @@ Status check_map(ShapeData& s) {
 
 }  // namespace
 
-Status prepare(const ConvexPolytope& p, ShapeData& s) {
+Status prepare(const ConvexPolytope& p, ShapeData& s, bool negated_layout) {
   thread_local Topology topology;
   thread_local std::vector<int> scratch;
   s.polytope_ref = &p;
@@ -252,7 +252,7 @@ Status prepare(const ConvexPolytope& p, ShapeData& s) {
   if (!take_vertices(p, s, extent)) return Status::InvalidMesh;
   const Status built = p.flat ? prepare_flat(p, s, extent, topology) : prepare_solid(p, s, topology);
   if (built != Status::Ok) return built;
-  for (int r = 0; r < 2; ++r)
+  for (int r = 0; r < 1 + negated_layout; ++r)
     if (build_layout(topology, s.cells, r == 1, s.map[r], scratch) != Status::Ok) return Status::InvalidMesh;
   // The faces the loops give each edge are the ones it lists (the Edge contract).
   if (!p.flat)
@@ -260,8 +260,9 @@ Status prepare(const ConvexPolytope& p, ShapeData& s) {
       if (s.map[0].arc[e].L != p.edges[e].left || s.map[0].arc[e].R != p.edges[e].right) return Status::InvalidMesh;
   if (check_map(s) != Status::Ok) return Status::InvalidMesh;
   // Per face, where its loop has its smallest vertex: the sums' loops start there.
-  for (MapLayout& m : s.map)
+  for (int r = 0; r < 1 + negated_layout; ++r)
     for (int f = 0; f < s.faces; ++f) {
+      MapLayout& m = s.map[r];
       const int first = m.loop_start[f], n = m.loop_start[f + 1] - first;
       int least = 0;
       for (int k = 1; k < n; ++k)

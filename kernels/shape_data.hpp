@@ -91,6 +91,7 @@ inline std::uint8_t nonzero_mask(const Eigen::Vector3d& v) {
 
 /// Prepares p into `out`, reusing its capacity (the convenience entry points keep one per
 /// thread); InvalidMesh when p breaks the ConvexPolytope contract (see shape_from_polytope).
-Status prepare(const ConvexPolytope& p, ShapeData& out);
+/// The layout of -B only if `negated_layout` (a shape has both; a sum's A needs its own only).
+Status prepare(const ConvexPolytope& p, ShapeData& out, bool negated_layout = true);
 
 }  // namespace minksum::detail

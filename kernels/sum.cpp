@@ -237,7 +237,7 @@ Status sum_dispatch(const ConvexPolytope& a, const ConvexPolytope& b, bool diffe
   // Both are prepared as a ConvexShape would be (per thread, reusing the capacity); one that
   // breaks the polytope contract gets the corrector's answer, from its vertices alone.
   thread_local detail::ShapeData prepared_a, prepared_b;
-  if (detail::prepare(a, prepared_a) != Status::Ok || detail::prepare(b, prepared_b) != Status::Ok)
+  if (detail::prepare(a, prepared_a, false) != Status::Ok || detail::prepare(b, prepared_b, difference) != Status::Ok)
     return corrector();
   const Eigen::Isometry3d identity = Eigen::Isometry3d::Identity();
   if (method == Method::Fast) return detail::sum_placed(prepared_a, identity, prepared_b, identity, difference, out);
