@@ -495,13 +495,14 @@ bool Overlay::run(const Placed& A, const Placed& B, MinkowskiSum& out) {
   // The facets, written straight into `out`: at most one per face normal and crossing; loops
   // grow as they are written (a merged facet is longer than either face).
   const size_t facets = size_t(sa.faces + sb.faces) + crossings.size();
-  out.planes.resize(facets), out.loop_start.resize(facets + 1), loose.resize(facets);
+  // (The scratch only grows: a result's vectors are written once, at the end, without zeroing.)
+  if (normal.size() < facets) normal.resize(facets), loose.resize(facets), facet_start.resize(facets + 1);
   const size_t entries = sa.map[0].loop_cell.size() + sb.map[0].loop_cell.size() + 4 * crossings.size();
-  if (out.loop_vertex.size() < entries) out.loop_vertex.resize(entries);
-  nf = nl = out.loop_start[0] = 0;
+  if (codes.size() < entries) codes.resize(entries);
+  nf = nl = facet_start[0] = 0;
   pairs.reset(int(sa.px.size()), int(sb.px.size()), entries);
-  if (!face_facets(A, B, out)) return false;
-  crossing_facets(A, B, out);
+  if (!face_facets(A, B)) return false;
+  crossing_facets(A, B);
   return number_and_write(A, B, out);
 }
 
@@ -588,16 +589,16 @@ void PairNumbering::finish(int* codes, size_t n, Emit&& emit) {
   for (size_t k = 0; k < n; ++k) codes[k] = index_[size_t(codes[k])];
 }
 
-inline void Overlay::begin_facet(MinkowskiSum& out, const Vector3d& n, bool loose_offset, int length) {
+inline void Overlay::begin_facet(const Vector3d& n, bool loose_offset, int length) {
   // Room for this loop, whatever the facets before it took.
-  if (out.loop_vertex.size() < size_t(nl + length)) out.loop_vertex.resize(2 * size_t(nl + length));
-  out.planes[nf].normal = n;
+  if (codes.size() < size_t(nl + length)) codes.resize(2 * size_t(nl + length));
+  normal[nf] = n;
   loose[nf] = loose_offset;
 }
 
-inline void Overlay::end_facet(MinkowskiSum& out, bool dedupe) {
-  int* loop = out.loop_vertex.data();
-  const int first = out.loop_start[nf];
+inline void Overlay::end_facet(bool dedupe) {
+  int* loop = codes.data();
+  const int first = facet_start[nf];
   int n = nl - first;
   // A flat operand's prism has zero-length arcs, and merged facets meet rays of both maps at
   // one angle: drop the repeated vertices they make, and the facets left with fewer than three
@@ -615,25 +616,25 @@ inline void Overlay::end_facet(MinkowskiSum& out, bool dedupe) {
     for (int k = first + 1; k < nl; ++k) least = pairs.less(loop[k], loop[least]) ? k : least;
     std::rotate(loop + first, loop + least, loop + nl);
   }
-  out.loop_start[++nf] = nl;
+  facet_start[++nf] = nl;
 }
 
-bool Overlay::face_facets(const Placed& A, const Placed& B, MinkowskiSum& out) {
+bool Overlay::face_facets(const Placed& A, const Placed& B) {
   const ShapeData &sa = *A.s, &sb = *B.s;
   const MapLayout &ma = *A.m, &mb = *B.m;
   // A's faces: face f (+) the vertex of its cell of B, or the merged facet.
   for (int f = 0; f < sa.faces; ++f) {
     const Loc& l = loc_b[f];
     if (l.kind != Loc::Cell) {
-      if (!merged_facet(A, {Loc::Face, f}, B, l, true, out)) return false;
+      if (!merged_facet(A, {Loc::Face, f}, B, l, true)) return false;
       continue;
     }
     // From its smallest pair: the face's smallest vertex.
     const int j = sb.cell_vertex[l.id], first = ma.loop_start[f], n = ma.loop_start[f + 1] - first;
     const int* cell = &ma.loop_cell[first];
-    begin_facet(out, A.unit(f), map_normals, n);
-    for (int k = ma.loop_least[f], m = 0; m < n; ++m, k = k + 1 < n ? k + 1 : 0) add_pair(out, sa.cell_vertex[cell[k]], j);
-    end_facet(out, dedupe_all);
+    begin_facet(A.unit(f), map_normals, n);
+    for (int k = ma.loop_least[f], m = 0; m < n; ++m, k = k + 1 < n ? k + 1 : 0) add_pair(sa.cell_vertex[cell[k]], j);
+    end_facet(dedupe_all);
   }
   // B's faces, but those on a face normal of A (written above).
   for (int g = 0; g < sb.faces; ++g) {
@@ -643,19 +644,19 @@ bool Overlay::face_facets(const Placed& A, const Placed& B, MinkowskiSum& out) {
       continue;
     }
     if (l.kind == Loc::Arc) {
-      if (!merged_facet(A, l, B, {Loc::Face, g}, false, out)) return false;
+      if (!merged_facet(A, l, B, {Loc::Face, g}, false)) return false;
       continue;
     }
     const int i = sa.cell_vertex[l.id], first = mb.loop_start[g], n = mb.loop_start[g + 1] - first;
     const int* cell = &mb.loop_cell[first];
-    begin_facet(out, B.unit(g), map_normals, n);
-    for (int k = mb.loop_least[g], m = 0; m < n; ++m, k = k + 1 < n ? k + 1 : 0) add_pair(out, i, sb.cell_vertex[cell[k]]);
-    end_facet(out, dedupe_all);
+    begin_facet(B.unit(g), map_normals, n);
+    for (int k = mb.loop_least[g], m = 0; m < n; ++m, k = k + 1 < n ? k + 1 : 0) add_pair(i, sb.cell_vertex[cell[k]]);
+    end_facet(dedupe_all);
   }
   return true;
 }
 
-void Overlay::crossing_facets(const Placed& A, const Placed& B, MinkowskiSum& out) {
+void Overlay::crossing_facets(const Placed& A, const Placed& B) {
   const ShapeData &sa = *A.s, &sb = *B.s;
   // The loops: the cells around the crossing, (v1, p) (v1, q) (v0, q) (v0, p), with p, q =
   // w0, w1 when s1 < 0 and w1, w0 when s1 > 0; from the smallest pair.
@@ -665,10 +666,10 @@ void Overlay::crossing_facets(const Placed& A, const Placed& B, MinkowskiSum& ou
     const int a0 = sa.cell_vertex[a.u], a1 = sa.cell_vertex[a.v];
     const int pairs[8] = {a1, p, a1, q, a0, q, a0, p};
     const int first = a1 < a0 ? (p < q ? 0 : 1) : (q < p ? 2 : 3);
-    begin_facet(out, Vector3d::Zero(), map_normals, 4);
-    for (int k = 0; k < 4; ++k) add_pair(out, pairs[2 * ((first + k) & 3)], pairs[2 * ((first + k) & 3) + 1]);
+    begin_facet(Vector3d::Zero(), map_normals, 4);
+    for (int k = 0; k < 4; ++k) add_pair(pairs[2 * ((first + k) & 3)], pairs[2 * ((first + k) & 3) + 1]);
     x.facet = nf;
-    end_facet(out, dedupe_all);
+    end_facet(dedupe_all);
     if (x.facet == nf) x.facet = -1;  // dropped: a flat operand's zero-length edge
   }
   // The normals, in a loop of their own (its square roots and divisions overlap). The
@@ -686,7 +687,7 @@ void Overlay::crossing_facets(const Placed& A, const Placed& B, MinkowskiSum& ou
     const Vector3d da = map_normals ? A.pole(x.ea) : A.edge(x.ea), db = map_normals ? B.pole(x.eb) : B.edge(x.eb);
     const Vector3d c = da.cross(db);
     const double c2 = c.squaredNorm();
-    Vector3d& n = out.planes[x.facet].normal;
+    Vector3d& n = normal[x.facet];
     if (c2 > 1e-8 * da.squaredNorm() * db.squaredNorm()) {
       n = c * ((x.up ? -1 : 1) / std::sqrt(c2));
       if (map_normals && A.turned) n = A.world * n;
@@ -711,8 +712,7 @@ void Overlay::crossing_facets(const Placed& A, const Placed& B, MinkowskiSum& ou
 // other's rays are placed among them (each in the sector [r_k, r_k+1) that holds it, exactly;
 // on r_k itself where both point the same way), and every sector between two consecutive rays
 // of either map is an overlay cell, a vertex (i, j) of the facet, counter-clockwise.
-bool Overlay::merged_facet(const Placed& A, const Loc& fa, const Placed& B, const Loc& fb, bool normal_of_a,
-                           MinkowskiSum& out) {
+bool Overlay::merged_facet(const Placed& A, const Loc& fa, const Placed& B, const Loc& fb, bool normal_of_a) {
   merged = true;
   // The reference is B's face where there is one (A's rays among it were placed by the walks
   // when both are faces), else A's.
@@ -734,11 +734,11 @@ bool Overlay::merged_facet(const Placed& A, const Loc& fa, const Placed& B, cons
   for (int j = 0; j < no; ++j)
     if (ray_sector[(j + no - 1) % no] > ray_sector[j]) first_o = j;
   int cell_r = ref[nr - 1].after, cell_o = other[(first_o + no - 1) % no].after;
-  begin_facet(out, normal_of_a ? A.unit(fa.id) : B.unit(fb.id), true, nr + no);
+  begin_facet(normal_of_a ? A.unit(fa.id) : B.unit(fb.id), true, nr + no);
   int j = first_o, taken = 0;
   const auto emit = [&] {
     const int ca = a_ref ? cell_r : cell_o, cb = a_ref ? cell_o : cell_r;
-    add_pair(out, A.s->cell_vertex[ca], B.s->cell_vertex[cb]);
+    add_pair(A.s->cell_vertex[ca], B.s->cell_vertex[cb]);
   };
   for (int k = 0; k < nr; ++k) {
     cell_r = ref[k].after;
@@ -751,29 +751,31 @@ bool Overlay::merged_facet(const Placed& A, const Loc& fa, const Placed& B, cons
     }
   }
   if (taken != no) return false;
-  end_facet(out, true);
+  end_facet(true);
   return true;
 }
 
 bool Overlay::number_and_write(const Placed& A, const Placed& B, MinkowskiSum& out) {
   const int F = nf, S = nl, V = pairs.count();
-  out.planes.resize(size_t(F)), out.loop_start.resize(size_t(F) + 1), out.loop_vertex.resize(size_t(S));
   // A closed polytope: every edge in two loops (E = S / 2), and V - E + F = 2.
   if (S % 2 != 0 || F < 4 || V - S / 2 + F != 2) return false;
-  out.vertices.resize(size_t(V));
-  SumVertex* vertex = out.vertices.data();
+  out.vertices.clear(), out.planes.clear();
+  out.loop_start.assign(facet_start.begin(), facet_start.begin() + F + 1);
+  out.loop_vertex.assign(codes.begin(), codes.begin() + S);
   int* loop = out.loop_vertex.data();
-  pairs.finish(loop, size_t(S), [&](int v, int i, int j) { vertex[v] = SumVertex{i, j, A.point(i) + B.point(j)}; });
+  pairs.finish(loop, size_t(S), [&](int, int i, int j) { out.vertices.push_back(SumVertex{i, j, A.point(i) + B.point(j)}); });
   // Offsets: the support function at the loop's first pair (the smallest, so that a plane's
   // pair does not depend on the path), h_A(n) + h_B(n) (the paper's support planes), or, for
   // merged facets and slivers, the largest over the loop (no vertex cut off).
+  const SumVertex* vertex = out.vertices.data();
   const int* start = out.loop_start.data();
   for (int f = 0; f < F; ++f) {
-    SumPlane& plane = out.planes[f];
+    const Vector3d& n = normal[f];
     const SumVertex& first = vertex[loop[start[f]]];
-    plane.offset = plane.normal.dot(first.point), plane.i = first.i, plane.j = first.j;
+    double offset = n.dot(first.point);
     if (loose[f])
-      for (int k = start[f] + 1; k < start[f + 1]; ++k) plane.offset = std::max(plane.offset, plane.normal.dot(vertex[loop[k]].point));
+      for (int k = start[f] + 1; k < start[f + 1]; ++k) offset = std::max(offset, n.dot(vertex[loop[k]].point));
+    out.planes.push_back(SumPlane{n, offset, first.i, first.j});
   }
   out.V = V, out.E = S / 2, out.F = F;
   out.euler_ok = true;

@@ -143,14 +143,13 @@ class Overlay {
  private:
   bool walk_a_arcs(const Placed& A, const Placed& B);
   bool locate_b_normals(const Placed& A, const Placed& B);
-  bool face_facets(const Placed& A, const Placed& B, MinkowskiSum& out);
-  void crossing_facets(const Placed& A, const Placed& B, MinkowskiSum& out);
-  bool merged_facet(const Placed& A, const Location& fa, const Placed& B, const Location& fb, bool normal_of_a,
-                    MinkowskiSum& out);
+  bool face_facets(const Placed& A, const Placed& B);
+  void crossing_facets(const Placed& A, const Placed& B);
+  bool merged_facet(const Placed& A, const Location& fa, const Placed& B, const Location& fb, bool normal_of_a);
   bool number_and_write(const Placed& A, const Placed& B, MinkowskiSum& out);
-  void begin_facet(MinkowskiSum& out, const Eigen::Vector3d& n, bool loose, int length);
-  void add_pair(MinkowskiSum& out, int i, int j) { out.loop_vertex[size_t(nl++)] = pairs.code(i, j); }
-  void end_facet(MinkowskiSum& out, bool dedupe);
+  void begin_facet(const Eigen::Vector3d& n, bool loose, int length);
+  void add_pair(int i, int j) { codes[size_t(nl++)] = pairs.code(i, j); }
+  void end_facet(bool dedupe);
 
   std::vector<Location> loc_b, loc_a;  // A's face normals in B's map, B's in A's
   std::vector<int> queue;
@@ -164,9 +163,10 @@ class Overlay {
   bool merged = false;       // some facet merges features (a tie): checked as a closed manifold
   bool dedupe_all = false;   // a flat operand's zero-length arcs repeat vertices
   bool map_normals = false;  // crossing normals from the poles, every offset the loop's largest
-  // The facets are written straight into the result: loops of pair codes, and whether each
-  // facet's offset is the largest over its loop.
-  std::vector<int> loose;
+  // The facets as written: their normals, loops of pair codes (facet k's at facet_start[k] ..
+  // facet_start[k + 1]), and whether each one's offset is the largest over its loop.
+  std::vector<Eigen::Vector3d> normal;
+  std::vector<int> codes, facet_start, loose;
   int nf = 0, nl = 0;
   PairNumbering pairs;
 };
