@@ -118,11 +118,17 @@ Vector3d exact_newell(const std::vector<Vector3d>& points, const std::vector<int
     if (exact) *exact = true;
     return v;
   }
+  // The loop scaled by a power of two to a largest coordinate near 1 (exact, and the products
+  // neither underflow nor overflow): the normal's direction is the same.
+  double top = 0;
+  for (int i : loop) top = std::max(top, points[i].cwiseAbs().maxCoeff());
+  const int e = top >= 0x1p-1000 ? exponent_of(top) : -1000;
+  const double scale = power_of_two(-e / 2) * power_of_two(-e - (-e / 2));
   Accumulator n[3];
   bool ok = true;
   for (size_t k = 0; k < loop.size(); ++k) {
-    const Vector3d& a = points[loop[k]];
-    const Vector3d& b = points[loop[(k + 1) % loop.size()]];
+    const Vector3d a = points[loop[k]] * scale;
+    const Vector3d b = points[loop[(k + 1) % loop.size()]] * scale;
     for (int d = 0; d < 3; ++d) {
       const int e = (d + 1) % 3, f = (d + 2) % 3;
       double m[4];
@@ -139,8 +145,13 @@ Vector3d exact_newell(const std::vector<Vector3d>& points, const std::vector<int
 }
 
 Vector3d exact_edge_cross(const Vector3d& p, const Vector3d& q, const Vector3d& n, bool* exact) {
-  double d[3][2];  // q - p exactly: a rounded difference and its error, per coordinate
-  for (int k = 0; k < 3; ++k) expansion::two_diff(q[k], p[k], d[k][0], d[k][1]);
+  // q - p exactly (a rounded difference and its error, per coordinate), the points scaled by a
+  // power of two to a largest coordinate near 1 (as in exact_newell).
+  const double top = std::max(p.cwiseAbs().maxCoeff(), q.cwiseAbs().maxCoeff());
+  const int e = top >= 0x1p-1000 ? exponent_of(top) : -1000;
+  const double scale = power_of_two(-e / 2) * power_of_two(-e - (-e / 2));
+  double d[3][2];
+  for (int k = 0; k < 3; ++k) expansion::two_diff(q[k] * scale, p[k] * scale, d[k][0], d[k][1]);
   bool ok = true;
   Vector3d out;
   for (int k = 0; k < 3; ++k) {
@@ -161,7 +172,10 @@ Vector3d canonical_direction(const Vector3d& v, bool exact) {
   const double top = v.cwiseAbs().maxCoeff();
   if (!(top > 0)) return Vector3d::Zero();
   Vector3d w = v;
-  if (exact && top > 0x1p-900 && top < 0x1p900) {
+  // (Components far below the largest one, subnormal ones among them, are flushed below anyway.)
+  const double least = std::min({v.x() != 0 ? std::abs(v.x()) : top, v.y() != 0 ? std::abs(v.y()) : top,
+                                 v.z() != 0 ? std::abs(v.z()) : top});
+  if (exact && least > 0x1p-900 && top < 0x1p900) {
     // Integers m_k with v_k = m_k 2^low: low is the exponent of the lowest set bit of any
     // component (a double is its 53-bit significand times 2^(e - 53)); within 63 bits of range
     // the gcd is taken.
