@@ -320,33 +320,6 @@ void rays_of(const Placed& X, const Loc& f, std::vector<Overlay::Ray>& out) {
   }
 }
 
-// Places each ray of `other` (counter-clockwise about n) among the sectors of `ref` (counter-
-// clockwise, a face's: at least three, each turn less than pi): sector[j] = 2k + 1 when ray j
-// points as ref's ray k does, 2k + 2 when it lies strictly between rays k and k + 1. The other
-// rays run counter-clockwise too, so each one's search starts at the sector of the one before
-// (both lists are read about once). False if a ray fits no sector (a map bent by rounding).
-bool place_rays(const Vector3d& n, const Placed& R, const std::vector<Overlay::Ray>& ref, const Placed& O,
-                const std::vector<Overlay::Ray>& other, std::vector<int>& sector) {
-  const int nr = int(ref.size()), no = int(other.size());
-  sector.resize(size_t(no));
-  for (int j = 0, k = 0; j < no; ++j) {
-    const Vector3d& o = O.gauss(other[j].to);
-    for (int tried = 0;; k = (k + 1) % nr) {
-      if (R.gauss(ref[k].to) == o) {  // the same normal (copies, aligned shapes): the same ray
-        sector[j] = 2 * k + 1;
-        break;
-      }
-      const int s0 = orient(n, R.gauss(ref[k].to), o);
-      if (s0 >= 0 && orient(n, o, R.gauss(ref[(k + 1) % nr].to)) > 0) {
-        sector[j] = 2 * k + (s0 == 0 ? 1 : 2);
-        break;
-      }
-      if (++tried == nr) return false;
-    }
-  }
-  return true;
-}
-
 }  // namespace
 
 void place(const ShapeData& s, const Eigen::Isometry3d& pose, const Eigen::Matrix3d& frame, bool negate,
@@ -396,6 +369,59 @@ void place(const ShapeData& s, const Eigen::Isometry3d& pose, const Eigen::Matri
     }
     out.px = buf.p[0].data(), out.py = buf.p[1].data(), out.pz = buf.p[2].data();
   }
+}
+
+// Places each ray of `other` (counter-clockwise about n) among the sectors of `ref` (counter-
+// clockwise, a face's: at least three, each turn less than pi): sector[j] = 2k + 1 when ray j
+// points as ref's ray k does, 2k + 2 when it lies strictly between rays k and k + 1. The other
+// rays run counter-clockwise too, so each one's search starts at the sector of the one before
+// (both lists are read about once). False if a ray fits no sector (a map bent by rounding).
+bool Overlay::place_rays(const Vector3d& n, const Placed& R, const std::vector<Ray>& ref, const Placed& O,
+                         const std::vector<Ray>& other, std::vector<int>& sector) {
+  const int nr = int(ref.size()), no = int(other.size());
+  sector.resize(size_t(no));
+  // The same rays (copies, aligned shapes, parallel prisms: the same neighbouring normals, which
+  // canonical normals make the same vectors): one offset, found by comparing vectors.
+  if (nr == no) {
+    int k0 = 0;
+    while (k0 < nr && R.gauss(ref[k0].to) != O.gauss(other[0].to)) ++k0;
+    bool same = k0 < nr;
+    for (int j = 1; same && j < no; ++j) same = R.gauss(ref[(k0 + j) % nr].to) == O.gauss(other[j].to);
+    if (same) {
+      for (int j = 0; j < no; ++j) sector[j] = 2 * ((k0 + j) % nr) + 1;
+      return true;
+    }
+  }
+  // The turn from ref's ray k to a direction o, sign det(n, r_k, o) = o . (n x r_k): n x r_k
+  // and its permanent (orient's filter) once per ray.
+  turns.resize(size_t(nr));
+  for (int k = 0; k < nr; ++k) {
+    const Vector3d& r = R.gauss(ref[k].to);
+    turns[k] = {n.cross(r), Vector3d(std::abs(n.y() * r.z()) + std::abs(n.z() * r.y()),
+                                     std::abs(n.z() * r.x()) + std::abs(n.x() * r.z()),
+                                     std::abs(n.x() * r.y()) + std::abs(n.y() * r.x()))};
+  }
+  const auto turn = [&](int k, const Vector3d& o) {
+    const double det = o.dot(turns[k].c), perm = o.cwiseAbs().dot(turns[k].bound);
+    if (std::abs(det) > 1e-15 * perm) return det > 0 ? 1 : -1;
+    return perm == 0 ? 0 : orient_exact(o, n, R.gauss(ref[k].to));
+  };
+  for (int j = 0, k = 0; j < no; ++j) {
+    const Vector3d& o = O.gauss(other[j].to);
+    for (int tried = 0;; k = (k + 1) % nr) {
+      if (R.gauss(ref[k].to) == o) {  // the same normal (copies, aligned shapes): the same ray
+        sector[j] = 2 * k + 1;
+        break;
+      }
+      const int s0 = turn(k, o);
+      if (s0 >= 0 && turn((k + 1) % nr, o) < 0) {
+        sector[j] = 2 * k + (s0 == 0 ? 1 : 2);
+        break;
+      }
+      if (++tried == nr) return false;
+    }
+  }
+  return true;
 }
 
 bool Overlay::walk_a_arcs(const Placed& A, const Placed& B) {

@@ -147,6 +147,8 @@ class Overlay {
   void crossing_facets(const Placed& A, const Placed& B);
   bool merged_facet(const Placed& A, const Location& fa, const Placed& B, const Location& fb, bool normal_of_a);
   bool number_and_write(const Placed& A, const Placed& B, MinkowskiSum& out);
+  bool place_rays(const Eigen::Vector3d& n, const Placed& R, const std::vector<Ray>& ref, const Placed& O,
+                  const std::vector<Ray>& other, std::vector<int>& sector);
   void begin_facet(const Eigen::Vector3d& n, bool loose, int length);
   void add_pair(int i, int j) { codes[size_t(nl++)] = pairs.code(i, j); }
   void end_facet(bool dedupe);
@@ -159,6 +161,10 @@ class Overlay {
   std::vector<int> b_arc_last;
   std::vector<Ray> rays[2];
   std::vector<int> ray_sector;
+  struct Turn {
+    Eigen::Vector3d c, bound;
+  };
+  std::vector<Turn> turns;  // place_rays': per ray of the reference, n x r and its permanent
   std::vector<int> face_sector;  // per loop position of A: its ray's sector about B's coincident face (place_rays)
   bool merged = false;       // some facet merges features (a tie): checked as a closed manifold
   bool dedupe_all = false;   // a flat operand's zero-length arcs repeat vertices
