@@ -28,11 +28,11 @@
 //  2. Every face normal of B is located in A's map: those on A's arcs and normals by the walks
 //     that met them; the others from a located neighbour across their common arc, which no arc
 //     of A crosses (the same cell) or one crosses (the cell across it); else by climbing.
-//  3. The facets are written straight into the result: a face normal inside a cell gives its
-//     face with one vertex of the other operand; one on an arc or a face normal gives the
-//     merged polygon, read off the rays of both maps around it (merged_facet); a crossing gives
-//     its parallelogram. Their vertices (pairs (i, j)) are hashed once, numbered in (i, j)
-//     order by a counting sort, and Euler's formula checked (and, where features merged, the
+//  3. The facets are written: a face normal inside a cell gives its face with one vertex of the
+//     other operand; one on an arc or a face normal gives the merged polygon, read off the
+//     rays of both maps around it (merged_facet); a crossing gives its parallelogram. Their
+//     vertices, pairs (i, j), are numbered in (i, j) order (PairNumbering), the result written
+//     once, and Euler's formula checked (and, where features merged under a rotation, the
 //     closed manifold).
 // A step that fails (only a shape whose map rounding made invalid can make one) leaves the hull
 // corrector to answer.
