@@ -144,6 +144,30 @@ Vector3d exact_newell(const std::vector<Vector3d>& points, const std::vector<int
   return v;
 }
 
+Vector3d newell_normal(const std::vector<Vector3d>& points, const std::vector<int>& loop, bool& exact) {
+  Vector3d v;
+  if ((exact = small_integer_newell(points, loop, v))) return v;
+  // In double, kept when every component is surely nonzero (it clears its error bound: 2 m + 2
+  // rounding errors of the sum of its 2 m products' magnitudes) or surely 0 (every product is
+  // 0): its signs and its zeros are then the exact ones. Else the exact Newell normal, rounded.
+  v.setZero();
+  Vector3d magnitude = Vector3d::Zero();
+  for (size_t k = 0; k < loop.size(); ++k) {
+    const Vector3d& a = points[loop[k]];
+    const Vector3d& b = points[loop[(k + 1) % loop.size()]];
+    v += a.cross(b);
+    for (int d = 0; d < 3; ++d) {
+      const int e = (d + 1) % 3, f = (d + 2) % 3;
+      magnitude[d] += std::abs(a[e] * b[f]) + std::abs(a[f] * b[e]);
+    }
+  }
+  const double relative = (2.0 * double(loop.size()) + 2) * 0x1p-52;
+  for (int d = 0; d < 3; ++d)
+    if (magnitude[d] != 0 && !(std::abs(v[d]) > relative * magnitude[d] && magnitude[d] > 0x1p-900))
+      return exact_newell(points, loop, &exact);
+  return v;
+}
+
 Vector3d exact_edge_cross(const Vector3d& p, const Vector3d& q, const Vector3d& n, bool* exact) {
   // q - p exactly (a rounded difference and its error, per coordinate), the points scaled by a
   // power of two to a largest coordinate near 1 (as in exact_newell).

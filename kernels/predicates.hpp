@@ -37,6 +37,12 @@ inline int orient(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eige
 Eigen::Vector3d exact_newell(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& loop,
                              bool* exact = nullptr);
 
+/// A loop's normal for a Gauss map, cheaply: the exact Newell normal (exact = true) when the
+/// loop's coordinates are integers of at most 24 bits times a power of two; otherwise a vector
+/// whose components have the exact one's signs, zeros included (exact = false): the Newell
+/// normal in double where its error bounds prove them, else exact_newell's.
+Eigen::Vector3d newell_normal(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& loop, bool& exact);
+
 /// The cross product (q - p) x n, computed exactly and rounded once (a flat polygon's side
 /// normal, outward for a counter-clockwise edge p -> q about n); `exact` as for exact_newell.
 Eigen::Vector3d exact_edge_cross(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& n,

@@ -64,7 +64,7 @@ Status prepare_flat(const ConvexPolytope& p, ShapeData& s, double extent, Topolo
   s.gauss.resize(size_t(s.faces));
   const auto set_normal = [&s](int f, const Vector3d& m) { s.gauss[f] = m; };
   bool exact = true;
-  Vector3d g = exact_newell(p.vertices, top, &exact);
+  Vector3d g = newell_normal(p.vertices, top, exact);
   if (!(g.dot(n) > 0)) return Status::InvalidMesh;
   g = canonical_direction(exact ? g : own_normal(n, g), exact);  // (as a solid's faces)
   set_normal(0, g), set_normal(1, -g);
@@ -120,7 +120,7 @@ Status prepare_solid(const ConvexPolytope& p, ShapeData& s, Topology& t) {
     for (int v : face.loop)
       if (v < 0 || v >= V) return Status::InvalidMesh;
     bool exact = true;
-    const Vector3d g = exact_newell(p.vertices, face.loop, &exact);
+    const Vector3d g = newell_normal(p.vertices, face.loop, exact);
     if (!(g.dot(face.normal) > 0)) return Status::InvalidMesh;  // a loop against its normal
     const Vector3d c = canonical_direction(exact ? g : own_normal(face.normal, g), exact);
     s.gauss[f] = c;
