@@ -305,6 +305,21 @@ Vector3d near_parallel_normal(const Vector3d& a1, const Vector3d& a2, const Vect
   return std::cos(theta) * u + std::sin(theta) * w;
 }
 
+// The angle (a bound) between arc e's pole as stored, G_L x G_R rounded, and the exact cross
+// product of the stored normals, which the predicates follow: each component of the rounded
+// product is within 2 eps |G_L| |G_R| of the exact one (|error| <= 4e-16 |G_L| |G_R|, so 1e-15
+// leaves a margin); large on a short arc, whose normals nearly coincide.
+double pole_error(const Placed& X, int e) {
+  const double c2 = X.c[e].squaredNorm();
+  return c2 > 0 ? 1e-15 * std::sqrt(X.g[X.L(e)].squaredNorm() * X.g[X.R(e)].squaredNorm() / c2) : HUGE_VAL;
+}
+
+// Whether the unit normal n (world frame) can be on both crossing arcs: an arc shorter than pi
+// lies within pi / 2 of its midpoint, so a normal off by a flipped sign fails.
+bool on_arcs(const Placed& A, int ea, const Placed& B, int eb, const Vector3d& n) {
+  return n.dot(A.unit(A.L(ea)) + A.unit(A.R(ea))) > 0 && n.dot(B.unit(B.L(eb)) + B.unit(B.R(eb))) > 0;
+}
+
 // The rays of X's feature at a facet normal, counter-clockwise: a face's arcs (each between
 // two cells of its loop), or an arc's two directions.
 void rays_of(const Placed& X, const Loc& f, std::vector<Overlay::Ray>& out) {
@@ -701,35 +716,39 @@ void Overlay::crossing_facets(const Placed& A, const Placed& B) {
   // The normals, in a loop of their own (its square roots and divisions overlap). The
   // parallelogram e_A (+) e_B has normal +-(d_A x d_B), the sign from `up` (its crossing point
   // X = a G_L' + b G_R', a, b > 0, has G_L' . (c x d_B) = -|d_B|^2 (d_A . G_L'), so X = -s1 c /
-  // |c|). The cross product of edges within 1e-4 rad of parallel cancels (its direction is good
-  // to 1e-16 / sin(angle) only): there the crossing point itself, from the normals, which are
-  // perpendicular to the edges to rounding whatever the angle. Edges that stray from their arcs'
-  // poles (faces planar only to a tolerance, see ShapeData::pole_slack) would tilt the plane out
-  // of the crossing's cells: there the poles (in the overlay frame, A's body frame: a normal from
-  // them is turned by A's pose). (A flat operand's degenerate parallelograms were dropped; their
-  // planes are skipped.)
+  // |c|). That holds while d_A and d_B lie along their arcs' exact poles, to far less than the
+  // angle between them; else their cross product's direction, even its sign, is noise:
+  //  - edges within 1e-4 rad of parallel (the cross product cancels);
+  //  - a pole rounded from normals that nearly coincide (a short arc): G_L x G_R in double is
+  //    off the exact pole, which the walk's predicates follow, by up to pole_error;
+  //  - edges that stray from their arcs' poles (faces planar only to a tolerance, see
+  //    ShapeData::pole_slack): there the poles stand for the edges (map_normals; in the overlay
+  //    frame, A's body frame: a normal from them is turned by A's pose).
+  // Where the first rule fails, the circles' crossing from the poles; where that fails too, or
+  // the normal found is not on both arcs, near_parallel_normal: a normal in both arcs. (A flat
+  // operand's degenerate parallelograms were dropped; their planes are skipped.)
+  const double slack = map_normals ? 0.0 : sa.pole_slack + sb.pole_slack;
   for (const Crossing& x : crossings) {
     if (x.facet < 0) continue;
+    const double poles = pole_error(A, x.ea) + pole_error(B, x.eb);
     const Vector3d da = map_normals ? A.pole(x.ea) : A.edge(x.ea), db = map_normals ? B.pole(x.eb) : B.edge(x.eb);
     const Vector3d c = da.cross(db);
-    const double c2 = c.squaredNorm();
+    const double c2 = c.squaredNorm(), edges = std::max(1e-4, 4 * (poles + slack));
     Vector3d& n = normal[x.facet];
-    if (c2 > 1e-8 * da.squaredNorm() * db.squaredNorm()) {
+    if (c2 > edges * edges * da.squaredNorm() * db.squaredNorm()) {
       n = c * ((x.up ? -1 : 1) / std::sqrt(c2));
       if (map_normals && A.turned) n = A.world * n;
-      continue;
+      if (on_arcs(A, x.ea, B, x.eb, n)) continue;
     }
     loose[x.facet] = true;
-    // Edges that cancel (or a prism's zero-length edge) on arcs whose circles do not: the
-    // circles' crossing, from the poles; circles that coincide too: near_parallel_normal.
     const Vector3d pa = A.pole(x.ea), pb = B.pole(x.eb), cp = pa.cross(pb);
-    const double cp2 = cp.squaredNorm();
-    if (cp2 > 1e-8 * pa.squaredNorm() * pb.squaredNorm()) {
+    const double cp2 = cp.squaredNorm(), circles = std::max(1e-4, 4 * poles);
+    if (cp2 > circles * circles * pa.squaredNorm() * pb.squaredNorm()) {
       n = cp * ((x.up ? -1 : 1) / std::sqrt(cp2));
       if (A.turned) n = A.world * n;
-    } else {
-      n = near_parallel_normal(A.unit(A.L(x.ea)), A.unit(A.R(x.ea)), B.unit(B.L(x.eb)), B.unit(B.R(x.eb)));
+      if (on_arcs(A, x.ea, B, x.eb, n)) continue;
     }
+    n = near_parallel_normal(A.unit(A.L(x.ea)), A.unit(A.R(x.ea)), B.unit(B.L(x.eb)), B.unit(B.R(x.eb)));
   }
 }
 

@@ -67,6 +67,11 @@ struct ShapeData {
   /// 1e-16 / |G_L x G_R|), or faces planar only to a tolerance (Qhull's merged facets, a
   /// flat polygon's points within 1e-10 of its plane).
   double pole_slack = 0;
+  /// A bound on what a normal placed on the wrong side of an arc can cost a sum's support
+  /// value: per arc, the angle between its rounded pole and the exact cross product of the
+  /// stored normals (1e-15 |G_L| |G_R| / |G_L x G_R|, large on a sliver whose adjacent faces
+  /// nearly coincide or nearly oppose) times its edge's length; the largest over the arcs.
+  double support_error = 0;
   std::vector<Eigen::Vector3d> dir;              // prepare's: per arc p_v - p_u (a prism's zero-length arcs: -normal x width)
 };
 

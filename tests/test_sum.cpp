@@ -327,6 +327,45 @@ TEST(HardCases, DuplicatedAndNearDuplicatedVertices) {
   check_all(make(a, tools::rotated(tools::cube_points(), tools::table1_rotation())), 1e-12, false);
 }
 
+// The fast path (polytopes, and shapes at identity poses), sum and difference, against brute
+// force; `exact_enough`: it needs no corrector.
+void check_fast(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, bool exact_enough) {
+  const Operands o = make(a, b);
+  ConvexShape SA, SB;
+  ASSERT_EQ(shape_from_points(a, SA), Status::Ok);
+  ASSERT_EQ(shape_from_points(b, SB), Status::Ok);
+  const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();
+  for (double s : {1.0, -1.0}) {
+    MinkowskiSum m, posed;
+    ASSERT_EQ(s > 0 ? minkowski_sum(o.A, o.B, m) : minkowski_difference(o.A, o.B, m), Status::Ok);
+    EXPECT_TRUE(valid_sum(a, b, s, o.A, o.B, m, 1e-12, 1e-12, 300)) << "sign " << s;
+    ASSERT_EQ(s > 0 ? minkowski_sum(SA, I, SB, I, posed) : minkowski_difference(SA, I, SB, I, posed), Status::Ok);
+    EXPECT_TRUE(valid_sum(a, b, s, SA.polytope(), SB.polytope(), posed, 1e-12, 1e-12, 300)) << "shapes, sign " << s;
+    if (exact_enough) EXPECT_FALSE(m.corrected || posed.corrected) << "sign " << s;
+  }
+}
+
+// Fuzz finding (fuzz_sum, seed 31): a crossing of a short arc (faces 1.6e-14 rad apart) with an
+// arc whose edge is parallel to its edge to 1e-71. The parallelogram's normal came from the
+// rounded poles' cross product, whose sign was noise there: a facet turned inside out, a
+// pairwise sum 0.7 size beyond it. (Coordinates 4e71 against units.)
+TEST(HardCases, CrossingOfAShortArcWithAParallelEdge) {
+  const double L = 4.2525583765009148e+71, M = 4.2525583765008447e+71;
+  check_fast({{0, 1, 0}, {-L, 1, 0}, {0, 0, -L}, {-L, -L, -L}, {0, -M, -L}}, {{-L, 0, 197}, {-L, -L, -L}, {1, 1, 0}}, true);
+}
+
+// Fuzz finding (fuzz_sum, seed 32): a sliver tetrahedron whose adjacent faces nearly oppose
+// (dihedral angle 2.6e-10), so the poles rounded from its normals are off by 4e-6 rad, and a
+// triangle's normal 7e-8 rad inside one cell was placed in its neighbour: a support off by 1e-7
+// of the size. Such maps (ShapeData::support_error) have their results certified.
+TEST(HardCases, SliverWithNearlyOpposedFaces) {
+  const double L = 4.2525583765009148e+71;
+  check_fast({{256, 8.3885719050467071e-308, -4}, {0, 0.03125, 0}, {-L, -200, 0}, {-L, -197.640625, -L}},
+             {{1.1210841918420029e-71, -L, -4.2525583780818657e+71}, {-L, 199.390625, 196.765625},
+              {-L, -4.2525587812305062e+71, -196.78125}, {0, 1.8699346191297772e-307, -L}},
+             false);
+}
+
 TEST(HardCases, NonFiniteInputIsRejected) {
   for (double bad : {std::nan(""), std::numeric_limits<double>::infinity()}) {
     auto pts = tools::cube_points();
