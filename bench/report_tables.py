@@ -31,16 +31,21 @@ def per_facet_ns(r):
     return round(us(r) * 1e3 / f, 2) if f else ""
 
 
+def per_work_ns(r):
+    """Time per unit of the overlay's work, input edges plus output facets (osm_prepared rows)."""
+    return round(us(r) * 1e3 / (r["input_edges"] + r["facets"]), 2) if "input_edges" in r else ""
+
+
 def table1(p, r):
-    return p[0] == "Table1" and [p[1], p[2], us(r), facets(r), per_facet_ns(r)]
+    return p[0] == "Table1" and [p[1], p[2], us(r), facets(r), per_facet_ns(r), per_work_ns(r)]
 
 
 def degenerate(p, r):
-    return p[0] == "Degenerate" and [p[1], p[2], us(r), facets(r), per_facet_ns(r)]
+    return p[0] == "Degenerate" and [p[1], p[2], us(r), facets(r), per_facet_ns(r), per_work_ns(r)]
 
 
 def scaling(p, r):
-    return p[0] == "Scaling" and [p[1], p[2], us(r), facets(r), int(p[1]) ** 2, per_facet_ns(r)]
+    return p[0] == "Scaling" and [p[1], p[2], us(r), facets(r), int(p[1]) ** 2, per_facet_ns(r), per_work_ns(r)]
 
 
 def speed_error(p, r):
@@ -83,9 +88,9 @@ def trajectory(p, r):
 
 
 TABLES = {
-    "table1": (["pair", "method", "time_us", "facets", "ns_per_facet"], table1),
-    "degenerate": (["case", "method", "time_us", "facets", "ns_per_facet"], degenerate),
-    "scaling": (["n", "method", "time_us", "facets", "pairs", "ns_per_facet"], scaling),
+    "table1": (["pair", "method", "time_us", "facets", "ns_per_facet", "ns_per_edge_or_facet"], table1),
+    "degenerate": (["case", "method", "time_us", "facets", "ns_per_facet", "ns_per_edge_or_facet"], degenerate),
+    "scaling": (["n", "method", "time_us", "facets", "pairs", "ns_per_facet", "ns_per_edge_or_facet"], scaling),
     "speed_error": (["set", "method", "precision", "isa", "s_per_case", "max_rel_error", "exact_structure"],
                     speed_error),
     "near_parallel": (["k", "method", "time_us", "facets", "exact_facets", "euler_ok", "corrected",
