@@ -727,10 +727,13 @@ void Overlay::crossing_facets(const Placed& A, const Placed& B) {
   // Where the first rule fails, the circles' crossing from the poles; where that fails too, or
   // the normal found is not on both arcs, near_parallel_normal: a normal in both arcs. (A flat
   // operand's degenerate parallelograms were dropped; their planes are skipped.)
+  // Where the shapes' largest pole errors (twice, for a turned map's rounding) are far below
+  // 1e-4, the 1e-4 rule alone decides and the sign is certain; else each crossing's own.
   const double slack = map_normals ? 0.0 : sa.pole_slack + sb.pole_slack;
+  const bool certain = 4 * (2 * (sa.pole_error + sb.pole_error) + slack) <= 1e-6;
   for (const Crossing& x : crossings) {
     if (x.facet < 0) continue;
-    const double poles = pole_error(A, x.ea) + pole_error(B, x.eb);
+    const double poles = certain ? 0.0 : pole_error(A, x.ea) + pole_error(B, x.eb);
     const Vector3d da = map_normals ? A.pole(x.ea) : A.edge(x.ea), db = map_normals ? B.pole(x.eb) : B.edge(x.eb);
     const Vector3d c = da.cross(db);
     const double c2 = c.squaredNorm(), edges = std::max(1e-4, 4 * (poles + slack));
@@ -738,7 +741,7 @@ void Overlay::crossing_facets(const Placed& A, const Placed& B) {
     if (c2 > edges * edges * da.squaredNorm() * db.squaredNorm()) {
       n = c * ((x.up ? -1 : 1) / std::sqrt(c2));
       if (map_normals && A.turned) n = A.world * n;
-      if (on_arcs(A, x.ea, B, x.eb, n)) continue;
+      if (certain || on_arcs(A, x.ea, B, x.eb, n)) continue;
     }
     loose[x.facet] = true;
     const Vector3d pa = A.pole(x.ea), pb = B.pole(x.eb), cp = pa.cross(pb);
@@ -746,7 +749,7 @@ void Overlay::crossing_facets(const Placed& A, const Placed& B) {
     if (cp2 > circles * circles * pa.squaredNorm() * pb.squaredNorm()) {
       n = cp * ((x.up ? -1 : 1) / std::sqrt(cp2));
       if (A.turned) n = A.world * n;
-      if (on_arcs(A, x.ea, B, x.eb, n)) continue;
+      if (certain || on_arcs(A, x.ea, B, x.eb, n)) continue;
     }
     n = near_parallel_normal(A.unit(A.L(x.ea)), A.unit(A.R(x.ea)), B.unit(B.L(x.eb)), B.unit(B.R(x.eb)));
   }

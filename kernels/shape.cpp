@@ -284,11 +284,13 @@ Status prepare(const ConvexPolytope& p, ShapeData& s, bool negated_layout) {
     const int u = s.cell_vertex[s.map[0].arc[e].u], v = s.cell_vertex[s.map[0].arc[e].v];
     s.ex[e] = s.px[v] - s.px[u], s.ey[e] = s.py[v] - s.py[u], s.ez[e] = s.pz[v] - s.pz[u];
   }
-  s.support_error = 0;
+  s.support_error = s.pole_error = 0;
   for (int e = 0; e < s.arcs; ++e) {
     const MapLayout::Arc& a = s.map[0].arc[e];
     const double c = s.pole[0][e].norm(), d = std::sqrt(s.ex[e] * s.ex[e] + s.ey[e] * s.ey[e] + s.ez[e] * s.ez[e]);
-    if (d > 0) s.support_error = std::max(s.support_error, 1e-15 * s.gauss[a.L].norm() * s.gauss[a.R].norm() * d / c);
+    const double angle = 1e-15 * s.gauss[a.L].norm() * s.gauss[a.R].norm() / c;  // (c > 0: check_map)
+    s.pole_error = std::max(s.pole_error, angle);
+    if (d > 0) s.support_error = std::max(s.support_error, angle * d);
   }
   s.nx.resize(size_t(s.faces)), s.ny.resize(size_t(s.faces)), s.nz.resize(size_t(s.faces));
   for (int f = 0; f < s.faces; ++f) {

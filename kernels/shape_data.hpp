@@ -72,6 +72,8 @@ struct ShapeData {
   /// stored normals (1e-15 |G_L| |G_R| / |G_L x G_R|, large on a sliver whose adjacent faces
   /// nearly coincide or nearly oppose) times its edge's length; the largest over the arcs.
   double support_error = 0;
+  /// The largest of those angles (pole_error in overlay.cpp) over the arcs.
+  double pole_error = 0;
   std::vector<Eigen::Vector3d> dir;              // prepare's: per arc p_v - p_u (a prism's zero-length arcs: -normal x width)
 };
 
