@@ -305,14 +305,8 @@ Vector3d near_parallel_normal(const Vector3d& a1, const Vector3d& a2, const Vect
   return std::cos(theta) * u + std::sin(theta) * w;
 }
 
-// The angle (a bound) between arc e's pole as stored, G_L x G_R rounded, and the exact cross
-// product of the stored normals, which the predicates follow: each component of the rounded
-// product is within 2 eps |G_L| |G_R| of the exact one (|error| <= 4e-16 |G_L| |G_R|, so 1e-15
-// leaves a margin); large on a short arc, whose normals nearly coincide.
-double pole_error(const Placed& X, int e) {
-  const double c2 = X.c[e].squaredNorm();
-  return c2 > 0 ? 1e-15 * std::sqrt(X.g[X.L(e)].squaredNorm() * X.g[X.R(e)].squaredNorm() / c2) : HUGE_VAL;
-}
+// Arc e's pole_error_bound as placed (a turned map's poles are rounded from turned normals).
+double pole_error(const Placed& X, int e) { return pole_error_bound(X.g[X.L(e)], X.g[X.R(e)], X.c[e]); }
 
 // Whether the unit normal n (world frame) can be on both crossing arcs: an arc shorter than pi
 // lies within pi / 2 of its midpoint, so a normal off by a flipped sign fails.

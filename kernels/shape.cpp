@@ -287,8 +287,8 @@ Status prepare(const ConvexPolytope& p, ShapeData& s, bool negated_layout) {
   s.support_error = s.pole_error = 0;
   for (int e = 0; e < s.arcs; ++e) {
     const MapLayout::Arc& a = s.map[0].arc[e];
-    const double c = s.pole[0][e].norm(), d = std::sqrt(s.ex[e] * s.ex[e] + s.ey[e] * s.ey[e] + s.ez[e] * s.ez[e]);
-    const double angle = 1e-15 * s.gauss[a.L].norm() * s.gauss[a.R].norm() / c;  // (c > 0: check_map)
+    const double d = std::sqrt(s.ex[e] * s.ex[e] + s.ey[e] * s.ey[e] + s.ez[e] * s.ez[e]);
+    const double angle = pole_error_bound(s.gauss[a.L], s.gauss[a.R], s.pole[0][e]);
     s.pole_error = std::max(s.pole_error, angle);
     if (d > 0) s.support_error = std::max(s.support_error, angle * d);
   }

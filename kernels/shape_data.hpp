@@ -3,6 +3,7 @@
 
 #include <minksum/shape.hpp>
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -68,14 +69,22 @@ struct ShapeData {
   /// flat polygon's points within 1e-10 of its plane).
   double pole_slack = 0;
   /// A bound on what a normal placed on the wrong side of an arc can cost a sum's support
-  /// value: per arc, the angle between its rounded pole and the exact cross product of the
-  /// stored normals (1e-15 |G_L| |G_R| / |G_L x G_R|, large on a sliver whose adjacent faces
-  /// nearly coincide or nearly oppose) times its edge's length; the largest over the arcs.
+  /// value: per arc, pole_error_bound (large on a sliver whose adjacent faces nearly coincide or
+  /// nearly oppose) times its edge's length; the largest over the arcs.
   double support_error = 0;
-  /// The largest of those angles (pole_error in overlay.cpp) over the arcs.
+  /// The largest of those angles (pole_error_bound) over the arcs.
   double pole_error = 0;
   std::vector<Eigen::Vector3d> dir;              // prepare's: per arc p_v - p_u (a prism's zero-length arcs: -normal x width)
 };
+
+/// The angle (a bound) between the pole G_L x G_R rounded in double and the exact cross product
+/// of the two normals, which the predicates follow: each component of the rounded product is
+/// within 2 eps |G_L| |G_R| of the exact one (4e-16 |G_L| |G_R| in all; 1e-15 leaves a margin).
+/// Large on a short arc, or one between faces that nearly oppose.
+inline double pole_error_bound(const Eigen::Vector3d& gl, const Eigen::Vector3d& gr, const Eigen::Vector3d& pole) {
+  const double c2 = pole.squaredNorm();
+  return c2 > 0 ? 1e-15 * std::sqrt(gl.squaredNorm() * gr.squaredNorm() / c2) : HUGE_VAL;
+}
 
 /// The library's access to a shape's data.
 struct ShapeAccess {
