@@ -631,70 +631,354 @@ bool nearest_on_simplex(const Vector3d* w, int n, double (&lambda)[4]) {
 
 // The nearest features of separated shapes by GJK (Gilbert, Johnson & Keerthi, "A fast
 // procedure for computing the distance between complex objects in three-dimensional space",
-// IEEE J. Robotics and Automation 4(2), 1988) on M = A (-) B: returns 3 with up to three
-// vertices of A (fa) and of B (fb) whose hulls hold the nearest points, 4 with the four pairs
-// of a tetrahedron of M around the origin, or 0 (NaN). Its answer is a guess, rounding and
-// all: certified_distance and certified_depth prove it or the caller does the exhaustive
-// search. M's points are scaled by `scale`, a power of two near 1 / the coordinates'
-// magnitude, so that their products neither overflow nor underflow.
+// IEEE J. Robotics and Automation 4(2), 1988) on M = A (-) B, from the support pairs
+// (start_a[k], start_b[k]), k < start (a cold query: one pair; a coherent one: the last
+// answer's three): returns 3 with up to three vertices of A (fa) and of B (fb) whose hulls hold
+// the nearest points, 4 with the four pairs of a tetrahedron of M around the origin, or 0
+// (NaN). Its answer is a guess, rounding and all: certified_distance, certified_depth and
+// certified_touching prove it, or the caller does the exhaustive search. M's points are scaled
+// by `scale`, a power of two near 1 / the coordinates' magnitude, so that their products
+// neither overflow nor underflow.
 template <class A, class B>
-int gjk_features(const A& a, const B& b, double scale, int (&fa)[4], int (&fb)[4]) {
-  Vector3d w[4] = {scale * (a.vertex(0) - b.vertex(0))};
-  int ia[4] = {0}, ib[4] = {0}, n = 1;
-  Vector3d v = w[0];
-  for (int iter = 0; iter < 64; ++iter) {
-    // M's support point in -v: A's lowest vertex along v minus B's highest.
-    double lo, hi;
-    const int ka = highest(a, -v, lo), kb = highest(b, v, hi);
-    lo = -lo;
-    const double vv = v.squaredNorm();
-    // Stop when M reaches no further towards the origin than v does (to rounding), or repeats.
-    if (!(vv - scale * (lo - hi) > 1e-13 * vv)) break;
+int gjk_features(const A& a, const B& b, double scale, const int* start_a, const int* start_b, int start,
+                 int (&fa)[4], int (&fb)[4]) {
+  Vector3d w[4];
+  int ia[4], ib[4], n = 0;
+  for (int j = 0; j < start; ++j) {
     bool repeat = false;
-    for (int j = 0; j < n; ++j) repeat |= ia[j] == ka && ib[j] == kb;
-    if (repeat) break;
-    w[n] = scale * (a.vertex(ka) - b.vertex(kb)), ia[n] = ka, ib[n] = kb, ++n;
+    for (int m = 0; m < n; ++m) repeat |= ia[m] == start_a[j] && ib[m] == start_b[j];
+    if (!repeat) w[n] = scale * (a.vertex(start_a[j]) - b.vertex(start_b[j])), ia[n] = start_a[j], ib[n] = start_b[j], ++n;
+  }
+  double vv = std::numeric_limits<double>::infinity();
+  for (int iter = 0; iter < 64; ++iter) {
     double lambda[4];
     if (!nearest_on_simplex(w, n, lambda)) {
       std::copy(ia, ia + 4, fa), std::copy(ib, ib + 4, fb);
       return 4;
     }
     // Keep the nearest feature's points only.
-    Vector3d next = Vector3d::Zero();
+    Vector3d v = Vector3d::Zero();
     int m = 0;
     for (int j = 0; j < n; ++j)
-      if (lambda[j] > 0) next += lambda[j] * w[j], w[m] = w[j], ia[m] = ia[j], ib[m] = ib[j], ++m;
+      if (lambda[j] > 0) v += lambda[j] * w[j], w[m] = w[j], ia[m] = ia[j], ib[m] = ib[j], ++m;
     if (m == 0) return 0;  // no weight left (NaN from a degenerate simplex)
     n = m;
-    if (!(next.squaredNorm() < vv)) break;  // no progress: rounding has the last word
-    v = next;
+    if (!(v.squaredNorm() < vv)) break;  // no progress: rounding has the last word
+    vv = v.squaredNorm();
+    // M's support point in -v: A's lowest vertex along v minus B's highest.
+    double lo, hi;
+    const int ka = highest(a, -v, lo), kb = highest(b, v, hi);
+    lo = -lo;
+    // Stop when M reaches no further towards the origin than v does (to rounding), or repeats.
+    if (!(vv - scale * (lo - hi) > 1e-13 * vv)) break;
+    bool repeat = false;
+    for (int j = 0; j < n; ++j) repeat |= ia[j] == ka && ib[j] == kb;
+    if (repeat || n == 4) break;
+    w[n] = scale * (a.vertex(ka) - b.vertex(kb)), ia[n] = ka, ib[n] = kb, ++n;
   }
   for (int j = 0; j < 3; ++j) fa[j] = ia[std::min(j, n - 1)], fb[j] = ib[std::min(j, n - 1)];
   return 3;
 }
 
-// The distance of separated shapes from the features GJK settles on, proven: the exact nearest
-// points p, q of the two features' hulls (triangle_distance, repeated vertices allowed), and
-// the planes through p and q normal to n = (q - p) / |q - p|. If every vertex of A is at most
-// s_A above p's plane and every vertex of B at most s_B below q's, no pair of points is nearer
-// than n . (q - p) - s_A - s_B, so |q - p| is the distance to within s_A + s_B (rounding makes
-// n slightly off, so they are not zero): kept if that is below `slack`, and the shapes are
-// farther apart than `touching` plus it. Otherwise false: the caller searches exhaustively.
+// The frame of a certified answer: the unit normal n (from A towards B) of the planes that
+// prove it, A's top (max n . a, at vertex ia) and B's bottom (min n . b, at vertex ib) along
+// it, and whether each is reached at that vertex alone (no other vertex within `tau`).
+struct Contact {
+  Vector3d n = Vector3d::Zero();
+  double top = 0, bottom = 0;
+  int ia = 0, ib = 0;
+  bool a_single = false, b_single = false;
+};
+
+// The vertex of s highest along n, its height, and whether every other vertex lies more than
+// tau below it.
+template <class S>
+int top_of(const S& s, const Vector3d& n, double tau, double& value, bool& single) {
+  int best = 0;
+  double first = -std::numeric_limits<double>::infinity(), second = first;
+  for (int k = 0; k < s.size(); ++k) {
+    const double x = n.dot(s.vertex(k));
+    if (x > first) second = first, first = x, best = k;
+    else second = std::max(second, x);
+  }
+  value = first, single = second < first - tau;
+  return best;
+}
+
+// The same for a posed shape, with n turned into the body frame once.
+[[gnu::flatten]] int top_of(const PosedShape& s, const Vector3d& n, double tau, double& value, bool& single) {
+  const Vector3d nb = s.R.transpose() * n;
+  int best = 0;
+  double first = -std::numeric_limits<double>::infinity(), second = first;
+  for (int k = 0; k < s.size(); ++k) {
+    const double x = nb.dot(s.p.vertices[k]);
+    if (x > first) second = first, first = x, best = k;
+    else second = std::max(second, x);
+  }
+  value = first + n.dot(s.t), single = second < first - tau;
+  return best;
+}
+
 template <class A, class B>
-bool certified_distance(const A& a, const B& b, const int (&fa)[4], const int (&fb)[4], double slack,
-                        double touching, Proximity& out) {
-  const Vector3d s[3] = {a.vertex(fa[0]), a.vertex(fa[1]), a.vertex(fa[2])};
-  const Vector3d t[3] = {b.vertex(fb[0]), b.vertex(fb[1]), b.vertex(fb[2])};
-  Vector3d p, q;
-  const double d = triangle_distance(s, t, p, q);
+Contact heights(const A& a, const B& b, const Vector3d& n, double tau) {
+  Contact c;
+  c.n = n;
+  c.ia = top_of(a, n, tau, c.top, c.a_single);
+  c.ib = top_of(b, Vector3d(-n), tau, c.bottom, c.b_single);
+  c.bottom = -c.bottom;
+  return c;
+}
+
+// Up to two orthonormal directions spanned by the features of one answer (each shape's points
+// minus its first); -1 if they span three (the features do not lie on two parallel planes).
+int feature_span(const Vector3d* s, int ns, const Vector3d* t, int nt, Vector3d (&u)[2]) {
+  int rank = 0;
+  const auto add = [&](Vector3d e) {
+    const double len = e.norm();
+    for (int k = 0; k < rank; ++k) e -= e.dot(u[k]) * u[k];
+    const double rest = e.norm();
+    if (!(rest > 1e-6 * len)) return true;  // dependent (or a repeated point)
+    if (rank == 2) return false;
+    u[rank++] = e / rest;
+    return true;
+  };
+  for (int k = 1; k < ns; ++k)
+    if (!add(s[k] - s[0])) return -1;
+  for (int k = 1; k < nt; ++k)
+    if (!add(t[k] - t[0])) return -1;
+  return rank;
+}
+
+// The distance of separated shapes from the features GJK settles on, proven: the exact nearest
+// points p, q of the features' hulls (triangle_distance, repeated vertices allowed), d = |q - p|,
+// and a unit n with A below the plane n . x = top and B above n . x = bottom: no pair of points
+// is nearer than bottom - top, so d is the distance to within d - (bottom - top), kept when
+// that is at most `slack` and d > touching + slack. The candidates for n, best first:
+// q - p made orthogonal to the directions the features span (exactly orthogonal to the nearest
+// sets when they are a face, an edge or parallel edges, where q - p alone is turned by
+// rounding / d, which a face of size L lifts L * rounding / d above its plane), q - p itself,
+// and the face normals of A and of B nearest it. Otherwise false (p, q and d are still set).
+template <class A, class B>
+bool certified_distance(const A& a, const B& b, const Vector3d* s, const Vector3d* t, double slack, double touching,
+                        double tau, Vector3d& p, Vector3d& q, double& d, Proximity& out, Contact& c) {
+  const Vector3d s3[3] = {s[0], s[1], s[2]}, t3[3] = {t[0], t[1], t[2]};
+  d = triangle_distance(s3, t3, p, q);
   if (!(d > touching + slack)) return false;
-  const Vector3d n = (q - p) / d;
-  double top, bottom;
-  highest(a, n, top), highest(b, -n, bottom);
-  const double above = std::max(0.0, top - n.dot(p)), below = std::max(0.0, bottom + n.dot(q));
-  if (!(above + below <= slack)) return false;
+  const Vector3d n0 = (q - p) / d;
+  const auto proves = [&](const Vector3d& n) {
+    c = heights(a, b, n, tau);
+    return d - (c.bottom - c.top) <= slack;
+  };
+  bool ok = false;
+  Vector3d u[2];
+  if (const int rank = feature_span(s, 3, t, 3, u); rank > 0) {
+    Vector3d n1 = n0;
+    for (int k = 0; k < rank; ++k) n1 -= n1.dot(u[k]) * u[k];
+    ok = n1.norm() > 0.5 && proves(n1.normalized());
+  }
+  ok = ok || proves(n0);
+  // The face normals nearest n0 (of a flat shape: either side).
+  const auto nearest_face = [&](const auto& shape, double sign) {
+    Vector3d best = Vector3d::Zero();
+    double align = -2;
+    for (int f = 0; f < shape.faces(); ++f) {
+      Vector3d nf = sign * shape.face_normal(f);
+      if (!shape.solid && nf.dot(n0) < 0) nf = -nf;
+      if (const double x = nf.dot(n0); x > align) align = x, best = nf;
+    }
+    return best;
+  };
+  ok = ok || proves(nearest_face(a, 1.0)) || proves(nearest_face(b, -1.0));
+  if (!ok) return false;
   out.distance = d, out.point_a = p, out.point_b = q;
   return true;
+}
+
+// Touching, proven directly: points p of A and q of B at most `touching` apart (so the
+// distance is at most that), and a unit n with bottom - top >= -touching (a separating axis
+// along which they overlap by at most that, so the depth is at most that too): intersecting,
+// at distance 0 and depth max(0, top - bottom). The candidates for n are the planes of A's faces
+// through p and of B's faces through q (negated), then the cross product of the features' two
+// edge directions (an edge across an edge), each sign; at most four are tried, those that the
+// features (s on A, t on B) least contradict first.
+template <class A, class B>
+bool certified_touching(const A& a, const B& b, const Vector3d& p, const Vector3d& q, const Vector3d* s, const Vector3d* t,
+                        int count, double touching, double tau, double margin, Proximity& out, Contact& c) {
+  if (!(length(p - q) <= touching)) return false;
+  constexpr int kMax = 16;
+  Vector3d cand[kMax];
+  double score[kMax];
+  int n = 0;
+  const auto add = [&](const Vector3d& nc) {
+    if (n == kMax || !(nc.squaredNorm() > 0.25)) return;
+    double hi = -std::numeric_limits<double>::infinity(), lo = -hi;
+    for (int k = 0; k < count; ++k) hi = std::max(hi, nc.dot(s[k])), lo = std::min(lo, nc.dot(t[k]));
+    cand[n] = nc, score[n] = lo - hi, ++n;
+  };
+  const auto faces_through = [&](const auto& shape, const Vector3d& x, double sign) {
+    for (int f = 0; f < shape.faces(); ++f) {
+      const Vector3d nf = shape.face_normal(f);
+      if (!(std::abs(nf.dot(x) - shape.face_offset(f)) <= margin)) continue;
+      add(sign * nf);
+      if (!shape.solid) add(-sign * nf);
+    }
+  };
+  faces_through(a, p, 1.0), faces_through(b, q, -1.0);
+  Vector3d u[2];
+  if (feature_span(s, count, t, 0, u) == 1) {
+    Vector3d v[2];
+    if (feature_span(t, count, s, 0, v) == 1 && u[0].cross(v[0]).norm() > 1e-6) {
+      const Vector3d x = u[0].cross(v[0]).normalized();
+      add(x), add(-x);
+    }
+  }
+  for (int tries = 0; tries < 4 && n > 0; ++tries) {
+    const int best = int(std::max_element(score, score + n) - score);
+    if (!(score[best] >= -touching - margin)) return false;
+    c = heights(a, b, cand[best], tau);
+    if (c.bottom - c.top >= -touching) {
+      out.intersecting = true;
+      out.distance = 0;
+      out.penetration_depth = std::max(0.0, c.top - c.bottom);
+      out.penetration_direction = c.n;
+      out.point_a = p, out.point_b = q;
+      return true;
+    }
+    score[best] = -std::numeric_limits<double>::infinity();
+  }
+  return false;
+}
+
+// The witnesses on a patch. Where the nearest (or deepest) sets are more than a point (a face
+// on a face, an edge on a face, parallel edges), the first pair GJK meets jumps from corner
+// to corner as the shapes slide. The witnesses are instead the point of the overlap of A's
+// top set and B's bottom set (seen along n) nearest the centre of the smaller one: that centre
+// itself while it lies inside the other (a tool resting on a face), and they move continuously.
+constexpr int kPatch = 128;  // the most vertices a patch keeps (a larger face: GJK's witnesses)
+
+struct Patch {
+  Eigen::Vector2d p[kPatch];
+  int size = 0;
+};
+
+double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+double area2(const Patch& x) {
+  double s = 0;
+  for (int k = 0; k < x.size; ++k) s += cross2(x.p[k], x.p[(k + 1) % x.size]);
+  return s;
+}
+
+// The vertices of s on its level plane (sign +1: A's top, -1: B's bottom) seen along n in the
+// basis (u, w): a face's loop when every vertex of the face nearest n is within tau of the
+// level, else the one or two vertices within tau (an edge). False for more (GJK's witnesses).
+template <class S>
+bool level_set(const S& s, const Vector3d& n, double level, double sign, double tau, const Vector3d& u,
+               const Vector3d& w, Patch& out) {
+  const auto on = [&](const Vector3d& v) { return sign * (n.dot(v) - level) >= -tau; };
+  const auto put = [&](const Vector3d& v) { out.p[out.size++] = Eigen::Vector2d(u.dot(v), w.dot(v)); };
+  int face = -1;
+  double align = -2;
+  for (int f = 0; f < s.faces(); ++f) {
+    double x = sign * s.face_normal(f).dot(n);
+    if (!s.solid) x = std::abs(x);
+    if (x > align) align = x, face = f;
+  }
+  out.size = 0;
+  if (face >= 0 && s.loop_size(face) <= kPatch) {
+    bool all = true;
+    for (int k = 0; k < s.loop_size(face) && all; ++k) all = on(s.loop_vertex(face, k));
+    if (all) {
+      for (int k = 0; k < s.loop_size(face); ++k) put(s.loop_vertex(face, k));
+      if (area2(out) < 0) std::reverse(out.p, out.p + out.size);
+      return true;
+    }
+  }
+  out.size = 0;
+  for (int k = 0; k < s.size(); ++k)
+    if (on(s.vertex(k))) {
+      if (out.size == 2) return false;
+      put(s.vertex(k));
+    }
+  return out.size > 0;
+}
+
+// x clipped to the half-plane left of the directed line a -> b (within tol).
+void clip(Patch& x, const Eigen::Vector2d& a, const Eigen::Vector2d& b, double tol) {
+  Patch in = x;
+  x.size = 0;
+  const Eigen::Vector2d e = b - a;
+  const double scale = tol * e.norm();
+  for (int k = 0; k < in.size; ++k) {
+    const Eigen::Vector2d &p = in.p[k], &r = in.p[(k + 1) % in.size];
+    const double hp = cross2(e, p - a), hr = cross2(e, r - a);
+    if (hp >= -scale && x.size < kPatch) x.p[x.size++] = p;
+    if (((hp >= -scale) != (hr >= -scale)) && x.size < kPatch) x.p[x.size++] = p + (hp / (hp - hr)) * (r - p);
+  }
+}
+
+// Whether c lies in the convex polygon x (counter-clockwise, 3 or more vertices; within tol).
+bool holds(const Patch& x, const Eigen::Vector2d& c, double tol) {
+  for (int k = 0; k < x.size; ++k) {
+    const Eigen::Vector2d e = x.p[(k + 1) % x.size] - x.p[k];
+    if (cross2(e, c - x.p[k]) < -tol * e.norm()) return false;
+  }
+  return true;
+}
+
+// The point of the set x (a point, a segment or a convex polygon) nearest c.
+Eigen::Vector2d nearest_in(const Patch& x, const Eigen::Vector2d& c, double tol) {
+  if (x.size >= 3 && holds(x, c, tol)) return c;
+  Eigen::Vector2d best = x.p[0];
+  for (int k = 0; k < x.size; ++k) {
+    const Eigen::Vector2d &p = x.p[k], e = x.p[(k + 1) % x.size] - p;
+    const double len2 = e.squaredNorm();
+    const Eigen::Vector2d y = p + (len2 > 0 ? std::clamp((c - p).dot(e) / len2, 0.0, 1.0) : 0.0) * e;
+    if ((y - c).squaredNorm() < (best - c).squaredNorm()) best = y;
+  }
+  return best;
+}
+
+// The witness on A's and B's level sets P and Q (see Patch); false where they do not meet.
+bool patch_point(const Patch& P, const Patch& Q, double tol, Eigen::Vector2d& x) {
+  if (P.size == 1 || Q.size == 1) return x = (P.size == 1 ? P : Q).p[0], true;
+  const bool p_smaller = std::abs(area2(P)) <= std::abs(area2(Q));
+  const Patch &small = p_smaller ? P : Q, &large = p_smaller ? Q : P;
+  Eigen::Vector2d c = Eigen::Vector2d::Zero();
+  for (int k = 0; k < small.size; ++k) c += small.p[k];
+  c /= small.size;
+  if (large.size >= 3 && holds(large, c, tol)) return x = c, true;
+  Patch overlap = small;
+  if (large.size >= 3) {
+    for (int k = 0; k < large.size && overlap.size > 0; ++k) clip(overlap, large.p[k], large.p[(k + 1) % large.size], tol);
+  } else {  // two segments: they meet only if they lie on one line
+    const Eigen::Vector2d e = large.p[1] - large.p[0];
+    const double len = e.norm();
+    for (int k = 0; k < 2; ++k)
+      if (!(std::abs(cross2(e, small.p[k] - large.p[0])) <= tol * len)) return false;
+    clip(overlap, large.p[0] + Eigen::Vector2d(-e.y(), e.x()), large.p[0], tol);  // beyond large.p[0]
+    clip(overlap, large.p[1], large.p[1] + Eigen::Vector2d(-e.y(), e.x()), tol);  // before large.p[1]
+  }
+  if (overlap.size == 0) return false;
+  x = nearest_in(overlap, c, tol);
+  return true;
+}
+
+// The witnesses of a certified answer from its contact frame c (see Patch): each on its
+// level plane, their difference (bottom - top) n. Left as they are where the patch is not
+// found (more than kPatch vertices, or level sets that do not meet within rounding).
+template <class A, class B>
+void contact_witnesses(const A& a, const B& b, const Contact& c, double tau, Vector3d& pa, Vector3d& pb) {
+  const Vector3d gap = (c.bottom - c.top) * c.n;
+  if (c.a_single) return void((pa = a.vertex(c.ia), pb = pa + gap));
+  if (c.b_single) return void((pb = b.vertex(c.ib), pa = pb - gap));
+  const Vector3d u = c.n.unitOrthogonal(), w = c.n.cross(u);
+  Patch P, Q;
+  if (!level_set(a, c.n, c.top, 1.0, tau, u, w, P) || !level_set(b, c.n, c.bottom, -1.0, tau, u, w, Q)) return;
+  Eigen::Vector2d x;
+  if (!patch_point(P, Q, tau, x)) return;
+  pa = x.x() * u + x.y() * w + c.top * c.n;
+  pb = pa + gap;
 }
 
 // The penetration of overlapping shapes from the tetrahedron of M around the origin that GJK
@@ -816,14 +1100,6 @@ template <class A, class B>
   return false;
 }
 
-// Exact proximity of two shapes: GJK's answer where a certificate proves it (the distance of
-// separated shapes, EPA's depth of overlapping ones), else the exhaustive search. Distance: the
-// nearest pair of surface points, or 0 if the surfaces meet (within rounding of the
-// coordinates) or one shape holds the other. Penetration: every facet normal of M = A (-) B is
-// a face normal of A or B or the cross product of an edge of each (the Gauss map), and
-// h_M(n) >= depth for every unit n, so the least h_M over those candidates (both signs) is the
-// depth; the deepest points are the nearest points of A and of B moved by depth * n, where they
-// touch.
 // The farthest pair: every vertex pair, squared lengths scaled by k (a power of two).
 template <class A, class B>
 void farthest_pair(const A& a, const B& b, double k, Proximity& out) {
@@ -844,33 +1120,93 @@ double scale_of(double reach) {
 }
 
 
+// The tolerances of one query, from the largest coordinate of its shapes (reach; a bound for a
+// posed shape, so that the cold and the coherent query use the same): `slack`, what a
+// certificate may leave between its bounds (the supports' rounding); `touching`, the distance
+// and depth within which the shapes touch; `tau`, how far below its top a vertex still counts
+// as on it (the patch's level sets); `margin`, how far from a face's plane a point still
+// counts as on it (the touching certificate's candidates).
+struct Tolerances {
+  double reach, k, slack, touching, tau, margin;
+};
+
 template <class A, class B>
-void exact_proximity(const A& a, const B& b, Proximity& out, Want want, Features* features = nullptr) {
-  out = Proximity{};
-  // The bounding boxes: the largest coordinate (reach) and the largest |a_i - b_j| component
-  // (size), which sets the tolerances.
+Tolerances tolerances(const A& a, const B& b) {
+  Tolerances t;
+  t.reach = std::max(a.reach(), b.reach());
+  t.k = scale_of(t.reach);
+  t.slack = 64 * std::numeric_limits<double>::epsilon() * t.reach;
+  t.touching = t.slack, t.tau = 4 * t.slack, t.margin = 1e-9 * t.reach;
+  return t;
+}
+
+// The barycentric weights of the origin in the tetrahedron w[0..4) (scaled by k); false if it
+// is flat to rounding.
+bool origin_weights(const Vector3d (&w)[4], double (&l)[4]) {
+  const Vector3d e1 = w[1] - w[0], e2 = w[2] - w[0], e3 = w[3] - w[0];
+  const double det = e1.dot(e2.cross(e3));
+  if (!(std::abs(det) > 1e-12 * e1.norm() * e2.norm() * e3.norm())) return false;
+  l[1] = -w[0].dot(e2.cross(e3)) / det, l[2] = e1.dot(-w[0].cross(e3)) / det, l[3] = e1.dot(e2.cross(-w[0])) / det;
+  l[0] = 1 - l[1] - l[2] - l[3];
+  for (double x : l)
+    if (!(x >= -1e-9)) return false;
+  return true;
+}
+
+// GJK's features proven (see the certificates): the distance (3 pairs), the depth (a
+// tetrahedron around the origin), or touching (either); then the witnesses from the contact
+// frame, and the features kept for the next query. False if no certificate holds.
+template <class A, class B>
+bool certified(const A& a, const B& b, int found, const int (&fa)[4], const int (&fb)[4], const Tolerances& t,
+               Proximity& out, Features* f) {
+  if (found != 3 && found != 4) return false;
+  Vector3d s[4], u[4];
+  for (int j = 0; j < found; ++j) s[j] = a.vertex(fa[j]), u[j] = b.vertex(fb[j]);
+  Contact c;
+  Vector3d p, q;
+  bool ok = false;
+  if (found == 3) {
+    double d;
+    ok = certified_distance(a, b, s, u, t.slack, t.touching, t.tau, p, q, d, out, c) ||
+         certified_touching(a, b, p, q, s, u, 3, t.touching, t.tau, t.margin, out, c);
+  } else if (certified_depth(a, b, fa, fb, t.slack, t.touching, out, f)) {
+    c = heights(a, b, out.penetration_direction, t.tau);
+    ok = true;
+  } else {
+    Vector3d w[4];
+    double l[4];
+    for (int j = 0; j < 4; ++j) w[j] = t.k * (s[j] - u[j]);
+    if (origin_weights(w, l)) {
+      p = l[0] * s[0] + l[1] * s[1] + l[2] * s[2] + l[3] * s[3];
+      q = l[0] * u[0] + l[1] * u[1] + l[2] * u[2] + l[3] * u[3];
+      ok = certified_touching(a, b, p, q, s, u, 4, t.touching, t.tau, t.margin, out, c);
+    }
+  }
+  if (!ok) return false;
+  contact_witnesses(a, b, c, t.tau, out.point_a, out.point_b);
+  if (f && !f->depth) {
+    std::copy(fa, fa + 3, f->a), std::copy(fb, fb + 3, f->b);
+    f->valid = true;
+  }
+  return true;
+}
+
+// The exhaustive search, the last resort where no certificate holds (GJK's features are a
+// guess, rounding and all). Distance: the nearest pair of surface points over the face pairs
+// that can hold them, O(F_A F_B) pairs with bounds that skip most, or 0 if the surfaces meet
+// (within `touching`) or one shape holds the other. Penetration: every facet normal of
+// M = A (-) B is a face normal of A or B or the cross product of an edge of each (the Gauss
+// map), and h_M(n) >= depth for every unit n, so the least h_M over those candidates (both
+// signs) is the depth, O((F_A + F_B + crossing arcs) (V_A + V_B)); the deepest points are the
+// nearest points of A and of B moved by depth * n, where they touch.
+template <class A, class B>
+void searched_proximity(const A& a, const B& b, int found, const Tolerances& t, Proximity& out) {
+  out.searched = true;
   Vector3d alo = a.vertex(0), ahi = alo, blo = b.vertex(0), bhi = blo;
   for (int i = 1; i < a.size(); ++i) alo = alo.cwiseMin(a.vertex(i)), ahi = ahi.cwiseMax(a.vertex(i));
   for (int j = 1; j < b.size(); ++j) blo = blo.cwiseMin(b.vertex(j)), bhi = bhi.cwiseMax(b.vertex(j));
-  const double reach = std::max({alo.cwiseAbs().maxCoeff(), ahi.cwiseAbs().maxCoeff(),
-                                 blo.cwiseAbs().maxCoeff(), bhi.cwiseAbs().maxCoeff()});
   const double size = std::max((ahi - blo).maxCoeff(), (bhi - alo).maxCoeff());
-  const double k = scale_of(reach);
-  if (want & kWantMaxDistance) farthest_pair(a, b, k, out);
-  if (!(want & kWantContact)) return;
-  const double eps = std::numeric_limits<double>::epsilon();
-  const double tol = 64 * eps * size;
-  // GJK, then its answer proven: the distance of separated shapes (the common case), or the
-  // depth of overlapping ones.
-  int fa[4], fb[4];
-  const int found = gjk_features(a, b, k, fa, fb);
-  if (features && (found == 3 || found == 4)) {
-    std::copy(fa, fa + 3, features->a), std::copy(fb, fb + 3, features->b);
-    features->valid = true;
-  }
-  const double slack = 64 * eps * reach;
-  if (found == 3 && certified_distance(a, b, fa, fb, slack, tol, out)) return;
-  if (found == 4 && certified_depth(a, b, fa, fb, slack, tol, out, features)) return;
+  const double tol = t.touching;
   enum class Guess { Separated, Overlapping };
   const Guess guess = found == 4 ? Guess::Overlapping : Guess::Separated;
   double depth = std::numeric_limits<double>::infinity();
@@ -922,25 +1258,37 @@ void exact_proximity(const A& a, const B& b, Proximity& out, Want want, Features
   out.intersecting = true;
   out.penetration_depth = std::max(0.0, depth);
   out.penetration_direction = dir;
-  if (out.penetration_depth > 0) {
-    const Vector3d shift = out.penetration_depth * dir;
-    surface_distance(a, b, shift, 1e-9 * size, out.point_a, out.point_b, &dir);
-    out.point_b -= shift;
+  contact_witnesses(a, b, heights(a, b, dir, t.tau), t.tau, out.point_a, out.point_b);
+}
+
+// Exact proximity of two shapes: GJK's answer where a certificate proves it, else the
+// exhaustive search.
+template <class A, class B>
+void exact_proximity(const A& a, const B& b, Proximity& out, Want want, Features* features = nullptr) {
+  out = Proximity{};
+  const Tolerances t = tolerances(a, b);
+  if (want & kWantMaxDistance) farthest_pair(a, b, t.k, out);
+  if (!(want & kWantContact)) return;
+  int fa[4], fb[4];
+  const int first = 0;
+  const int found = gjk_features(a, b, t.k, &first, &first, 1, fa, fb);
+  if (certified(a, b, found, fa, fb, t, out, features)) return;
+  if (features && (found == 3 || found == 4)) {
+    std::copy(fa, fa + 3, features->a), std::copy(fb, fb + 3, features->b);
+    features->valid = true;
   }
+  searched_proximity(a, b, found, t, out);
 }
 
 // The coherent path (ProximityCache): GJK from the last answer's support pairs, which along a
-// smooth motion ends after one or two supports. Accepted only for shapes apart, or
-// overlapping, by more than `clear` = 1e-6 of the reach (GJK's rounding grows as reach /
-// distance; the fuzzer found needles 1e9 times longer than their distance where it defeats
-// the certificate): there the cold query reaches the same verdict, and its distance or depth
-// agrees to its certified rounding. Anything else (a stale or foreign cache, a near-touching
-// or badly scaled pose, a certificate that fails) returns false, and the caller answers cold.
+// smooth motion ends after one or two supports, and the cold query's certificates, so that
+// the answer is the cold one's to their slack. Anything else (a stale or foreign cache, a
+// badly scaled pose, no certificate) returns false, and the caller answers cold.
 // The overlapping case from the last depth: its facet of M (three support pairs) and M's
 // support point on the other side of the origin make a tetrahedron around it, from which the
 // expanding polytope's certificate usually holds at once (the facet is still M's nearest).
 template <class A, class B>
-bool warm_depth(const A& a, const B& b, const ProximityCache& cache, double slack, double clear, Proximity& out,
+bool warm_depth(const A& a, const B& b, const ProximityCache& cache, const Tolerances& t, Proximity& out,
                 Features& f) {
   Vector3d w[3];
   for (int j = 0; j < 3; ++j) w[j] = a.vertex(cache.a[j]) - b.vertex(cache.b[j]);
@@ -949,8 +1297,8 @@ bool warm_depth(const A& a, const B& b, const ProximityCache& cache, double slac
   double unused;
   const int ka = highest(a, -n, unused), kb = highest(b, n, unused);
   int ta[4] = {cache.a[0], cache.a[1], cache.a[2], ka}, tb[4] = {cache.b[0], cache.b[1], cache.b[2], kb};
-  if (certified_depth(a, b, ta, tb, slack, clear, out, &f)) return true;
-  out = Proximity{};
+  if (certified(a, b, 4, ta, tb, t, out, &f)) return true;
+  out = Proximity{}, f = Features{};
   return false;
 }
 
@@ -961,61 +1309,17 @@ template <class A, class B>
   if (cache.kind != kCacheConvex || !(want & kWantContact)) return false;
   for (int j = 0; j < 3; ++j)
     if (cache.a[j] < 0 || cache.a[j] >= a.size() || cache.b[j] < 0 || cache.b[j] >= b.size()) return false;
-  const double reach = std::max(a.reach(), b.reach());
-  if (!(reach > 0 && reach <= kMaxCoordinate)) return false;
+  const Tolerances t = tolerances(a, b);
+  if (!(t.reach > 0 && t.reach <= kMaxCoordinate)) return false;
   out = Proximity{};
-  const double eps = std::numeric_limits<double>::epsilon();
-  const double k = scale_of(reach), slack = 64 * eps * reach, clear = 1e-6 * reach;
-  if (cache.active == kDepthFacet && warm_depth(a, b, cache, slack, clear, out, f)) {
-    if (want & kWantMaxDistance) farthest_pair(a, b, k, out);
-    return true;
+  bool ok = cache.active == kDepthFacet && warm_depth(a, b, cache, t, out, f);
+  if (!ok) {
+    int fa[4], fb[4];
+    const int found = gjk_features(a, b, t.k, cache.a, cache.b, 3, fa, fb);
+    ok = certified(a, b, found, fa, fb, t, out, &f);
   }
-  // GJK from the cached simplex (Gilbert, Johnson & Keerthi 1988), with its own certificate: v
-  // is a point of M = A (-) B (the weights' combination of the simplex), and M's support
-  // along -v, min over M of v . m = lo - hi, bounds every point: |m| >= (lo - hi) / |v|. So
-  // the distance lies in [(lo - hi) / |v|, |v|]; kept when that interval, widened by the
-  // rounding of the supports (8 eps of the scaled reach), is within `slack`, the cold
-  // certificate's bound.
-  Vector3d w[4];
-  int ia[4], ib[4], n = 0;
-  for (int j = 0; j < 3; ++j) {
-    bool repeat = false;
-    for (int m = 0; m < n; ++m) repeat |= ia[m] == cache.a[j] && ib[m] == cache.b[j];
-    if (!repeat) w[n] = k * (a.vertex(cache.a[j]) - b.vertex(cache.b[j])), ia[n] = cache.a[j], ib[n] = cache.b[j], ++n;
-  }
-  for (int iter = 0; iter < 16; ++iter) {
-    double lambda[4];
-    if (!nearest_on_simplex(w, n, lambda)) {  // a tetrahedron around the origin: the depth by EPA
-      if (!certified_depth(a, b, ia, ib, slack, clear, out, &f)) return out = Proximity{}, false;
-      break;
-    }
-    Vector3d v = Vector3d::Zero();
-    int m = 0;
-    for (int j = 0; j < n; ++j)
-      if (lambda[j] > 0) v += lambda[j] * w[j], lambda[m] = lambda[j], w[m] = w[j], ia[m] = ia[j], ib[m] = ib[j], ++m;
-    if (m == 0) return false;
-    n = m;
-    double lo, hi;
-    const int ka = highest(a, -v, lo), kb = highest(b, v, hi);
-    const double vv = v.squaredNorm(), low = -k * (lo + hi);  // v . (a - b) over M, at least
-    const double len = std::sqrt(vv), rounding = 8 * eps * k * reach * len;
-    if (vv - low + rounding <= k * slack * len) {
-      Vector3d p = Vector3d::Zero(), q = Vector3d::Zero();
-      for (int j = 0; j < n; ++j) p += lambda[j] * a.vertex(ia[j]), q += lambda[j] * b.vertex(ib[j]);
-      const double d = length(p - q);
-      if (!(d > clear)) return false;
-      out.distance = d, out.point_a = p, out.point_b = q;
-      for (int j = 0; j < 3; ++j) f.a[j] = ia[std::min(j, n - 1)], f.b[j] = ib[std::min(j, n - 1)];
-      break;
-    }
-    bool repeat = false;
-    for (int j = 0; j < n; ++j) repeat |= ia[j] == ka && ib[j] == kb;
-    if (repeat || n == 4) return out = Proximity{}, false;  // no progress: rounding has the last word
-    w[n] = k * (a.vertex(ka) - b.vertex(kb)), ia[n] = ka, ib[n] = kb, ++n;
-    if (iter == 15) return out = Proximity{}, false;
-  }
-  f.valid = true;
-  if (want & kWantMaxDistance) farthest_pair(a, b, k, out);
+  if (!ok) return out = Proximity{}, f = Features{}, false;
+  if (want & kWantMaxDistance) farthest_pair(a, b, t.k, out);
   return true;
 }
 
@@ -1026,6 +1330,7 @@ void cached_proximity(const A& a, const B& b, ProximityCache& cache, Proximity& 
   const bool warm = warm_proximity(a, b, cache, out, want, f);
   if (!warm) exact_proximity(a, b, out, want, &f);
   ++(warm ? cache.warm : cache.cold);
+  cache.searched += out.searched;
   cache.kind = f.valid ? kCacheConvex : 0u;
   cache.active = f.depth ? kDepthFacet : 0u;
   std::copy(f.a, f.a + 3, cache.a), std::copy(f.b, f.b + 3, cache.b);
@@ -1035,6 +1340,49 @@ void cached_proximity(const A& a, const B& b, ProximityCache& cache, Proximity& 
 PosedShape posed(const ConvexShape& s, const Eigen::Isometry3d& pose) {
   const detail::ShapeData* d = detail::ShapeAccess::data(s);
   return PosedShape{s.polytope(), pose.linear(), pose.translation(), !s.polytope().flat, std::sqrt(3.0) * d->size};
+}
+
+// Shapes built from boxes and triangles answer in their own form, placed by their poses: the
+// box-box, box-triangle and triangle-triangle paths (and their caches), B before A swapped
+// back (witnesses exchanged, direction negated). False if either is general (or a placed box
+// fails check_box by the rounding of its rotation): the general path answers.
+bool own_form(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
+              const Eigen::Isometry3d& pose_b, ProximityCache* cache, Proximity& out, Want want) {
+  using Kind = detail::ShapeData::Kind;
+  const detail::ShapeData &da = *detail::ShapeAccess::data(a), &db = *detail::ShapeAccess::data(b);
+  if (da.kind == Kind::General || db.kind == Kind::General) return false;
+  const auto box = [](const detail::ShapeData& d, const Eigen::Isometry3d& pose) {
+    Box x = d.box;
+    x.center = pose * d.box.center, x.rotation = pose.linear() * d.box.rotation;
+    return x;
+  };
+  const auto triangle = [](const detail::ShapeData& d, const Eigen::Isometry3d& pose) {
+    return Triangle{pose * d.triangle.a, pose * d.triangle.b, pose * d.triangle.c};
+  };
+  Status s = Status::Ok;
+  if (da.kind == Kind::Box && db.kind == Kind::Box) {
+    const Box x = box(da, pose_a), y = box(db, pose_b);
+    s = cache ? proximity(x, y, *cache, out, want) : proximity(x, y, out, want);
+  } else if (da.kind == Kind::Triangle && db.kind == Kind::Triangle) {
+    const Triangle x = triangle(da, pose_a), y = triangle(db, pose_b);
+    if (!cache) {
+      s = proximity(x, y, out, want);
+    } else if ((s = check_triangle(x)) == Status::Ok && (s = check_triangle(y)) == Status::Ok) {
+      cached_proximity(shape_of(x), shape_of(y), *cache, out, want);
+    }
+  } else {
+    const bool swap = da.kind == Kind::Triangle;
+    const Box x = swap ? box(db, pose_b) : box(da, pose_a);
+    const Triangle y = swap ? triangle(da, pose_a) : triangle(db, pose_b);
+    s = cache ? proximity(x, y, *cache, out, want) : proximity(x, y, out, want);
+    if (swap) {
+      std::swap(out.point_a, out.point_b), std::swap(out.far_a, out.far_b);
+      out.penetration_direction = -out.penetration_direction;
+    }
+  }
+  if (s == Status::Ok) return true;
+  out = Proximity{};
+  return false;
 }
 
 }  // namespace
@@ -1052,7 +1400,7 @@ Status proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const Co
   if (a.empty() || b.empty()) return Status::TooFewPoints;
   for (const auto* pose : {&pose_a, &pose_b})
     if (const Status s = check_pose(*pose); s != Status::Ok) return s;
-  exact_proximity(posed(a, pose_a), posed(b, pose_b), out, want);
+  if (!own_form(a, pose_a, b, pose_b, nullptr, out, want)) exact_proximity(posed(a, pose_a), posed(b, pose_b), out, want);
   return Status::Ok;
 }
 
@@ -1062,7 +1410,7 @@ Status proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const Co
   if (a.empty() || b.empty()) return Status::TooFewPoints;
   for (const auto* pose : {&pose_a, &pose_b})
     if (const Status s = check_pose(*pose); s != Status::Ok) return s;
-  cached_proximity(posed(a, pose_a), posed(b, pose_b), cache, out, want);
+  if (!own_form(a, pose_a, b, pose_b, &cache, out, want)) cached_proximity(posed(a, pose_a), posed(b, pose_b), cache, out, want);
   return Status::Ok;
 }
 

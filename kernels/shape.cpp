@@ -313,11 +313,14 @@ const ConvexPolytope& ConvexShape::polytope() const { return data_ ? *data_->pol
 namespace {
 
 // Takes a built polytope into a new shape.
-Status adopt(Status built, ConvexPolytope&& p, ConvexShape& out) {
+Status adopt(Status built, ConvexPolytope&& p, ConvexShape& out, const Box* box = nullptr,
+             const Triangle* triangle = nullptr) {
   out = ConvexShape{};
   if (built != Status::Ok) return built;
   auto data = std::make_shared<detail::ShapeData>();
   data->polytope = std::move(p);
+  if (box) data->kind = detail::ShapeData::Kind::Box, data->box = *box;
+  if (triangle) data->kind = detail::ShapeData::Kind::Triangle, data->triangle = *triangle;
   if (const Status s = detail::prepare(data->polytope, *data); s != Status::Ok) return s;
   data->dir = {};  // (prepare's: the edges' directions, checked against the poles)
   detail::ShapeAccess::set(std::move(data), out);
@@ -342,13 +345,13 @@ Status shape_from_mesh(const std::vector<Vector3d>& vertices, const std::vector<
 Status shape_from_box(const Box& box, ConvexShape& out) {
   ConvexPolytope p;
   const Status s = polytope_from_box(box, p);
-  return adopt(s, std::move(p), out);
+  return adopt(s, std::move(p), out, &box);
 }
 
 Status shape_from_triangle(const Triangle& t, ConvexShape& out) {
   ConvexPolytope p;
   const Status s = polytope_from_triangle(t, p);
-  return adopt(s, std::move(p), out);
+  return adopt(s, std::move(p), out, nullptr, &t);
 }
 
 Status shape_from_polytope(const ConvexPolytope& p, ConvexShape& out) {

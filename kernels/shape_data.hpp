@@ -44,6 +44,11 @@ struct MapLayout {
 /// vertex) and 3K arcs (top edges, bottom edges, and one zero-length edge per vertex), so that
 /// every arc is shorter than pi.
 struct ShapeData {
+  /// What a builder made: a box or a triangle keeps its own form, so that queries take the
+  /// box-box and box-triangle paths (and their caches) on it.
+  enum class Kind : std::uint8_t { General, Box, Triangle } kind = Kind::General;
+  Box box;            // shape_from_box's box (body frame)
+  Triangle triangle;  // shape_from_triangle's triangle (body frame)
   ConvexPolytope polytope;                       // a built shape's own polytope (body frame)
   const ConvexPolytope* polytope_ref = nullptr;  // the polytope prepared: &polytope, or the caller's
   int faces = 0, arcs = 0, cells = 0;

@@ -19,6 +19,9 @@ struct Proximity {
   /// Unit direction: translating B by penetration_depth * direction makes them touch (zero when
   /// separated).
   Eigen::Vector3d penetration_direction = Eigen::Vector3d::Zero();
+  /// True when no certificate held and the answer came from the exhaustive search (the last
+  /// resort: O(F_A F_B) face pairs and O(E_A E_B) edge pairs; statistics).
+  bool searched = false;
 };
 
 /// What a proximity call computes, as a bit mask; the fields it does not ask for keep their
@@ -42,6 +45,7 @@ struct ProximityCache {
   int b[3] = {0, 0, 0};       ///< and on B
   long warm = 0;              ///< answers proven from the cache (statistics)
   long cold = 0;              ///< answers computed cold (statistics)
+  long searched = 0;          ///< answers that needed the exhaustive search (statistics)
 };
 
 /// True if p lies in the closed polytope m; stops at the first plane that separates p.
