@@ -336,10 +336,15 @@ struct BoxPairQuery {
     T t[6];
     for (int k = 0; k < 6; ++k) t[k] = dot3(sat.normal, p.g[k]) >= 0 ? T(1) : T(-1);
     T target[3] = {0, 0, 0};
-    out.intersecting = !(sat.separation > 0);
+    // Touching within rounding (64 eps of the coordinates, as the general path) counts as
+    // intersecting: a box resting on a box, posed, is apart or pressed by a few ulps.
+    T reach = std::abs(p.c[0]) + std::abs(p.c[1]) + std::abs(p.c[2]);
+    for (int k = 0; k < 6; ++k) reach += p.h[k];
+    for (int d = 0; d < 3; ++d) reach += std::abs(p.ca[d]);
+    out.intersecting = !(sat.separation > 64 * std::numeric_limits<T>::epsilon() * reach);
     if (out.intersecting) {
       // The deepest point: the origin's projection onto the nearest facet, depth * normal.
-      out.depth = -sat.separation;
+      out.depth = std::max(T(0), -sat.separation);
       for (int d = 0; d < 3; ++d) out.direction[d] = sat.normal[d], target[d] = out.depth * sat.normal[d];
     }
     unsigned free_mask = sat.free_mask;

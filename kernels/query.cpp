@@ -260,18 +260,23 @@ using detail::kCacheConvex;
 // ProximityCache::active of a convex cache: its pairs span M's facet of the last depth.
 constexpr unsigned kDepthFacet = 1;
 
+void box_patch(const Box& a, const Box& b, Proximity& out);
+
 }  // namespace
 
 Status proximity(const Box& a, const Box& b, Proximity& out, Want want) {
   unsigned cold = 0;
   bool warm = false;
-  return box_query(a, b, out, want, cold, warm);
+  const Status s = box_query(a, b, out, want, cold, warm);
+  if (s == Status::Ok && (want & kWantContact)) box_patch(a, b, out);
+  return s;
 }
 
 Status proximity(const Box& a, const Box& b, ProximityCache& cache, Proximity& out, Want want) {
   unsigned active = cache.kind == kCacheBoxBox ? cache.active : 0u;
   bool warm = false;
   const Status s = box_query(a, b, out, want, active, warm);
+  if (s == Status::Ok && (want & kWantContact)) box_patch(a, b, out);
   cache.kind = kCacheBoxBox, cache.active = s == Status::Ok ? active : 0u;
   ++(warm ? cache.warm : cache.cold);
   return s;
@@ -616,12 +621,16 @@ bool nearest_on_simplex(const Vector3d* w, int n, double (&lambda)[4]) {
   };
   if (n == 3) return triangle(0, 1, 2, lambda), true;
   // Tetrahedron: the nearest of the faces whose plane has the origin on the far side from the
-  // fourth point (a flat tetrahedron has every face so; none: the origin is inside).
+  // fourth point (none: the origin is inside). A tetrahedron flat to rounding has no inside
+  // whose sign can be trusted (a fuzz-like case: face-to-face pairs 1e-6 apart gave "inside"):
+  // every face is a candidate.
   static constexpr int kFace[4][4] = {{0, 1, 2, 3}, {0, 2, 3, 1}, {0, 3, 1, 2}, {1, 3, 2, 0}};
+  const Vector3d e1 = w[1] - w[0], e2 = w[2] - w[0], e3 = w[3] - w[0];
+  const bool flat = !(std::abs(e1.dot(e2.cross(e3))) > 1e-12 * e1.norm() * e2.norm() * e3.norm());
   double best = std::numeric_limits<double>::infinity();
   for (const auto& f : kFace) {
     const Vector3d nf = (w[f[1]] - w[f[0]]).cross(w[f[2]] - w[f[0]]);
-    if (-w[f[0]].dot(nf) * (w[f[3]] - w[f[0]]).dot(nf) > 0) continue;
+    if (!flat && -w[f[0]].dot(nf) * (w[f[3]] - w[f[0]]).dot(nf) > 0) continue;
     double l[4];
     triangle(f[0], f[1], f[2], l);
     if (const double d = dist2(l); d < best) best = d, std::copy(l, l + 4, lambda);
@@ -650,6 +659,7 @@ int gjk_features(const A& a, const B& b, double scale, const int* start_a, const
     if (!repeat) w[n] = scale * (a.vertex(start_a[j]) - b.vertex(start_b[j])), ia[n] = start_a[j], ib[n] = start_b[j], ++n;
   }
   double vv = std::numeric_limits<double>::infinity();
+  int best_a[3] = {}, best_b[3] = {}, best_n = 0;  // the nearest simplex so far (ties can stall)
   for (int iter = 0; iter < 64; ++iter) {
     double lambda[4];
     if (!nearest_on_simplex(w, n, lambda)) {
@@ -663,8 +673,14 @@ int gjk_features(const A& a, const B& b, double scale, const int* start_a, const
       if (lambda[j] > 0) v += lambda[j] * w[j], w[m] = w[j], ia[m] = ia[j], ib[m] = ib[j], ++m;
     if (m == 0) return 0;  // no weight left (NaN from a degenerate simplex)
     n = m;
-    if (!(v.squaredNorm() < vv)) break;  // no progress: rounding has the last word
+    if (!(v.squaredNorm() < vv)) {  // no progress: rounding has the last word; the best one stands
+      n = best_n;
+      std::copy(best_a, best_a + 3, ia), std::copy(best_b, best_b + 3, ib);
+      break;
+    }
     vv = v.squaredNorm();
+    best_n = n;
+    std::copy(ia, ia + 3, best_a), std::copy(ib, ib + 3, best_b);
     // M's support point in -v: A's lowest vertex along v minus B's highest.
     double lo, hi;
     const int ka = highest(a, -v, lo), kb = highest(b, v, hi);
@@ -682,7 +698,8 @@ int gjk_features(const A& a, const B& b, double scale, const int* start_a, const
 
 // The frame of a certified answer: the unit normal n (from A towards B) of the planes that
 // prove it, A's top (max n . a, at vertex ia) and B's bottom (min n . b, at vertex ib) along
-// it, and whether each is reached at that vertex alone (no other vertex within `tau`).
+// it, and whether each is reached at that vertex alone by a wide margin (every other vertex
+// more than 1e4 tau away: a normal turned by rounding cannot make another vertex the top).
 struct Contact {
   Vector3d n = Vector3d::Zero();
   double top = 0, bottom = 0;
@@ -691,9 +708,9 @@ struct Contact {
 };
 
 // The vertex of s highest along n, its height, and whether every other vertex lies more than
-// tau below it.
+// `wide` below it.
 template <class S>
-int top_of(const S& s, const Vector3d& n, double tau, double& value, bool& single) {
+int top_of(const S& s, const Vector3d& n, double wide, double& value, bool& single) {
   int best = 0;
   double first = -std::numeric_limits<double>::infinity(), second = first;
   for (int k = 0; k < s.size(); ++k) {
@@ -701,12 +718,12 @@ int top_of(const S& s, const Vector3d& n, double tau, double& value, bool& singl
     if (x > first) second = first, first = x, best = k;
     else second = std::max(second, x);
   }
-  value = first, single = second < first - tau;
+  value = first, single = second < first - wide;
   return best;
 }
 
 // The same for a posed shape, with n turned into the body frame once.
-[[gnu::flatten]] int top_of(const PosedShape& s, const Vector3d& n, double tau, double& value, bool& single) {
+[[gnu::flatten]] int top_of(const PosedShape& s, const Vector3d& n, double wide, double& value, bool& single) {
   const Vector3d nb = s.R.transpose() * n;
   int best = 0;
   double first = -std::numeric_limits<double>::infinity(), second = first;
@@ -715,7 +732,7 @@ int top_of(const S& s, const Vector3d& n, double tau, double& value, bool& singl
     if (x > first) second = first, first = x, best = k;
     else second = std::max(second, x);
   }
-  value = first + n.dot(s.t), single = second < first - tau;
+  value = first + n.dot(s.t), single = second < first - wide;
   return best;
 }
 
@@ -723,8 +740,8 @@ template <class A, class B>
 Contact heights(const A& a, const B& b, const Vector3d& n, double tau) {
   Contact c;
   c.n = n;
-  c.ia = top_of(a, n, tau, c.top, c.a_single);
-  c.ib = top_of(b, Vector3d(-n), tau, c.bottom, c.b_single);
+  c.ia = top_of(a, n, 1e4 * tau, c.top, c.a_single);
+  c.ib = top_of(b, Vector3d(-n), 1e4 * tau, c.bottom, c.b_single);
   c.bottom = -c.bottom;
   return c;
 }
@@ -792,61 +809,6 @@ bool certified_distance(const A& a, const B& b, const Vector3d* s, const Vector3
   if (!ok) return false;
   out.distance = d, out.point_a = p, out.point_b = q;
   return true;
-}
-
-// Touching, proven directly: points p of A and q of B at most `touching` apart (so the
-// distance is at most that), and a unit n with bottom - top >= -touching (a separating axis
-// along which they overlap by at most that, so the depth is at most that too): intersecting,
-// at distance 0 and depth max(0, top - bottom). The candidates for n are the planes of A's faces
-// through p and of B's faces through q (negated), then the cross product of the features' two
-// edge directions (an edge across an edge), each sign; at most four are tried, those that the
-// features (s on A, t on B) least contradict first.
-template <class A, class B>
-bool certified_touching(const A& a, const B& b, const Vector3d& p, const Vector3d& q, const Vector3d* s, const Vector3d* t,
-                        int count, double touching, double tau, double margin, Proximity& out, Contact& c) {
-  if (!(length(p - q) <= touching)) return false;
-  constexpr int kMax = 16;
-  Vector3d cand[kMax];
-  double score[kMax];
-  int n = 0;
-  const auto add = [&](const Vector3d& nc) {
-    if (n == kMax || !(nc.squaredNorm() > 0.25)) return;
-    double hi = -std::numeric_limits<double>::infinity(), lo = -hi;
-    for (int k = 0; k < count; ++k) hi = std::max(hi, nc.dot(s[k])), lo = std::min(lo, nc.dot(t[k]));
-    cand[n] = nc, score[n] = lo - hi, ++n;
-  };
-  const auto faces_through = [&](const auto& shape, const Vector3d& x, double sign) {
-    for (int f = 0; f < shape.faces(); ++f) {
-      const Vector3d nf = shape.face_normal(f);
-      if (!(std::abs(nf.dot(x) - shape.face_offset(f)) <= margin)) continue;
-      add(sign * nf);
-      if (!shape.solid) add(-sign * nf);
-    }
-  };
-  faces_through(a, p, 1.0), faces_through(b, q, -1.0);
-  Vector3d u[2];
-  if (feature_span(s, count, t, 0, u) == 1) {
-    Vector3d v[2];
-    if (feature_span(t, count, s, 0, v) == 1 && u[0].cross(v[0]).norm() > 1e-6) {
-      const Vector3d x = u[0].cross(v[0]).normalized();
-      add(x), add(-x);
-    }
-  }
-  for (int tries = 0; tries < 4 && n > 0; ++tries) {
-    const int best = int(std::max_element(score, score + n) - score);
-    if (!(score[best] >= -touching - margin)) return false;
-    c = heights(a, b, cand[best], tau);
-    if (c.bottom - c.top >= -touching) {
-      out.intersecting = true;
-      out.distance = 0;
-      out.penetration_depth = std::max(0.0, c.top - c.bottom);
-      out.penetration_direction = c.n;
-      out.point_a = p, out.point_b = q;
-      return true;
-    }
-    score[best] = -std::numeric_limits<double>::infinity();
-  }
-  return false;
 }
 
 // The witnesses on a patch. Where the nearest (or deepest) sets are more than a point (a face
@@ -928,7 +890,10 @@ bool holds(const Patch& x, const Eigen::Vector2d& c, double tol) {
 
 // The point of the set x (a point, a segment or a convex polygon) nearest c.
 Eigen::Vector2d nearest_in(const Patch& x, const Eigen::Vector2d& c, double tol) {
-  if (x.size >= 3 && holds(x, c, tol)) return c;
+  // (A clipped segment has three or more points on a line: no inside.)
+  double extent = 0;
+  for (int k = 1; k < x.size; ++k) extent = std::max(extent, (x.p[k] - x.p[0]).norm());
+  if (x.size >= 3 && area2(x) > tol * extent && holds(x, c, tol)) return c;
   Eigen::Vector2d best = x.p[0];
   for (int k = 0; k < x.size; ++k) {
     const Eigen::Vector2d &p = x.p[k], e = x.p[(k + 1) % x.size] - p;
@@ -939,9 +904,19 @@ Eigen::Vector2d nearest_in(const Patch& x, const Eigen::Vector2d& c, double tol)
   return best;
 }
 
+// Whether the point x lies in the set y (a point, a segment or a convex polygon; within tol).
+bool meets(const Eigen::Vector2d& x, const Patch& y, double tol) {
+  if (y.size >= 3) return holds(y, x, tol);
+  return (nearest_in(y, x, tol) - x).norm() <= tol;
+}
+
 // The witness on A's and B's level sets P and Q (see Patch); false where they do not meet.
 bool patch_point(const Patch& P, const Patch& Q, double tol, Eigen::Vector2d& x) {
-  if (P.size == 1 || Q.size == 1) return x = (P.size == 1 ? P : Q).p[0], true;
+  if (P.size == 1 || Q.size == 1) {
+    const bool p_point = P.size == 1;
+    x = (p_point ? P : Q).p[0];
+    return meets(x, p_point ? Q : P, tol);
+  }
   const bool p_smaller = std::abs(area2(P)) <= std::abs(area2(Q));
   const Patch &small = p_smaller ? P : Q, &large = p_smaller ? Q : P;
   Eigen::Vector2d c = Eigen::Vector2d::Zero();
@@ -965,20 +940,81 @@ bool patch_point(const Patch& P, const Patch& Q, double tol, Eigen::Vector2d& x)
 }
 
 // The witnesses of a certified answer from its contact frame c (see Patch): each on its
-// level plane, their difference (bottom - top) n. Left as they are where the patch is not
-// found (more than kPatch vertices, or level sets that do not meet within rounding).
+// level plane, their difference (bottom - top) n; false (and left as they are) where A's and
+// B's level sets do not meet seen along n, or have more than kPatch vertices.
+// A certified distance or depth has proven that they meet: then a set that is one vertex gives
+// the witnesses at once (`proven`); the touching certificate asks.
 template <class A, class B>
-void contact_witnesses(const A& a, const B& b, const Contact& c, double tau, Vector3d& pa, Vector3d& pb) {
+bool contact_witnesses(const A& a, const B& b, const Contact& c, double tau, Vector3d& pa, Vector3d& pb,
+                       bool proven = true) {
   const Vector3d gap = (c.bottom - c.top) * c.n;
-  if (c.a_single) return void((pa = a.vertex(c.ia), pb = pa + gap));
-  if (c.b_single) return void((pb = b.vertex(c.ib), pa = pb - gap));
+  if (proven && c.a_single) return pa = a.vertex(c.ia), pb = pa + gap, true;
+  if (proven && c.b_single) return pb = b.vertex(c.ib), pa = pb - gap, true;
   const Vector3d u = c.n.unitOrthogonal(), w = c.n.cross(u);
   Patch P, Q;
-  if (!level_set(a, c.n, c.top, 1.0, tau, u, w, P) || !level_set(b, c.n, c.bottom, -1.0, tau, u, w, Q)) return;
+  if (!level_set(a, c.n, c.top, 1.0, tau, u, w, P) || !level_set(b, c.n, c.bottom, -1.0, tau, u, w, Q)) return false;
   Eigen::Vector2d x;
-  if (!patch_point(P, Q, tau, x)) return;
+  if (!patch_point(P, Q, tau, x)) return false;
   pa = x.x() * u + x.y() * w + c.top * c.n;
   pb = pa + gap;
+  return true;
+}
+
+// Touching, proven by a common supporting plane: a unit n along which A's top and B's bottom
+// are within `touching` of each other (a separating axis along which they overlap by at most
+// that: the depth is at most that), and A's and B's sets on that level meet (points of each
+// within touching of each other, to tau: the distance is at most that). Intersecting, at
+// distance 0 and depth max(0, top - bottom), with the patch's witnesses. The candidates for n
+// are the planes of A's faces through p and of B's faces through q (negated; p and q are
+// GJK's guesses of a contact point), then the cross product of the features' two edge
+// directions (an edge across an edge), each sign; at most four are tried, those that the
+// features (s on A, t on B) least contradict first.
+template <class A, class B>
+bool certified_touching(const A& a, const B& b, const Vector3d& p, const Vector3d& q, const Vector3d* s, const Vector3d* t,
+                        int count, double touching, double tau, double margin, Proximity& out, Contact& c) {
+  if (!(length(p - q) <= margin)) return false;
+  constexpr int kMax = 16;
+  Vector3d cand[kMax];
+  double score[kMax];
+  int n = 0;
+  const auto add = [&](const Vector3d& nc) {
+    if (n == kMax || !(nc.squaredNorm() > 0.25)) return;
+    double hi = -std::numeric_limits<double>::infinity(), lo = -hi;
+    for (int k = 0; k < count; ++k) hi = std::max(hi, nc.dot(s[k])), lo = std::min(lo, nc.dot(t[k]));
+    cand[n] = nc, score[n] = lo - hi, ++n;
+  };
+  const auto faces_through = [&](const auto& shape, const Vector3d& x, double sign) {
+    for (int f = 0; f < shape.faces(); ++f) {
+      const Vector3d nf = shape.face_normal(f);
+      if (!(std::abs(nf.dot(x) - shape.face_offset(f)) <= margin)) continue;
+      add(sign * nf);
+      if (!shape.solid) add(-sign * nf);
+    }
+  };
+  faces_through(a, p, 1.0), faces_through(b, q, -1.0);
+  Vector3d u[2];
+  if (feature_span(s, count, t, 0, u) == 1) {
+    Vector3d v[2];
+    if (feature_span(t, count, s, 0, v) == 1 && u[0].cross(v[0]).norm() > 1e-6) {
+      const Vector3d x = u[0].cross(v[0]).normalized();
+      add(x), add(-x);
+    }
+  }
+  for (int tries = 0; tries < 4 && n > 0; ++tries) {
+    const int best = int(std::max_element(score, score + n) - score);
+    if (!(score[best] >= -touching - margin)) return false;
+    score[best] = -std::numeric_limits<double>::infinity();
+    c = heights(a, b, cand[best], tau);
+    Vector3d pa, pb;
+    if (!(std::abs(c.bottom - c.top) <= touching) || !contact_witnesses(a, b, c, tau, pa, pb, false)) continue;
+    out.intersecting = true;
+    out.distance = 0;
+    out.penetration_depth = std::max(0.0, c.top - c.bottom);
+    out.penetration_direction = c.n;
+    out.point_a = pa, out.point_b = pb;
+    return true;
+  }
+  return false;
 }
 
 // The penetration of overlapping shapes from the tetrahedron of M around the origin that GJK
@@ -1153,6 +1189,77 @@ bool origin_weights(const Vector3d (&w)[4], double (&l)[4]) {
   return true;
 }
 
+// Box pairs whose nearest (or deepest) sets are patches, a face or an edge of each across the
+// contact normal (a box resting, sliding or rocking on a box): the witnesses are the patch's
+// (contact_witnesses), as for prepared shapes, so that they do not jump between corners and
+// the coherent answer's equal the cold one's. The normal is snapped to the axis of A or B it
+// is within 1.4e-6 rad of (the box pair's normal of a 1e-12 gap is turned by rounding / gap)
+// where that still proves the answer: the gap between the boxes' levels along it is the
+// distance (or the depth) to 64 eps of the coordinates; else the pair's normal, if that does.
+void box_patch(const Box& a, const Box& b, Proximity& out) {
+  Vector3d n = out.intersecting ? out.penetration_direction : Vector3d(out.point_b - out.point_a);
+  if (!(n.norm() > 0)) return;
+  n.normalize();
+  double align = 0;
+  Vector3d axis = n;
+  for (const Box* x : {&a, &b})
+    for (int k = 0; k < 3; ++k)
+      if (const double d = n.dot(x->rotation.col(k)); std::abs(d) > align) align = std::abs(d), axis = (d < 0 ? -1.0 : 1.0) * x->rotation.col(k);
+  const auto across = [&](const Box& x, const Vector3d& m) {
+    for (int k = 0; k < 3; ++k)
+      if (std::abs(m.dot(x.rotation.col(k))) <= 1e-9) return true;
+    return false;
+  };
+  const SmallShape sa = shape_of(a), sb = shape_of(b);
+  const double reach = std::max(sa.reach(), sb.reach()), eps = std::numeric_limits<double>::epsilon();
+  const double tau = 256 * eps * reach, gap = out.intersecting ? -out.penetration_depth : out.distance;
+  for (int snapped = 1; snapped >= 0; --snapped) {
+    if (snapped && !(align > 1 - 1e-12)) continue;
+    const Vector3d m = snapped ? Vector3d(axis.normalized()) : n;
+    if (!across(a, m) || !across(b, m)) continue;
+    const Contact c = heights(sa, sb, m, tau);
+    if (std::abs(c.bottom - c.top - gap) <= 64 * eps * reach) return void(contact_witnesses(sa, sb, c, tau, out.point_a, out.point_b));
+  }
+}
+
+// The depth from a face of M's points (three support pairs fa[face[k]], fb[face[k]]) that the
+// origin lies within rounding of: with M's support point beyond it, a tetrahedron around the
+// origin for the expanding polytope when the face is on M's boundary (the coherent query's
+// start from its last facet); else, with the support points on both sides, the three
+// tetrahedra of that double pyramid (the origin lies in one).
+template <class A, class B>
+bool depth_from_face(const A& a, const B& b, const int* fa, const int* fb, const int (&face)[3], const Tolerances& t,
+                     Proximity& out, Features* f) {
+  Vector3d w[3];
+  for (int j = 0; j < 3; ++j) w[j] = t.k * (a.vertex(fa[face[j]]) - b.vertex(fb[face[j]]));
+  Vector3d n = (w[1] - w[0]).cross(w[2] - w[0]);
+  if (n.dot(w[0]) < 0) n = -n;  // towards the face, away from the origin
+  double unused;
+  const int ia[3] = {fa[face[0]], fa[face[1]], fa[face[2]]}, ib[3] = {fb[face[0]], fb[face[1]], fb[face[2]]};
+  const int below_a = highest(a, -n, unused), below_b = highest(b, n, unused);
+  const int ta[4] = {ia[0], ia[1], ia[2], below_a}, tb[4] = {ib[0], ib[1], ib[2], below_b};
+  if (certified_depth(a, b, ta, tb, t.slack, t.touching, out, f)) return true;
+  const int above_a = highest(a, n, unused), above_b = highest(b, -n, unused);
+  for (int j = 0; j < 3; ++j) {
+    const int k = (j + 1) % 3;
+    const int sa[4] = {ia[j], ia[k], above_a, below_a}, sb[4] = {ib[j], ib[k], above_b, below_b};
+    if (certified_depth(a, b, sa, sb, t.slack, t.touching, out, f)) return true;
+  }
+  return false;
+}
+
+// The depth where GJK ends with the origin within rounding of its simplex (pressed face to
+// face, M's facet holds its triangle; pressed by 1e-12 of the size, its tetrahedron is too
+// flat for the expanding polytope): from each face of it in turn.
+template <class A, class B>
+bool depth_from_faces(const A& a, const B& b, int found, const int (&fa)[4], const int (&fb)[4], const Tolerances& t,
+                      Proximity& out, Features* f) {
+  static constexpr int kFace[4][3] = {{0, 1, 2}, {0, 1, 3}, {0, 2, 3}, {1, 2, 3}};
+  for (int k = 0; k < (found == 4 ? 4 : 1); ++k)
+    if (depth_from_face(a, b, fa, fb, kFace[k], t, out, f)) return true;
+  return false;
+}
+
 // GJK's features proven (see the certificates): the distance (3 pairs), the depth (a
 // tetrahedron around the origin), or touching (either); then the witnesses from the contact
 // frame, and the features kept for the next query. False if no certificate holds.
@@ -1169,7 +1276,11 @@ bool certified(const A& a, const B& b, int found, const int (&fa)[4], const int 
     double d;
     ok = certified_distance(a, b, s, u, t.slack, t.touching, t.tau, p, q, d, out, c) ||
          certified_touching(a, b, p, q, s, u, 3, t.touching, t.tau, t.margin, out, c);
-  } else if (certified_depth(a, b, fa, fb, t.slack, t.touching, out, f)) {
+    if (!ok && d <= t.touching + t.slack && depth_from_faces(a, b, 3, fa, fb, t, out, f)) {
+      c = heights(a, b, out.penetration_direction, t.tau);
+      ok = true;
+    }
+  } else if (certified_depth(a, b, fa, fb, t.slack, t.touching, out, f) || depth_from_faces(a, b, 4, fa, fb, t, out, f)) {
     c = heights(a, b, out.penetration_direction, t.tau);
     ok = true;
   } else {

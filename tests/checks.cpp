@@ -177,6 +177,16 @@ double point_polygon(const Vector3d& p, const std::vector<Vector3d>& v, const st
 }
 }  // namespace
 
+ConvexPolytope transformed(const ConvexPolytope& p, const Eigen::Isometry3d& pose) {
+  ConvexPolytope q = p;
+  for (auto& v : q.vertices) v = pose * v;
+  for (auto& f : q.faces) {
+    f.normal = (pose.linear() * f.normal).normalized();
+    f.offset = f.normal.dot(q.vertices[size_t(f.loop[0])]);
+  }
+  return q;
+}
+
 Oracle brute_force(const ConvexPolytope& A, const ConvexPolytope& B) {
   Oracle o{false, 1e300, 1e300, 0};
   // SAT: face normals of both and all edge crosses; the smallest overlap is the exact depth.

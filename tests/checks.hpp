@@ -67,6 +67,10 @@ struct Oracle {
 /// crosses, vertex-face and edge-edge distances, all vertex pairs.
 Oracle brute_force(const ConvexPolytope& a, const ConvexPolytope& b);
 
+/// The polytope p moved by `pose` with its structure kept (same indices): vertices, normals and
+/// offsets transformed, as a user holding world-frame polytopes would build them.
+ConvexPolytope transformed(const ConvexPolytope& p, const Eigen::Isometry3d& pose);
+
 /// Distance between the segments [p0, p1] and [q0, q1].
 double segment_distance(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
                         const Eigen::Vector3d& q0, const Eigen::Vector3d& q1);

@@ -17,18 +17,7 @@ using Eigen::Isometry3d;
 using Eigen::Vector3d;
 using test::same_sum;
 using test::valid_sum;
-
-// The polytope p moved by `pose` with its structure kept (same indices): vertices, normals and
-// offsets transformed, as a user holding world-frame polytopes would build them.
-ConvexPolytope transformed(const ConvexPolytope& p, const Isometry3d& pose) {
-  ConvexPolytope q = p;
-  for (auto& v : q.vertices) v = pose * v;
-  for (auto& f : q.faces) {
-    f.normal = (pose.linear() * f.normal).normalized();
-    f.offset = f.normal.dot(q.vertices[size_t(f.loop[0])]);
-  }
-  return q;
-}
+using test::transformed;
 
 // A hull of 4 to 600 points (log-uniform) on a random ellipsoid, or now and then a box (parallel
 // faces and edges).

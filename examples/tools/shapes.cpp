@@ -235,4 +235,63 @@ Triangle random_triangle(std::mt19937_64& rng, double spread) {
           c + Vector3d(u(rng), u(rng), u(rng))};
 }
 
+namespace {
+
+// An n-gon prism of radius r between heights z0 and z1 (its corners).
+std::vector<Vector3d> prism(int n, double r, double z0, double z1) {
+  std::vector<Vector3d> p;
+  for (int k = 0; k < n; ++k) {
+    const double t = 2 * M_PI * k / n;
+    p.emplace_back(r * std::cos(t), r * std::sin(t), z0), p.emplace_back(r * std::cos(t), r * std::sin(t), z1);
+  }
+  return p;
+}
+
+std::vector<Vector3d> corners(const Box& b) {
+  std::vector<Vector3d> p;
+  for (int k = 0; k < 8; ++k) p.push_back(box_corner(b, k));
+  return p;
+}
+
+Box box_of(const Vector3d& half, const Eigen::Matrix3d& rotation = Eigen::Matrix3d::Identity()) {
+  Box b;
+  b.half_extents = half, b.rotation = rotation;
+  return b;
+}
+
+}  // namespace
+
+std::vector<FacePair> face_pairs() {
+  std::vector<FacePair> out;
+  const auto boxes = [&](const std::string& name, const Box& a, const Box& b) {
+    FacePair p{name, corners(a), corners(b), true, true, a, b};
+    out.push_back(p);
+  };
+  boxes("boxes", box_of(Vector3d(1, 0.8, 0.5)), box_of(Vector3d(0.4, 0.3, 0.25)));
+  for (int n : {8, 16, 32, 64}) out.push_back({"prisms" + std::to_string(n), prism(n, 1, -0.5, 0.5), prism(n, 0.6, -0.3, 0.3)});
+  FacePair box_on_prism{"box_on_prism", prism(32, 1, -0.5, 0.5), {}, false, true};
+  box_on_prism.box_b = box_of(Vector3d(0.3, 0.2, 0.15)), box_on_prism.b = corners(box_on_prism.box_b);
+  out.push_back(box_on_prism);
+  // A polytope with a flat bottom: 48 sphere points, those below -0.2 pressed onto that plane.
+  FacePair flat{"polytope_on_box", {}, sphere_points(48, 5), true, false};
+  for (Vector3d& v : flat.b) v = 0.4 * v, v.z() = std::max(v.z(), -0.2);
+  flat.box_a = box_of(Vector3d(1, 1, 0.5)), flat.a = corners(flat.box_a);
+  out.push_back(flat);
+  boxes("edge_on_face", box_of(Vector3d(1, 1, 0.5)), box_of(Vector3d(0.4, 0.3, 0.25), axis_angle(Vector3d::UnitX(), M_PI / 4)));
+  return out;
+}
+
+Eigen::Isometry3d face_pose(const FacePair& p, int k, int ticks, double gap, bool rocking) {
+  const double t = 2 * M_PI * k / ticks;
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  if (rocking) R = axis_angle(Vector3d(std::cos(3 * t), std::sin(3 * t), 0), 1e-3 * std::sin(5 * t));
+  double top = -HUGE_VAL, bottom = HUGE_VAL;
+  for (const Vector3d& v : p.a) top = std::max(top, v.z());
+  for (const Vector3d& v : p.b) bottom = std::min(bottom, (R * v).z());
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = R;
+  pose.translation() = Vector3d(0.25 * std::cos(t), 0.25 * std::sin(t), top - bottom + gap);
+  return pose;
+}
+
 }  // namespace minksum::tools

@@ -104,4 +104,23 @@ std::vector<Eigen::Isometry3d> trajectory(unsigned seed, int ticks, double near,
 /// A rotation about a unit axis by an angle (radians).
 Eigen::Matrix3d axis_angle(const Eigen::Vector3d& axis, double angle);
 
+/// A pair that meets face to face (or edge to face): A at rest, B lowered onto A's top face
+/// (A's largest z) along z, each in its body frame; a box is built by shape_from_box, as a
+/// user writes it. Sizes are near 1.
+struct FacePair {
+  std::string name;
+  std::vector<Eigen::Vector3d> a, b;  ///< the points of each (a box's: its corners)
+  bool a_is_box = false, b_is_box = false;
+  Box box_a, box_b;                   ///< the boxes, where one is
+};
+
+/// The families: boxes, n-gon prisms (n = 8, 16, 32, 64), a box on a prism's cap, a
+/// polytope's flat face on a box, and a box's edge resting along a box's face.
+std::vector<FacePair> face_pairs();
+
+/// B's pose in A's frame at tick k of a slide of `ticks`: B's lowest point `gap` above A's top
+/// (0: touching, negative: pressed), its centre circling within 0.25 of A's axis, and, if
+/// `rocking`, B tilted by up to 1e-3 rad about a turning horizontal axis.
+Eigen::Isometry3d face_pose(const FacePair& p, int k, int ticks, double gap, bool rocking);
+
 }  // namespace minksum::tools
