@@ -259,6 +259,9 @@ using detail::kCacheBoxBox;
 using detail::kCacheConvex;
 // ProximityCache::active of a convex cache: its pairs span M's facet of the last depth.
 constexpr unsigned kDepthFacet = 1;
+// ProximityCache::active of a convex cache: bit 1 set, the answer's normal is a face normal,
+// of B if bit 2 is set (else of A), the face in the bits above.
+constexpr unsigned kFaceNormal = 2;
 
 void box_patch(const Box& a, const Box& b, Proximity& out);
 
@@ -328,6 +331,14 @@ struct SmallShape {
   Vector3d edge_direction(int k) const { return edge[k]; }
   bool arc(int, Vector3d&, Vector3d&, Vector3d&) const { return false; }  // directions only: no Gauss map
   double reach() const { return largest_coordinate(*this); }
+  // The body frame (see PosedShape): the world frame here.
+  const Vector3d& to_body(const Vector3d& d) const { return d; }
+  const Vector3d& body_point(const Vector3d& x) const { return x; }
+  double shift(const Vector3d&) const { return 0; }
+  const Vector3d& body_vertex(int k) const { return v[k]; }
+  const Vector3d& body_loop_vertex(int f, int k) const { return v[face[f][k]]; }
+  const Vector3d& body_normal(int f) const { return normal[f]; }
+  double body_offset(int f) const { return offset[f]; }
 };
 
 SmallShape shape_of(const Box& b) {
@@ -390,6 +401,14 @@ struct PolytopeShape {
     return true;
   }
   double reach() const { return largest_coordinate(*this); }
+  // The body frame (see PosedShape): the world frame here.
+  const Vector3d& to_body(const Vector3d& d) const { return d; }
+  const Vector3d& body_point(const Vector3d& x) const { return x; }
+  double shift(const Vector3d&) const { return 0; }
+  const Vector3d& body_vertex(int k) const { return p.vertices[k]; }
+  const Vector3d& body_loop_vertex(int f, int k) const { return p.vertices[p.faces[f].loop[k]]; }
+  const Vector3d& body_normal(int f) const { return p.faces[f].normal; }
+  double body_offset(int f) const { return p.faces[f].offset; }
 };
 
 // A convex polytope in its body frame, read in place and placed by a rigid pose on the fly
@@ -424,6 +443,15 @@ struct PosedShape {
   // At least the largest |coordinate|, without a pass over the vertices.
   double reach() const { return t.cwiseAbs().maxCoeff() + radius; }
   const double radius = 0;  // at least the largest |x| in the body frame
+  // The body frame, where a pass over vertices or faces reads the polytope as stored: a
+  // direction d turned into it (d . x' = to_body(d) . x + shift(d)), a point moved into it.
+  Vector3d to_body(const Vector3d& d) const { return R.transpose() * d; }
+  Vector3d body_point(const Vector3d& x) const { return R.transpose() * (x - t); }
+  double shift(const Vector3d& d) const { return d.dot(t); }
+  const Vector3d& body_vertex(int k) const { return p.vertices[k]; }
+  const Vector3d& body_loop_vertex(int f, int k) const { return p.vertices[p.faces[f].loop[k]]; }
+  const Vector3d& body_normal(int f) const { return p.faces[f].normal; }
+  double body_offset(int f) const { return p.faces[f].offset; }
 };
 
 // The support of a posed shape with the direction turned into the body frame (one product
@@ -568,9 +596,13 @@ void support_pair(const A& a, const B& b, const Vector3d& n, double& plus, doubl
 
 // The support pairs of an answer's features, kept for the next query (three, repeats
 // allowed): GJK's nearest simplex, or (depth) the face of M that holds the deepest point.
+// And where the answer's normal is a face normal of A (or of B, negated), that face: a sliding
+// or resting contact keeps it, and the next query probes it first.
 struct Features {
   int a[3] = {0, 0, 0}, b[3] = {0, 0, 0};
   bool valid = false, depth = false;
+  int face = -1;
+  bool face_of_b = false;
 };
 
 // The point of the simplex w[0..n) (n <= 4) nearest the origin, as barycentric weights (zero
@@ -796,14 +828,16 @@ bool certified_distance(const A& a, const B& b, const Vector3d* s, const Vector3
   ok = ok || proves(n0);
   // The face normals nearest n0 (of a flat shape: either side).
   const auto nearest_face = [&](const auto& shape, double sign) {
-    Vector3d best = Vector3d::Zero();
+    const Vector3d nb = sign * shape.to_body(n0);
+    int best = 0;
     double align = -2;
     for (int f = 0; f < shape.faces(); ++f) {
-      Vector3d nf = sign * shape.face_normal(f);
-      if (!shape.solid && nf.dot(n0) < 0) nf = -nf;
-      if (const double x = nf.dot(n0); x > align) align = x, best = nf;
+      double x = shape.body_normal(f).dot(nb);
+      if (!shape.solid) x = std::abs(x);
+      if (x > align) align = x, best = f;
     }
-    return best;
+    Vector3d nf = sign * shape.face_normal(best);
+    return Vector3d(!shape.solid && nf.dot(n0) < 0 ? -nf : nf);
   };
   ok = ok || proves(nearest_face(a, 1.0)) || proves(nearest_face(b, -1.0));
   if (!ok) return false;
@@ -837,30 +871,33 @@ double area2(const Patch& x) {
 template <class S>
 bool level_set(const S& s, const Vector3d& n, double level, double sign, double tau, const Vector3d& u,
                const Vector3d& w, Patch& out) {
-  const auto on = [&](const Vector3d& v) { return sign * (n.dot(v) - level) >= -tau; };
-  const auto put = [&](const Vector3d& v) { out.p[out.size++] = Eigen::Vector2d(u.dot(v), w.dot(v)); };
+  // (In the body frame: a posed shape's faces and vertices are read as stored.)
+  const Vector3d nb = s.to_body(n), ub = s.to_body(u), wb = s.to_body(w);
+  const double lb = level - s.shift(n), su = s.shift(u), sw = s.shift(w);
+  const auto on = [&](const Vector3d& x) { return sign * (nb.dot(x) - lb) >= -tau; };
+  const auto put = [&](const Vector3d& x) { out.p[out.size++] = Eigen::Vector2d(ub.dot(x) + su, wb.dot(x) + sw); };
   int face = -1;
   double align = -2;
   for (int f = 0; f < s.faces(); ++f) {
-    double x = sign * s.face_normal(f).dot(n);
+    double x = sign * s.body_normal(f).dot(nb);
     if (!s.solid) x = std::abs(x);
     if (x > align) align = x, face = f;
   }
   out.size = 0;
   if (face >= 0 && s.loop_size(face) <= kPatch) {
     bool all = true;
-    for (int k = 0; k < s.loop_size(face) && all; ++k) all = on(s.loop_vertex(face, k));
+    for (int k = 0; k < s.loop_size(face) && all; ++k) all = on(s.body_loop_vertex(face, k));
     if (all) {
-      for (int k = 0; k < s.loop_size(face); ++k) put(s.loop_vertex(face, k));
+      for (int k = 0; k < s.loop_size(face); ++k) put(s.body_loop_vertex(face, k));
       if (area2(out) < 0) std::reverse(out.p, out.p + out.size);
       return true;
     }
   }
   out.size = 0;
   for (int k = 0; k < s.size(); ++k)
-    if (on(s.vertex(k))) {
+    if (on(s.body_vertex(k))) {
       if (out.size == 2) return false;
-      put(s.vertex(k));
+      put(s.body_vertex(k));
     }
   return out.size > 0;
 }
@@ -984,9 +1021,10 @@ bool certified_touching(const A& a, const B& b, const Vector3d& p, const Vector3
     cand[n] = nc, score[n] = lo - hi, ++n;
   };
   const auto faces_through = [&](const auto& shape, const Vector3d& x, double sign) {
+    const Vector3d xb = shape.body_point(x);
     for (int f = 0; f < shape.faces(); ++f) {
+      if (!(std::abs(shape.body_normal(f).dot(xb) - shape.body_offset(f)) <= margin)) continue;
       const Vector3d nf = shape.face_normal(f);
-      if (!(std::abs(nf.dot(x) - shape.face_offset(f)) <= margin)) continue;
       add(sign * nf);
       if (!shape.solid) add(-sign * nf);
     }
@@ -1191,7 +1229,7 @@ bool origin_weights(const Vector3d (&w)[4], double (&l)[4]) {
 
 // Box pairs whose nearest (or deepest) sets are patches, a face or an edge of each across the
 // contact normal (a box resting, sliding or rocking on a box): the witnesses are the patch's
-// (contact_witnesses), as for prepared shapes, so that they do not jump between corners and
+// (patch_point), as for prepared shapes, so that they do not jump between corners and
 // the coherent answer's equal the cold one's. The normal is snapped to the axis of A or B it
 // is within 1.4e-6 rad of (the box pair's normal of a 1e-12 gap is turned by rounding / gap)
 // where that still proves the answer: the gap between the boxes' levels along it is the
@@ -1205,21 +1243,86 @@ void box_patch(const Box& a, const Box& b, Proximity& out) {
   for (const Box* x : {&a, &b})
     for (int k = 0; k < 3; ++k)
       if (const double d = n.dot(x->rotation.col(k)); std::abs(d) > align) align = std::abs(d), axis = (d < 0 ? -1.0 : 1.0) * x->rotation.col(k);
-  const auto across = [&](const Box& x, const Vector3d& m) {
-    for (int k = 0; k < 3; ++k)
-      if (std::abs(m.dot(x.rotation.col(k))) <= 1e-9) return true;
-    return false;
-  };
-  const SmallShape sa = shape_of(a), sb = shape_of(b);
-  const double reach = std::max(sa.reach(), sb.reach()), eps = std::numeric_limits<double>::epsilon();
+  const double reach = std::max({a.center.cwiseAbs().maxCoeff() + a.half_extents.sum(),
+                                 b.center.cwiseAbs().maxCoeff() + b.half_extents.sum()});
+  const double eps = std::numeric_limits<double>::epsilon();
   const double tau = 256 * eps * reach, gap = out.intersecting ? -out.penetration_depth : out.distance;
   for (int snapped = 1; snapped >= 0; --snapped) {
     if (snapped && !(align > 1 - 1e-12)) continue;
     const Vector3d m = snapped ? Vector3d(axis.normalized()) : n;
-    if (!across(a, m) || !across(b, m)) continue;
-    const Contact c = heights(sa, sb, m, tau);
-    if (std::abs(c.bottom - c.top - gap) <= 64 * eps * reach) return void(contact_witnesses(sa, sb, c, tau, out.point_a, out.point_b));
+    const Vector3d u = m.unitOrthogonal(), w = m.cross(u);
+    // A box's set on its level along m (sign +1: the top), seen along m: its axes across m
+    // (within tau over the box) run free, the others sit at the side m points to: a face, an
+    // edge or a corner, counter-clockwise.
+    const auto level = [&](const Box& x, double sign, Patch& P, double& height) {
+      Vector3d base = x.center;
+      int free[3], nfree = 0;
+      for (int k = 0; k < 3; ++k) {
+        const double d = sign * m.dot(x.rotation.col(k));
+        if (2 * x.half_extents[k] * std::abs(d) <= tau) free[nfree++] = k;
+        else base += (d > 0 ? 1.0 : -1.0) * x.half_extents[k] * x.rotation.col(k);
+      }
+      height = m.dot(base);
+      const auto put = [&](const Vector3d& p) { P.p[P.size++] = Eigen::Vector2d(u.dot(p), w.dot(p)); };
+      const auto edge = [&](int j) { return Vector3d(x.half_extents[free[j]] * x.rotation.col(free[j])); };
+      P.size = 0;
+      if (nfree == 0) put(base);
+      if (nfree == 1) put(base - edge(0)), put(base + edge(0));
+      if (nfree == 2) {
+        put(base - edge(0) - edge(1)), put(base + edge(0) - edge(1)), put(base + edge(0) + edge(1)), put(base - edge(0) + edge(1));
+        if (area2(P) < 0) std::reverse(P.p, P.p + 4);
+      }
+      return nfree < 3;
+    };
+    Patch P, Q;
+    double top, bottom;
+    if (!level(a, 1.0, P, top) || !level(b, -1.0, Q, bottom)) continue;
+    if (P.size == 1 || Q.size == 1) return;  // a corner: the pair's witnesses are the only ones
+    if (!(std::abs(bottom - top - gap) <= 64 * eps * reach)) continue;
+    Eigen::Vector2d x;
+    if (!patch_point(P, Q, tau, x)) return;
+    out.point_a = x.x() * u + x.y() * w + top * m;
+    out.point_b = out.point_a + (bottom - top) * m;
+    return;
   }
+}
+
+// The face of A whose normal is n (to 1e-12), or of B whose normal is -n, into f (see Features).
+template <class A, class B>
+void face_normal_of(const A& a, const B& b, const Vector3d& n, Features& f) {
+  const auto find = [&](const auto& s, const Vector3d& d) {
+    const Vector3d db = s.to_body(d);
+    for (int k = 0; k < s.faces(); ++k)
+      if (s.body_normal(k).dot(db) > 1 - 1e-12) return k;
+    return -1;
+  };
+  f.face = find(a, n), f.face_of_b = false;
+  if (f.face < 0) f.face = find(b, Vector3d(-n)), f.face_of_b = true;
+}
+
+// The coherent probe of the last answer's face normal n (A's, or B's negated): where A's top
+// and B's bottom along n are apart (or within `touching`) and their level sets meet, the
+// planes prove the distance bottom - top (or touching) and the patch gives the witnesses at
+// that distance: no GJK. False otherwise (pressed: the expanding polytope answers).
+template <class A, class B>
+bool face_probe(const A& a, const B& b, int face, bool of_b, const Tolerances& t, Proximity& out, Features& f) {
+  if (face >= (of_b ? b.faces() : a.faces())) return false;
+  const Vector3d n = of_b ? Vector3d(-b.face_normal(face)) : a.face_normal(face);
+  const Contact c = heights(a, b, n, t.tau);
+  const double gap = c.bottom - c.top;
+  Vector3d pa, pb;
+  if (!(gap >= -t.touching) || !contact_witnesses(a, b, c, t.tau, pa, pb, false)) return false;
+  out = Proximity{};
+  if (gap > t.touching) {
+    out.distance = gap;
+  } else {
+    out.intersecting = true;
+    out.penetration_depth = std::max(0.0, -gap), out.penetration_direction = n;
+  }
+  out.point_a = pa, out.point_b = pb;
+  for (int j = 0; j < 3; ++j) f.a[j] = c.ia, f.b[j] = c.ib;
+  f.valid = true, f.face = face, f.face_of_b = of_b;
+  return true;
 }
 
 // The depth from a face of M's points (three support pairs fa[face[k]], fb[face[k]]) that the
@@ -1298,6 +1401,7 @@ bool certified(const A& a, const B& b, int found, const int (&fa)[4], const int 
   if (f && !f->depth) {
     std::copy(fa, fa + 3, f->a), std::copy(fb, fb + 3, f->b);
     f->valid = true;
+    face_normal_of(a, b, c.n, *f);
   }
   return true;
 }
@@ -1423,7 +1527,9 @@ template <class A, class B>
   const Tolerances t = tolerances(a, b);
   if (!(t.reach > 0 && t.reach <= kMaxCoordinate)) return false;
   out = Proximity{};
-  bool ok = cache.active == kDepthFacet && warm_depth(a, b, cache, t, out, f);
+  bool ok = (cache.active & kFaceNormal) &&
+            face_probe(a, b, int(cache.active >> 3), (cache.active & 4) != 0, t, out, f);
+  ok = ok || (cache.active == kDepthFacet && warm_depth(a, b, cache, t, out, f));
   if (!ok) {
     int fa[4], fb[4];
     const int found = gjk_features(a, b, t.k, cache.a, cache.b, 3, fa, fb);
@@ -1443,7 +1549,7 @@ void cached_proximity(const A& a, const B& b, ProximityCache& cache, Proximity& 
   ++(warm ? cache.warm : cache.cold);
   cache.searched += out.searched;
   cache.kind = f.valid ? kCacheConvex : 0u;
-  cache.active = f.depth ? kDepthFacet : 0u;
+  cache.active = f.depth ? kDepthFacet : f.face >= 0 ? kFaceNormal | unsigned(f.face_of_b) << 2 | unsigned(f.face) << 3 : 0u;
   std::copy(f.a, f.a + 3, cache.a), std::copy(f.b, f.b + 3, cache.b);
 }
 
