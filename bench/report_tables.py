@@ -82,8 +82,12 @@ def point_build(p, r):
     return p[0] == "PointBuild" and [p[1], p[2], us(r) / 1e3, r.get("bytes_per_point", "")]
 
 
+def face_to_face(p, r):
+    return p[0] == "FaceToFace" and [p[1], p[2], p[3], us(r) * 1e3, r.get("searched_share", ""), r.get("warm_share", "")]
+
+
 def trajectory(p, r):
-    return p[0] == "Trajectory" and [p[1], p[2], us(r) * 1e3, r.get("contact_share", ""), r.get("warm_share", ""),
+    return p[0] == "Trajectory" and [p[1], p[2], us(r) * 1e3, r.get("contact_share", ""), r.get("warm_share", ""), r.get("searched_share", ""),
                                       r.get("median_us", ""), r.get("max_us", "")]
 
 
@@ -97,7 +101,8 @@ TABLES = {
                        "max_rel_error"], near_parallel),
     "queries": (["benchmark", "time_ns"], queries),
     "mesh": (["benchmark", "median_us", "max_us", "min_culled_pct", "mean_us"], mesh),
-    "trajectory": (["pair", "method", "ns_per_query", "contact_share", "warm_share", "median_us", "max_us"], trajectory),
+    "trajectory": (["pair", "method", "ns_per_query", "contact_share", "warm_share", "searched_share", "median_us", "max_us"], trajectory),
+    "face_to_face": (["family", "gap", "method", "ns_per_query", "searched_share", "warm_share"], face_to_face),
     "mesh_bands": (["set", "pair", "method", "median_us", "max_us"] + [f"{b}_{k}" for b in BANDS for k in ("median_us", "max_us")]
                    + ["median_culled_pct", "bytes_per_triangle"], mesh_bands),
     "point_build": (["cloud", "method", "build_ms", "bytes_per_point"], point_build),
@@ -138,6 +143,32 @@ def bands_markdown(directory):
         f.write("\n".join(out) + "\n")
 
 
+def face_markdown(directory):
+    """The FaceToFace table: one line per family and gap, the four methods side by side, the
+    targets' ratios (FCL / cold >= 2, FCL / coherent >= 10, Bullet / coherent >= 5) and the
+    exhaustive search's share."""
+    t, order = {}, []
+    for r in csv.DictReader(open(f"{directory}/face_to_face.csv")):
+        key = (r["family"], r["gap"])
+        if key not in t:
+            t[key] = {}
+            order.append(key)
+        t[key][r["method"]] = r
+    out = ["| family | gap | cold [ns] | coherent [ns] | fcl_gjk [ns] | bullet_gjk_warm [ns] | fcl / cold | fcl / coherent"
+           " | bullet / coherent | searched (cold) | searched (coherent) |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for key in order:
+        m = t[key]
+        ns = {k: float(m[k]["ns_per_query"]) for k in m}
+        if len(ns) < 4:
+            continue
+        out.append(f"| {key[0]} | {key[1]} | {ns['minksum_cold']:.0f} | {ns['minksum_coherent']:.0f} | {ns['fcl_gjk']:.0f} |"
+                   f" {ns['bullet_gjk_warm']:.0f} | {ns['fcl_gjk'] / ns['minksum_cold']:.2f}x |"
+                   f" {ns['fcl_gjk'] / ns['minksum_coherent']:.2f}x | {ns['bullet_gjk_warm'] / ns['minksum_coherent']:.2f}x |"
+                   f" {float(m['minksum_cold']['searched_share'] or 0):.4f} | {float(m['minksum_coherent']['searched_share'] or 0):.4f} |")
+    with open(f"{directory}/face_to_face.md", "w") as f:
+        f.write("\n".join(out) + "\n")
+
+
 def main(directory):
     runs = json.load(open(directory + "/bench.json"))["benchmarks"]
     for name, (header, row) in TABLES.items():
@@ -149,6 +180,7 @@ def main(directory):
                 if x:
                     out.writerow([num(v) for v in x])
     bands_markdown(directory)
+    face_markdown(directory)
 
 
 if __name__ == "__main__":

@@ -32,11 +32,14 @@ constexpr int kTicks = 8192;
 
 enum class Method { Cold, Coherent, FclGjk, BulletWarm, FclObbrss, StaleCache };
 
-// Counters: the fraction of ticks in contact and the share minksum's cache answered.
-void count(benchmark::State& state, long contacts, long ticks, const ProximityCache* cache) {
+// Counters: the fraction of ticks in contact, the share minksum's cache answered, and the
+// share that needed the exhaustive search (searched: the cold rows' count).
+void count(benchmark::State& state, long contacts, long ticks, const ProximityCache* cache, long searched = -1) {
   state.counters["contact_share"] = ticks ? double(contacts) / double(ticks) : 0;
   if (cache && cache->warm + cache->cold > 0)
     state.counters["warm_share"] = double(cache->warm) / double(cache->warm + cache->cold);
+  if (cache) searched = cache->searched;
+  if (searched >= 0 && ticks > 0) state.counters["searched_share"] = double(searched) / double(ticks);
 }
 
 // One query per iteration along a path of n poses by `method`: cold(i, out),
@@ -46,11 +49,11 @@ void along(benchmark::State& state, Method method, size_t n, Cold cold, Coherent
   Proximity p;
   ProximityCache cache;
   size_t k = 0;
-  long contacts = 0, ticks = 0;
+  long contacts = 0, ticks = 0, searched = 0;
   for (auto _ : state) {
     const size_t i = k++ % n;
     switch (method) {
-      case Method::Cold: cold(i, p); break;
+      case Method::Cold: cold(i, p), searched += p.searched; break;
       case Method::Coherent: coherent(i, cache, p); break;
       case Method::FclGjk: benchmark::DoNotOptimize(fcl(i)); break;
       default: benchmark::DoNotOptimize(bullet(i)); break;
@@ -58,7 +61,8 @@ void along(benchmark::State& state, Method method, size_t n, Cold cold, Coherent
     benchmark::DoNotOptimize(p.distance);
     contacts += p.intersecting, ++ticks;
   }
-  count(state, method <= Method::Coherent ? contacts : 0, ticks, method == Method::Coherent ? &cache : nullptr);
+  count(state, method <= Method::Coherent ? contacts : 0, ticks, method == Method::Coherent ? &cache : nullptr,
+        method == Method::Cold ? searched : -1);
 }
 
 // Box A at a fixed pose; B's centre follows the trajectory around A's.
