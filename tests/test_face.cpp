@@ -32,6 +32,8 @@ double outside(const ConvexPolytope& P, const Vector3d& x) {
 constexpr double kGaps[] = {1e-1, 1e-3, 1e-6, 1e-9, 1e-12, 0, -1e-12, -1e-6, -1e-3};
 
 TEST(FaceToFace, EveryFamilyEqualsBruteForceWithoutTheSearch) {
+  // Every 3rd of 64 ticks (at a reduced MINKSUM_TEST_SCALE, the sanitizer run: every 15th).
+  const int stride = 30 / std::min(10, test::scaled(10));
   int checked = 0;
   for (const auto& pair : tools::face_pairs()) {
     ConvexShape A, B;
@@ -40,7 +42,7 @@ TEST(FaceToFace, EveryFamilyEqualsBruteForceWithoutTheSearch) {
     for (bool rocking : {false, true})
       for (double gap : kGaps) {
         ProximityCache cache;
-        for (int k = 0; k < 64; k += 3) {
+        for (int k = 0; k < 64; k += stride) {
           const std::string where = pair.name + (rocking ? " rocking" : "") + " gap " + std::to_string(gap) + " tick " + std::to_string(k);
           const Isometry3d pose_b = kPoseA * tools::face_pose(pair, k, 64, gap, rocking);
           Proximity cold, warm;
@@ -71,7 +73,7 @@ TEST(FaceToFace, EveryFamilyEqualsBruteForceWithoutTheSearch) {
         EXPECT_EQ(cache.searched, 0) << pair.name;
       }
   }
-  EXPECT_EQ(checked, 8 * 2 * 9 * 22);
+  EXPECT_GE(checked, 8 * 2 * 9 * 5);  // the eight families, flat and rocking, nine gaps, 5+ ticks
 }
 
 // Sliding flat (no rocking), the witnesses move with B: no jump larger than B's own step.
