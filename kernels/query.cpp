@@ -1552,11 +1552,12 @@ template <class A, class B>
     const int found = gjk_features(a, b, t.k, cache.a, cache.b, 3, fa, fb);
     ok = certified(a, b, found, fa, fb, t, out, &f);
   }
-  // Apart or overlapping by less than 1e-9 of the coordinates, the verdict rests on the
-  // touching tolerance, which the cold query may reach from other features (a fuzz finding:
-  // 1e74 apart at coordinates of 1e86, touching by the cold plane): the cold query answers.
+  // Apart or overlapping by less than 1e-9 of the coordinates (touching included), the verdict
+  // rests on the touching tolerance, which the cold query may reach from other features (fuzz
+  // findings at coordinates of 1e86: 1e74 apart cold and touching warm, and the reverse): the
+  // cold query answers.
   const double clear = 1e-9 * t.reach;
-  ok = ok && (out.intersecting ? out.penetration_depth <= t.touching || out.penetration_depth > clear : out.distance > clear);
+  ok = ok && (out.intersecting ? out.penetration_depth > clear : out.distance > clear);
   if (!ok) return out = Proximity{}, f = Features{}, false;
   if (want & kWantMaxDistance) farthest_pair(a, b, t.k, out);
   return true;
@@ -1568,6 +1569,10 @@ void cached_proximity(const A& a, const B& b, ProximityCache& cache, Proximity& 
   Features f;
   const bool warm = warm_proximity(a, b, cache, out, want, f);
   if (!warm) exact_proximity(a, b, out, want, &f);
+  // (An answer the coherent path would leave to the cold one: the next query starts cold, so
+  // that it is never slower than cold.)
+  const double clear = 1e-9 * std::max(a.reach(), b.reach());
+  if (!(out.intersecting ? out.penetration_depth > clear : out.distance > clear)) f.valid = false;
   ++(warm ? cache.warm : cache.cold);
   cache.searched += out.searched;
   cache.kind = f.valid ? kCacheConvex : 0u;
