@@ -1307,9 +1307,9 @@ void face_normal_of(const A& a, const B& b, const Vector3d& n, Features& f) {
 }
 
 // The coherent probe of the last answer's face normal n (A's, or B's negated): where A's top
-// and B's bottom along n are apart and their level sets meet, the planes prove the distance
-// bottom - top and the patch gives the witnesses at that distance: no GJK. False otherwise
-// (touching and pressed answers are the cold query's and the expanding polytope's).
+// and B's bottom along n are apart (or within `touching`) and their level sets meet, the
+// planes prove the distance bottom - top (or touching) and the patch gives the witnesses at
+// that distance: no GJK. False otherwise (pressed: the expanding polytope answers).
 template <class A, class B>
 bool face_probe(const A& a, const B& b, int face, bool of_b, const Tolerances& t, Proximity& out, Features& f) {
   if (face >= (of_b ? b.faces() : a.faces())) return false;
@@ -1317,9 +1317,15 @@ bool face_probe(const A& a, const B& b, int face, bool of_b, const Tolerances& t
   const Contact c = heights(a, b, n, t.tau);
   const double gap = c.bottom - c.top;
   Vector3d pa, pb;
-  if (!(gap > t.touching) || !contact_witnesses(a, b, c, t.tau, pa, pb, false)) return false;
+  if (!(gap >= -t.touching) || !contact_witnesses(a, b, c, t.tau, pa, pb, false)) return false;
   out = Proximity{};
-  out.distance = gap, out.point_a = pa, out.point_b = pb;
+  if (gap > t.touching) {
+    out.distance = gap;
+  } else {
+    out.intersecting = true;
+    out.penetration_depth = std::max(0.0, -gap), out.penetration_direction = n;
+  }
+  out.point_a = pa, out.point_b = pb;
   for (int j = 0; j < 3; ++j) f.a[j] = c.ia, f.b[j] = c.ib;
   f.valid = true, f.face = face, f.face_of_b = of_b;
   return true;
