@@ -231,6 +231,33 @@ TEST(RealTime, CoherentQueriesDoNotAllocate) {
   for (const ProximityCache* c : {&boxes, &box_tri, &shapes, &meshes}) EXPECT_GT(c->warm, 100);
 }
 
+// Face to face (tools::face_pairs: boxes, prisms, a box on a prism, a flat face on a box, an
+// edge along a face), apart, touching and pressed, flat and rocking, cold and coherent: the
+// patch witnesses, the touching certificate and the face probe work in fixed buffers.
+TEST(RealTime, FaceToFaceQueriesDoNotAllocate) {
+  SKIP_UNLESS_COUNTING();
+  const Eigen::Isometry3d pose_a(Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 3).normalized()));
+  for (const auto& pair : tools::face_pairs()) {
+    ConvexShape A, B;
+    ASSERT_EQ(pair.a_is_box ? shape_from_box(pair.box_a, A) : shape_from_points(pair.a, A), Status::Ok);
+    ASSERT_EQ(pair.b_is_box ? shape_from_box(pair.box_b, B) : shape_from_points(pair.b, B), Status::Ok);
+    for (double gap : {1e-3, 0.0, -1e-3})
+      for (bool rocking : {false, true}) {
+        ProximityCache cache;
+        Proximity p;
+        EXPECT_EQ(allocations([&] {
+                    for (int k = 0; k < 64; ++k) {
+                      const Eigen::Isometry3d pose_b = pose_a * tools::face_pose(pair, k, 64, gap, rocking);
+                      proximity(A, pose_a, B, pose_b, p, kWantContact);
+                      proximity(A, pose_a, B, pose_b, cache, p, kWantContact);
+                    }
+                  }),
+                  0)
+            << pair.name << " gap " << gap << (rocking ? " rocking" : "");
+      }
+  }
+}
+
 // A short haptic loop (two 4 s path cycles at 1 kHz) for each convex tool: nothing allocated or
 // thrown after warm-up; no force while apart; pressing in pushes the tool back up (the press is
 // straight down onto the scene's highest point); the depth moves continuously along the path.
