@@ -17,6 +17,21 @@
 #include <cmath>
 #include <limits>
 
+// Flattening the warm query and the depth certificate keeps Eigen's 3-vector operations
+// inline in the release build (GCC leaves them as calls in this large file). Under a
+// sanitizer the instrumented, fully inlined bodies take the compiler over ten minutes, and
+// speed does not matter there: no flattening.
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define MINKSUM_FLATTEN
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
+#define MINKSUM_FLATTEN
+#endif
+#endif
+#ifndef MINKSUM_FLATTEN
+#define MINKSUM_FLATTEN [[gnu::flatten]]
+#endif
+
 namespace minksum {
 
 using Eigen::Vector3d;
@@ -1072,8 +1087,8 @@ bool certified_touching(const A& a, const B& b, const Vector3d& p, const Vector3
 // d n inside the face, whose corners give the witnesses on A and B. Otherwise false: the
 // caller searches exhaustively.
 template <class A, class B>
-[[gnu::flatten]] bool certified_depth(const A& a, const B& b, const int (&ta)[4], const int (&tb)[4], double slack,
-                     double touching, Proximity& out, Features* facet = nullptr) {
+MINKSUM_FLATTEN bool certified_depth(const A& a, const B& b, const int (&ta)[4], const int (&tb)[4], double slack,
+                             double touching, Proximity& out, Features* facet = nullptr) {
   constexpr int kPoints = 64, kFaces = 128;
   struct Face {
     int v[3];
@@ -1534,9 +1549,9 @@ bool warm_depth(const A& a, const B& b, const ProximityCache& cache, const Toler
   return false;
 }
 
-// (Flattened: in this large file GCC leaves Eigen's 3-vector operations as calls.)
+// (Flattened: see MINKSUM_FLATTEN.)
 template <class A, class B>
-[[gnu::flatten]] bool warm_proximity(const A& a, const B& b, const ProximityCache& cache, Proximity& out, Want want,
+MINKSUM_FLATTEN bool warm_proximity(const A& a, const B& b, const ProximityCache& cache, Proximity& out, Want want,
                                      Features& f) {
   if (cache.kind != kCacheConvex || !(want & kWantContact)) return false;
   for (int j = 0; j < 3; ++j)
