@@ -807,12 +807,26 @@ struct Kernels {
     }
   }
 
+  // The triangle turned cyclically so that its first corner is opposite its longest edge: the
+  // normal is then the cross product of the two shortest edges, the least rounding (as the
+  // scalar path's apex_first).
+  static void apex_first(V3 (&v)[3]) {
+    const V3 e0 = sub(v[1], v[0]), e1 = sub(v[2], v[1]), e2 = sub(v[0], v[2]);
+    const B l0 = dot(e0, e0), l1 = dot(e1, e1), l2 = dot(e2, e2);
+    const auto k1 = (l2 >= l0) && (l2 > l1), k2 = (l0 > l2) && (l0 > l1);  // else v0 first
+    const V3 r0 = pick3(k1, v[1], pick3(k2, v[2], v[0]));
+    const V3 r1 = pick3(k1, v[2], pick3(k2, v[0], v[1]));
+    const V3 r2 = pick3(k1, v[0], pick3(k2, v[1], v[2]));
+    v[0] = r0, v[1] = r1, v[2] = r2;
+  }
+
   static void triangle_distance(const T* s, const T* t, int count, int N, T* dist, T* ps, T* pt) {
     const B zero(T(0)), inf(std::numeric_limits<T>::infinity());
     for (int k = 0; k < count; k += S::size) {
       const V3 o = load3(s, N, k);
       V3 a[3], b[3];
       for (int i = 0; i < 3; ++i) a[i] = sub(load3(s + 3 * i * N, N, k), o), b[i] = sub(load3(t + 3 * i * N, N, k), o);
+      apex_first(a), apex_first(b);
       B span = zero;
       for (const V3* v : {&a[1], &a[2], &b[0], &b[1], &b[2]})
         span = S::max(span, S::max(S::abs(v->x), S::max(S::abs(v->y), S::abs(v->z))));

@@ -1,0 +1,110 @@
+// triangle_distance (the scalar path) and the batched kernel against an exact oracle
+// (test::exact_triangle_distance, GMP rationals): needles up to 1e10 times longer than wide,
+// where a normal taken at the far corner tilts its plane by hundreds of units at the near end
+// (a fuzz finding), and lattice triangles, where every pair ties (shared planes, parallel
+// edges, exact contact).
+#include "checks.hpp"
+#include "exact_distance.hpp"
+
+#include <minksum/kernels.hpp>
+
+#include <random>
+
+namespace minksum {
+namespace {
+
+using Eigen::Vector3d;
+
+// The scalar path and the batched kernel (16 pairs a call) on n pairs; each distance is
+// checked against the exact one within tol(pair) and the scalar one must realise its
+// witnesses. `meet`: how many pairs meet (exact distance 0). (Pairs that touch get 0 to
+// rounding, 6e-16 on a lattice of size 3, not exactly 0: left open.)
+template <class Make, class Tol>
+void check_pairs(int n, Make make, Tol tol, const char* what, int* meet = nullptr) {
+  auto S = std::make_unique<TriangleBatch<double, 16>>(), T = std::make_unique<TriangleBatch<double, 16>>();
+  auto out = std::make_unique<TriangleDistances<double, 16>>();
+  double exact[16], slacks[16];
+  int slot[16];
+  int zeros = 0;
+  for (int k = 0; k < n; ++k) {
+    Vector3d s[3], t[3];
+    make(k, s, t);
+    const double want = test::exact_triangle_distance(s, t), slack = tol(s, t);
+    zeros += want == 0;
+    Vector3d p, q;
+    const double got = triangle_distance(s, t, p, q);
+    ASSERT_NEAR(got, want, slack) << what << " pair " << k;
+    ASSERT_NEAR((p - q).norm(), got, slack) << what << " pair " << k;
+    const int lane = k % 16;
+    S->set(lane, Triangle{s[0], s[1], s[2]}), T->set(lane, Triangle{t[0], t[1], t[2]});
+    exact[lane] = want, slacks[lane] = slack, slot[lane] = lane;
+    if (lane == 15 || k == n - 1) {
+      S->count = T->count = lane + 1;
+      S->pad(), T->pad();
+      triangle_distance(*S, *T, *out);
+      // (The batched kernel's rounding is looser than the scalar path's: up to 1.6e4 eps L on
+      // needles, and 3e-16 of a lattice of size 3 for pairs that touch, where the scalar path
+      // gives 0. Both are within the queries' touching tolerance, 64 eps L; left open.)
+      for (int j = 0; j <= lane; ++j)
+        ASSERT_NEAR(out->distance[j], exact[slot[j]], 64 * slacks[j]) << what << " batched, pair " << k - lane + j;
+    }
+  }
+  if (meet) *meet = zeros;
+}
+
+// Needles: two near corners w apart (w in [1, 100]) and a far one L away (L up to 1e10), the
+// other triangle a random one of size w within a few w of the near end (the pairs that fail
+// are there). Rounding: eps times the coordinates (L) times a small factor.
+TEST(TriangleOracle, NeedlesEqualTheExactDistance) {
+  std::mt19937_64 rng(41);
+  std::uniform_real_distribution<double> u(-1, 1), e(0, 10);
+  const auto unit = [&] { return Vector3d(u(rng), u(rng), u(rng)).normalized(); };
+  check_pairs(test::scaled(5000),
+      [&](int k, Vector3d (&s)[3], Vector3d (&t)[3]) {
+        const double w = std::pow(10.0, e(rng) / 5), L = w * std::pow(10.0, 1 + e(rng) * 0.8);
+        const Vector3d near = 3 * w * Vector3d(u(rng), u(rng), u(rng));
+        s[0] = near, s[1] = near + w * unit(), s[2] = near + L * unit();
+        for (auto& x : t) x = w * Vector3d(u(rng), u(rng), u(rng));
+        if (k % 2) std::swap(s, t);  // the needle on either side
+      },
+      [](const Vector3d (&s)[3], const Vector3d (&t)[3]) {
+        double L = 0;
+        for (const auto* v : {&s, &t})
+          for (const auto& x : *v) L = std::max(L, x.cwiseAbs().maxCoeff());
+        return 1024 * std::numeric_limits<double>::epsilon() * L;
+      },
+      "needle");
+  // The fuzz finding itself: a needle 1.3e10 long against a face of a 40-cube, 24.7 apart
+  // (the scalar and the batched paths said 0).
+  const Vector3d needle[3] = {{-8241091451.2487841, 6709542935.2549295, -9050538407.7436104},
+                              {93.246539808249764, -1.0512277892040416, -12.458303140394683},
+                              {38.484630883795802, -83.669431450844726, 38.090876026423466}};
+  const Vector3d face[3] = {{40, 40, 40}, {40, 0, 0}, {0.90625, 0.203125, 40.09375}};
+  Vector3d p, q;
+  EXPECT_NEAR(test::exact_triangle_distance(face, needle), 24.698489451961752, 1e-12);
+  EXPECT_NEAR(triangle_distance(face, needle, p, q), 24.698489451961752, 1e-5);
+}
+
+// Lattice triangles in [-3, 3]^3 (and the same scaled by 2^-20 and moved by 2^20: exact too):
+// coplanar pairs, shared edges and corners, parallel edges, touching.
+TEST(TriangleOracle, LatticeTrianglesEqualTheExactDistance) {
+  std::mt19937_64 rng(43);
+  std::uniform_int_distribution<int> c(-3, 3);
+  for (const double scale : {1.0, std::ldexp(1.0, -20)}) {
+    const Vector3d shift = scale == 1.0 ? Vector3d::Zero() : Vector3d::Constant(std::ldexp(1.0, 20));
+    int meet = 0;
+    check_pairs(test::scaled(5000),
+        [&](int, Vector3d (&s)[3], Vector3d (&t)[3]) {
+          for (auto* v : {&s, &t})
+            for (auto& x : *v) x = shift + scale * Vector3d(c(rng), c(rng), c(rng));
+        },
+        [&](const Vector3d (&)[3], const Vector3d (&)[3]) {
+          return 64 * std::numeric_limits<double>::epsilon() * (shift.norm() + 8 * scale);
+        },
+        scale == 1.0 ? "lattice" : "lattice_far", &meet);
+    EXPECT_GT(meet, test::scaled(5000) / 10);  // tie-heavy: many pairs touch or cross
+  }
+}
+
+}  // namespace
+}  // namespace minksum
