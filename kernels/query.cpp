@@ -882,6 +882,27 @@ double area2(const Patch& x) {
   return s;
 }
 
+// A patch narrower than tol made what it is at that tolerance: a segment between its two
+// farthest points, or a point. (At coordinates of 1e86 a face 50 wide rounds to a polygon of
+// coincident points, whose zero-length edges would hold every point: a fuzz finding.)
+void settle(Patch& x, double tol) {
+  if (x.size < 2) return;
+  const auto farthest = [&](const Eigen::Vector2d& from) {
+    int best = 0;
+    for (int k = 1; k < x.size; ++k)
+      if ((x.p[k] - from).squaredNorm() > (x.p[best] - from).squaredNorm()) best = k;
+    return best;
+  };
+  const int i = farthest(x.p[0]), j = farthest(x.p[i]);
+  const double extent = (x.p[j] - x.p[i]).norm();
+  if (!(extent > tol)) {
+    x.size = 1;
+  } else if (x.size >= 3 && !(std::abs(area2(x)) > tol * extent)) {
+    const Eigen::Vector2d a = x.p[i], b = x.p[j];
+    x.p[0] = a, x.p[1] = b, x.size = 2;
+  }
+}
+
 // The vertices of s on its level plane (sign +1: A's top, -1: B's bottom) seen along n in the
 // basis (u, w): a face's loop when every vertex of the face nearest n is within tau of the
 // level, else the one or two vertices within tau (an edge). False for more (GJK's witnesses).
@@ -907,6 +928,7 @@ bool level_set(const S& s, const Vector3d& n, double level, double sign, double 
     if (all) {
       for (int k = 0; k < s.loop_size(face); ++k) put(s.body_loop_vertex(face, k));
       if (area2(out) < 0) std::reverse(out.p, out.p + out.size);
+      settle(out, tau);
       return true;
     }
   }
@@ -916,6 +938,7 @@ bool level_set(const S& s, const Vector3d& n, double level, double sign, double 
       if (out.size == 2) return false;
       put(s.body_vertex(k));
     }
+  settle(out, tau);
   return out.size > 0;
 }
 
@@ -1099,15 +1122,23 @@ MINKSUM_FLATTEN bool certified_depth(const A& a, const B& b, const int (&ta)[4],
   int ia[kPoints], ib[kPoints], np = 0;
   Face face[kFaces];
   int nf = 0;
-  // Face u, v, x (counter-clockwise seen from outside), kept only with the origin well inside.
+  // Face u, v, x (counter-clockwise seen from outside), kept only with the origin inside by
+  // more than `touching` and than the rounding of its offset d: the points carry eps |w| each,
+  // which turns the normal by eps W (|e1| + |e2|) / |e1 x e2| (and the cross product's own
+  // rounding by eps |e1| |e2| / |e1 x e2|), and d by that times W. (A fuzz finding: faces
+  // between a needle's far end, 1e10 away, and points 40 apart, whose normal rounding turns
+  // by 1e-7, gave an origin 24.7 outside M a "depth" of 4.6.)
   const auto add = [&](int u, int v, int x) {
     if (nf == kFaces) return false;
-    Vector3d n = (w[v] - w[u]).cross(w[x] - w[u]);
+    const Vector3d e1 = w[v] - w[u], e2 = w[x] - w[u];
+    Vector3d n = e1.cross(e2);
     const double len = n.norm();
     if (!(len > 0) || !std::isfinite(len)) return false;
     n /= len;
     const double d = n.dot(w[u]);
-    if (!(d > touching)) return false;
+    const double W = std::max({w[u].norm(), w[v].norm(), w[x].norm()}), l1 = e1.norm(), l2 = e2.norm();
+    const double rounding = 8 * std::numeric_limits<double>::epsilon() * W * (l1 * l2 + W * (l1 + l2) + len) / len;
+    if (!(d > touching + rounding)) return false;
     face[nf++] = {{u, v, x}, n, d};
     return true;
   };
@@ -1298,6 +1329,7 @@ void box_patch(const Box& a, const Box& b, Proximity& out) {
     Patch P, Q;
     double top, bottom;
     if (!level(a, 1.0, P, top) || !level(b, -1.0, Q, bottom)) continue;
+    settle(P, tau), settle(Q, tau);
     if (P.size == 1 || Q.size == 1) return;  // a corner: the pair's witnesses are the only ones
     if (!(std::abs(bottom - top - gap) <= 64 * eps * reach)) continue;
     Eigen::Vector2d x;
