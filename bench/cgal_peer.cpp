@@ -41,7 +41,11 @@ int cgal_quickhull(const std::vector<Eigen::Vector3d>& a, const std::vector<Eige
   return int(hull.number_of_faces());
 }
 
-int cgal_nef_sum(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b) {
+struct CgalNefOperands::Impl {
+  CGAL::Nef_polyhedron_3<Epeck> a, b;
+};
+
+CgalNefOperands::CgalNefOperands(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b) {
   const auto nef = [](const std::vector<Eigen::Vector3d>& pts) {
     std::vector<Epeck::Point_3> p;
     for (const auto& v : pts) p.emplace_back(v.x(), v.y(), v.z());
@@ -49,8 +53,14 @@ int cgal_nef_sum(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen:
     CGAL::convex_hull_3(p.begin(), p.end(), hull);
     return CGAL::Nef_polyhedron_3<Epeck>(hull);
   };
-  CGAL::Nef_polyhedron_3<Epeck> A = nef(a), B = nef(b);
-  const CGAL::Nef_polyhedron_3<Epeck> sum = CGAL::minkowski_sum_3(A, B);
+  impl_.reset(new Impl{nef(a), nef(b)});
+}
+
+CgalNefOperands::~CgalNefOperands() = default;
+
+int CgalNefOperands::sum() const {
+  // (minkowski_sum_3 takes its operands by value: handle copies, the polyhedra are shared.)
+  const CGAL::Nef_polyhedron_3<Epeck> sum = CGAL::minkowski_sum_3(impl_->a, impl_->b);
   return int(sum.number_of_vertices());
 }
 

@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 
+#include <memory>
 #include <vector>
 
 namespace minksum::peers {
@@ -12,9 +13,21 @@ namespace minksum::peers {
 int cgal_quickhull(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
                    std::vector<Eigen::Vector3d>* vertices = nullptr);
 
-/// CGAL's exact Minkowski sum of the two hulls as Nef polyhedra (Epeck, minkowski_sum_3, which
-/// decomposes into convex parts and unions their pairwise hulls); returns its vertex count.
-int cgal_nef_sum(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b);
+/// Two hulls as CGAL Nef polyhedra (Epeck), built once: the operands of sum(), as
+/// minksum's prepared shapes are its operands (neither build is timed with the sum).
+class CgalNefOperands {
+ public:
+  /// Builds the exact hull of each point set and its Nef polyhedron.
+  CgalNefOperands(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b);
+  ~CgalNefOperands();
+  /// CGAL's exact Minkowski sum of the two (minkowski_sum_3, which decomposes into convex
+  /// parts and unions their pairwise hulls); returns its vertex count.
+  int sum() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 /// V, E, F of a convex polytope.
 struct ExactCounts {

@@ -226,8 +226,9 @@ void PointBuildMinksum(benchmark::State& state, std::pair<std::string, int> what
 
 void PointBuildNanoflann(benchmark::State& state, std::pair<std::string, int> what) {
   const auto& c = cloud(what.first, what.second);
+  const std::vector<Eigen::Vector3d> none;
   for (auto _ : state) {
-    peers::NanoflannCloudPair pair(c, {});  // the tree goes on the larger cloud: this one
+    peers::NanoflannCloudPair pair(c, none);  // the tree goes on the larger cloud: this one
     state.counters["bytes_per_point"] = double(pair.bytes()) / double(c.size());
   }
 }

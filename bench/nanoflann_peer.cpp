@@ -9,10 +9,10 @@ namespace minksum::peers {
 
 namespace {
 
-struct Points {  // nanoflann's dataset interface
-  std::vector<Eigen::Vector3d> pts;
-  size_t kdtree_get_point_count() const { return pts.size(); }
-  double kdtree_get_pt(size_t i, size_t d) const { return pts[i][int(d)]; }
+struct Points {  // nanoflann's dataset interface, over the caller's cloud (not copied)
+  const std::vector<Eigen::Vector3d>* pts = nullptr;
+  size_t kdtree_get_point_count() const { return pts->size(); }
+  double kdtree_get_pt(size_t i, size_t d) const { return (*pts)[i][int(d)]; }
   template <class Box>
   bool kdtree_get_bbox(Box&) const { return false; }
 };
@@ -30,8 +30,8 @@ struct NanoflannCloudPair::Impl {
 NanoflannCloudPair::NanoflannCloudPair(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b)
     : impl_(std::make_unique<Impl>()) {
   impl_->tree_on_a = a.size() >= b.size();
-  impl_->indexed.pts = impl_->tree_on_a ? a : b;
-  impl_->queries.pts = impl_->tree_on_a ? b : a;
+  impl_->indexed.pts = impl_->tree_on_a ? &a : &b;
+  impl_->queries.pts = impl_->tree_on_a ? &b : &a;
   impl_->tree = std::make_unique<Tree>(3, impl_->indexed, nanoflann::KDTreeSingleIndexAdaptorParams(10));
   impl_->tree->buildIndex();
 }
@@ -44,8 +44,9 @@ double NanoflannCloudPair::distance(const Pose& pose, int* ia, int* ib) {
   const Eigen::Vector3d t = impl_->tree_on_a ? pose.translation : Eigen::Vector3d(-(R * pose.translation));
   double best2 = std::numeric_limits<double>::infinity();
   size_t best_indexed = 0, best_query = 0;
-  for (size_t k = 0; k < impl_->queries.pts.size(); ++k) {
-    const Eigen::Vector3d q = R * impl_->queries.pts[k] + t;
+  const std::vector<Eigen::Vector3d>& queries = *impl_->queries.pts;
+  for (size_t k = 0; k < queries.size(); ++k) {
+    const Eigen::Vector3d q = R * queries[k] + t;
     size_t index = 0;
     double d2 = 0;
     nanoflann::KNNResultSet<double> result(1);

@@ -12,7 +12,8 @@ namespace minksum::peers {
 /// Two point clouds and a kd-tree over the larger one, built once.
 class NanoflannCloudPair {
  public:
-  /// Copies the clouds and builds the kd-tree (leaf size 10, nanoflann's default).
+  /// Builds the kd-tree (leaf size 10, nanoflann's default) over the clouds, read in place (a
+  /// copy would be timed as the peer's build): they must outlive the pair.
   NanoflannCloudPair(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b);
   ~NanoflannCloudPair();
   /// The closest pair of points, B placed by the pose in A's frame: one nearest-neighbour query
