@@ -1,13 +1,18 @@
 // The proximity queries on boxes and triangles from arbitrary numbers: a clear status, or
-// finite answers that agree with each other (distance >= 0, witnesses that realise it). Kinds
+// finite answers that agree with each other (distance >= 0, witnesses that realise it) and
+// with brute force (kinds 0 to 2: the least exact distance over the pairs of surface
+// triangles, test::exact_triangle_distance, and corner containment for a verdict of
+// intersecting). Kinds
 // 3 to 5 drive the coherent entry points (box pairs, box-triangle, prepared shapes) along a
 // sequence of poses from the input (first byte 128, 129, 130), small steps and jumps, with one cache: the same status and
 // verdict as the cold query at every step, and the same distance and depth to rounding.
 #include "fuzz_common.hpp"
+#include "exact_distance.hpp"
 
 #include <algorithm>
 #include <initializer_list>
 #include <limits>
+#include <type_traits>
 
 using namespace minksum;
 
@@ -29,6 +34,64 @@ Triangle triangle(fuzz::Bytes& in) {
   return t;
 }
 
+// An operand as triangles over its corners (a box's 12 surface triangles, or the triangle).
+int surface(const Box& b, Eigen::Vector3d (*out)[3]) {
+  int n = 0;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = 0; side < 2; ++side) {
+      const int u = 1 << (axis + 1) % 3, v = 1 << (axis + 2) % 3, base = side << axis;
+      const int quad[4] = {base, base | u, base | u | v, base | v};
+      for (int t = 0; t < 2; ++t) {
+        out[n][0] = box_corner(b, quad[0]), out[n][1] = box_corner(b, quad[1 + t]), out[n][2] = box_corner(b, quad[2 + t]);
+        ++n;
+      }
+    }
+  return n;
+}
+int surface(const Triangle& t, Eigen::Vector3d (*out)[3]) {
+  out[0][0] = t.a, out[0][1] = t.b, out[0][2] = t.c;
+  return 1;
+}
+
+// Whether x lies in box b, within tol.
+bool inside(const Box& b, const Eigen::Vector3d& x, double tol) {
+  return ((b.rotation.transpose() * (x - b.center)).cwiseAbs() - b.half_extents).maxCoeff() <= tol;
+}
+
+// Brute force on an Ok answer of kinds 0 to 2: the distance is the least exact distance over
+// pairs of surface triangles (when apart, the closest points lie on the surfaces); a verdict
+// of intersecting needs surfaces that meet or a corner of one inside the other (a box holds
+// the other operand whole). The tolerance is rounding: 1e-12 of the largest coordinate or
+// extent (the corners carry eps of it, the queries a few hundred eps).
+template <class A, class B>
+void brute(const A& a, const B& b, const Proximity& p) {
+  Eigen::Vector3d sa[12][3], sb[12][3];
+  const int na = surface(a, sa), nb = surface(b, sb);
+  double reach = 0;
+  for (int i = 0; i < na; ++i)
+    for (const auto& x : sa[i]) reach = std::max(reach, x.cwiseAbs().maxCoeff());
+  for (int j = 0; j < nb; ++j)
+    for (const auto& x : sb[j]) reach = std::max(reach, x.cwiseAbs().maxCoeff());
+  const double tol = 1e-12 * reach;
+  double least = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < na; ++i)
+    for (int j = 0; j < nb; ++j) least = std::min(least, test::exact_triangle_distance(sa[i], sb[j]));
+  const auto contains = [&](const auto& outer, Eigen::Vector3d(*tris)[3], int n) {
+    if constexpr (std::is_same_v<std::decay_t<decltype(outer)>, Box>) {
+      for (int k = 0; k < n; ++k)
+        if (inside(outer, tris[k][0], tol)) return true;
+    }
+    return false;
+  };
+  const bool meet = least <= tol || contains(a, sb, nb) || contains(b, sa, na);
+  if (p.intersecting != meet && std::min(least, p.distance) <= tol) return;  // touching: either verdict
+  if (p.intersecting != meet || (!p.intersecting && std::abs(p.distance - least) > tol)) {
+    std::fprintf(stderr, "query: intersecting %d distance %.17g; brute force: meet %d least %.17g (tol %.3g)\n",
+                 int(p.intersecting), p.distance, int(meet), least, tol);
+    fuzz::fail("the query differs from brute force");
+  }
+}
+
 // The next motion of a sequence: a small step (the usual case), or a jump to anywhere.
 Eigen::Isometry3d motion(fuzz::Bytes& in) {
   const uint8_t mode = in.take<uint8_t>();
@@ -44,7 +107,8 @@ Eigen::Isometry3d motion(fuzz::Bytes& in) {
 // two to their rounding: the closest points carry eps times the largest coordinate of the
 // posed objects (`reach`), which turns the separating direction by eps reach / distance, and
 // the supports along it by eps reach^2 / distance (needles 1e5 times longer than their
-// distance leave only that).
+// distance leave only that). Below a gap of sqrt(eps) reach that bound passes the gap itself,
+// so the gap is floored there: at contact both answers are within 1024 sqrt(eps) reach of 0.
 void same(Status cold_status, const Proximity& cold, Status warm_status, const Proximity& warm, double reach) {
   if (cold_status != warm_status) fuzz::fail("the coherent query's status differs from the cold one");
   if (cold_status != Status::Ok) return;
@@ -56,7 +120,7 @@ void same(Status cold_status, const Proximity& cold, Status warm_status, const P
     fuzz::fail("the coherent query's verdict differs from the cold one");
   }
   const double scale = 1 + cold.max_distance + cold.point_a.cwiseAbs().maxCoeff() + cold.point_b.cwiseAbs().maxCoeff();
-  const double gap = std::max(cold.distance, cold.penetration_depth);
+  const double gap = std::max({cold.distance, cold.penetration_depth, std::sqrt(std::numeric_limits<double>::epsilon()) * reach});
   const double tol = 1e-9 * scale + 1024 * std::numeric_limits<double>::epsilon() * reach * std::max(1.0, reach / gap);
   if (std::abs(cold.distance - warm.distance) > tol || std::abs(cold.penetration_depth - warm.penetration_depth) > tol) {
     std::fprintf(stderr, "cold: intersecting %d distance %.17g depth %.17g; coherent: distance %.17g depth %.17g\n",
@@ -123,14 +187,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   Status s;
   if (kind == 0) {
     const Box a = box(in), b = box(in);
-    s = proximity(a, b, p);
+    if ((s = proximity(a, b, p)) == Status::Ok) fuzz::check(p), brute(a, b, p);
   } else if (kind == 1) {
     const Box a = box(in);
-    s = proximity(a, triangle(in), p);
+    const Triangle t = triangle(in);
+    if ((s = proximity(a, t, p)) == Status::Ok) fuzz::check(p), brute(a, t, p);
   } else {
-    const Triangle a = triangle(in);
-    s = proximity(a, triangle(in), p);
+    const Triangle a = triangle(in), b = triangle(in);
+    if ((s = proximity(a, b, p)) == Status::Ok) fuzz::check(p), brute(a, b, p);
   }
-  if (s == Status::Ok) fuzz::check(p);
   return 0;
 }

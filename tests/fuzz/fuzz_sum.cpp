@@ -1,14 +1,18 @@
 // minkowski_sum / minkowski_difference on arbitrary point sets, as polytopes and as prepared
 // shapes under poses read from the input: a clear status (InvalidPose for a pose that is not
-// rigid), or a valid polytope (Euler, finite planes, every pairwise sum inside every plane
-// within the bound); and the proximity of the two polytopes: finite and consistent.
+// rigid), or the sum itself: Euler, finite planes, every pairwise sum inside every plane, every
+// plane touching the sum (its loop's vertices on it), every vertex the pairwise sum its (i, j)
+// names, all within the bound; on lattice input the V, E, F of the hull of the pairwise sums
+// and of the reference path; and the proximity of the two polytopes: finite and consistent.
 #include "fuzz_common.hpp"
 
 using namespace minksum;
 
 namespace {
 
-// An Ok result: Euler, finite, and every pairwise sum a + sign b inside every plane.
+// An Ok result is the sum: Euler, finite, every pairwise sum a + sign b inside every plane,
+// every vertex the pairwise sum of its pair (i, j), and every plane tight (its loop on it: a
+// plane pushed outward, or a facet whose loop strays off it, fails).
 void check_planes(const MinkowskiSum& m, const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
                   double sign) {
   if (!m.euler_ok) fuzz::fail("Euler check failed on an Ok result");
@@ -23,6 +27,21 @@ void check_planes(const MinkowskiSum& m, const std::vector<Eigen::Vector3d>& a, 
   }
   for (const auto& p : m.planes)
     if (!fuzz::finite(p.normal) || !std::isfinite(p.offset)) fuzz::fail("non-finite plane");
+  const double tol = 1e-9 * size;
+  const int na = int(a.size()), nb = int(b.size());
+  for (const auto& v : m.vertices) {
+    if (v.i < 0 || v.i >= na || v.j < 0 || v.j >= nb) fuzz::fail("a vertex's pair (i, j) out of range");
+    if ((v.point - (a[v.i] + sign * b[v.j])).cwiseAbs().maxCoeff() > tol) fuzz::fail("a vertex is not the sum of its pair");
+  }
+  if (int(m.planes.size()) != m.F || int(m.loop_start.size()) != m.F + 1) fuzz::fail("F, planes and loop offsets disagree");
+  for (int k = 0; k < m.F; ++k) {
+    const SumPlane& pl = m.planes[k];
+    if (m.facet(k).size() < 3) fuzz::fail("a facet with fewer than 3 vertices");
+    for (int v : m.facet(k)) {
+      if (v < 0 || v >= int(m.vertices.size())) fuzz::fail("a loop index out of range");
+      if (std::abs(pl.normal.dot(m.vertices[v].point) - pl.offset) > tol) fuzz::fail("a facet's vertex is off its plane");
+    }
+  }
   for (const auto& p : a)
     for (const auto& q : b)
       for (const auto& pl : m.planes)
@@ -48,11 +67,17 @@ Eigen::Isometry3d pose(fuzz::Bytes& in, bool raw) {
 // checked against the hull of the exact pairwise sums (Qhull, which merges exactly coplanar
 // facets of such small integers): an answer, not only a consistent one.
 void check_grid_structure(const ConvexPolytope& A, const ConvexPolytope& B, bool diff, const MinkowskiSum& fast) {
-  MinkowskiSum hull;
-  const Status s = diff ? minkowski_difference(A, B, hull, Method::Hull) : minkowski_sum(A, B, hull, Method::Hull);
-  if (s != Status::Ok) fuzz::fail("the hull method failed where the fast path did not");
   if (fast.corrected) fuzz::fail("the fast path needed the corrector on a grid input");
-  if (fast.V != hull.V || fast.E != hull.E || fast.F != hull.F) fuzz::fail("V, E, F differ from the hull's on a grid input");
+  for (Method other : {Method::Hull, Method::Reference}) {
+    MinkowskiSum m;
+    const Status s = diff ? minkowski_difference(A, B, m, other) : minkowski_sum(A, B, m, other);
+    if (s != Status::Ok) fuzz::fail("the hull or reference method failed where the fast path did not");
+    if (fast.V != m.V || fast.E != m.E || fast.F != m.F) {
+      std::fprintf(stderr, "fast V %d E %d F %d; %s V %d E %d F %d\n", fast.V, fast.E, fast.F,
+                   other == Method::Hull ? "hull" : "reference", m.V, m.E, m.F);
+      fuzz::fail("V, E, F differ from the hull's or the reference path's on a grid input");
+    }
+  }
 }
 
 // A signed permutation (one of the 48 rotations and reflections of the cube that are proper:
