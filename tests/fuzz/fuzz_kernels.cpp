@@ -1,17 +1,105 @@
 // The batched box-box, box-triangle and triangle-triangle kernels on arbitrary floats, on every
-// ISA this CPU has: no crash or sanitizer report for any input, for valid boxes (finite,
-// positive extents, a rotation) finite planes and proximities, equal across ISAs within float
-// rounding and to the exact double query, the whole sum's loops on their planes and its planes
-// supporting it, minkowski_sum(Box, Box) a closed polytope of support planes, and for finite
-// triangles the double triangle distance equal to the scalar path.
+// ISA this CPU has: no crash or sanitizer report for any input; for valid boxes (finite,
+// positive extents, a rotation) the planes of box-box and box-triangle against their scalar
+// reference twins (the same valid axes, each offset the exact support at the plane's own normal
+// within 8 float ulps of the operands' size, as the README states), finite proximities equal to the exact
+// double query, the whole sum's loops on their planes and its planes supporting it,
+// minkowski_sum(Box, Box) a closed polytope of support planes, and for finite triangles the
+// double triangle distance equal to the scalar path.
 #include <minksum/mesh.hpp>
 
 #include "fuzz_common.hpp"
+#include "kernel_reference.hpp"
 
 #include <limits>
 #include <memory>
 
 using namespace minksum;
+
+namespace {
+
+constexpr double kFloatEps = std::numeric_limits<float>::epsilon();
+constexpr double kTau = kParallelThreshold<float>;
+
+// What the float kernels see: every number rounded to float.
+Box rounded(const Box& b) {
+  Box r;
+  r.center = b.center.cast<float>().cast<double>();
+  r.half_extents = b.half_extents.cast<float>().cast<double>();
+  r.rotation = b.rotation.cast<float>().cast<double>();
+  return r;
+}
+Triangle rounded(const Triangle& t) {
+  return {t.a.cast<float>().cast<double>(), t.b.cast<float>().cast<double>(), t.c.cast<float>().cast<double>()};
+}
+
+// The size an offset's rounding scales with: the stored normal is within a few ulps of the
+// kernel's own (a cross product taken in A's frame and turned back), which moves the support by
+// that angle times the operand's reach, not by the terms along the normal (a box 512 long
+// moved a plane through its end by 1.2e-5 whose terms were 2).
+double size(const Box& b) { return b.center.lpNorm<1>() + b.half_extents.sum(); }
+
+// One kernel plane against its reference twin: the same validity (bar an axis whose cross
+// length is within 1 % of the threshold, where either is right), and a valid plane's offset
+// the exact support `top` at its own normal within 8 ulps of `scale` (the operands' size).
+void twin(const char* what, int p, bool valid, const KernelPlane& ref, double cross_len, double offset, double top,
+          double scale) {
+  if (std::abs(cross_len - kTau) >= 0.01 * kTau && valid != ref.valid) {
+    std::fprintf(stderr, "%s plane %d: valid %d, reference %d (cross length %.9g)\n", what, p, int(valid), int(ref.valid), cross_len);
+    fuzz::fail("a kernel plane's validity differs from its reference twin");
+  }
+  if (valid && !(std::abs(offset - top) <= 8 * kFloatEps * scale)) {
+    std::fprintf(stderr, "%s plane %d (isa %s): offset %.9g, support %.17g (scale %.9g, cross length %.3g)\n", what, p,
+                 to_string(active_isa()), offset, top, scale, cross_len);
+    fuzz::fail("a kernel plane's offset is not the support at its normal");
+  }
+}
+
+// Lane k of box_box_planes(A, B, difference) against box_box_reference.
+template <int N>
+void check_box_box(const BoxBoxPlanes<float, N>& out, int k, const Box& box_a, const Box& box_b, bool difference) {
+  const Box a = rounded(box_a), b = rounded(box_b);
+  KernelPlane ref[30];
+  detail::box_box_reference(a, b, difference, kTau, ref);
+  const double s = difference ? -1 : 1;
+  for (int p = 0; p < 30; ++p) {
+    const int axis = p % 15;
+    const Eigen::Vector3d n = (p < 15 ? 1.0 : -1.0) * Eigen::Vector3d(out.n[axis][0][k], out.n[axis][1][k], out.n[axis][2][k]);
+    const double cross_len = axis < 6 ? 1 : a.rotation.col((axis - 6) / 3).cross(b.rotation.col((axis - 6) % 3)).norm();
+    int code;
+    const double top = detail::box_support_brute(a, n, &code) + detail::box_support_brute(b, s * n, &code);
+    const double scale = size(a) + size(b);
+    twin("box-box", p, out.valid[k] >> axis & 1, ref[p], cross_len, out.offset[p][k], top, scale);
+  }
+}
+
+// Lane k of box_triangle_planes(A, T, difference) against box_triangle_reference.
+template <int N>
+void check_box_triangle(const BoxTrianglePlanes<float, N>& out, int k, const Box& box, const Triangle& tri, bool difference) {
+  const Box a = rounded(box);
+  const Triangle t = rounded(tri);
+  KernelPlane ref[26];
+  detail::box_triangle_reference(a, t, difference, kTau, ref);
+  const Eigen::Vector3d v[3] = {t.a, t.b, t.c}, e[3] = {v[1] - v[0], v[2] - v[1], v[0] - v[2]};
+  const double tri_len = e[0].cross(e[1]).norm() / (e[0].norm() * e[1].norm());
+  const bool degenerate = out.valid[k] >> 30 & 1;
+  const double s = difference ? -1 : 1;
+  for (int p = 0; p < 26; ++p) {
+    const int axis = p % 13;
+    const Eigen::Vector3d n = (p < 13 ? 1.0 : -1.0) * Eigen::Vector3d(out.n[axis][0][k], out.n[axis][1][k], out.n[axis][2][k]);
+    double cross_len = axis < 3 ? 1 : tri_len;
+    if (axis >= 4) {
+      const Eigen::Vector3d& edge = e[(axis - 4) % 3];
+      cross_len = std::min(tri_len, a.rotation.col((axis - 4) / 3).cross(edge).norm() / edge.norm());
+    }
+    int code;
+    double top = detail::box_support_brute(a, n, &code) + std::max({s * n.dot(v[0]), s * n.dot(v[1]), s * n.dot(v[2])});
+    const double scale = size(a) + std::max({v[0].lpNorm<1>(), v[1].lpNorm<1>(), v[2].lpNorm<1>()});
+    twin("box-triangle", p, !degenerate && (out.valid[k] >> axis & 1), ref[p], cross_len, out.offset[p][k], top, scale);
+  }
+}
+
+}  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   fuzz::Bytes in{data, size};
@@ -21,7 +109,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   auto S2 = std::make_unique<TriangleBatch<double, N>>(), T2 = std::make_unique<TriangleBatch<double, N>>();
   Triangle tris[N][2];
   Box boxes[N][2];
-  bool valid[N];
+  bool valid[N], tri_valid[N];
   const int count = 1 + in.take<uint8_t>() % N;
   for (int k = 0; k < count; ++k) {
     Box b[2];
@@ -38,6 +126,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     for (const Box& x : b)
       valid[k] = valid[k] && check_box(x) == Status::Ok && x.center.cwiseAbs().maxCoeff() < 1e6 &&
                  x.half_extents.minCoeff() > 1e-3 && x.half_extents.maxCoeff() < 1e6;
+    tri_valid[k] = valid[k] && t.a.cwiseAbs().maxCoeff() < 1e6 && t.b.cwiseAbs().maxCoeff() < 1e6 && t.c.cwiseAbs().maxCoeff() < 1e6;
     A->set(k, b[0]), B->set(k, b[1]), T->set(k, t);
     boxes[k][0] = b[0], boxes[k][1] = b[1];
     // A second triangle, from the next numbers (or the box's corners when they run out).
@@ -83,6 +172,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       if (!valid[k]) continue;
       for (int p = 0; p < 30; ++p)
         if (!std::isfinite(planes->offset[p][k])) fuzz::fail("non-finite plane offset for valid boxes");
+      check_box_box(*planes, k, boxes[k][0], boxes[k][1], true);
+      if (tri_valid[k]) check_box_triangle(*tri, k, boxes[k][0], tris[k][0], false);
       if (!std::isfinite(prox->distance[k]) || !std::isfinite(prox->depth[k])) fuzz::fail("non-finite proximity for valid boxes");
       const float scale = 1 + 4 * float(A->h[0][k] + B->h[0][k] + A->h[1][k] + B->h[1][k] + A->h[2][k] + B->h[2][k]) +
                           std::abs(A->c[0][k]) + std::abs(B->c[0][k]) + std::abs(A->c[1][k]) + std::abs(B->c[1][k]) + std::abs(A->c[2][k]) + std::abs(B->c[2][k]);
