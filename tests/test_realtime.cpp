@@ -75,34 +75,36 @@ TEST(RealTime, KernelsAndQueriesDoNotAllocate) {
     BoxBoxPair pair;
     Proximity p;
     KernelPlane tp[26];
+    int failed = 0;  // statuses, gathered inside the counts and asserted after them
     EXPECT_EQ(allocations([&] {
                 for (int k = 0; k + 1 < 64; ++k) {
                   box_box_planes(boxes[k], boxes[k + 1], false, pair);
                   box_triangle_planes(boxes[k], tris[k], true, tp);
-                  proximity(boxes[k], boxes[k + 1], p);
-                  proximity(boxes[k], tris[k], p);
-                  proximity(tris[k], tris[k + 1], p);
+                  failed += proximity(boxes[k], boxes[k + 1], p) != Status::Ok;
+                  failed += proximity(boxes[k], tris[k], p) != Status::Ok;
+                  failed += proximity(tris[k], tris[k + 1], p) != Status::Ok;
                 }
               }),
               0);
     // Polytopes built at set-up (B overlapping, then apart); the query reads them in place.
     ConvexPolytope P, Q[2];
-    polytope_from_points(tools::icosahedron_points(), P);
+    ASSERT_EQ(polytope_from_points(tools::icosahedron_points(), P), Status::Ok);
     for (int k = 0; k < 2; ++k) {
       std::vector<Eigen::Vector3d> moved;
       for (const auto& v : tools::rotated(tools::dodecahedron_points(), tools::table1_rotation()))
         moved.push_back(v + Eigen::Vector3d(k == 0 ? 0.5 : 5.0, 0.2, 0));
-      polytope_from_points(moved, Q[k]);
+      ASSERT_EQ(polytope_from_points(moved, Q[k]), Status::Ok);
     }
     MinkowskiSum m;  // and the queries on a difference built at set-up
-    minkowski_difference(P, Q[0], m);
+    ASSERT_EQ(minkowski_difference(P, Q[0], m), Status::Ok);
     EXPECT_EQ(allocations([&] {
-                for (const ConvexPolytope& q : Q) proximity(P, q, p);
+                for (const ConvexPolytope& q : Q) failed += proximity(P, q, p) != Status::Ok;
                 p = proximity(m, P, Q[0]);
                 p.intersecting = contains(m, Eigen::Vector3d::Zero());
                 p.penetration_depth = penetration_along(m, Eigen::Vector3d::UnitX());
               }),
               0);
+    EXPECT_EQ(failed, 0);
   }
   force_isa(active);
 }
@@ -195,6 +197,53 @@ TEST(RealTime, MeshDistanceDoesNotAllocate) {
             }),
             0);
   EXPECT_GT(pairs, 50);  // the queries did real work
+}
+
+// The cold entry points on the real-time path: posed shapes without a cache (every Want), and
+// mesh_contact of a box tool turned by a new rotation on every call, centred on the bunny's
+// vertices so that most calls clip triangles. Statuses are gathered inside the count and
+// asserted after it, with proof that the calls did real work.
+TEST(RealTime, UncachedShapeQueriesAndMeshContactDoNotAllocate) {
+  SKIP_UNLESS_COUNTING();
+  ConvexShape A, B, tool;
+  ASSERT_EQ(shape_from_points(tools::icosahedron_points(), A), Status::Ok);
+  ASSERT_EQ(shape_from_points(tools::sphere_points(64, 3), B), Status::Ok);
+  Box box;
+  box.half_extents = Eigen::Vector3d(0.01, 0.006, 0.004);
+  ASSERT_EQ(shape_from_box(box, tool), Status::Ok);
+  std::string source;
+  const tools::Mesh mesh = tools::demo_mesh("bun_zipper_res4.ply", source);
+  Octree M;
+  MeshWorkspace ws;
+  ASSERT_EQ(build_octree(mesh.vertices, mesh.triangles, M), Status::Ok);
+  make_workspace(M, M, ws);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<Eigen::Isometry3d> tool_poses(100);
+  for (size_t k = 0; k < tool_poses.size(); ++k) {
+    tool_poses[k].linear() = Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized().toRotationMatrix();
+    tool_poses[k].translation() = mesh.vertices[k * 7 % mesh.vertices.size()];
+  }
+  const auto path = tools::trajectory(4, 300, 0.5, 3.5, 0.02);
+  Proximity p;
+  MeshContact c;
+  int failed = 0, intersecting = 0, separated = 0, touched = 0;
+  EXPECT_EQ(allocations([&] {
+              for (const Eigen::Isometry3d& pose : path)
+                for (Want want : {kWantAll, kWantContact, kWantMaxDistance}) {
+                  failed += proximity(A, Eigen::Isometry3d::Identity(), B, pose, p, want) != Status::Ok;
+                  (p.intersecting ? intersecting : separated) += 1;
+                }
+              for (const Eigen::Isometry3d& pose : tool_poses) {
+                failed += mesh_contact(M, tool, pose, ws, c) != Status::Ok;
+                touched += c.intersecting;
+              }
+            }),
+            0);
+  EXPECT_EQ(failed, 0);
+  EXPECT_GT(intersecting, 30);  // the trajectory runs through contact and apart
+  EXPECT_GT(separated, 30);
+  EXPECT_GT(touched, 50);  // most tools on a vertex cut its triangles
 }
 
 // The coherent entry points, along a trajectory with caches made at set-up: no allocation, and
