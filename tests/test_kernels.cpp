@@ -568,6 +568,24 @@ TEST_P(Kernels, TriangleDistanceMatchesTheScalarPath) {
 INSTANTIATE_TEST_SUITE_P(Isa, Kernels, testing::ValuesIn(kIsas),
                          [](const auto& info) { return std::string(to_string(info.param)); });
 
+// The ISA suites above skip an ISA the CPU lacks; a skip must not hide one it has. The CPU's
+// own answer (CPUID through the compiler's builtin, independent of xsimd's detection) must
+// agree with isa_supported for every ISA, and the start-up choice must be the best of them.
+TEST(Kernels, NoIsaTheCpuHasIsSkipped) {
+  __builtin_cpu_init();
+  const bool has[4] = {true, bool(__builtin_cpu_supports("sse4.2")),
+                       __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"),
+                       __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512cd") &&
+                           __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw")};
+  Isa best = Isa::Scalar;
+  for (Isa isa : {Isa::Scalar, Isa::Sse4_2, Isa::Avx2, Isa::Avx512}) {
+    EXPECT_EQ(isa_supported(isa), has[int(isa)]) << to_string(isa);
+    if (has[int(isa)]) best = isa;
+  }
+  if (!std::getenv("MINKSUM_ISA")) EXPECT_EQ(active_isa(), best);  // (the variable may force a lower one)
+  std::printf("ISAs tested here: up to %s\n", to_string(best));
+}
+
 TEST(Kernels, SinglePairApiMatchesTheReference) {
   std::mt19937_64 rng(3);
   for (int k = 0; k < 1000; ++k) {
