@@ -92,37 +92,41 @@ std::vector<JsonPlane> parse_planes(const std::string& json) {
   return out;
 }
 
+// The sum's JSON (from points a and b; s = -1 for the difference) against Qhull's facets of the
+// pairwise sums: the facet count, every plane a Qhull facet, every pair (i, j) on its plane.
+void expect_qhull_planes(const std::string& json, const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, double s) {
+  EXPECT_NE(json.find("\"euler_ok\": true"), std::string::npos) << json;
+  const auto planes = parse_planes(json);
+  std::vector<Vector3d> sums;
+  for (const auto& p : a)
+    for (const auto& q : b) sums.push_back(p + s * q);
+  std::vector<detail::HullFacet> hull;
+  ASSERT_TRUE(detail::qhull_facets(sums, hull));
+  EXPECT_EQ(planes.size(), hull.size());
+  EXPECT_NE(json.find("\"facets\": " + std::to_string(hull.size())), std::string::npos);
+  for (const auto& p : planes) {
+    bool twin = false;
+    for (const auto& h : hull)
+      twin = twin || ((p.n - h.normal).norm() < 1e-9 && std::abs(p.d - h.normal.dot(sums[h.loop[0]])) < 1e-9);
+    EXPECT_TRUE(twin) << "plane " << p.n.transpose() << " is not a Qhull facet";
+    // (i, j) index the files' points and lie on the plane.
+    ASSERT_LT(p.i, int(a.size()));
+    ASSERT_LT(p.j, int(b.size()));
+    EXPECT_NEAR(p.n.dot(a[p.i] + s * b[p.j]), p.d, 1e-12);
+  }
+}
+
 TEST(Cli, SumJsonAgreesWithQhullOnTheTable1Pairs) {
   int format = 0;
   for (const auto& pair : tools::table1_pairs()) {
     SCOPED_TRACE(pair.name);
     for (const char* diff : {"", " --diff"}) {
-      const double s = *diff ? -1 : 1;
       const std::string a = write_points(pair.name + "_a", pair.a, format++ % 4);
       const std::string b = write_points(pair.name + "_b", pair.b, format++ % 4);
       const CliRun r = run("sum " + a + " " + b + " --json" + diff);
       ASSERT_EQ(r.code, 0) << r.err;
       EXPECT_EQ(r.err, "");
-      EXPECT_NE(r.out.find("\"euler_ok\": true"), std::string::npos) << r.out;
-      const auto planes = parse_planes(r.out);
-      std::vector<Vector3d> sums;
-      for (const auto& p : pair.a)
-        for (const auto& q : pair.b) sums.push_back(p + s * q);
-      std::vector<detail::HullFacet> hull;
-      ASSERT_TRUE(detail::qhull_facets(sums, hull));
-      EXPECT_EQ(planes.size(), hull.size());
-      EXPECT_NE(r.out.find("\"facets\": " + std::to_string(hull.size())), std::string::npos);
-      for (const auto& p : planes) {
-        bool twin = false;
-        for (const auto& h : hull)
-          twin = twin || ((p.n - h.normal).norm() < 1e-9 &&
-                          std::abs(p.d - h.normal.dot(sums[h.loop[0]])) < 1e-9);
-        EXPECT_TRUE(twin) << "plane " << p.n.transpose() << " is not a Qhull facet";
-        // (i, j) index the files' points and lie on the plane.
-        ASSERT_LT(p.i, int(pair.a.size()));
-        ASSERT_LT(p.j, int(pair.b.size()));
-        EXPECT_NEAR(p.n.dot(pair.a[p.i] + s * pair.b[p.j]), p.d, 1e-12);
-      }
+      expect_qhull_planes(r.out, pair.a, pair.b, *diff ? -1 : 1);
     }
   }
 }
@@ -411,12 +415,14 @@ TEST(Cli, CoherentPosesGiveTheSameAnswers) {
   expect_rejected("query " + a + " " + b + " --poses " + write("bad_traj.txt", "1 0 0 0 0 0\n"), "bad_traj.txt:1:");
 }
 
+// A triangle (a flat operand) with a cube: the solid prism-like sum, Qhull's facets.
 TEST(Cli, FlatOperandGivesASolidSum) {
-  const std::string tri = write("tri.txt", "0.1 0.2 0.3\n1.1 -0.4 0.5\n0.3 0.9 -0.7\n");
+  const std::vector<Vector3d> tri = {{0.1, 0.2, 0.3}, {1.1, -0.4, 0.5}, {0.3, 0.9, -0.7}};
+  const std::string file = write("tri.txt", "0.1 0.2 0.3\n1.1 -0.4 0.5\n0.3 0.9 -0.7\n");
   const std::string cube = write_points("cube2", tools::cube_points(), 1);
-  const CliRun r = run("sum " + cube + " " + tri + " --json");
+  const CliRun r = run("sum " + cube + " " + file + " --json");
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(r.out.find("\"euler_ok\": true"), std::string::npos);
+  expect_qhull_planes(r.out, tools::cube_points(), tri, 1);
 }
 
 }  // namespace
