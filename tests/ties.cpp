@@ -1,0 +1,142 @@
+#include "ties.hpp"
+
+namespace minksum::test::ties {
+
+using Eigen::Vector3d;
+
+double lattice(std::mt19937_64& rng, int range, int bits) {
+  const long span = long(range) << bits;
+  return std::ldexp(double(std::uniform_int_distribution<long>(-span, span)(rng)), -bits);
+}
+
+Vector3d lattice_point(std::mt19937_64& rng, int range, int bits) {
+  return {lattice(rng, range, bits), lattice(rng, range, bits), lattice(rng, range, bits)};
+}
+
+Eigen::Matrix3d quarter_turn(std::mt19937_64& rng) {
+  static const int kPerm[6][3] = {{0, 1, 2}, {1, 2, 0}, {2, 0, 1}, {1, 0, 2}, {0, 2, 1}, {2, 1, 0}};
+  const int code = int(rng() % 24);
+  const int* perm = kPerm[code % 6];
+  double sign[3] = {code & 8 ? -1.0 : 1.0, code & 16 ? -1.0 : 1.0, 1};
+  Eigen::Matrix3d r = Eigen::Matrix3d::Zero();
+  for (int k = 0; k < 3; ++k) r(k, perm[k]) = sign[k];
+  if (r.determinant() < 0) r.col(2) = -r.col(2);  // a proper rotation
+  return r;
+}
+
+Box lattice_box(std::mt19937_64& rng, int range, int bits) {
+  Box b;
+  b.center = lattice_point(rng, range, bits);
+  for (int d = 0; d < 3; ++d) b.half_extents[d] = std::abs(lattice(rng, range, bits)) + std::ldexp(1.0, -bits);
+  b.rotation = rng() % 3 ? quarter_turn(rng) : Eigen::Matrix3d::Identity();
+  return b;
+}
+
+Triangle lattice_triangle(std::mt19937_64& rng, int range, int bits) {
+  for (;;) {
+    Triangle t{lattice_point(rng, range, bits), lattice_point(rng, range, bits), lattice_point(rng, range, bits)};
+    if ((t.b - t.a).cross(t.c - t.a) != Vector3d::Zero()) return t;  // exact on the lattice
+  }
+}
+
+namespace {
+
+// A world axis and side of A: the outward unit normal of one of its faces and the face's
+// in-plane axes (all exact: A is quarter-turned).
+struct Face {
+  Vector3d normal, u, v, centre;
+  double hu, hv;
+};
+
+Face face_of(const Box& a, std::mt19937_64& rng) {
+  const int axis = int(rng() % 3), side = rng() % 2 ? 1 : -1;
+  const int iu = (axis + 1) % 3, iv = (axis + 2) % 3;
+  return {side * a.rotation.col(axis), a.rotation.col(iu), a.rotation.col(iv),
+          a.center + side * a.half_extents[axis] * a.rotation.col(axis), a.half_extents[iu], a.half_extents[iv]};
+}
+
+// A lattice point of A's face: inside it, on an edge, or at a corner.
+Vector3d on_face(const Face& f, std::mt19937_64& rng) {
+  const auto coordinate = [&](double h) {
+    switch (rng() % 4) {
+      case 0: return h;
+      case 1: return -h;
+      default: return std::ldexp(std::trunc(std::ldexp(h, 4) * std::uniform_real_distribution<double>(-1, 1)(rng)), -4);
+    }
+  };
+  return f.centre + coordinate(f.hu) * f.u + coordinate(f.hv) * f.v;
+}
+
+}  // namespace
+
+std::pair<Box, Box> touching_boxes(std::mt19937_64& rng) {
+  const Box a = lattice_box(rng, 4, 3);
+  const Face f = face_of(a, rng);
+  Box b = lattice_box(rng, 4, 3);
+  b.rotation = quarter_turn(rng);
+  // B's extent along A's face normal (exact: B is quarter-turned too).
+  double along = 0;
+  for (int d = 0; d < 3; ++d) along += b.half_extents[d] * std::abs(f.normal.dot(b.rotation.col(d)));
+  // Face on face: B's centre above a point of A's face (its patch may overlap A's or only
+  // touch it at an edge or a corner: the point may be A's edge or corner).
+  b.center = on_face(f, rng) + along * f.normal;
+  return {a, b};
+}
+
+std::pair<Box, Triangle> touching_box_triangle(std::mt19937_64& rng) {
+  const Box a = lattice_box(rng, 4, 3);
+  const Face f = face_of(a, rng);
+  const Vector3d p = on_face(f, rng);
+  Triangle t;
+  t.a = p;
+  if (rng() % 4 == 1) {  // an edge crossing one of the face's edges, from outside the box
+    const Vector3d m = f.centre + f.hu * f.u + lattice(rng, 1, 3) * f.hv * f.v;  // on the edge towards +u
+    const Vector3d w = f.normal - f.u;  // out over the face, and out over the side face
+    return {a, Triangle{m + w, m - w, m + f.normal + f.u}};
+  }
+  if (rng() % 4 == 0) {  // lying in the face's plane
+    t.b = p + lattice(rng, 3, 2) * f.u + lattice(rng, 3, 2) * f.v;
+    t.c = p + lattice(rng, 3, 2) * f.u + lattice(rng, 3, 2) * f.v;
+    if ((t.b - t.a).cross(t.c - t.a) == Vector3d::Zero()) t.c = p + f.u + 2 * f.v, t.b = p + 2 * f.u;
+  } else {  // a corner on the face, the others above it
+    t.b = p + (1 + std::abs(lattice(rng, 2, 2))) * f.normal + lattice(rng, 2, 2) * f.u + lattice(rng, 2, 2) * f.v;
+    t.c = p + (1 + std::abs(lattice(rng, 2, 2))) * f.normal + lattice(rng, 2, 2) * f.u + lattice(rng, 2, 2) * f.v;
+    if ((t.b - t.a).cross(t.c - t.a) == Vector3d::Zero()) t.c += f.u;
+  }
+  return {a, t};
+}
+
+std::pair<Triangle, Triangle> touching_triangles(std::mt19937_64& rng) {
+  const Triangle s = lattice_triangle(rng, 4, 2);
+  const Vector3d n = (s.b - s.a).cross(s.c - s.a);  // exact: small lattice numbers
+  Vector3d p;
+  switch (rng() % 5) {
+    case 4: {  // an edge through the midpoint of an edge, crossing the plane there
+      const Vector3d m = (s.a + s.b) / 2, w = n + lattice_point(rng, 1, 2);
+      return {s, Triangle{m + w, m - w, m + n + w}};
+    }
+    case 0: p = s.b; break;                                 // a shared corner
+    case 1: p = (s.a + s.c) / 2; break;                     // on an edge
+    case 2: p = (s.a + s.b + 2 * s.c) / 4; break;           // inside the face
+    default: {                                               // coplanar, overlapping
+      const Vector3d q = (s.a + s.b + s.c * 2) / 4;
+      return {s, Triangle{q, q + (s.b - s.a) / 2, q + (s.c - s.a) / 2}};
+    }
+  }
+  // The other corners on one side of s's plane (n . (x - p) > 0, exact).
+  Triangle t{p, p + n + lattice_point(rng, 1, 2), p + n + lattice_point(rng, 1, 2)};
+  for (Vector3d* x : {&t.b, &t.c})
+    if (n.dot(*x - p) <= 0) *x = p + n;
+  if ((t.b - t.a).cross(t.c - t.a) == Vector3d::Zero()) t.c = p + 2 * n + (s.b - s.a);
+  return {s, t};
+}
+
+std::vector<Vector3d> corners(const Box& b) {
+  std::vector<Vector3d> out;
+  for (int k = 0; k < 8; ++k) out.push_back(box_corner(b, k));
+  return out;
+}
+
+std::vector<Vector3d> corners(const Triangle& t) { return {t.a, t.b, t.c}; }
+
+}  // namespace minksum::test::ties
