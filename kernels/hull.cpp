@@ -62,7 +62,9 @@ bool qhull_facets(const std::vector<Eigen::Vector3d>& points, std::vector<HullFa
   for (size_t k = 0; k < points.size(); ++k)
     for (int d = 0; d < 3; ++d) coords[3 * k + d] = points[k][d];
 
-  FILE* devnull = std::fopen("/dev/null", "w");
+  // Qhull's messages go to /dev/null, opened once per process (an open and close per call was
+  // part of every Method::Hull timing); stdio locks the stream, so threads may share it.
+  static FILE* const devnull = std::fopen("/dev/null", "w");
   if (!devnull) return false;
   qhT qh_storage;
   qhT* qh = &qh_storage;
@@ -86,7 +88,6 @@ bool qhull_facets(const std::vector<Eigen::Vector3d>& points, std::vector<HullFa
   qh_freeqhull(qh, !qh_ALL);
   int curlong, totlong;
   qh_memfreeshort(qh, &curlong, &totlong);
-  std::fclose(devnull);
   return exitcode == 0 && !out.empty();
 }
 
