@@ -105,6 +105,11 @@ bool FclPair::penetration(FclSolver solver, FclAnswer& out) {
   return out.collide;
 }
 
+void FclPair::proximity(FclSolver solver, FclAnswer& out) {
+  out.collide = false, out.depth = 0;
+  if (distance(solver, &out) <= 0) penetration(solver, out);
+}
+
 struct FclMeshPair::Impl {
   std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> ga, gb;
   std::unique_ptr<fcl::CollisionObjectd> a, b;
@@ -145,7 +150,7 @@ double FclMeshPair::distance(const Pose& pose, Eigen::Vector3d* pa, Eigen::Vecto
   fcl::Transform3d t = fcl::Transform3d::Identity();
   t.linear() = pose.rotation, t.translation() = pose.translation;
   impl_->b->setTransform(t);
-  fcl::DistanceRequestd request(pa != nullptr);
+  fcl::DistanceRequestd request(true);  // nearest points always: mesh_distance gives its witnesses
   fcl::DistanceResultd result;
   fcl::distance(impl_->a.get(), impl_->b.get(), request, result);
   if (pa) *pa = result.nearest_points[0];

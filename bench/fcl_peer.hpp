@@ -46,6 +46,10 @@ class FclPair {
   double distance(FclSolver solver, FclAnswer* out = nullptr);
   /// fcl::collide with one contact: penetration depth and normal.
   bool penetration(FclSolver solver, FclAnswer& out);
+  /// What minksum's proximity answers, from FCL: the distance with its nearest points, and on a
+  /// collision (FCL's distance stops there) the penetration depth and normal too. The fair peer
+  /// of a full proximity query.
+  void proximity(FclSolver solver, FclAnswer& out);
 
  private:
   struct Impl;
@@ -59,7 +63,8 @@ class FclMeshPair {
   FclMeshPair(const std::vector<Eigen::Vector3d>& va, const std::vector<std::array<int, 3>>& ta,
               const std::vector<Eigen::Vector3d>& vb, const std::vector<std::array<int, 3>>& tb);
   ~FclMeshPair();
-  /// fcl::distance with B placed by the pose (A at the identity); nearest points in A's frame.
+  /// fcl::distance with B placed by the pose (A at the identity), nearest points always computed
+  /// (mesh_distance gives its witnesses); returned in A's frame when asked.
   double distance(const Pose& pose, Eigen::Vector3d* pa = nullptr, Eigen::Vector3d* pb = nullptr);
   /// Bytes of A's BVH: its nodes, vertices, triangles and primitive indices.
   size_t bytes_a() const;

@@ -56,11 +56,13 @@ void BoxDistanceMinksum(benchmark::State& state, Want want) {
 void BoxDistanceFcl(benchmark::State& state, peers::FclSolver solver) {
   const auto ps = poses(256, false);
   peers::FclPair pair(ps[0].first, ps[0].second);
+  peers::FclAnswer answer;
   size_t k = 0;
   for (auto _ : state) {
     const auto& [a, b] = ps[k++ & 255];
     pair.set_boxes(a, b);
-    benchmark::DoNotOptimize(pair.distance(solver));
+    pair.proximity(solver, answer);  // nearest points, and the depth on contact, as minksum gives
+    benchmark::DoNotOptimize(answer.distance);
   }
 }
 
@@ -144,11 +146,13 @@ SmallPairs small_pairs(bool two_triangles) {
 void SmallDistance(benchmark::State& state, bool two_triangles, bool fcl) {
   const SmallPairs ps = small_pairs(two_triangles);
   Proximity p;
+  peers::FclAnswer answer;
   size_t k = 0;
   for (auto _ : state) {
     const size_t i = k++ & 255;
     if (fcl) {
-      benchmark::DoNotOptimize(ps.fcl[i]->distance(peers::FclSolver::Gjk));
+      ps.fcl[i]->proximity(peers::FclSolver::Gjk, answer);
+      benchmark::DoNotOptimize(answer.distance);
     } else {
       if (two_triangles) proximity(ps.s[i], ps.t[i], p, kWantContact);
       else proximity(ps.boxes[i], ps.t[i], p, kWantContact);
@@ -209,7 +213,7 @@ void PolytopeQuery(benchmark::State& state, int row, bool fcl, bool overlapping)
     peers::FclAnswer answer;
     for (auto _ : state) {
       if (overlapping) peer.penetration(peers::FclSolver::Gjk, answer);
-      else answer.depth = peer.distance(peers::FclSolver::Gjk);
+      else peer.proximity(peers::FclSolver::Gjk, answer);
       benchmark::DoNotOptimize(answer.depth);
     }
   } else {

@@ -80,11 +80,12 @@ void BoxBox(benchmark::State& state, Method method) {
     b[k].center = pose_b[k].translation(), b[k].rotation = pose_b[k].linear();
   }
   peers::FclPair fcl(a, b[0]);
+  peers::FclAnswer answer;
   peers::BulletPair bullet(a.half_extents, body.half_extents);
   along(
       state, method, path.size(), [&](size_t i, Proximity& p) { proximity(a, b[i], p, kWantContact); },
       [&](size_t i, ProximityCache& cache, Proximity& p) { proximity(a, b[i], cache, p, kWantContact); },
-      [&](size_t i) { return fcl.set_boxes(a, b[i]), fcl.distance(peers::FclSolver::Gjk); },
+      [&](size_t i) { return fcl.set_boxes(a, b[i]), fcl.proximity(peers::FclSolver::Gjk, answer), answer.distance; },
       [&](size_t i) { return bullet.distance(pose_a, pose_b[i]); });
 }
 
@@ -105,12 +106,13 @@ void Shapes(benchmark::State& state, std::vector<Vector3d> pa, std::vector<Vecto
   std::vector<Isometry3d> pose_b(path.size());
   for (size_t k = 0; k < path.size(); ++k) pose_b[k] = pose_a * path[k];
   peers::FclPair fcl(A.polytope(), B.polytope());
+  peers::FclAnswer answer;
   peers::BulletPair bullet(A.polytope(), B.polytope());
   along(
       state, method, path.size(),
       [&](size_t i, Proximity& p) { proximity(A, pose_a, B, pose_b[i], p, kWantContact); },
       [&](size_t i, ProximityCache& cache, Proximity& p) { proximity(A, pose_a, B, pose_b[i], cache, p, kWantContact); },
-      [&](size_t i) { return fcl.set_poses(pose_a, pose_b[i]), fcl.distance(peers::FclSolver::Gjk); },
+      [&](size_t i) { return fcl.set_poses(pose_a, pose_b[i]), fcl.proximity(peers::FclSolver::Gjk, answer), answer.distance; },
       [&](size_t i) { return bullet.distance(pose_a, pose_b[i]); });
 }
 

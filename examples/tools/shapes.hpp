@@ -6,6 +6,7 @@
 
 #include <Eigen/Geometry>
 
+#include <cmath>
 #include <random>
 #include <string>
 #include <vector>
@@ -31,13 +32,24 @@ struct Table1Pair {
 /// The six pairs of Table 1, in the paper's order.
 std::vector<Table1Pair> table1_pairs();
 
+/// A rotation about a unit axis by an angle (radians).
+Eigen::Matrix3d axis_angle(const Eigen::Vector3d& axis, double angle);
+
 /// Every lane of A and B: Table 1's cube pair as boxes (the unit cube, and B turned by
-/// table1_rotation()).
+/// table1_rotation()) in lane 0, and in lane k the pair varied: B turned further by 0.05 k rad
+/// about an axis of its own, both boxes stretched and moved, so that no two lanes are alike (32
+/// copies of one pair would flatter the branch predictor and the caches).
 template <class T, int N>
 void fill_table1_cubes(BoxBatch<T, N>& A, BoxBatch<T, N>& B) {
-  Box b;
-  b.rotation = table1_rotation();
-  for (int k = 0; k < N; ++k) A.set(k, Box{}), B.set(k, b);
+  for (int k = 0; k < N; ++k) {
+    Box a, b;
+    const double t = double(k);
+    a.half_extents = Eigen::Vector3d(1 + 0.01 * t, 1 + 0.02 * std::fmod(3 * t, 7), 1 + 0.015 * std::fmod(5 * t, 11));
+    a.center = 0.1 * Eigen::Vector3d(std::sin(t), std::cos(2 * t), std::sin(3 * t));
+    b.half_extents = Eigen::Vector3d(1 + 0.02 * std::fmod(2 * t, 5), 1 + 0.01 * t, 1);
+    b.rotation = axis_angle(Eigen::Vector3d(std::cos(t), std::sin(t), 0.5), 0.05 * t) * table1_rotation();
+    A.set(k, a), B.set(k, b);
+  }
   A.count = B.count = N;
 }
 
@@ -101,8 +113,6 @@ Triangle random_triangle(std::mt19937_64& rng, double spread);
 /// contact about every 2,000 ticks.
 std::vector<Eigen::Isometry3d> trajectory(unsigned seed, int ticks, double near, double far, double step);
 
-/// A rotation about a unit axis by an angle (radians).
-Eigen::Matrix3d axis_angle(const Eigen::Vector3d& axis, double angle);
 
 /// A pair that meets face to face (or edge to face): A at rest, B lowered onto A's top face
 /// (A's largest z) along z, each in its body frame; a box is built by shape_from_box, as a
