@@ -6,7 +6,11 @@
 #include <minksum/minksum.hpp>
 
 #include "checks.hpp"
+#include "exact_distance.hpp"
 #include "ties.hpp"
+
+#include <array>
+#include <limits>
 
 namespace minksum {
 namespace {
@@ -76,6 +80,95 @@ TEST(Ties, ExactContactIsIntersectingAtDistanceZero) {
       }
     }
     if (testing::Test::HasFailure()) return;
+  }
+}
+
+}  // namespace
+}  // namespace minksum
+
+namespace minksum {
+namespace {
+
+// The operand's surface as triangles (a box's 12, or the triangle itself).
+std::vector<std::array<Vector3d, 3>> surface(const std::vector<Vector3d>& c) {
+  if (c.size() == 3) return {{c[0], c[1], c[2]}};
+  std::vector<std::array<Vector3d, 3>> out;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = 0; side < 2; ++side) {
+      const int u = 1 << (axis + 1) % 3, v = 1 << (axis + 2) % 3, base = side << axis;
+      out.push_back({c[base], c[base | u], c[base | u | v]});
+      out.push_back({c[base], c[base | u | v], c[base | v]});
+    }
+  return out;
+}
+
+// Brute force on lattice operands: the least exact distance over surface triangle pairs (the
+// distance when apart; 0 when the surfaces meet) and whether a corner of one lies in the other
+// box (then they overlap although the surfaces may not meet).
+double exact_gap(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b) {
+  double least = std::numeric_limits<double>::infinity();
+  for (const auto& s : surface(a))
+    for (const auto& t : surface(b)) {
+      const Vector3d S[3] = {s[0], s[1], s[2]}, T[3] = {t[0], t[1], t[2]};
+      least = std::min(least, test::exact_triangle_distance(S, T));
+    }
+  return least;
+}
+bool inside(const Box& box, const Vector3d& x) {
+  return ((box.rotation.transpose() * (x - box.center)).cwiseAbs() - box.half_extents).maxCoeff() <= 0;
+}
+
+// Random lattice operands (quarter-turned boxes and triangles, 1/8 steps within +-4), which
+// tie everywhere (parallel faces and edges, shared planes) and often touch: every query kind
+// against brute force with the exact triangle distance; the verdict must be exact (a lattice
+// pair meets or is at least 1/8^2 / size apart).
+TEST(Ties, LatticeQueriesEqualTheExactDistance) {
+  std::mt19937_64 rng(31);
+  const int n = test::scaled(200);
+  int meet[3] = {0, 0, 0}, apart[3] = {0, 0, 0};
+  for (int k = 0; k < n; ++k) {
+    const Box a = test::ties::lattice_box(rng, 3, 3), b = test::ties::lattice_box(rng, 3, 3);
+    const Triangle s = test::ties::lattice_triangle(rng, 4, 3), t = test::ties::lattice_triangle(rng, 4, 3);
+    const auto ca = test::ties::corners(a), cb = test::ties::corners(b), cs = test::ties::corners(s), ct = test::ties::corners(t);
+    struct Case {
+      const char* name;
+      Status status = Status::Ok;
+      Proximity p;
+      double exact = 0;
+      bool contained = false;
+    } cases[3];
+    cases[0].name = "box-box", cases[0].status = proximity(a, b, cases[0].p), cases[0].exact = exact_gap(ca, cb);
+    for (const auto& x : cb) cases[0].contained = cases[0].contained || inside(a, x);
+    for (const auto& x : ca) cases[0].contained = cases[0].contained || inside(b, x);
+    cases[1].name = "box-triangle", cases[1].status = proximity(a, s, cases[1].p), cases[1].exact = exact_gap(ca, cs);
+    cases[1].contained = inside(a, s.a);
+    cases[2].name = "triangle-triangle", cases[2].status = proximity(s, t, cases[2].p), cases[2].exact = exact_gap(cs, ct);
+    for (int j = 0; j < 3; ++j) {
+      const Case& c = cases[j];
+      const std::string what = std::string(c.name) + " case " + std::to_string(k);
+      ASSERT_EQ(c.status, Status::Ok) << what;
+      const bool overlap = c.exact == 0 || c.contained;
+      EXPECT_EQ(c.p.intersecting, overlap) << what << ": exact distance " << c.exact;
+      EXPECT_NEAR(c.p.distance, overlap ? 0.0 : c.exact, 64 * std::numeric_limits<double>::epsilon() * 8) << what;
+      if (overlap) EXPECT_EQ(c.p.distance, 0.0) << what;
+      ++(overlap ? meet : apart)[j];
+    }
+    // The box pair as posed shapes under one exact motion: the same answer.
+    ConvexShape SA, SB;
+    ASSERT_EQ(shape_from_box(a, SA), Status::Ok);
+    ASSERT_EQ(shape_from_box(b, SB), Status::Ok);
+    Proximity p;
+    const Eigen::Isometry3d m = lattice_motion(rng);
+    ASSERT_EQ(proximity(SA, m, SB, m, p, kWantContact), Status::Ok);
+    EXPECT_EQ(p.intersecting, cases[0].p.intersecting) << "shapes case " << k;
+    EXPECT_NEAR(p.distance, cases[0].p.distance, 64 * std::numeric_limits<double>::epsilon() * 16) << "shapes case " << k;
+    if (testing::Test::HasFailure()) return;
+  }
+  std::printf("lattice pairs that meet / are apart: box-box %d / %d, box-triangle %d / %d, triangle-triangle %d / %d\n",
+              meet[0], apart[0], meet[1], apart[1], meet[2], apart[2]);
+  for (int j = 0; j < 3; ++j) {  // both verdicts were tested, in every kind
+    EXPECT_GT(meet[j], n / 20) << j;
+    EXPECT_GT(apart[j], n / 20) << j;
   }
 }
 
