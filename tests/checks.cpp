@@ -256,10 +256,10 @@ Pose random_pose(std::mt19937_64& rng, double reach) {
   return p;
 }
 
-int scaled(int n) {
+int scaled(int n, int at_least) {
   const char* s = std::getenv("MINKSUM_TEST_SCALE");
   const double f = s ? std::atof(s) : 1.0;
-  return std::max(1, int(n * (f > 0 ? f : 1.0)));
+  return std::max(at_least, int(n * (f > 0 ? f : 1.0)));
 }
 
 std::unique_ptr<MeshSetup> mesh_setup(const std::string& name, int fallback_rings) {

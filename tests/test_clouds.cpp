@@ -82,7 +82,13 @@ void sweep(const std::vector<std::pair<std::string, std::string>>& pairs, int pe
   }
 }
 
-TEST(AdaptiveOctree, EqualsBruteForceOnTheBenchmarkMeshes) { sweep(kPairs, test::scaled(6)); }
+// Under the sanitizer (reduced sizes) two of the pairs, still one pose in every band: brute force
+// is the cost per case there.
+TEST(AdaptiveOctree, EqualsBruteForceOnTheBenchmarkMeshes) {
+  auto pairs = kPairs;
+  if (test::scaled(10) < 10) pairs.resize(2);
+  sweep(pairs, test::scaled(6, 3));
+}
 
 // The full bunny, one pose per band and the touching ones: the full sweep's largest pair, on
 // every Release run (about 25 s). Instrumented it would take minutes: the sanitizer run leaves it
@@ -143,7 +149,7 @@ TEST(PointCloud, EqualsBruteForce) {
   clouds.push_back(cloud(plane));
   std::vector<Octree> trees(clouds.size());
   for (size_t k = 0; k < clouds.size(); ++k) ASSERT_EQ(build_octree(clouds[k].vertices, trees[k]), Status::Ok);
-  const int poses = test::scaled(5);
+  const int poses = test::scaled(5, 3);  // (near to far)
   for (size_t i = 0; i < clouds.size(); ++i)
     for (size_t j = 0; j < clouds.size(); ++j) {
       MeshWorkspace ws;
@@ -176,7 +182,7 @@ TEST(PointCloud, AgainstAMeshEqualsBruteForce) {
   make_workspace(M, C, mc);
   make_workspace(C, M, cm);
   std::mt19937_64 rng(5);
-  const int poses = test::scaled(15);
+  const int poses = test::scaled(15, 3);  // (near to far)
   for (int k = 0; k < poses; ++k) {
     const Pose pose = test::random_pose(rng, 0.03 + 0.2 * k / poses);
     expect_brute(mesh, M, points, C, pose, mc, "mesh-cloud pose " + std::to_string(k));
@@ -217,8 +223,9 @@ TEST(AdaptiveOctree, DegenerateMeshesKeepWorking) {
     MeshWorkspace ws;
     make_workspace(A, B, ws);
     const Vector3d shift = m == &far ? Vector3d(1e6, -1e6, 1e6) : Vector3d::Zero();
-    for (int k = 0; k < test::scaled(10); ++k) {
-      Pose pose = test::random_pose(rng, 0.02 + 0.2 * k / 10.0);
+    const int poses = test::scaled(10, 3);  // (near to far)
+    for (int k = 0; k < poses; ++k) {
+      Pose pose = test::random_pose(rng, 0.02 + 0.2 * k / poses);
       pose.translation += shift;
       expect_brute(*m, A, base, B, pose, ws, "degenerate set, pose " + std::to_string(k));
       if (HasFatalFailure()) return;

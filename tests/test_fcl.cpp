@@ -111,7 +111,7 @@ TEST(VersusNanoflann, CloudsEqualBruteForce) {
   make_workspace(A, B, ws);
   peers::NanoflannCloudPair ab(a.vertices, b.vertices), ba(b.vertices, a.vertices);
   std::mt19937_64 rng(23);
-  const int n = test::scaled(20);
+  const int n = test::scaled(20, 3);  // (near to far)
   for (int k = 0; k < n; ++k) {
     const Pose pose = test::random_pose(rng, 0.02 + 0.2 * k / n);
     const MeshDistance want = tools::brute_distance(a, b, pose);

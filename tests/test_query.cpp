@@ -536,7 +536,7 @@ TEST_P(BatchedProximity, SinglePairActiveSetAgreesWithAllFacets) {
   auto A = std::make_unique<BoxBatch<double, N>>(), B = std::make_unique<BoxBatch<double, N>>();
   auto all = std::make_unique<BoxBoxProximity<double, N>>();
   std::vector<std::pair<Box, Box>> pairs;
-  for (int round = 0; round < test::scaled(20); ++round) {
+  for (int round = 0; round < test::scaled(20, 2); ++round) {
     for (int k = 0; k < N; ++k) {
       Box a = tools::random_box(rng, 1.5), b = tools::random_box(rng, 1.5);
       if (k % 4 == 1) b.rotation = a.rotation;  // parallel faces and edges
