@@ -81,8 +81,22 @@ testing::AssertionResult valid_sum(const std::vector<Vector3d>& a_pts,
   for (const auto& v : m.vertices) verts.push_back(v.point);
   std::vector<Vector3d> neg_b;
   for (const auto& q : b_pts) neg_b.push_back(s * q);
-  for (int k = 0; k < directions; ++k) {
-    const Vector3d n = Vector3d(g(rng), g(rng), g(rng)).normalized();
+  std::vector<Vector3d> probes;
+  for (int k = 0; k < directions; ++k) probes.push_back(Vector3d(g(rng), g(rng), g(rng)).normalized());
+  // And at every facet normal the exact sum can have (A's and B's face normals, the crosses of
+  // an edge of A with an edge of B; both signs), where a vertex with a tiny normal cone is
+  // extreme and random directions rarely land; where that set is small enough to afford.
+  if (A.edges.size() * B.edges.size() <= 4000) {
+    for (const auto* p : {&A, &B})
+      for (const Face& f : p->faces) probes.push_back(f.normal), probes.push_back(-f.normal);
+    for (const Edge& e : A.edges)
+      for (const Edge& f : B.edges) {
+        const Vector3d da = A.vertices[e.v1] - A.vertices[e.v0], db = B.vertices[f.v1] - B.vertices[f.v0];
+        const Vector3d c = da.cross(db);
+        if (c.norm() > 1e-9 * da.norm() * db.norm()) probes.push_back(c.normalized()), probes.push_back(-c.normalized());
+      }
+  }
+  for (const Vector3d& n : probes) {
     const double expect = max_dot(a_pts, n) + max_dot(neg_b, n);
     const double got = max_dot(verts, n);
     if (std::abs(got - expect) > support_tol * std::max(size, 1e-300))

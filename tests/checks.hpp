@@ -45,8 +45,9 @@ std::vector<Eigen::Vector3d> pairwise(const std::vector<Eigen::Vector3d>& a,
 /// Checks `m` = A (+) sB against the raw input points, by brute force:
 /// each vertex (i, j) equals a_i + s b_j; every pairwise sum is inside every plane (within
 /// tol * size); the loops are outward, planar and on their planes; Euler holds; and the support
-/// function of m's vertices equals h_A + h_B in `directions` random directions (relative
-/// error <= support_tol).
+/// function of m's vertices equals h_A + h_B in `directions` random directions and (for
+/// operands of up to 4000 edge pairs) at every candidate facet normal of the exact sum: the
+/// operands' face normals and the crosses of their edges (relative error <= support_tol).
 testing::AssertionResult valid_sum(const std::vector<Eigen::Vector3d>& a_pts,
                                    const std::vector<Eigen::Vector3d>& b_pts, double s,
                                    const ConvexPolytope& A, const ConvexPolytope& B,
