@@ -767,8 +767,10 @@ struct Kernels {
     const V3 d1 = sub(p1, p0), d2 = sub(q1, q0), r = sub(p0, q0);
     const B a = dot(d1, d1), e = dot(d2, d2), f = dot(d2, r), c = dot(d1, r), b = dot(d1, d2);
     const V3 x = cross(d1, d2);
-    const B denom = dot(x, x);  // a e - b^2 without the cancellation of near-parallel segments
-    const B s0 = S::select(denom > zero, clamp01((b * f - c * e) / safe(denom)), zero);
+    // a e - b^2 and b f - c e by Lagrange's identity, without the cancellation of near-parallel
+    // segments (as in the scalar segment_segment).
+    const B denom = dot(x, x);
+    const B s0 = S::select(denom > zero, clamp01(dot(x, cross(d2, r)) / safe(denom)), zero);
     const B tn = (b * s0 + f) / safe(e);
     const B s_lo = clamp01((zero - c) / safe(a)), s_hi = clamp01((b - c) / safe(a));
     B s = S::select(tn < zero, s_lo, S::select(tn > one, s_hi, s0));
