@@ -1003,11 +1003,19 @@ bool patch_point(const Patch& P, const Patch& Q, double tol, Eigen::Vector2d& x)
   Patch overlap = small;
   if (large.size >= 3) {
     for (int k = 0; k < large.size && overlap.size > 0; ++k) clip(overlap, large.p[k], large.p[(k + 1) % large.size], tol);
-  } else {  // two segments: they meet only if they lie on one line
-    const Eigen::Vector2d e = large.p[1] - large.p[0];
+  } else {  // two segments: on one line (clipped to each other below), or across at a point
+    const Eigen::Vector2d e = large.p[1] - large.p[0], f = small.p[1] - small.p[0];
     const double len = e.norm();
-    for (int k = 0; k < 2; ++k)
-      if (!(std::abs(cross2(e, small.p[k] - large.p[0])) <= tol * len)) return false;
+    bool collinear = true;
+    for (int k = 0; k < 2; ++k) collinear = collinear && std::abs(cross2(e, small.p[k] - large.p[0])) <= tol * len;
+    if (!collinear) {
+      // (An edge across an edge: a penetration along their cross product ends with them
+      // crossing. small.p[0] + s f lies on large's line at s = e x (large.p[0] - small.p[0]) / e x f.)
+      const double across = cross2(e, f);
+      if (!(across != 0)) return false;  // parallel lines apart
+      x = small.p[0] + std::clamp(cross2(e, large.p[0] - small.p[0]) / across, 0.0, 1.0) * f;
+      return meets(x, large, tol);
+    }
     clip(overlap, large.p[0] + Eigen::Vector2d(-e.y(), e.x()), large.p[0], tol);  // beyond large.p[0]
     clip(overlap, large.p[1], large.p[1] + Eigen::Vector2d(-e.y(), e.x()), tol);  // before large.p[1]
   }

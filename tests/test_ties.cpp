@@ -89,30 +89,23 @@ TEST(Ties, ExactContactIsIntersectingAtDistanceZero) {
 namespace minksum {
 namespace {
 
-// The operand's surface as triangles (a box's 12, or the triangle itself).
-std::vector<std::array<Vector3d, 3>> surface(const std::vector<Vector3d>& c) {
-  if (c.size() == 3) return {{c[0], c[1], c[2]}};
-  std::vector<std::array<Vector3d, 3>> out;
-  for (int axis = 0; axis < 3; ++axis)
-    for (int side = 0; side < 2; ++side) {
-      const int u = 1 << (axis + 1) % 3, v = 1 << (axis + 2) % 3, base = side << axis;
-      out.push_back({c[base], c[base | u], c[base | u | v]});
-      out.push_back({c[base], c[base | u | v], c[base | v]});
-    }
-  return out;
-}
-
-// Brute force on lattice operands: the least exact distance over surface triangle pairs (the
+// Brute force on lattice operands: the least exact distance between their surfaces (the
 // distance when apart; 0 when the surfaces meet) and whether a corner of one lies in the other
 // box (then they overlap although the surfaces may not meet).
-double exact_gap(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b) {
-  double least = std::numeric_limits<double>::infinity();
-  for (const auto& s : surface(a))
-    for (const auto& t : surface(b)) {
-      const Vector3d S[3] = {s[0], s[1], s[2]}, T[3] = {t[0], t[1], t[2]};
-      least = std::min(least, test::exact_triangle_distance(S, T));
-    }
-  return least;
+double exact_gap(const Box& a, const Box& b) {
+  ConvexPolytope A, B;
+  polytope_from_box(a, A), polytope_from_box(b, B);
+  return test::ties::exact_surface_gap(A, B);
+}
+double exact_gap(const Box& a, const Triangle& t) {
+  ConvexPolytope A, B;
+  polytope_from_box(a, A), polytope_from_triangle(t, B);
+  return test::ties::exact_surface_gap(A, B);
+}
+double exact_gap(const Triangle& s, const Triangle& t) {
+  ConvexPolytope A, B;
+  polytope_from_triangle(s, A), polytope_from_triangle(t, B);
+  return test::ties::exact_surface_gap(A, B);
 }
 bool inside(const Box& box, const Vector3d& x) {
   return ((box.rotation.transpose() * (x - box.center)).cwiseAbs() - box.half_extents).maxCoeff() <= 0;
@@ -137,12 +130,12 @@ TEST(Ties, LatticeQueriesEqualTheExactDistance) {
       double exact = 0;
       bool contained = false;
     } cases[3];
-    cases[0].name = "box-box", cases[0].status = proximity(a, b, cases[0].p), cases[0].exact = exact_gap(ca, cb);
+    cases[0].name = "box-box", cases[0].status = proximity(a, b, cases[0].p), cases[0].exact = exact_gap(a, b);
     for (const auto& x : cb) cases[0].contained = cases[0].contained || inside(a, x);
     for (const auto& x : ca) cases[0].contained = cases[0].contained || inside(b, x);
-    cases[1].name = "box-triangle", cases[1].status = proximity(a, s, cases[1].p), cases[1].exact = exact_gap(ca, cs);
+    cases[1].name = "box-triangle", cases[1].status = proximity(a, s, cases[1].p), cases[1].exact = exact_gap(a, s);
     cases[1].contained = inside(a, s.a);
-    cases[2].name = "triangle-triangle", cases[2].status = proximity(s, t, cases[2].p), cases[2].exact = exact_gap(cs, ct);
+    cases[2].name = "triangle-triangle", cases[2].status = proximity(s, t, cases[2].p), cases[2].exact = exact_gap(s, t);
     for (int j = 0; j < 3; ++j) {
       const Case& c = cases[j];
       const std::string what = std::string(c.name) + " case " + std::to_string(k);

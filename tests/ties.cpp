@@ -1,5 +1,11 @@
 #include "ties.hpp"
 
+#include <algorithm>
+#include <array>
+#include <limits>
+
+#include "exact_distance.hpp"
+
 namespace minksum::test::ties {
 
 using Eigen::Vector3d;
@@ -129,6 +135,58 @@ std::pair<Triangle, Triangle> touching_triangles(std::mt19937_64& rng) {
     if (n.dot(*x - p) <= 0) *x = p + n;
   if ((t.b - t.a).cross(t.c - t.a) == Vector3d::Zero()) t.c = p + 2 * n + (s.b - s.a);
   return {s, t};
+}
+
+std::vector<Vector3d> lattice_solid_points(std::mt19937_64& rng, int range, int bits) {
+  std::uniform_int_distribution<int> count(4, 12);
+  for (;;) {
+    std::vector<Vector3d> pts(size_t(count(rng)));
+    for (auto& p : pts) p = lattice_point(rng, range, bits);
+    ConvexPolytope P;
+    if (polytope_from_points(pts, P) == Status::Ok && !P.flat) return pts;
+  }
+}
+
+namespace {
+
+// The surface as triangles: each face's loop fanned from its first vertex (one side of a flat
+// polytope: its two faces are the same polygon).
+std::vector<std::array<Vector3d, 3>> surface(const ConvexPolytope& P) {
+  std::vector<std::array<Vector3d, 3>> out;
+  for (size_t f = 0; f < (P.flat ? 1 : P.faces.size()); ++f) {
+    const auto& loop = P.faces[f].loop;
+    for (size_t k = 2; k < loop.size(); ++k) out.push_back({P.vertices[loop[0]], P.vertices[loop[k - 1]], P.vertices[loop[k]]});
+  }
+  return out;
+}
+
+}  // namespace
+
+double exact_surface_gap(const ConvexPolytope& a, const ConvexPolytope& b) {
+  const auto sa = surface(a), sb = surface(b);
+  // Bounding spheres about the centroids; the pairs in increasing order of the lower bound that
+  // the spheres give, so that the least exact distance comes early and ends the scan (a pair is
+  // skipped only when its bound, with a margin far above rounding, exceeds the least so far).
+  const auto sphere = [](const std::array<Vector3d, 3>& t) {
+    const Vector3d c = (t[0] + t[1] + t[2]) / 3;
+    return std::make_pair(c, std::max({(t[0] - c).norm(), (t[1] - c).norm(), (t[2] - c).norm()}));
+  };
+  std::vector<std::pair<double, std::pair<int, int>>> order;
+  for (size_t i = 0; i < sa.size(); ++i)
+    for (size_t j = 0; j < sb.size(); ++j) {
+      const auto [ca, ra] = sphere(sa[i]);
+      const auto [cb, rb] = sphere(sb[j]);
+      order.push_back({(ca - cb).norm() - ra - rb, {int(i), int(j)}});
+    }
+  std::sort(order.begin(), order.end());
+  double least = std::numeric_limits<double>::infinity();
+  for (const auto& [bound, ij] : order) {
+    if (least == 0 || bound > least + 1e-9) break;
+    const auto &s = sa[size_t(ij.first)], &t = sb[size_t(ij.second)];
+    const Vector3d S[3] = {s[0], s[1], s[2]}, T[3] = {t[0], t[1], t[2]};
+    least = std::min(least, exact_triangle_distance(S, T));
+  }
+  return least;
 }
 
 std::vector<Vector3d> corners(const Box& b) {

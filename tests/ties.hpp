@@ -39,6 +39,14 @@ std::pair<Box, Triangle> touching_box_triangle(std::mt19937_64& rng);
 /// (the rest on one side), coplanar and overlapping, or an edge through the midpoint of an edge.
 std::pair<Triangle, Triangle> touching_triangles(std::mt19937_64& rng);
 
+/// 4 to 12 points of lattice coordinates (within +-range, steps 2^-bits), not all in one plane.
+std::vector<Eigen::Vector3d> lattice_solid_points(std::mt19937_64& rng, int range, int bits);
+
+/// The least exact distance (exact_triangle_distance) between the surfaces of two polytopes,
+/// their faces fanned into triangles: their distance when apart, 0 when the surfaces meet (when
+/// they do not, one may still hold the other).
+double exact_surface_gap(const ConvexPolytope& a, const ConvexPolytope& b);
+
 /// A box's corners (box_corner order).
 std::vector<Eigen::Vector3d> corners(const Box& b);
 
