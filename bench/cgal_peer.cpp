@@ -135,14 +135,15 @@ bool sums_are_doubles(const std::vector<Eigen::Vector3d>& a, const std::vector<E
 
 // V, E, F of the exact hull of the pairwise sums a + s b, computed exactly (not rounded to
 // double first), with coplanar triangles merged.
-ExactCounts exact_counts(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b, double s) {
-  if (sums_are_doubles(a, b, s)) return exact_structure(a, b, s, nullptr);
+ExactCounts exact_counts(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b, double s,
+                         std::vector<std::vector<Eigen::Vector3d>>* facets) {
+  if (sums_are_doubles(a, b, s)) return exact_structure(a, b, s, facets);
   std::vector<Epeck::Point_3> p;
   for (const auto& u : a)
     for (const auto& v : b)
       p.emplace_back(Epeck::FT(u.x()) + Epeck::FT(s) * Epeck::FT(v.x()), Epeck::FT(u.y()) + Epeck::FT(s) * Epeck::FT(v.y()),
                      Epeck::FT(u.z()) + Epeck::FT(s) * Epeck::FT(v.z()));
-  return hull_structure<Epeck>(p, nullptr);
+  return hull_structure<Epeck>(p, facets);
 }
 
 ExactCounts exact_structure(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b, double s,

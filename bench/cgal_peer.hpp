@@ -36,8 +36,9 @@ struct ExactCounts {
 
 /// V, E, F of the hull of the pairwise sums a + s b computed exactly (Epeck, from the doubles
 /// as given), with exactly coplanar triangles merged: the exact structure of A (+) B (s = 1) or
-/// A (-) B (s = -1).
-ExactCounts exact_counts(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b, double s);
+/// A (-) B (s = -1); with `facets`, each merged facet's vertices rounded to doubles, sorted.
+ExactCounts exact_counts(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b, double s,
+                         std::vector<std::vector<Eigen::Vector3d>>* facets = nullptr);
 
 /// The same for sums that are doubles exactly (integer coordinates, say; else V = E = F = -1),
 /// by exact predicates on them (Epick, several times faster), and with `facets` each merged

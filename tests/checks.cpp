@@ -1,5 +1,7 @@
 #include "checks.hpp"
 
+#include "cgal_peer.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -148,6 +150,77 @@ testing::AssertionResult same_sum(const MinkowskiSum& x, const MinkowskiSum& y, 
       return testing::AssertionFailure() << "facet " << f << " (n = " << x.planes[f].normal.transpose()
                                          << "): the planes differ by " << d << " at its vertices";
   }
+  return testing::AssertionSuccess();
+}
+
+std::vector<ExactFacet> exact_hull(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, double s) {
+  std::vector<std::vector<Vector3d>> facets;
+  peers::exact_counts(a, b, s, &facets);
+  Vector3d centre = Vector3d::Zero();
+  int n = 0;
+  for (const auto& f : facets)
+    for (const auto& p : f) centre += p, ++n;
+  centre /= std::max(n, 1);
+  std::vector<ExactFacet> out;
+  for (auto& f : facets) {
+    // The normal: the longest cross product of two spokes from one vertex (the vertices are
+    // sorted, not in loop order); outward: away from the centre of all vertices.
+    Vector3d best = Vector3d::Zero();
+    for (size_t i = 1; i < f.size(); ++i)
+      for (size_t j = i + 1; j < f.size(); ++j) {
+        const Vector3d c = (f[i] - f[0]).cross(f[j] - f[0]);
+        if (c.squaredNorm() > best.squaredNorm()) best = c;
+      }
+    ExactFacet e{best.normalized(), 0, std::move(f)};
+    e.offset = e.normal.dot(e.points[0]);
+    if (e.normal.dot(centre) > e.offset) e.normal = -e.normal, e.offset = -e.offset;
+    out.push_back(std::move(e));
+  }
+  return out;
+}
+
+testing::AssertionResult equals_exact_hull(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, double s,
+                                           const MinkowskiSum& m, double tol) {
+  std::vector<std::vector<Vector3d>> facets;
+  const peers::ExactCounts e = peers::exact_counts(a, b, s, &facets);
+  if (m.V != e.V || m.E != e.E || m.F != e.F)
+    return testing::AssertionFailure() << "V, E, F " << m.V << "/" << m.E << "/" << m.F << ", exact " << e.V << "/" << e.E << "/" << e.F;
+  double size = 1;
+  for (const auto& v : m.vertices) size = std::max(size, v.point.cwiseAbs().maxCoeff());
+  const double within = tol * size;
+  // Each exact vertex names the one vertex of m within `within` of it (by x, then the rest).
+  std::vector<std::pair<double, int>> by_x;
+  for (int k = 0; k < int(m.vertices.size()); ++k) by_x.push_back({m.vertices[k].point.x(), k});
+  std::sort(by_x.begin(), by_x.end());
+  auto vertex_of = [&](const Vector3d& p) {
+    int found = -1;
+    for (auto it = std::lower_bound(by_x.begin(), by_x.end(), std::pair<double, int>{p.x() - within, -1});
+         it != by_x.end() && it->first <= p.x() + within; ++it)
+      if ((m.vertices[it->second].point - p).cwiseAbs().maxCoeff() <= within) {
+        if (found >= 0) return -2;
+        found = it->second;
+      }
+    return found;
+  };
+  std::multiset<std::vector<int>> exact, ours;
+  for (const auto& f : facets) {
+    std::vector<int> ids;
+    for (const auto& p : f) {
+      const int k = vertex_of(p);
+      if (k < 0)
+        return testing::AssertionFailure() << "the exact vertex " << p.transpose() << (k == -1 ? " is not" : " is more than one")
+                                           << " vertex of the sum";
+      ids.push_back(k);
+    }
+    std::sort(ids.begin(), ids.end());
+    exact.insert(std::move(ids));
+  }
+  for (int f = 0; f < m.F; ++f) {
+    std::vector<int> ids(m.facet(f).begin(), m.facet(f).end());
+    std::sort(ids.begin(), ids.end());
+    ours.insert(std::move(ids));
+  }
+  if (exact != ours) return testing::AssertionFailure() << "a facet has other vertices than the exact one";
   return testing::AssertionSuccess();
 }
 

@@ -58,6 +58,24 @@ testing::AssertionResult valid_sum(const std::vector<Eigen::Vector3d>& a_pts,
 /// that agree at those vertices within tol * size.
 testing::AssertionResult same_sum(const MinkowskiSum& x, const MinkowskiSum& y, double tol);
 
+/// A facet of the exact hull of the pairwise sums a + s b (CGAL's exact kernel, an oracle
+/// independent of the library and of its Qhull wrapper).
+struct ExactFacet {
+  Eigen::Vector3d normal;               ///< outward, unit (from the vertices, rounded)
+  double offset = 0;                    ///< normal . x = offset on the facet
+  std::vector<Eigen::Vector3d> points;  ///< its vertices (rounded to doubles), sorted
+};
+
+/// The exact hull of the pairwise sums a + s b of a solid sum, with coplanar triangles merged
+/// (peers::exact_counts).
+std::vector<ExactFacet> exact_hull(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b, double s);
+
+/// m is the exact hull of the pairwise sums a + s b: the same V, E, F as CGAL's exact hull, and
+/// facet by facet the same vertices, equal within tol * size (tol = 0: exactly, for sums that are
+/// doubles).
+testing::AssertionResult equals_exact_hull(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
+                                           double s, const MinkowskiSum& m, double tol);
+
 /// What brute force says of two convex polytopes.
 struct Oracle {
   bool overlap;         ///< no separating axis among face normals and edge crosses

@@ -1,5 +1,5 @@
-// The minksum command-line program, run as a user would: JSON output against Qhull on the
-// pairwise sums, the file formats, and bad input (exit code 2, one line with file:line).
+// The minksum command-line program, run as a user would: JSON output against CGAL's exact hull
+// of the pairwise sums, the file formats, and bad input (exit code 2, one line with file:line).
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -15,7 +15,7 @@
 
 #include <minksum/kernels.hpp>
 
-#include "hull.hpp"
+#include "checks.hpp"
 #include "tools/io.hpp"
 #include "tools/shapes.hpp"
 
@@ -92,33 +92,35 @@ std::vector<JsonPlane> parse_planes(const std::string& json) {
   return out;
 }
 
-// The sum's JSON (from points a and b; s = -1 for the difference) against Qhull's facets of the
-// pairwise sums: the facet count, every plane a Qhull facet, every pair (i, j) on its plane.
-void expect_qhull_planes(const std::string& json, const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, double s) {
-  EXPECT_NE(json.find("\"euler_ok\": true"), std::string::npos) << json;
-  const auto planes = parse_planes(json);
-  std::vector<Vector3d> sums;
-  for (const auto& p : a)
-    for (const auto& q : b) sums.push_back(p + s * q);
-  std::vector<detail::HullFacet> hull;
-  ASSERT_TRUE(detail::qhull_facets(sums, hull));
+// Planes from the CLI's JSON are the facets of CGAL's exact hull of the pairwise sums a + s b:
+// as many, each one an exact facet's plane, and every pair (i, j) an index of the files' points
+// on its plane.
+void expect_exact_planes(const std::vector<JsonPlane>& planes, const std::vector<Vector3d>& a,
+                         const std::vector<Vector3d>& b, double s, double tol) {
+  const auto hull = test::exact_hull(a, b, s);
   EXPECT_EQ(planes.size(), hull.size());
-  EXPECT_NE(json.find("\"facets\": " + std::to_string(hull.size())), std::string::npos);
   for (const auto& p : planes) {
     bool twin = false;
-    for (const auto& h : hull)
-      twin = twin || ((p.n - h.normal).norm() < 1e-9 && std::abs(p.d - h.normal.dot(sums[h.loop[0]])) < 1e-9);
-    EXPECT_TRUE(twin) << "plane " << p.n.transpose() << " is not a Qhull facet";
-    // (i, j) index the files' points and lie on the plane.
+    for (const auto& h : hull) twin = twin || ((p.n - h.normal).norm() < tol && std::abs(p.d - h.offset) < tol);
+    EXPECT_TRUE(twin) << "plane " << p.n.transpose() << " is not an exact facet";
     ASSERT_LT(p.i, int(a.size()));
     ASSERT_LT(p.j, int(b.size()));
-    EXPECT_NEAR(p.n.dot(a[p.i] + s * b[p.j]), p.d, 1e-12);
+    EXPECT_NEAR(p.n.dot(a[p.i] + s * b[p.j]), p.d, tol);
   }
 }
 
-TEST(Cli, SumJsonAgreesWithQhullOnTheTable1Pairs) {
+// The sum's JSON (from points a and b; s = -1 for the difference): a solid whose planes are the
+// exact hull's, and the facet count it states.
+void expect_exact_sum(const std::string& json, const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, double s) {
+  EXPECT_NE(json.find("\"euler_ok\": true"), std::string::npos) << json;
+  const auto planes = parse_planes(json);
+  EXPECT_NE(json.find("\"facets\": " + std::to_string(planes.size())), std::string::npos);
+  expect_exact_planes(planes, a, b, s, 1e-9);
+}
+
+TEST(Cli, SumJsonAgreesWithTheExactHullOnTheTable1Pairs) {
   int format = 0;
-  for (const auto& pair : tools::table1_pairs()) {
+  for (const auto& pair : tools::exact_table1_pairs()) {  // (exact coordinates: planar faces)
     SCOPED_TRACE(pair.name);
     for (const char* diff : {"", " --diff"}) {
       const std::string a = write_points(pair.name + "_a", pair.a, format++ % 4);
@@ -126,7 +128,7 @@ TEST(Cli, SumJsonAgreesWithQhullOnTheTable1Pairs) {
       const CliRun r = run("sum " + a + " " + b + " --json" + diff);
       ASSERT_EQ(r.code, 0) << r.err;
       EXPECT_EQ(r.err, "");
-      expect_qhull_planes(r.out, pair.a, pair.b, *diff ? -1 : 1);
+      expect_exact_sum(r.out, pair.a, pair.b, *diff ? -1 : 1);
     }
   }
 }
@@ -155,7 +157,7 @@ void expect_rejected(const std::string& args, const std::string& what) {
 }
 
 // --pose-b places B (read in its body frame) by a unit quaternion and a translation: every
-// method's planes are Qhull's facets of the pairwise sums with B moved here, indices are the
+// method's planes are the exact hull's facets of the pairwise sums with B moved here, indices are the
 // files', and query gives the distance of the explicitly moved file.
 TEST(Cli, PoseBPlacesTheSecondOperand) {
   const auto pair = tools::table1_pairs()[2];
@@ -167,25 +169,11 @@ TEST(Cli, PoseBPlacesTheSecondOperand) {
   std::vector<Vector3d> moved;
   for (const auto& p : pair.b) moved.push_back(q * p + t);
   const std::string a = write_points("pa", pair.a, 0), b = write_points("pb", pair.b, 1), bm = write_points("pbm", moved, 0);
-  std::vector<Vector3d> sums;
-  for (const auto& p : pair.a)
-    for (const auto& r : moved) sums.push_back(p + r);
-  std::vector<detail::HullFacet> hull;
-  ASSERT_TRUE(detail::qhull_facets(sums, hull));
   for (const char* method : {"fast", "reference", "hull"}) {
     SCOPED_TRACE(method);
     const CliRun r = run("sum " + a + " " + b + " --pose-b " + pose.str() + " --json --method " + method);
     ASSERT_EQ(r.code, 0) << r.err;
-    const auto planes = parse_planes(r.out);
-    EXPECT_EQ(planes.size(), hull.size());
-    for (const auto& p : planes) {
-      ASSERT_LT(p.j, int(moved.size()));
-      EXPECT_NEAR(p.n.dot(pair.a[p.i] + moved[p.j]), p.d, 1e-9);
-      bool twin = false;
-      for (const auto& h : hull)
-        twin = twin || ((p.n - h.normal).norm() < 1e-9 && std::abs(p.d - h.normal.dot(sums[h.loop[0]])) < 1e-9);
-      EXPECT_TRUE(twin) << "plane " << p.n.transpose() << " is not a Qhull facet";
-    }
+    expect_exact_planes(parse_planes(r.out), pair.a, moved, 1, 1e-9);
   }
   const CliRun posed = run("query " + a + " " + b + " --pose-b " + pose.str() + " --json");
   const CliRun explicit_ = run("query " + a + " " + bm + " --json");
@@ -415,14 +403,14 @@ TEST(Cli, CoherentPosesGiveTheSameAnswers) {
   expect_rejected("query " + a + " " + b + " --poses " + write("bad_traj.txt", "1 0 0 0 0 0\n"), "bad_traj.txt:1:");
 }
 
-// A triangle (a flat operand) with a cube: the solid prism-like sum, Qhull's facets.
+// A triangle (a flat operand) with a cube: the solid prism-like sum, the exact hull's facets.
 TEST(Cli, FlatOperandGivesASolidSum) {
   const std::vector<Vector3d> tri = {{0.1, 0.2, 0.3}, {1.1, -0.4, 0.5}, {0.3, 0.9, -0.7}};
   const std::string file = write("tri.txt", "0.1 0.2 0.3\n1.1 -0.4 0.5\n0.3 0.9 -0.7\n");
   const std::string cube = write_points("cube2", tools::cube_points(), 1);
   const CliRun r = run("sum " + cube + " " + file + " --json");
   ASSERT_EQ(r.code, 0) << r.err;
-  expect_qhull_planes(r.out, tools::cube_points(), tri, 1);
+  expect_exact_sum(r.out, tools::cube_points(), tri, 1);
 }
 
 }  // namespace

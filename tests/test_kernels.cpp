@@ -6,12 +6,12 @@
 
 #include <cmath>
 #include <iomanip>
+#include <limits>
 #include <map>
 #include <memory>
 #include <random>
 #include <set>
 
-#include "hull.hpp"
 #include "kernel_reference.hpp"
 #include "tools/shapes.hpp"
 
@@ -423,10 +423,11 @@ void check_triangle_distance(Isa isa, unsigned seed) {
   EXPECT_GT(zero, kN / 20);  // meeting pairs were part of the test
 }
 
-// The whole-polytope kernel against Qhull's hull of the 64 pairwise corner sums (an independent
-// oracle). In general position: the corners are the boxes' corners, the 30 loops lie on their
-// planes, counter-clockwise from outside, close into a 2-manifold of 32 vertices and 60 edges,
-// and their vertices are exactly the hull's, which has 30 facets. Returns the general lanes.
+// The whole-polytope kernel against the hull of the 64 pairwise corner sums, by brute force (no
+// hull code: the exact hull of the rounded corners would split the faces that rounding bent). In
+// general position: the corners are the boxes' corners, the 30 loops lie on their planes,
+// counter-clockwise from outside, close into a 2-manifold of 32 vertices and 60 edges, and every
+// plane supports the 64 sums; such a surface is their hull. Returns the general lanes.
 template <class T>
 int check_box_box_sum(Isa isa, const std::vector<std::pair<Box, Box>>& pairs) {
   EXPECT_TRUE(force_isa(isa));
@@ -456,12 +457,9 @@ int check_box_box_sum(Isa isa, const std::vector<std::pair<Box, Box>>& pairs) {
       }
       if (!out->general[k]) continue;
       ++general;
-      std::vector<detail::HullFacet> hull;
-      EXPECT_TRUE(detail::qhull_facets(sums, hull)) << what;
-      EXPECT_EQ(hull.size(), 30u) << what;
-      std::set<int> expected, got;
-      for (const auto& f : hull)
-        for (int s : f.loop) expected.insert(s / 8 | (s % 8) << 3);
+      // The hull of the pairwise sums, by brute force: a closed surface of convex facets whose
+      // vertices are pairwise sums and whose planes all support the 64 sums is their hull.
+      std::set<int> got;
       std::map<std::pair<int, int>, int> directed;
       for (int p = 0; p < 30; ++p) {
         const int q = p % 15;
@@ -474,12 +472,14 @@ int check_box_box_sum(Isa isa, const std::vector<std::pair<Box, Box>>& pairs) {
           EXPECT_NEAR(nrm.dot(P[m]), double(out->planes.offset[p][k]), tol) << what << " facet " << p;
           got.insert(v[m]);
         }
+        double support = -std::numeric_limits<double>::infinity();
+        for (const auto& x : sums) support = std::max(support, nrm.dot(x));
+        EXPECT_NEAR(support, double(out->planes.offset[p][k]), tol) << what << " facet " << p << " does not support the sums";
         for (int m = 0; m < 4; ++m) {
           ++directed[{v[m], v[(m + 1) % 4]}];
           EXPECT_GT((P[(m + 1) % 4] - P[m]).cross(P[(m + 2) % 4] - P[(m + 1) % 4]).dot(nrm), 0) << what << " facet " << p;
         }
       }
-      EXPECT_EQ(got, expected) << what;
       EXPECT_EQ(got.size(), 32u) << what;
       EXPECT_EQ(directed.size(), 120u) << what;  // 60 edges, each once each way
       for (const auto& [e, count] : directed) EXPECT_TRUE(count == 1 && directed.count({e.second, e.first})) << what;

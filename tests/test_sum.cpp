@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <random>
 
+#include "cgal_peer.hpp"
 #include "checks.hpp"
 #include "sum_internal.hpp"
+#include "ties.hpp"
 #include "tools/shapes.hpp"
 
 namespace minksum {
@@ -31,10 +33,11 @@ Operands make(std::vector<Vector3d> a, std::vector<Vector3d> b) {
 }
 
 // Every method, sum and difference: each result valid; fast == reference when `same`
-// (the structure is well defined), fast == hull as well when `hull_too` (Qhull merges
-// facets with its own tolerance, so it is compared only where nothing is near-degenerate).
+// (the structure is well defined); with `exact`, the fast and the Qhull paths equal CGAL's exact
+// hull of the pairwise sums, facet by facet (where nothing is near-degenerate: Qhull merges
+// facets with its own tolerance).
 void check_all(const Operands& o, double tol, bool same, MinkowskiSum* fast_sum = nullptr,
-               bool hull_too = false) {
+               bool exact = false) {
   for (double s : {1.0, -1.0}) {
     MinkowskiSum m[3];
     for (int k = 0; k < 3; ++k) {
@@ -47,15 +50,25 @@ void check_all(const Operands& o, double tol, bool same, MinkowskiSum* fast_sum 
     EXPECT_FALSE(m[0].corrected) << "the fast path needed the corrector";
     if (same) {
       EXPECT_TRUE(same_sum(m[0], m[1], 1e-9)) << "fast vs reference, sign " << s;
-      if (hull_too) EXPECT_TRUE(same_sum(m[0], m[2], 1e-9)) << "fast vs hull, sign " << s;
+    }
+    if (exact) {
+      EXPECT_TRUE(test::equals_exact_hull(o.a, o.b, s, m[0], 1e-9)) << "fast vs exact, sign " << s;
+      EXPECT_TRUE(test::equals_exact_hull(o.a, o.b, s, m[2], 1e-9)) << "hull vs exact, sign " << s;
     }
     if (fast_sum && s > 0) *fast_sum = m[0];
   }
 }
 
-TEST(Table1, AllPathsAgreeWithTheHullOfThePairwiseSums) {
+// The pairs as the benchmark runs them (B turned in floating point: its faces are planar only
+// within rounding, so the exact hull of the pairwise sums splits them), and with exact
+// coordinates, where every path must give the exact hull.
+TEST(Table1, AllPathsAgreeWithTheExactHullOfThePairwiseSums) {
   for (const auto& pair : tools::table1_pairs()) {
     SCOPED_TRACE(pair.name);
+    check_all(make(pair.a, pair.b), 1e-12, true);
+  }
+  for (const auto& pair : tools::exact_table1_pairs()) {
+    SCOPED_TRACE(pair.name + " (exact)");
     check_all(make(pair.a, pair.b), 1e-12, true, nullptr, true);
   }
 }
@@ -83,11 +96,15 @@ std::vector<Vector3d> random_points(std::mt19937_64& rng) {
 
 class RandomPairs : public testing::TestWithParam<int> {};
 
+// 10 shards x 1000 pairs, each as sum and difference; every fourth pair is of 4 to 12 points on
+// a half-integer lattice within +-2 (shared planes, parallel edges, coplanar points everywhere),
+// where the fast path must give CGAL's exact hull facet by facet.
 TEST_P(RandomPairs, FastEqualsReferenceAndBruteForce) {
   std::mt19937_64 rng(1000 + GetParam());
-  for (int k = 0; k < test::scaled(1000); ++k) {  // 10 shards x 1000 pairs, each as sum and difference
+  for (int k = 0; k < test::scaled(1000, 8); ++k) {
     SCOPED_TRACE("shard " + std::to_string(GetParam()) + " pair " + std::to_string(k));
-    const Operands o = make(random_points(rng), random_points(rng));
+    const bool lattice = k % 4 == 3;
+    const Operands o = lattice ? make(test::ties::lattice_solid_points(rng, 2, 1), test::ties::lattice_solid_points(rng, 2, 1)) : make(random_points(rng), random_points(rng));
     for (double s : {1.0, -1.0}) {
       MinkowskiSum fast, ref;
       ASSERT_EQ(s > 0 ? minkowski_sum(o.A, o.B, fast) : minkowski_difference(o.A, o.B, fast),
@@ -98,6 +115,7 @@ TEST_P(RandomPairs, FastEqualsReferenceAndBruteForce) {
       ASSERT_TRUE(valid_sum(o.a, o.b, s, o.A, o.B, fast, 1e-9, 1e-12, 1000, unsigned(k)));
       ASSERT_FALSE(fast.corrected);
       ASSERT_TRUE(same_sum(fast, ref, 1e-9));
+      if (lattice) ASSERT_TRUE(test::equals_exact_hull(o.a, o.b, s, fast, 0));
     }
   }
 }
@@ -105,21 +123,28 @@ TEST_P(RandomPairs, FastEqualsReferenceAndBruteForce) {
 INSTANTIATE_TEST_SUITE_P(Shards, RandomPairs, testing::Range(0, 10));
 
 // The sizes of the Scaling benchmark, where the overlay walks B's support along every arc of A
-// and climbs to the face normals: no crossing missed (the corrector would run), and the same
-// polytope as the hull of the pairwise sums (Qhull; random points on spheres are far from
-// degenerate).
-TEST(LargePairs, FastEqualsTheHullWithoutTheCorrector) {
-  // (At a reduced MINKSUM_TEST_SCALE, the sanitizer run, up to 512 points: the Qhull reference
-  // of 1024 x 1024 pairwise sums takes five minutes instrumented; the Release run has it.)
+// and climbs to the face normals: no crossing missed (the corrector would run), and the hull of
+// the pairwise sums (random points on spheres are far from degenerate): CGAL's exact hull facet
+// by facet up to 128 points, and at every size the vertices of CGAL's hull of the rounded sums.
+TEST(LargePairs, FastEqualsTheExactHullWithoutTheCorrector) {
   for (int n : {24, 32, 128, 256, 512, 1024}) {
-    if (n == 1024 && test::scaled(10) < 10) continue;
+    if (n == 1024 && test::scaled(10) < 10) continue;  // (instrumented, the hull takes minutes)
     SCOPED_TRACE("n = " + std::to_string(n));
     const Operands o = make(tools::sphere_points(n, 7u * unsigned(n)), tools::sphere_points(n, 7u * unsigned(n) + 1));
-    MinkowskiSum fast, hull;
+    MinkowskiSum fast;
     ASSERT_EQ(minkowski_sum(o.A, o.B, fast), Status::Ok);
-    ASSERT_EQ(minkowski_sum(o.A, o.B, hull, Method::Hull), Status::Ok);
     EXPECT_FALSE(fast.corrected);
-    EXPECT_TRUE(same_sum(fast, hull, 1e-9));
+    if (n <= 128) EXPECT_TRUE(test::equals_exact_hull(o.a, o.b, 1, fast, 1e-9));
+    std::vector<Vector3d> hull;
+    peers::cgal_quickhull(o.a, o.b, &hull);
+    std::vector<Vector3d> ours;
+    for (const auto& v : fast.vertices) ours.push_back(v.point);
+    const auto lex = [](const Vector3d& x, const Vector3d& y) {
+      return std::lexicographical_compare(x.data(), x.data() + 3, y.data(), y.data() + 3);
+    };
+    std::sort(hull.begin(), hull.end(), lex), std::sort(ours.begin(), ours.end(), lex);
+    ASSERT_EQ(ours.size(), hull.size());
+    for (size_t k = 0; k < ours.size(); ++k) EXPECT_LE((ours[k] - hull[k]).norm(), 1e-12) << "vertex " << k;
     EXPECT_TRUE(valid_sum(o.a, o.b, 1, o.A, o.B, fast, 1e-9, 1e-12, 300));
   }
 }
@@ -143,30 +168,28 @@ std::vector<Vector3d> pyramid_points() {
   return p;
 }
 
-// The overlay (overlay.cpp) answers the generic Table 1 pairs and random pairs of up to 64
-// points with the polytope of the hull of the pairwise sums (Qhull, an independent
-// construction), never through the corrector; and pairs with parallel faces or edges (where
-// facets merge) with the merged facets the reference path finds, without the corrector too.
-TEST(Overlay, AnswersGenericPairsLikeTheHullAndMergesTies) {
-  for (const auto& pair : tools::table1_pairs()) {
+// The overlay (overlay.cpp) answers the generic Table 1 pairs (exact coordinates) and random
+// pairs of up to 64 points (every fourth checked) with CGAL's exact hull of the pairwise sums (an independent construction), never
+// through the corrector; and pairs with parallel faces or edges (where facets merge) with the
+// merged facets the reference path finds, without the corrector too.
+TEST(Overlay, AnswersGenericPairsLikeTheExactHullAndMergesTies) {
+  for (const auto& pair : tools::exact_table1_pairs()) {
     SCOPED_TRACE(pair.name);
     const Operands o = make(pair.a, pair.b);
-    MinkowskiSum fast, hull;
+    MinkowskiSum fast;
     ASSERT_EQ(minkowski_sum(o.A, o.B, fast), Status::Ok);
     ASSERT_FALSE(fast.corrected);
-    ASSERT_EQ(minkowski_sum(o.A, o.B, hull, Method::Hull), Status::Ok);
-    EXPECT_TRUE(same_sum(fast, hull, 1e-9));
+    EXPECT_TRUE(test::equals_exact_hull(o.a, o.b, 1, fast, 1e-9));
     EXPECT_TRUE(valid_sum(o.a, o.b, 1, o.A, o.B, fast, 1e-12, 1e-12, 300));
   }
   std::mt19937_64 rng(77);
   for (int k = 0; k < test::scaled(2000); ++k) {
     SCOPED_TRACE("pair " + std::to_string(k));
     const Operands o = make(random_points(rng), random_points(rng));
-    MinkowskiSum fast, hull;
+    MinkowskiSum fast;
     ASSERT_EQ(minkowski_sum(o.A, o.B, fast), Status::Ok);
     ASSERT_FALSE(fast.corrected);
-    ASSERT_EQ(minkowski_sum(o.A, o.B, hull, Method::Hull), Status::Ok);
-    ASSERT_TRUE(same_sum(fast, hull, 1e-9));
+    if (k % 4 == 0) ASSERT_TRUE(test::equals_exact_hull(o.a, o.b, 1, fast, 1e-9));  // (Epeck: the cost)
     ASSERT_TRUE(valid_sum(o.a, o.b, 1, o.A, o.B, fast, 1e-9, 1e-12, 300, unsigned(k)));
   }
   // Parallel faces (an axis-aligned cube and a box, a cube and itself turned about z) and
