@@ -5,6 +5,7 @@
 #include <minksum/minksum.hpp>
 
 #include "checks.hpp"
+#include "ties.hpp"
 #include "tools/mesh_io.hpp"
 
 #include <cstdlib>
@@ -162,6 +163,27 @@ TEST(PointCloud, EqualsBruteForce) {
         if (HasFatalFailure()) return;
       }
     }
+  // Lattice clouds (1/8 steps within +-1: ties among nearest pairs everywhere) under lattice
+  // motions (quarter turns, 1/8 steps), which keep every coordinate exact: from coincident
+  // points (contact at distance exactly 0) to apart.
+  std::vector<Vector3d> la, lb;
+  for (int k = 0; k < 1500; ++k) la.push_back(test::ties::lattice_point(rng, 1, 3)), lb.push_back(test::ties::lattice_point(rng, 1, 3));
+  Octree LA, LB;
+  ASSERT_EQ(build_octree(la, LA), Status::Ok);
+  ASSERT_EQ(build_octree(lb, LB), Status::Ok);
+  MeshWorkspace lws;
+  make_workspace(LA, LB, lws);
+  int meet = 0, apart = 0;
+  for (int k = 0; k < test::scaled(16, 8); ++k) {
+    Pose pose;
+    pose.rotation = test::ties::quarter_turn(rng);
+    pose.translation = test::ties::lattice_point(rng, 1 + k % 4, 3);
+    expect_brute(cloud(la), LA, cloud(lb), LB, pose, lws, "lattice clouds pose " + std::to_string(k));
+    if (HasFatalFailure()) return;
+    ++(tools::brute_distance(cloud(la), cloud(lb), pose).intersecting ? meet : apart);
+  }
+  EXPECT_GT(meet, 0);
+  EXPECT_GT(apart, 0);
   // A cloud against itself unmoved: every point coincides.
   MeshWorkspace ws;
   make_workspace(trees[2], trees[2], ws);

@@ -1,14 +1,18 @@
 // minksum against FCL 0.7 (GJK and libccd) on 100,000 random box pairs. FCL's solvers stop at
 // a tolerance of 1e-6; wherever one of them disagrees with minksum by more than that, the pair
-// goes to the exact brute-force oracle, which must side with minksum (to 1e-9).
+// goes to the exact brute-force oracle, which must side with minksum (to 1e-9). One pair in 32
+// is of lattice boxes (half of them in exact contact), where minksum must equal the exact
+// distance and verdict.
 #include <gtest/gtest.h>
 #include <minksum/minksum.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <tuple>
 
 #include "checks.hpp"
+#include "ties.hpp"
 #include "bullet_peer.hpp"
 #include "fcl_peer.hpp"
 #include "nanoflann_peer.hpp"
@@ -32,12 +36,32 @@ class VersusFcl : public testing::TestWithParam<int> {};
 TEST_P(VersusFcl, DistanceAndPenetration) {
   std::mt19937_64 rng(700 + GetParam());
   int fcl_wrong[2] = {0, 0}, separated = 0, overlapping = 0, depth_checked = 0, depth_wrong = 0;
-  const int n = test::scaled(25000);
+  int lattice[2] = {0, 0}, fcl_lattice_wrong = 0;
+  const int n = test::scaled(25000, 64);
   for (int k = 0; k < n; ++k) {
-    const Box a = tools::random_box(rng, 2), b = tools::random_box(rng, 2);
+    Box a = tools::random_box(rng, 2), b = tools::random_box(rng, 2);
+    // Every 32nd pair is tie-heavy (tests/ties): lattice boxes, every other one in exact contact.
+    if (k % 64 == 63) std::tie(a, b) = test::ties::touching_boxes(rng);
+    else if (k % 32 == 31) a = test::ties::lattice_box(rng, 2, 1), b = test::ties::lattice_box(rng, 2, 1);
     Proximity p;
     ASSERT_EQ(proximity(a, b, p), Status::Ok);
     peers::FclPair pair(a, b);
+    if (k % 32 == 31) {
+      // The exact oracle: the surfaces' exact distance, and containment where they do not meet.
+      ConvexPolytope A, B;
+      polytope_from_box(a, A), polytope_from_box(b, B);
+      const double gap = test::ties::exact_surface_gap(A, B);
+      const bool meet = gap == 0 || test::brute_force(A, B).overlap;
+      ASSERT_EQ(p.intersecting, meet) << "lattice pair " << k << ": exact surface gap " << gap;
+      ASSERT_NEAR(p.distance, meet ? 0.0 : gap, 1e-12) << "lattice pair " << k;
+      if (meet) ASSERT_EQ(p.distance, 0.0) << "lattice pair " << k;
+      ++lattice[meet];
+      // FCL's verdict (fcl::collide) and, apart, its distance against the exact answer.
+      peers::FclAnswer answer;
+      const bool fcl_meet = pair.penetration(peers::FclSolver::Gjk, answer);
+      if (fcl_meet != meet || (!meet && std::abs(pair.distance(peers::FclSolver::Gjk) - gap) > 1e-6)) ++fcl_lattice_wrong;
+      continue;
+    }
     if (!p.intersecting && p.distance > 1e-9) {
       ++separated;
       for (int s = 0; s < 2; ++s) {
@@ -69,10 +93,13 @@ TEST_P(VersusFcl, DistanceAndPenetration) {
   RecordProperty("fcl_gjk_off_by_more_than_1e-6", fcl_wrong[0]);
   RecordProperty("fcl_libccd_off_by_more_than_1e-6", fcl_wrong[1]);
   RecordProperty("fcl_depth_off_by_more_than_1e-6", depth_wrong);
+  EXPECT_GT(lattice[0], 0);
+  EXPECT_GT(lattice[1], 0);
   std::printf("shard %d: %d separated (FCL GJK off by > 1e-6: %d, libccd: %d), %d overlapping "
-              "(%d FCL depths, %d off by > 1e-6); the exact oracle sided with minksum every time\n",
+              "(%d FCL depths, %d off by > 1e-6); the exact oracle sided with minksum every time; "
+              "lattice pairs apart / meeting %d / %d, all exact (FCL GJK with the other verdict or off by > 1e-6: %d)\n",
               GetParam(), separated, fcl_wrong[0], fcl_wrong[1], overlapping, depth_checked,
-              depth_wrong);
+              depth_wrong, lattice[0], lattice[1], fcl_lattice_wrong);
 }
 
 INSTANTIATE_TEST_SUITE_P(Shards, VersusFcl, testing::Range(0, 4));
