@@ -3,8 +3,10 @@
 #include <gtest/gtest.h>
 #include <minksum/minksum.hpp>
 
+#include <cmath>
 #include <random>
 
+#include "ties.hpp"
 #include "tools/mesh_io.hpp"
 #include "tools/shapes.hpp"
 
@@ -85,6 +87,29 @@ TEST_P(Coherence, BoxPairsAlongTrajectories) {
   }
   EXPECT_GT(contacts, ticks / 10);         // the paths do pass through contact
   EXPECT_GT(warm, (ticks - contacts) / 2);  // and the cache answers most separated ticks
+  // A tie-heavy walk (tests/ties): lattice boxes, B stepping 1/8 along an axis each tick (back
+  // towards A when it strays) and taking a quarter turn now and then, through exact face, edge
+  // and corner contact, where the verdict must be the cold one exactly.
+  const Box la = test::ties::lattice_box(rng, 1, 1);
+  Box lb = test::ties::lattice_box(rng, 1, 1);
+  ProximityCache cache;
+  int touching = 0;
+  for (int k = 0; k < 3000; ++k) {
+    const int axis = int(rng() % 3);
+    const double away = lb.center[axis] - la.center[axis];
+    lb.center[axis] += (std::abs(away) > 3 ? -away / std::abs(away) : rng() % 2 ? 1.0 : -1.0) / 8;
+    if (k % 40 == 0) lb.rotation = test::ties::quarter_turn(rng);
+    Proximity cold, hot;
+    ASSERT_EQ(proximity(la, lb, cold, kWantAll), Status::Ok);
+    ASSERT_EQ(proximity(la, lb, cache, hot, kWantAll), Status::Ok);
+    expect_same(cold, hot, 8, false, "lattice walk tick " + std::to_string(k));
+    if (testing::Test::HasFailure()) return;
+    if (cold.intersecting && cold.penetration_depth == 0) {
+      EXPECT_EQ(hot.distance, 0.0) << "lattice walk tick " << k;
+      ++touching;
+    }
+  }
+  EXPECT_GT(touching, 0);  // the walk did pass through exact contact
 }
 
 // Prepared shapes (Table 1 pairs, hulls of 64 and 256 sphere points) and box-triangle pairs

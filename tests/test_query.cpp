@@ -187,13 +187,16 @@ TEST(Query, WantSelectsTheFields) {
 // The allocation-free box-triangle and triangle-triangle paths against the general path, a
 // different algorithm (the origin's Voronoi region on the polytope A (-) B): random pairs, and
 // pairs made hard on purpose (a triangle in a box face's plane, inside the box, coplanar
-// triangles, near-parallel ones, far from the origin).
+// triangles, near-parallel ones, far from the origin, and one in 7 tie-heavy: a box and a
+// triangle in exact contact, a lattice triangle).
 TEST(SmallShapes, AgreeWithTheGeneralPath) {
   std::mt19937_64 rng(77);
   std::uniform_real_distribution<double> u(-1, 1);
-  const auto agree = [](const Proximity& got, const Proximity& want, double size, const std::string& what) {
+  const auto agree = [](const Proximity& got, const Proximity& want, double size, const std::string& what, bool ties = false) {
     const double tol = 1e-9 * size;
-    if (want.distance > tol || want.penetration_depth > tol) ASSERT_EQ(got.intersecting, want.intersecting) << what;
+    // (On lattice operands the verdict is exact: both paths must give the same, within rounding too.)
+    if (ties || want.distance > tol || want.penetration_depth > tol) ASSERT_EQ(got.intersecting, want.intersecting) << what;
+    if (ties && want.intersecting) EXPECT_EQ(got.distance, 0.0) << what;
     EXPECT_NEAR(got.distance, want.distance, tol) << what;
     EXPECT_NEAR(got.penetration_depth, want.penetration_depth, tol) << what;
     EXPECT_NEAR(got.max_distance, want.max_distance, tol) << what;
@@ -223,6 +226,8 @@ TEST(SmallShapes, AgreeWithTheGeneralPath) {
       const Vector3d n = (t.b - t.a).cross(t.c - t.a).normalized();
       for (Vector3d* c : {&s.a, &s.b, &s.c}) *c -= (n.dot(*c - t.a) - 1e-3 * scale * (1 + 1e-9 * u(rng))) * n;
     }
+    const bool ties = k % 7 == 5;  // a box and a triangle in exact contact, a lattice triangle (tests/ties)
+    if (ties) std::tie(box, t) = test::ties::touching_box_triangle(rng), s = test::ties::lattice_triangle(rng, 2, 1);
     if (check_triangle(t) != Status::Ok || check_triangle(s) != Status::Ok) continue;
     ConvexPolytope B, T, S;
     ASSERT_EQ(polytope_from_box(box, B), Status::Ok);
@@ -232,11 +237,12 @@ TEST(SmallShapes, AgreeWithTheGeneralPath) {
     Proximity got, want;
     ASSERT_EQ(proximity(box, t, got), Status::Ok);
     ASSERT_EQ(proximity(B, T, want), Status::Ok);
-    agree(got, want, size, "box-triangle " + std::to_string(k));
+    agree(got, want, size, "box-triangle " + std::to_string(k), ties);
+    if (ties) EXPECT_TRUE(got.intersecting) << "touching box-triangle " << k;
     overlapping += got.intersecting;
     ASSERT_EQ(proximity(t, s, got), Status::Ok);
     ASSERT_EQ(proximity(T, S, want), Status::Ok);
-    agree(got, want, size, "triangle-triangle " + std::to_string(k));
+    agree(got, want, size, "triangle-triangle " + std::to_string(k), ties);
     if (testing::Test::HasFailure()) return;
   }
   EXPECT_GT(overlapping, test::scaled(20000) / 10);
@@ -473,6 +479,9 @@ void check_batched_proximity(Isa isa, unsigned seed, double spread) {
     if (k < int(hard.size())) a = hard[k].first, b = hard[k].second;
     // Parallel but not axis-aligned (a facet of A (-) B is then a zonogon of four generators).
     else if (k % 5 == 0) b.rotation = a.rotation;
+    // Tie-heavy (tests/ties; exact in float too): boxes in exact contact, lattice boxes.
+    else if (k % 16 == 7) std::tie(a, b) = test::ties::touching_boxes(rng);
+    else if (k % 16 == 11) a = test::ties::lattice_box(rng, 2, 1), b = test::ties::lattice_box(rng, 2, 1);
     // Round the inputs to T so that both sides see the same boxes.
     for (Box* x : {&a, &b}) {
       x->center = x->center.cast<T>().template cast<double>();
@@ -505,6 +514,7 @@ void check_batched_proximity(Isa isa, unsigned seed, double spread) {
     Proximity ref;
     ASSERT_EQ(proximity(pa, pb, ref), Status::Ok);
     const std::string what = std::string(to_string(isa)) + " pair " + std::to_string(k);
+    if (k >= int(hard.size()) && k % 5 != 0 && k % 16 == 7) EXPECT_EQ(out->distance[k], 0.0) << what << " (exact contact)";
     EXPECT_NEAR(out->distance[k], ref.distance, eps * 4) << what;
     EXPECT_NEAR(out->depth[k], ref.penetration_depth, eps * 4) << what;
     if (ref.distance > 1e-3) {

@@ -8,6 +8,7 @@
 #include <random>
 
 #include "checks.hpp"
+#include "ties.hpp"
 #include "tools/shapes.hpp"
 
 namespace {
@@ -95,6 +96,26 @@ TEST(PosedShapes, EqualTheSumOfTheTransformedPolytopes) {
   }
   EXPECT_GT(checked, 0);
   EXPECT_GT(independent, test::scaled(10000) / 50);
+  // Tie-heavy pairs (tests/ties): shapes of half-integer lattice points under lattice motions
+  // (quarter turns, 1/8 steps), which keep every coordinate exact: CGAL's exact hull of the
+  // moved points' pairwise sums, facet by facet and exactly.
+  for (int k = 0; k < test::scaled(600, 20); ++k) {
+    SCOPED_TRACE("lattice pair " + std::to_string(k));
+    const auto a = test::ties::lattice_solid_points(rng, 2, 1), b = test::ties::lattice_solid_points(rng, 2, 1);
+    ConvexShape A, B;
+    ASSERT_EQ(shape_from_points(a, A), Status::Ok);
+    ASSERT_EQ(shape_from_points(b, B), Status::Ok);
+    Isometry3d pose[2];
+    for (auto& p : pose) {
+      p = Isometry3d::Identity();
+      p.linear() = test::ties::quarter_turn(rng), p.translation() = test::ties::lattice_point(rng, 4, 3);
+    }
+    const double s = k % 2 ? -1 : 1;
+    MinkowskiSum m;
+    ASSERT_EQ(s > 0 ? minkowski_sum(A, pose[0], B, pose[1], m) : minkowski_difference(A, pose[0], B, pose[1], m), Status::Ok);
+    ASSERT_FALSE(m.corrected);
+    ASSERT_TRUE(test::equals_exact_hull(moved(a, pose[0]), moved(b, pose[1]), s, m, 0));
+  }
 }
 
 // The Table 1 pairs as shapes in their body frames, B turned by the pose: the same polytope as
