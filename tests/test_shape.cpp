@@ -169,6 +169,32 @@ TEST(PosedShapes, ProximityEqualsTheTransformedPolytopes) {
   }
   EXPECT_GT(overlapping, 0);
   EXPECT_GT(apart, 0);
+  // Tie-heavy pairs (tests/ties): lattice shapes under lattice motions (exact coordinates): the
+  // verdict against the exact distance between the surfaces (and containment where they do not
+  // meet), exactly 0 at contact.
+  int meet = 0;
+  for (int k = 0; k < test::scaled(200, 20); ++k) {
+    SCOPED_TRACE("lattice pair " + std::to_string(k));
+    ConvexShape A, B;
+    ASSERT_EQ(shape_from_points(test::ties::lattice_solid_points(rng, 2, 1), A), Status::Ok);
+    ASSERT_EQ(shape_from_points(test::ties::lattice_solid_points(rng, 2, 1), B), Status::Ok);
+    Isometry3d pose[2];
+    for (auto& p : pose) {
+      p = Isometry3d::Identity();
+      p.linear() = test::ties::quarter_turn(rng), p.translation() = test::ties::lattice_point(rng, 2, 3);
+    }
+    Proximity posed;
+    ASSERT_EQ(proximity(A, pose[0], B, pose[1], posed), Status::Ok);
+    const ConvexPolytope TA = transformed(A.polytope(), pose[0]), TB = transformed(B.polytope(), pose[1]);
+    const double gap = test::ties::exact_surface_gap(TA, TB);
+    const bool overlap = gap == 0 || test::brute_force(TA, TB).overlap;  // (containment is far from rounding)
+    ASSERT_EQ(posed.intersecting, overlap) << "exact surface gap " << gap;
+    if (overlap) EXPECT_EQ(posed.distance, 0.0);
+    else EXPECT_NEAR(posed.distance, gap, 1e-12);
+    meet += overlap;
+  }
+  EXPECT_GT(meet, 0);
+  EXPECT_LT(meet, test::scaled(200, 20));
 }
 
 // Non-rigid or non-finite poses: InvalidPose and an empty result, whichever operand has it.
