@@ -4,11 +4,15 @@
 #include <gtest/gtest.h>
 #include <minksum/minksum.hpp>
 
+#include <cstdio>
 #include <cstdlib>
 #include <random>
+#include <tuple>
 #include <set>
 
 #include "checks.hpp"
+#include "exact_distance.hpp"
+#include "ties.hpp"
 #include "tools/mesh_io.hpp"
 #include "tools/shapes.hpp"
 
@@ -66,6 +70,58 @@ TEST(MeshDistance, EqualsBruteForceOnBunnyRes4) {
 
 TEST(MeshDistance, EqualsBruteForceOnBunnyRes3) {
   check_against_brute_force("bun_zipper_res3.ply", 31, poses_from_env(150), 12);
+}
+
+// Tie-heavy poses (tests/ties) on a bunny whose corners are rounded to a 2^-16 lattice: quarter
+// turns and lattice offsets keep every coordinate exact, so faces, edges and corners of the copy
+// land exactly on the original's. Every other pose turns the copy about one of its own corners,
+// which the two then share: exact contact, where the answer must be intersecting at distance
+// exactly 0. The rest is checked against brute force; within rounding of contact, the exact
+// distance of the pair brute force names decides the verdict.
+TEST(MeshDistance, LatticeBunnyUnderQuarterTurnsEqualsBruteForce) {
+  tools::Mesh m = test::mesh_setup("bun_zipper_res4.ply", 16)->mesh;
+  for (Vector3d& v : m.vertices) v = (v * 65536).array().round() / 65536;
+  Octree A;
+  ASSERT_EQ(build_octree(m.vertices, m.triangles, A), Status::Ok);
+  MeshWorkspace ws;
+  make_workspace(A, A, ws);
+  std::mt19937_64 rng(13);
+  const int poses = test::scaled(200, 20);
+  int meet = 0;
+  for (int k = 0; k < poses; ++k) {
+    const std::string what = "lattice pose " + std::to_string(k);
+    Pose pose;
+    pose.rotation = test::ties::quarter_turn(rng);
+    if (k % 2) {  // turned about corner v: R v + t = v, exactly (t is a lattice point)
+      const Vector3d v = m.vertices[rng() % m.vertices.size()];
+      pose.translation = v - pose.rotation * v;
+    } else {  // an offset of up to 0.25 per axis (the bunny is about 0.15 across), on the lattice
+      pose.translation = test::ties::lattice_point(rng, 1, 14) / 4;
+    }
+    MeshDistance got;
+    ASSERT_EQ(mesh_distance(A, A, pose, ws, got), Status::Ok) << what;
+    const MeshDistance want = tools::brute_distance(m, m, pose);
+    ASSERT_NEAR(got.distance, want.distance, 1e-12) << what;
+    bool contact = k % 2 == 1;
+    if (!contact && want.distance <= 1e-12) {
+      Vector3d S[3], T[3];
+      for (int c = 0; c < 3; ++c) {
+        S[c] = m.vertices[m.triangles[want.triangle_a][c]];
+        T[c] = pose.rotation * m.vertices[m.triangles[want.triangle_b][c]] + pose.translation;
+      }
+      contact = test::exact_triangle_distance(S, T) == 0;
+    }
+    if (contact) {
+      EXPECT_TRUE(got.intersecting) << what;
+      EXPECT_EQ(got.distance, 0.0) << what;
+    } else {
+      EXPECT_EQ(got.intersecting, want.intersecting) << what;
+    }
+    meet += got.intersecting;
+    if (testing::Test::HasFailure()) return;
+  }
+  EXPECT_LT(meet, poses);  // (and the corner-turned half meets)
+  std::printf("lattice bunny poses that meet / are apart: %d / %d\n", meet, poses - meet);
 }
 
 // The kernel against the general exact path (Minkowski difference of the two triangles), on
@@ -142,6 +198,9 @@ TEST(TriangleDistance, AgreesWithTheGeneralPath) {
     }
     const Vector3d far = k % 8 == 3 ? Vector3d(1e5, -1e5, 1e5) : Vector3d::Zero();
     for (Triangle* x : {&s, &t}) x->a += far, x->b += far, x->c += far;
+    const bool ties = k % 8 == 7;  // tests/ties: triangles in exact contact, or on the lattice
+    if (ties && k % 16 == 15) std::tie(s, t) = test::ties::touching_triangles(rng);
+    else if (ties) s = test::ties::lattice_triangle(rng, 2, 1), t = test::ties::lattice_triangle(rng, 2, 1);
     // The general path (A (-) B of the two flat polytopes), not the triangle query, which is
     // built on triangle_distance.
     ConvexPolytope S, T;
@@ -154,6 +213,10 @@ TEST(TriangleDistance, AgreesWithTheGeneralPath) {
     const double tol = 1e-9 * (1 + far.norm());
     ASSERT_NEAR(got, want.distance, tol) << "pair " << k;
     ASSERT_NEAR((ps - pt).norm(), got, tol) << "pair " << k;
+    if (ties) {  // and the exact distance (at contact too: the raw function may leave an ulp there)
+      const double exact = test::exact_triangle_distance(vs, vt);
+      ASSERT_NEAR(got, exact, 1e-15 * 8) << "lattice pair " << k;
+    }
   }
 }
 
