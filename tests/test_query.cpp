@@ -673,6 +673,12 @@ double sat_gap(const Box& a, const Box& b, double tau, bool& ambiguous) {
   return gap;
 }
 
+// Whether two polytopes of exact (lattice) coordinates meet, touching included: their surfaces
+// meet (exact distance 0), or one holds the other (brute force, far from rounding there).
+bool exact_overlap(const ConvexPolytope& a, const ConvexPolytope& b) {
+  return test::ties::exact_surface_gap(a, b) == 0 || test::brute_force(a, b).overlap;
+}
+
 // The fused separating-axis kernels against the exact proximity of the general path, and the
 // bound against the brute-force separating-axis gap (a constant 0 passes the rest).
 template <class T>
@@ -690,6 +696,10 @@ void check_fused(Isa isa, unsigned seed) {
   for (int k = 0; k < N; ++k) {
     Box a = tools::random_box(rng, 1.5), b = tools::random_box(rng, 1.5);
     Triangle t = tools::random_triangle(rng, 1.5);
+    // One lane in 16 tie-heavy (tests/ties): lattice boxes and triangles (exact in float too),
+    // every other one in exact contact, where touching must count as a hit.
+    if (k % 32 == 31) std::tie(a, b) = test::ties::touching_boxes(rng), t = test::ties::lattice_triangle(rng, 2, 1);
+    if (k % 32 == 15) std::tie(a, t) = test::ties::touching_box_triangle(rng), b = test::ties::lattice_box(rng, 2, 1);
     for (Box* x : {&a, &b}) {  // what the kernel sees: inputs rounded to T
       x->center = x->center.cast<T>().template cast<double>();
       x->half_extents = x->half_extents.cast<T>().template cast<double>();
@@ -704,7 +714,7 @@ void check_fused(Isa isa, unsigned seed) {
   box_box_separation(*A, *B, *sep);
   box_triangle_overlap(*A, *tri, *overlap);
   const double tol = std::is_same_v<T, float> ? 1e-4 : 1e-9;
-  int both[2] = {0, 0}, separated_bounds = 0;
+  int both[2] = {0, 0}, separated_bounds = 0, tie_lanes = 0;
   for (int k = 0; k < N; ++k) {
     auto corners = [](const Box& x) {
       std::vector<Vector3d> c;
@@ -723,6 +733,11 @@ void check_fused(Isa isa, unsigned seed) {
     ASSERT_EQ(proximity(pa, pb, ab), Status::Ok);
     ASSERT_EQ(proximity(pa, pt, at), Status::Ok);
     const std::string what = std::string(to_string(isa)) + " pair " + std::to_string(k);
+    if (k % 16 == 15) {  // exactly: the verdict of the exact surface gap (and containment)
+      EXPECT_EQ(sep->hit[k] != 0, exact_overlap(pa, pb)) << what;
+      EXPECT_EQ(hit[k] != 0, exact_overlap(pa, pt)) << what;
+      tie_lanes += 2;
+    }
     if (ab.distance > tol || ab.penetration_depth > tol) EXPECT_EQ(sep->hit[k] != 0, ab.intersecting) << what;
     EXPECT_LE(sep->bound[k], ab.distance + tol) << what;  // a lower bound
     if (sep->hit[k]) EXPECT_EQ(sep->bound[k], 0) << what;
@@ -737,6 +752,7 @@ void check_fused(Isa isa, unsigned seed) {
   EXPECT_GT(both[0], 100);
   EXPECT_GT(both[1], 100);
   EXPECT_GT(separated_bounds, 100);
+  EXPECT_EQ(tie_lanes, N / 8);
 }
 
 class FusedSat : public testing::TestWithParam<Isa> {
