@@ -6,6 +6,7 @@
 #include <cmath>
 #include <random>
 
+#include "checks.hpp"
 #include "ties.hpp"
 #include "tools/mesh_io.hpp"
 #include "tools/shapes.hpp"
@@ -19,15 +20,24 @@ using Eigen::Vector3d;
 // The coherent answer equals the cold one: the verdict, the distance or depth to 1e-12 of the
 // pair's size, the direction, and witness points that realise it. Where the nearest points are
 // unique (always, for generic poses: `unique`), the same points; the farthest pair where `want`
-// asked for it.
+// asked for it. Given the corners of A and B (tie-heavy poses, where several directions may
+// share the least depth), the direction need not be the cold one, but must realise the depth:
+// moving B by depth * direction just separates them.
 void expect_same(const Proximity& cold, const Proximity& warm, double size, bool unique, const std::string& where,
-                 Want want = kWantAll) {
+                 Want want = kWantAll, const std::vector<Vector3d>& corners_a = {},
+                 const std::vector<Vector3d>& corners_b = {}) {
   const double tol = 1e-12 * size;
   ASSERT_EQ(warm.intersecting, cold.intersecting) << where;
   EXPECT_NEAR(warm.distance, cold.distance, tol) << where;
   EXPECT_NEAR(warm.penetration_depth, cold.penetration_depth, tol) << where;
   if (!cold.intersecting) {
     EXPECT_NEAR((warm.point_a - warm.point_b).norm(), warm.distance, tol) << where;
+  } else if (cold.penetration_depth > 1e-9 * size && !corners_a.empty()) {
+    const Vector3d& u = warm.penetration_direction;
+    double push = -1e300;  // h_A(u) + h_B(-u)
+    for (const Vector3d& a : corners_a)
+      for (const Vector3d& b : corners_b) push = std::max(push, (a - b).dot(u));
+    EXPECT_NEAR(push, cold.penetration_depth, tol) << where << ": the direction does not realise the depth";
   } else if (cold.penetration_depth > 1e-9 * size) {
     EXPECT_LE((warm.penetration_direction - cold.penetration_direction).norm(), 1e-6) << where;
   }
@@ -47,6 +57,16 @@ Box placed(const Box& body, const Isometry3d& pose) {
   return b;
 }
 
+// One tick of a tie-heavy walk (tests/ties): a step of 1/8 along an axis (back towards the
+// origin when it strays past `reach`), and every 40th tick a quarter turn. Lattice shapes under
+// such poses keep exact coordinates, and pass through exact face, edge and corner contact.
+void lattice_step(std::mt19937_64& rng, int tick, double reach, Isometry3d& pose) {
+  const int axis = int(rng() % 3);
+  const double at = pose.translation()[axis];
+  pose.translation()[axis] += (std::abs(at) > reach ? -at / std::abs(at) : rng() % 2 ? 1.0 : -1.0) / 8;
+  if (tick % 40 == 0) pose.linear() = test::ties::quarter_turn(rng);
+}
+
 class Coherence : public testing::TestWithParam<Isa> {
  protected:
   void SetUp() override {
@@ -57,6 +77,7 @@ class Coherence : public testing::TestWithParam<Isa> {
   void TearDown() override {
     if (isa_supported(GetParam())) force_isa(saved_);
   }
+  void lattice_walks();
   Isa saved_ = Isa::Scalar;
 };
 
@@ -90,19 +111,18 @@ TEST_P(Coherence, BoxPairsAlongTrajectories) {
   // A tie-heavy walk (tests/ties): lattice boxes, B stepping 1/8 along an axis each tick (back
   // towards A when it strays) and taking a quarter turn now and then, through exact face, edge
   // and corner contact, where the verdict must be the cold one exactly.
-  const Box la = test::ties::lattice_box(rng, 1, 1);
-  Box lb = test::ties::lattice_box(rng, 1, 1);
+  const Box la = test::ties::lattice_box(rng, 1, 1), lbody = test::ties::lattice_box(rng, 1, 1);
+  Isometry3d pose = Isometry3d::Identity();
   ProximityCache cache;
   int touching = 0;
   for (int k = 0; k < 3000; ++k) {
-    const int axis = int(rng() % 3);
-    const double away = lb.center[axis] - la.center[axis];
-    lb.center[axis] += (std::abs(away) > 3 ? -away / std::abs(away) : rng() % 2 ? 1.0 : -1.0) / 8;
-    if (k % 40 == 0) lb.rotation = test::ties::quarter_turn(rng);
+    lattice_step(rng, k, 3, pose);
+    const Box lb = placed(lbody, pose);
     Proximity cold, hot;
     ASSERT_EQ(proximity(la, lb, cold, kWantAll), Status::Ok);
     ASSERT_EQ(proximity(la, lb, cache, hot, kWantAll), Status::Ok);
-    expect_same(cold, hot, 8, false, "lattice walk tick " + std::to_string(k));
+    expect_same(cold, hot, 8, false, "lattice walk tick " + std::to_string(k), kWantAll, test::ties::corners(la),
+                test::ties::corners(lb));
     if (testing::Test::HasFailure()) return;
     if (cold.intersecting && cold.penetration_depth == 0) {
       EXPECT_EQ(hot.distance, 0.0) << "lattice walk tick " << k;
@@ -153,6 +173,62 @@ TEST_P(Coherence, ShapesAlongTrajectories) {
     if (testing::Test::HasFailure()) return;
   }
   EXPECT_GT(cache.warm, long(path.size()) / 2);
+  lattice_walks();
+}
+
+// Tie-heavy walks (tests/ties): lattice shapes of 4 to 12 points, and a lattice box and
+// triangle, B stepping by lattice_step through exact contact. The coherent verdict is the cold
+// one exactly, the distance at contact exactly 0; and every 25th tick the shapes' verdict and
+// distance equal the exact ones (the exact surface gap, and containment where it is 0).
+void Coherence::lattice_walks() {
+  std::mt19937_64 rng(41);
+  int touching = 0;
+  for (int walk = 0; walk < 3; ++walk) {
+    ConvexShape A, B;
+    ASSERT_EQ(shape_from_points(test::ties::lattice_solid_points(rng, 2, 1), A), Status::Ok);
+    ASSERT_EQ(shape_from_points(test::ties::lattice_solid_points(rng, 2, 1), B), Status::Ok);
+    Isometry3d pose_a = Isometry3d::Identity(), pose_b = Isometry3d::Identity();
+    pose_a.linear() = test::ties::quarter_turn(rng);
+    ProximityCache cache;
+    for (int k = 0; k < 1000; ++k) {
+      const std::string where = "lattice walk " + std::to_string(walk) + " tick " + std::to_string(k);
+      lattice_step(rng, k, 4, pose_b);
+      Proximity cold, hot;
+      ASSERT_EQ(proximity(A, pose_a, B, pose_b, cold, kWantContact), Status::Ok);
+      ASSERT_EQ(proximity(A, pose_a, B, pose_b, cache, hot, kWantContact), Status::Ok);
+      const ConvexPolytope TA = test::transformed(A.polytope(), pose_a), TB = test::transformed(B.polytope(), pose_b);
+      expect_same(cold, hot, 8, false, where, kWantContact, TA.vertices, TB.vertices);
+      if (cold.intersecting && cold.penetration_depth == 0) {
+        EXPECT_EQ(hot.distance, 0.0) << where;
+        ++touching;
+      }
+      if (k % 25 == 0) {
+        const double gap = test::ties::exact_surface_gap(TA, TB);
+        ASSERT_EQ(hot.intersecting, gap == 0 || test::brute_force(TA, TB).overlap) << where << ": exact gap " << gap;
+        if (!hot.intersecting) EXPECT_NEAR(hot.distance, gap, 1e-12) << where;
+      }
+      if (testing::Test::HasFailure()) return;
+    }
+  }
+  const Box box = test::ties::lattice_box(rng, 1, 1);
+  const Triangle body = test::ties::lattice_triangle(rng, 1, 1);
+  Isometry3d pose = Isometry3d::Identity();
+  ProximityCache cache;
+  for (int k = 0; k < 3000; ++k) {
+    lattice_step(rng, k, 3, pose);
+    const Triangle t{pose * body.a, pose * body.b, pose * body.c};
+    Proximity cold, hot;
+    ASSERT_EQ(proximity(box, t, cold), Status::Ok);
+    ASSERT_EQ(proximity(box, t, cache, hot), Status::Ok);
+    expect_same(cold, hot, 8, false, "lattice box-triangle tick " + std::to_string(k), kWantAll,
+                test::ties::corners(box), test::ties::corners(t));
+    if (cold.intersecting && cold.penetration_depth == 0) {
+      EXPECT_EQ(hot.distance, 0.0) << "lattice box-triangle tick " << k;
+      ++touching;
+    }
+    if (testing::Test::HasFailure()) return;
+  }
+  EXPECT_GT(touching, 0);  // the walks did pass through exact contact
 }
 
 INSTANTIATE_TEST_SUITE_P(Isa, Coherence, testing::Values(Isa::Scalar, Isa::Sse4_2, Isa::Avx2, Isa::Avx512),
