@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <random>
+#include <tuple>
 
 #include "cgal_peer.hpp"
 #include "checks.hpp"
@@ -239,6 +240,9 @@ TEST(BoxSum, KernelPathEqualsTheGeneralPath) {
     if (k % 10 == 1) b.rotation = a.rotation;
     if (k % 10 == 2) b.rotation = tools::axis_angle(kGeneric, std::pow(10.0, -1 - k % 12)) * a.rotation;
     if (k % 10 == 3) a.center += Vector3d(1e6, -2e6, 3e5), b.center += Vector3d(-1e6, 1e6, 1e6);
+    if (k % 10 == 4) std::tie(a, b) = test::ties::touching_boxes(rng);  // tie-heavy (tests/ties)
+    if (k % 10 == 5) a = test::ties::lattice_box(rng, 2, 1), b = test::ties::lattice_box(rng, 2, 1);
+    const bool aligned = k % 10 == 1 || k % 10 == 2 || k % 10 == 4 || k % 10 == 5;
     ConvexPolytope A, B;
     ASSERT_EQ(polytope_from_box(a, A), Status::Ok);
     ASSERT_EQ(polytope_from_box(b, B), Status::Ok);
@@ -246,7 +250,8 @@ TEST(BoxSum, KernelPathEqualsTheGeneralPath) {
     ASSERT_EQ(minkowski_sum(a, b, got), Status::Ok);
     ASSERT_EQ(minkowski_sum(A, B, want), Status::Ok);
     ASSERT_TRUE(same_sum(got, want, 1e-9)) << "pair " << k;
-    if (k % 10 != 1 && k % 10 != 2) ++generic, kernel += got.method == Method::Kernel;
+    if (!aligned) ++generic, kernel += got.method == Method::Kernel;
+    if (k % 10 == 4 || k % 10 == 5) ASSERT_TRUE(test::equals_exact_hull(A.vertices, B.vertices, 1, got, 0)) << "pair " << k;
     if (k % 50 == 0) ASSERT_TRUE(valid_sum(A.vertices, B.vertices, 1, A, B, got, 1e-12, 1e-12, 200)) << "pair " << k;
   }
   EXPECT_EQ(kernel, generic);  // the kernel's result stands for every generic pair
@@ -416,19 +421,28 @@ TEST(Sum, EmptyOperandIsAnError) {
 TEST(Sum, DifferenceContainsTheOriginExactlyWhenBoxesOverlap) {
   // A (-) B is the configuration-space obstacle. Oracle: the separating axis theorem on the 15
   // axes of two boxes, evaluated on the raw vertices.
+  // One pair in 4 is tie-heavy (tests/ties): lattice boxes, or boxes in exact contact, where the
+  // origin lies on A (-) B's boundary and touching counts as overlapping (offset >= 0).
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> u(-1, 1);
-  int overlaps = 0;
+  int overlaps = 0, on_boundary = 0;
   for (int k = 0; k < 500; ++k) {
-    const Eigen::Matrix3d Ra = tools::axis_angle(Vector3d(u(rng), u(rng), u(rng)), 3 * u(rng));
-    const Eigen::Matrix3d Rb = tools::axis_angle(Vector3d(u(rng), u(rng), u(rng)), 3 * u(rng));
-    const auto a = box_points(Vector3d(1, 0.5, 0.3), Ra);
-    const auto b = box_points(Vector3d(0.4, 0.9, 0.6), Rb, 2.2 * Vector3d(u(rng), u(rng), u(rng)));
+    Box ba, bb;
+    ba.half_extents = Vector3d(1, 0.5, 0.3), bb.half_extents = Vector3d(0.4, 0.9, 0.6);
+    ba.rotation = tools::axis_angle(Vector3d(u(rng), u(rng), u(rng)), 3 * u(rng));
+    bb.rotation = tools::axis_angle(Vector3d(u(rng), u(rng), u(rng)), 3 * u(rng));
+    bb.center = 2.2 * Vector3d(u(rng), u(rng), u(rng));
+    if (k % 8 == 7) std::tie(ba, bb) = test::ties::touching_boxes(rng);
+    if (k % 8 == 3) ba = test::ties::lattice_box(rng, 2, 1), bb = test::ties::lattice_box(rng, 2, 1);
+    const Eigen::Matrix3d &Ra = ba.rotation, &Rb = bb.rotation;
+    const auto a = test::ties::corners(ba), b = test::ties::corners(bb);
     const Operands o = make(a, b);
     MinkowskiSum m;
     ASSERT_EQ(minkowski_difference(o.A, o.B, m), Status::Ok);
-    bool inside = true;
-    for (const auto& p : m.planes) inside = inside && p.offset > 0;
+    double least = 1e300;
+    for (const auto& p : m.planes) least = std::min(least, p.offset);
+    const bool inside = least >= 0;
+    on_boundary += least == 0;
     std::vector<Vector3d> axes;
     for (int i = 0; i < 3; ++i) {
       axes.push_back(Ra.col(i));
@@ -447,6 +461,7 @@ TEST(Sum, DifferenceContainsTheOriginExactlyWhenBoxesOverlap) {
   }
   EXPECT_GT(overlaps, 50);  // both outcomes are exercised
   EXPECT_LT(overlaps, 450);
+  EXPECT_GE(on_boundary, 500 / 8);  // (and every pair in exact contact)
 }
 
 // The assembly's consistency check (which sends results to the corrector) must reject a
