@@ -669,7 +669,11 @@ TEST(Topology, BoxBoxInstantiateEqualsFreshPlanes) {
   std::uniform_real_distribution<double> u(-10, 10);
   for (bool diff : {false, true}) {
     for (int trial = 0; trial < 200; ++trial) {
-      const Box a = tools::random_box(rng, 0, 2), b = tools::random_box(rng, 0, 2);  // prototypes at the origin
+      Box a = tools::random_box(rng, 0, 2), b = tools::random_box(rng, 0, 2);  // prototypes at the origin
+      if (trial % 8 == 7) {  // tie-heavy (tests/ties): lattice boxes, parallel edges and shared face normals
+        a = test::ties::lattice_box(rng, 2, 1), b = test::ties::lattice_box(rng, 2, 1);
+        a.center = b.center = Vector3d::Zero();
+      }
       auto A = std::make_unique<BoxBatch<double, 16>>(), B = std::make_unique<BoxBatch<double, 16>>();
       auto out = std::make_unique<BoxBoxPlanes<double, 16>>();
       A->count = B->count = 1;
@@ -696,8 +700,12 @@ TEST(Topology, BoxTriangleInstantiateEqualsFreshPlanes) {
   std::uniform_real_distribution<double> u(-10, 10);
   for (bool diff : {false, true}) {
     for (int trial = 0; trial < 200; ++trial) {
-      const Box box = tools::random_box(rng, 0, 2);  // the prototype octree cube, at the origin
-      const Triangle tri = tools::random_triangle(rng, 2);
+      Box box = tools::random_box(rng, 0, 2);  // the prototype octree cube, at the origin
+      Triangle tri = tools::random_triangle(rng, 2);
+      if (trial % 8 == 7) {  // tie-heavy (tests/ties): a lattice box and triangle
+        box = test::ties::lattice_box(rng, 2, 1), tri = test::ties::lattice_triangle(rng, 2, 1);
+        box.center = Vector3d::Zero();
+      }
       auto A = std::make_unique<BoxBatch<double, 16>>();
       auto T = std::make_unique<TriangleBatch<double, 16>>();
       auto out = std::make_unique<BoxTrianglePlanes<double, 16>>();
@@ -721,13 +729,14 @@ TEST(Topology, BoxTriangleInstantiateEqualsFreshPlanes) {
   }
 }
 
-TEST(Topology, GeneralInstantiateEqualsFreshSum) {
-  std::mt19937_64 rng(19);
+// A sum's topology table, instantiated at other scales and offsets, equals the sum built
+// afresh there: the same facets, their offsets within 1e-12.
+void check_general_instantiate(const std::vector<Vector3d>& pair_a, const std::vector<Vector3d>& pair_b, bool lattice,
+                               std::mt19937_64& rng) {
   std::uniform_real_distribution<double> u(-10, 10);
-  const auto pair = tools::table1_pairs()[5];  // icosahedron and dodecahedron
   ConvexPolytope A, B;
-  ASSERT_EQ(polytope_from_points(pair.a, A), Status::Ok);
-  ASSERT_EQ(polytope_from_points(pair.b, B), Status::Ok);
+  ASSERT_EQ(polytope_from_points(pair_a, A), Status::Ok);
+  ASSERT_EQ(polytope_from_points(pair_b, B), Status::Ok);
   for (bool diff : {false, true}) {
     MinkowskiSum m;
     ASSERT_EQ(diff ? minkowski_difference(A, B, m) : minkowski_sum(A, B, m), Status::Ok);
@@ -735,10 +744,11 @@ TEST(Topology, GeneralInstantiateEqualsFreshSum) {
     ASSERT_EQ(int(t.nx.size()), m.F);
     for (int k = 0; k <= 12; ++k) {
       const double sa = std::ldexp(1.0, -k), sb = 1.5;
-      const Vector3d ta(u(rng), u(rng), u(rng)), tb(u(rng), u(rng), u(rng));
+      Vector3d ta(u(rng), u(rng), u(rng)), tb(u(rng), u(rng), u(rng));
+      if (lattice) ta = test::ties::lattice_point(rng, 10, 4), tb = test::ties::lattice_point(rng, 10, 4);
       std::vector<Vector3d> pa, pb;
-      for (const auto& p : pair.a) pa.push_back(sa * p + ta);
-      for (const auto& p : pair.b) pb.push_back(sb * p + tb);
+      for (const auto& p : pair_a) pa.push_back(sa * p + ta);
+      for (const auto& p : pair_b) pb.push_back(sb * p + tb);
       ConvexPolytope A2, B2;
       ASSERT_EQ(polytope_from_points(pa, A2), Status::Ok);
       ASSERT_EQ(polytope_from_points(pb, B2), Status::Ok);
@@ -755,6 +765,19 @@ TEST(Topology, GeneralInstantiateEqualsFreshSum) {
         EXPECT_LT(best, 1e-12 * 30) << "facet " << f << " scale 2^-" << k;
       }
     }
+  }
+}
+
+TEST(Topology, GeneralInstantiateEqualsFreshSum) {
+  std::mt19937_64 rng(19);
+  // The icosahedron and dodecahedron, then tie-heavy pairs (tests/ties: lattice points, with
+  // coplanar faces, parallel edges and shared normals) under lattice offsets, which keep them exact.
+  const auto table1 = tools::table1_pairs()[5];
+  for (int pair = 0; pair < 4; ++pair) {
+    const bool lattice = pair > 0;
+    const std::vector<Vector3d> pair_a = lattice ? test::ties::lattice_solid_points(rng, 2, 1) : table1.a;
+    const std::vector<Vector3d> pair_b = lattice ? test::ties::lattice_solid_points(rng, 2, 1) : table1.b;
+    check_general_instantiate(pair_a, pair_b, lattice, rng);
   }
 }
 
