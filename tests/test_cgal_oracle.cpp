@@ -13,6 +13,7 @@
 
 #include "cgal_peer.hpp"
 #include "checks.hpp"
+#include "ties.hpp"
 #include "tools/shapes.hpp"
 
 namespace minksum {
@@ -290,11 +291,28 @@ double cgal_distance(const std::vector<Vector3d>& a, const std::vector<Vector3d>
                    CGAL::to_double(pd.squared_distance_denominator()));
 }
 
+// A tie-heavy pair (tests/ties) of the given kind: boxes, a box and a triangle, or two
+// triangles in exact contact; or two lattice solids.
+void tie_pair(std::mt19937_64& rng, int kind, std::vector<Vector3d> (&pts)[2]) {
+  if (kind == 0) {
+    const auto [a, b] = test::ties::touching_boxes(rng);
+    pts[0] = test::ties::corners(a), pts[1] = test::ties::corners(b);
+  } else if (kind == 1) {
+    const auto [a, b] = test::ties::touching_box_triangle(rng);
+    pts[0] = test::ties::corners(a), pts[1] = test::ties::corners(b);
+  } else if (kind == 2) {
+    const auto [a, b] = test::ties::touching_triangles(rng);
+    pts[0] = test::ties::corners(a), pts[1] = test::ties::corners(b);
+  } else {
+    pts[0] = test::ties::lattice_solid_points(rng, 2, 1), pts[1] = test::ties::lattice_solid_points(rng, 2, 1);
+  }
+}
+
 TEST(ExactOracle, DistancesAgreeWithCgalPolytopeDistance) {
   std::mt19937_64 rng(81);
   std::uniform_int_distribution<int> count(4, 20);
   std::uniform_real_distribution<double> u(-1, 1);
-  int separated = 0;
+  int separated = 0, touching = 0;
   for (int k = 0; k < 3000; ++k) {
     std::vector<Vector3d> pts[2];
     for (auto& pt : pts) {
@@ -308,6 +326,8 @@ TEST(ExactOracle, DistancesAgreeWithCgalPolytopeDistance) {
         for (const auto& q : tools::sphere_points(count(rng), unsigned(rng()))) pt.push_back(c + q);
       }
     }
+    const bool ties = k % 8 == 7;  // tie-heavy (tests/ties): in exact contact, or lattice shapes
+    if (ties) tie_pair(rng, k / 8 % 4, pts);
     ConvexPolytope A, B;
     ASSERT_EQ(polytope_from_points(pts[0], A), Status::Ok);
     ASSERT_EQ(polytope_from_points(pts[1], B), Status::Ok);
@@ -315,8 +335,14 @@ TEST(ExactOracle, DistancesAgreeWithCgalPolytopeDistance) {
     ASSERT_EQ(proximity(A, B, p), Status::Ok);
     const double exact = cgal_distance(pts[0], pts[1]);
     EXPECT_NEAR(p.distance, exact, 1e-9 * (1 + exact)) << "pair " << k;
+    if (ties) {  // the verdict exactly; exactly 0 at contact
+      EXPECT_EQ(p.intersecting, exact == 0) << "pair " << k << ": exact distance " << exact;
+      if (exact == 0) EXPECT_EQ(p.distance, 0.0) << "pair " << k;
+      touching += exact == 0;
+    }
     separated += exact > 0;
   }
+  EXPECT_GT(touching, 3000 / 8 / 2);
   EXPECT_GT(separated, 1000);  // and the rest overlap: both outcomes are exercised
   EXPECT_LT(separated, 2900);
 }
