@@ -196,7 +196,9 @@ TEST(PointCloud, EqualsBruteForce) {
 // A cloud against a mesh: the nearest point of the cloud to the surface.
 TEST(PointCloud, AgainstAMeshEqualsBruteForce) {
   const tools::Mesh mesh = test::test_mesh("bun_zipper_res3.ply", 24);
-  const tools::Mesh points{tools::sample_surface(test::test_mesh("bun_zipper_res4.ply", 16), 5000, 4), {}};
+  tools::Mesh points{tools::sample_surface(test::test_mesh("bun_zipper_res4.ply", 16), 5000, 4), {}};
+  // Ties: every 7th corner of the mesh is a point of the cloud too.
+  for (size_t v = 0; v < mesh.vertices.size(); v += 7) points.vertices.push_back(mesh.vertices[v]);
   Octree M, C;
   ASSERT_EQ(build_octree(mesh.vertices, mesh.triangles, M), Status::Ok);
   ASSERT_EQ(build_octree(points.vertices, C), Status::Ok);
@@ -212,6 +214,19 @@ TEST(PointCloud, AgainstAMeshEqualsBruteForce) {
     back.rotation = pose.rotation.transpose(), back.translation = -(back.rotation * pose.translation);
     expect_brute(points, C, mesh, M, back, cm, "cloud-mesh pose " + std::to_string(k));
     if (HasFatalFailure()) return;
+  }
+  // Exact contact: in place (the shared points coincide), and turned half a turn about the z
+  // axis through a shared corner (exact in binary: the corner maps to itself). Intersecting at
+  // distance exactly 0.
+  const Vector3d v = mesh.vertices[7 * (mesh.vertices.size() / 14)];
+  Pose half;
+  half.rotation = Vector3d(-1, -1, 1).asDiagonal(), half.translation = Vector3d(2 * v.x(), 2 * v.y(), 0);
+  for (const Pose& pose : {Pose{}, half}) {
+    MeshDistance got;
+    ASSERT_EQ(mesh_distance(M, C, pose, mc, got), Status::Ok);
+    EXPECT_TRUE(got.intersecting);
+    EXPECT_EQ(got.distance, 0.0);
+    expect_brute(mesh, M, points, C, pose, mc, "mesh-cloud in exact contact");
   }
 }
 
