@@ -616,6 +616,8 @@ TEST_P(BatchedProximity, SinglePairActiveSetAgreesWithAllFacets) {
       if (k % 4 == 1) b.rotation = a.rotation;  // parallel faces and edges
       if (k % 4 == 2) b.rotation = a.rotation * tools::axis_angle({1, 2, 3}, tiny(rng));
       if (k % 4 == 3) a.rotation = b.rotation = Eigen::Matrix3d::Identity();
+      if (k % 16 == 15) std::tie(a, b) = test::ties::touching_boxes(rng);  // tie-heavy (tests/ties)
+      if (k % 16 == 7) a = test::ties::lattice_box(rng, 2, 1), b = test::ties::lattice_box(rng, 2, 1);
       A->set(k, a), B->set(k, b);
       pairs.emplace_back(a, b);
     }
@@ -631,6 +633,10 @@ TEST_P(BatchedProximity, SinglePairActiveSetAgreesWithAllFacets) {
       const double scale = 1e-9 * std::max({1.0, a.center.cwiseAbs().maxCoeff(), b.center.cwiseAbs().maxCoeff()});
       EXPECT_NEAR(got.distance, all->distance[k], scale) << "pair " << k;
       EXPECT_NEAR(got.depth, all->depth[k], scale) << "pair " << k;
+      if (k % 16 == 15) {  // exact contact: intersecting, at distance and depth exactly 0, both ways
+        EXPECT_TRUE(got.intersecting) << "pair " << k;
+        EXPECT_TRUE(got.distance == 0 && all->distance[k] == 0 && got.depth == 0 && all->depth[k] == 0) << "pair " << k;
+      }
       // The witnesses realise the answer: p_A - p_B is the closest point of A (-) B, or the
       // deepest boundary point depth * direction.
       const Vector3d pa(got.point_a), pb(got.point_b), dir(got.direction);
