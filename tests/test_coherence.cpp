@@ -374,6 +374,26 @@ TEST(CoherenceMesh, SeededSearchEqualsColdSearch) {
     ASSERT_EQ(mesh_distance(A, B, pose, ws, spoiled, hot), Status::Ok);
     EXPECT_NEAR(hot.distance, cold.distance, 1e-12 * size) << bad;
   }
+  // Ties: the mesh against its own copy turned half a turn about the z axis through a corner
+  // (exact in binary: the corner maps to itself, so the two touch there), then the same lifted by
+  // 1e-9 of the size, from corner to corner: the cached answer is the cold one, and in exact
+  // contact intersecting at distance exactly 0.
+  MeshWorkspace self;
+  make_workspace(A, A, self);
+  ProximityCache tie_cache;
+  for (size_t v = 0; v < m.vertices.size(); v += m.vertices.size() / 40 + 1) {
+    for (const double lift : {0.0, 1e-9 * size}) {
+      Pose half;
+      half.rotation = Vector3d(-1, -1, 1).asDiagonal();
+      half.translation = Vector3d(2 * m.vertices[v].x(), 2 * m.vertices[v].y(), lift);
+      MeshDistance cold, hot;
+      ASSERT_EQ(mesh_distance(A, A, half, self, cold), Status::Ok);
+      ASSERT_EQ(mesh_distance(A, A, half, self, tie_cache, hot), Status::Ok);
+      ASSERT_EQ(hot.intersecting, cold.intersecting) << "corner " << v << " lift " << lift;
+      ASSERT_NEAR(hot.distance, cold.distance, 1e-12 * size) << "corner " << v << " lift " << lift;
+      if (lift == 0) EXPECT_TRUE(hot.intersecting && hot.distance == 0) << "corner " << v;
+    }
+  }
 }
 
 }  // namespace
