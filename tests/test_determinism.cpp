@@ -8,8 +8,10 @@
 #include <cstring>
 #include <memory>
 #include <random>
+#include <tuple>
 
 #include "checks.hpp"
+#include "ties.hpp"
 #include "tools/shapes.hpp"
 
 namespace minksum {
@@ -50,8 +52,16 @@ TEST_P(Determinism, KernelsRepeatBitForBit) {
   std::mt19937_64 rng(5);
   auto A = std::make_unique<BoxBatch<float, 256>>(), B = std::make_unique<BoxBatch<float, 256>>();
   auto T = std::make_unique<TriangleBatch<float, 256>>();
-  for (int k = 0; k < 256; ++k)
-    A->set(k, tools::random_box(rng, 2)), B->set(k, tools::random_box(rng, 2)), T->set(k, tools::random_triangle(rng, 2));
+  for (int k = 0; k < 256; ++k) {
+    Box a = tools::random_box(rng, 2), b = tools::random_box(rng, 2);
+    Triangle t = tools::random_triangle(rng, 2);
+    // Ties, where an order-dependent choice would show (tests/ties): lattice lanes, and lanes in
+    // exact contact.
+    if (k % 8 == 3) a = test::ties::lattice_box(rng, 2, 1), b = test::ties::lattice_box(rng, 2, 1), t = test::ties::lattice_triangle(rng, 2, 1);
+    if (k % 16 == 7) std::tie(a, b) = test::ties::touching_boxes(rng);
+    if (k % 16 == 15) std::tie(a, t) = test::ties::touching_box_triangle(rng);
+    A->set(k, a), B->set(k, b), T->set(k, t);
+  }
   A->count = B->count = T->count = 256;
   auto p1 = std::make_unique<BoxBoxPlanes<float, 256>>(), p2 = std::make_unique<BoxBoxPlanes<float, 256>>();
   auto q1 = std::make_unique<BoxBoxProximity<float, 256>>(), q2 = std::make_unique<BoxBoxProximity<float, 256>>();
@@ -77,7 +87,9 @@ TEST_P(Determinism, KernelsRepeatBitForBit) {
 TEST_P(Determinism, QueriesRepeatBitForBit) {
   std::mt19937_64 rng(6);
   for (int k = 0; k < 2000; ++k) {
-    const Box a = tools::random_box(rng, 1.5), b = tools::random_box(rng, 1.5);
+    Box a = tools::random_box(rng, 1.5), b = tools::random_box(rng, 1.5);
+    if (k % 8 == 3) a = test::ties::lattice_box(rng, 2, 1), b = test::ties::lattice_box(rng, 2, 1);  // ties
+    if (k % 8 == 7) std::tie(a, b) = test::ties::touching_boxes(rng);
     Proximity x, y;
     ASSERT_EQ(proximity(a, b, x), Status::Ok);
     ASSERT_EQ(proximity(a, b, y), Status::Ok);
@@ -89,7 +101,11 @@ INSTANTIATE_TEST_SUITE_P(Isa, Determinism, testing::Values(Isa::Scalar, Isa::Sse
                          [](const auto& info) { return std::string(to_string(info.param)); });
 
 TEST(Determinism, SumsRepeatBitForBit) {
-  for (const auto& pair : tools::table1_pairs()) {
+  auto pairs = tools::table1_pairs();
+  std::mt19937_64 rng(9);
+  for (int k = 0; k < 8; ++k)  // ties (tests/ties): lattice solids, coplanar faces and parallel edges
+    pairs.push_back({"lattice " + std::to_string(k), test::ties::lattice_solid_points(rng, 2, 1), test::ties::lattice_solid_points(rng, 2, 1)});
+  for (const auto& pair : pairs) {
     ConvexPolytope A, B;
     ASSERT_EQ(polytope_from_points(pair.a, A), Status::Ok);
     ASSERT_EQ(polytope_from_points(pair.b, B), Status::Ok);
@@ -112,7 +128,11 @@ TEST(Determinism, MeshDistanceRepeatsBitForBit) {
   MeshWorkspace& ws = m->ws;
   std::mt19937_64 rng(7);
   for (int k = 0; k < 50; ++k) {
-    const Pose pose = test::random_pose(rng, 0.2);
+    Pose pose = test::random_pose(rng, 0.2);
+    if (k % 5 == 4) {  // a tie: the copy half-turned about the z axis through a corner (exact contact)
+      const Vector3d v = m->mesh.vertices[rng() % m->mesh.vertices.size()];
+      pose.rotation = Vector3d(-1, -1, 1).asDiagonal(), pose.translation = Vector3d(2 * v.x(), 2 * v.y(), 0);
+    }
     MeshDistance x, y;
     ASSERT_EQ(mesh_distance(A, A, pose, ws, x), Status::Ok);
     ASSERT_EQ(mesh_distance(A, A, pose, ws, y), Status::Ok);  // the workspace is reused
