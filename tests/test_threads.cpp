@@ -8,6 +8,7 @@
 #include <random>
 #include <thread>
 
+#include "ties.hpp"
 #include "tools/shapes.hpp"
 
 namespace {
@@ -34,22 +35,26 @@ bool identical(const MinkowskiSum& x, const MinkowskiSum& y) {
 }
 
 TEST(Threads, SharedShapesGiveTheSameAnswersOnFourThreads) {
-  std::vector<ConvexShape> shapes(5);
+  std::vector<ConvexShape> shapes(6);
   ASSERT_EQ(shape_from_box(Box{}, shapes[0]), Status::Ok);
   ASSERT_EQ(shape_from_triangle(Triangle{{0, 0, 0}, {1, 0, 0.2}, {0, 1, 0}}, shapes[1]), Status::Ok);
   ASSERT_EQ(shape_from_points(tools::sphere_points(12, 1), shapes[2]), Status::Ok);
   ASSERT_EQ(shape_from_points(tools::sphere_points(60, 2), shapes[3]), Status::Ok);
   ASSERT_EQ(shape_from_points(tools::sphere_points(300, 3), shapes[4]), Status::Ok);
   std::mt19937_64 rng(5);
+  ASSERT_EQ(shape_from_points(test::ties::lattice_solid_points(rng, 2, 1), shapes[5]), Status::Ok);
   std::uniform_real_distribution<double> u(-1, 1);
-  const auto pose = [&] {
+  const auto pose = [&](bool lattice) {
     Isometry3d p = Isometry3d::Identity();
     p.linear() = tools::axis_angle(Vector3d(u(rng), u(rng), u(rng)), 3 * u(rng));
     p.translation() = Vector3d(u(rng), u(rng), u(rng)) * 2;
+    // Ties (tests/ties): quarter turns and lattice offsets keep the box's and the lattice
+    // shape's coordinates exact (shared normals, parallel edges, exact contact).
+    if (lattice) p.linear() = test::ties::quarter_turn(rng), p.translation() = test::ties::lattice_point(rng, 2, 1);
     return p;
   };
   std::vector<Task> tasks;
-  for (int k = 0; k < 60; ++k) tasks.push_back({k % 5, (k / 5) % 5, pose(), pose(), k % 3 == 0});
+  for (int k = 0; k < 72; ++k) tasks.push_back({k % 6, (k / 6) % 6, pose(k % 4 == 3), pose(k % 4 == 3), k % 3 == 0});
   // One thread first: the expected answers.
   const auto run = [&](const Task& t, MinkowskiSum& m, Proximity& p) {
     const Status s = t.difference ? minkowski_difference(shapes[t.a], t.pa, shapes[t.b], t.pb, m)
