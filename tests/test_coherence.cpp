@@ -176,10 +176,11 @@ TEST_P(Coherence, ShapesAlongTrajectories) {
   lattice_walks();
 }
 
-// Tie-heavy walks (tests/ties): lattice shapes of 4 to 12 points, and a lattice box and
-// triangle, B stepping by lattice_step through exact contact. The coherent verdict is the cold
-// one exactly, the distance at contact exactly 0; and every 25th tick the shapes' verdict and
-// distance equal the exact ones (the exact surface gap, and containment where it is 0).
+// Tie-heavy walks (tests/ties; a quarter of the ticks under the sanitizer): lattice shapes of 4
+// to 12 points, and a lattice box and triangle, B stepping by lattice_step through exact
+// contact. The coherent verdict is the cold one exactly, the distance at contact exactly 0; and
+// every 25th tick the shapes' verdict and distance equal the exact ones (the exact surface gap,
+// and containment where it is 0).
 void Coherence::lattice_walks() {
   std::mt19937_64 rng(41);
   int touching = 0;
@@ -190,7 +191,7 @@ void Coherence::lattice_walks() {
     Isometry3d pose_a = Isometry3d::Identity(), pose_b = Isometry3d::Identity();
     pose_a.linear() = test::ties::quarter_turn(rng);
     ProximityCache cache;
-    for (int k = 0; k < 1000; ++k) {
+    for (int k = 0; k < test::scaled(1000, 250); ++k) {
       const std::string where = "lattice walk " + std::to_string(walk) + " tick " + std::to_string(k);
       lattice_step(rng, k, 4, pose_b);
       Proximity cold, hot;
@@ -214,7 +215,7 @@ void Coherence::lattice_walks() {
   const Triangle body = test::ties::lattice_triangle(rng, 1, 1);
   Isometry3d pose = Isometry3d::Identity();
   ProximityCache cache;
-  for (int k = 0; k < 3000; ++k) {
+  for (int k = 0; k < test::scaled(3000, 750); ++k) {
     lattice_step(rng, k, 3, pose);
     const Triangle t{pose * body.a, pose * body.b, pose * body.c};
     Proximity cold, hot;
