@@ -124,8 +124,6 @@ TEST(MeshDistance, LatticeBunnyUnderQuarterTurnsEqualsBruteForce) {
   std::printf("lattice bunny poses that meet / are apart: %d / %d\n", meet, poses - meet);
 }
 
-// The kernel against the general exact path (Minkowski difference of the two triangles), on
-// random, near-parallel, coplanar and far-from-the-origin pairs.
 // The octree's worst case (issue 8): one sphere inside another, about the same centre, so that
 // every triangle of one is nearly as far from the other as any: exact all the same, and no
 // more than a thin band of node pairs near the best distance is opened (the query stays
@@ -183,6 +181,9 @@ TEST(Octree, DuplicatedTrianglesAreListedOnce) {
   }
 }
 
+// The kernel against the general exact path (Minkowski difference of the two triangles), on
+// random, near-parallel, coplanar and far-from-the-origin pairs, and one in 8 tie-heavy (against
+// the exact triangle distance too).
 TEST(TriangleDistance, AgreesWithTheGeneralPath) {
   std::mt19937_64 rng(13);
   std::uniform_real_distribution<double> u(-1, 1), tiny(-1e-9, 1e-9);
