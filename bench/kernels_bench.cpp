@@ -7,7 +7,7 @@
 #include <memory>
 #include <random>
 
-#include "hull.hpp"
+#include "core/hull.hpp"
 #include "tools/shapes.hpp"
 
 namespace {

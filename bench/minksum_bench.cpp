@@ -38,7 +38,7 @@
 
 #include "bullet_peer.hpp"
 #include "cgal_peer.hpp"
-#include "hull.hpp"
+#include "core/hull.hpp"
 #include "tools/shapes.hpp"
 
 namespace {

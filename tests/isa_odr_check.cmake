@@ -5,7 +5,7 @@ cmake_minimum_required(VERSION 3.22)
 # kernel could call a slow baseline copy.
 # Fails if a weak symbol of an ISA object (other than the C++ personality reference) is
 # defined in any other object of the library.
-file(GLOB objects "${OBJECT_DIR}/*.o")
+file(GLOB_RECURSE objects "${OBJECT_DIR}/*.o")
 set(isa_symbols "")
 set(other_symbols "")
 foreach(obj IN LISTS objects)

@@ -8,7 +8,7 @@
 #include <random>
 #include <tuple>
 
-#include "box_pair.hpp"
+#include "simd/box_pair.hpp"
 #include "checks.hpp"
 #include "ties.hpp"
 #include "tools/shapes.hpp"

@@ -8,7 +8,7 @@
 
 #include "cgal_peer.hpp"
 #include "checks.hpp"
-#include "sum_internal.hpp"
+#include "sum/sum_internal.hpp"
 #include "ties.hpp"
 #include "tools/shapes.hpp"
 

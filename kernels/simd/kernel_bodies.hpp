@@ -8,8 +8,8 @@
 #include <type_traits>
 #include <utility>
 
-#include "box_pair.hpp"
-#include "simd.hpp"
+#include "simd/box_pair.hpp"
+#include "simd/simd.hpp"
 
 namespace minksum::detail {
 

@@ -5,9 +5,9 @@
 
 #include <minksum/kernels.hpp>
 
-#include "hull.hpp"
-#include "overlay.hpp"
-#include "sum_internal.hpp"
+#include "core/hull.hpp"
+#include "sum/overlay.hpp"
+#include "sum/sum_internal.hpp"
 
 namespace minksum {
 

@@ -11,8 +11,8 @@
 #include <limits>
 #include <map>
 
-#include "hull.hpp"
-#include "sum_internal.hpp"
+#include "core/hull.hpp"
+#include "sum/sum_internal.hpp"
 
 namespace minksum::detail {
 

@@ -8,10 +8,10 @@
 #include <minksum/kernels.hpp>
 #include <minksum/mesh.hpp>
 
-#include "box_pair.hpp"
-#include "cache_kinds.hpp"
-#include "shape_data.hpp"
-#include "triangle_pairs.hpp"
+#include "simd/box_pair.hpp"
+#include "query/cache_kinds.hpp"
+#include "shape/shape_data.hpp"
+#include "query/triangle_pairs.hpp"
 
 #include <algorithm>
 #include <cmath>

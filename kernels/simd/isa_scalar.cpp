@@ -1,5 +1,5 @@
 // The kernels compiled for scalar (this file's compiler flags are set in CMakeLists.txt).
-#include "kernel_bodies.hpp"
+#include "simd/kernel_bodies.hpp"
 
 namespace minksum::detail {
 

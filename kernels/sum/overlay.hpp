@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "shape_data.hpp"
+#include "shape/shape_data.hpp"
 
 namespace minksum::detail {
 

@@ -1,4 +1,4 @@
-#include "hull.hpp"
+#include "core/hull.hpp"
 
 #include <algorithm>
 #include <cmath>

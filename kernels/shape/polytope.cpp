@@ -6,8 +6,8 @@
 #include <limits>
 #include <map>
 
-#include "hull.hpp"
-#include "predicates.hpp"
+#include "core/hull.hpp"
+#include "core/predicates.hpp"
 
 namespace minksum {
 

@@ -3,8 +3,8 @@
 // the exact triangle-triangle distance.
 #include <minksum/mesh.hpp>
 
-#include "cache_kinds.hpp"
-#include "triangle_pairs.hpp"
+#include "query/cache_kinds.hpp"
+#include "query/triangle_pairs.hpp"
 #include <minksum/kernels.hpp>
 #include <minksum/query.hpp>
 

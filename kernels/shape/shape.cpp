@@ -3,8 +3,8 @@
 #include <cmath>
 #include <limits>
 
-#include "predicates.hpp"
-#include "shape_data.hpp"
+#include "core/predicates.hpp"
+#include "shape/shape_data.hpp"
 
 namespace minksum {
 

@@ -1,5 +1,5 @@
 // The kernels compiled for sse4_2 (this file's compiler flags are set in CMakeLists.txt).
-#include "kernel_bodies.hpp"
+#include "simd/kernel_bodies.hpp"
 
 namespace minksum::detail {
 

@@ -1,4 +1,4 @@
-#include "kernel_reference.hpp"
+#include "simd/kernel_reference.hpp"
 
 #include <limits>
 

@@ -1,11 +1,11 @@
-#include "predicates.hpp"
+#include "core/predicates.hpp"
 
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <numeric>
 
-#include "expansion.hpp"
+#include "core/expansion.hpp"
 
 namespace minksum::detail {
 

@@ -39,9 +39,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "overlay.hpp"
-#include "predicates.hpp"
-#include "sum_internal.hpp"
+#include "sum/overlay.hpp"
+#include "core/predicates.hpp"
+#include "sum/sum_internal.hpp"
 
 namespace minksum::detail {
 

@@ -8,8 +8,8 @@
 #include <cstring>
 #include <xsimd/config/xsimd_cpuid.hpp>
 
-#include "box_pair.hpp"
-#include "simd.hpp"
+#include "simd/box_pair.hpp"
+#include "simd/simd.hpp"
 
 namespace minksum {
 
