@@ -3,6 +3,7 @@
 // BoxBox/single, BoxBox/qhull, TopologyInstantiate/<kind>. Items are box pairs (or facets).
 #include <benchmark/benchmark.h>
 #include <minksum/kernels.hpp>
+#include <minksum/sum.hpp>
 
 #include <memory>
 #include <random>

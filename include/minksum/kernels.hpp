@@ -1,9 +1,9 @@
-// minksum: fixed-size structure-of-arrays kernels (box-box, box-triangle, support push) with
-// runtime ISA dispatch, and topology tables (the paper's Section 4 index tracking).
+// minksum: fixed-size structure-of-arrays kernels (box-box, box-triangle, support push,
+// triangle distance) with runtime ISA dispatch.
 // No SIMD types appear here: the kernels live in kernels/, one translation unit per ISA.
 #pragma once
 
-#include <minksum/sum.hpp>
+#include <minksum/model.hpp>
 
 #include <cstdint>
 #include <type_traits>
@@ -294,6 +294,12 @@ void box_triangle_overlap(const BoxBatch<T, N>& box, const TriangleBatch<T, N>& 
   detail::box_triangle_overlap(detail::lanes(box), &tri.v[0][0][0], box.count, kRow<N>, out.hit);
 }
 
+/// Exact distance between two triangles given by their corners, with the closest points;
+/// 0 when they intersect (degenerate triangles allowed). The distance kernel of mesh_distance;
+/// triangle_distance(TriangleBatch...) below is its batched form.
+double triangle_distance(const Eigen::Vector3d (&s)[3], const Eigen::Vector3d (&t)[3],
+                         Eigen::Vector3d& ps, Eigen::Vector3d& pt);
+
 /// Exact distances of N triangle pairs, one per lane.
 template <class T, int N>
 struct alignas(64) TriangleDistances {
@@ -348,36 +354,5 @@ void support_push(const float* x, const float* y, const float* z, int n, const f
 /// The same in double.
 void support_push(const double* x, const double* y, const double* z, int n, const double* dx,
                   const double* dy, const double* dz, int k, double* max_out, int* arg_out);
-
-/// Index tracking (the paper's Section 4): the facet normals of a prototype sum and, per facet,
-/// n . a_i and n . b_j of its support pair in the operands' own frames. Any copy of the sum with
-/// A scaled by sA > 0 and moved by tA (and B by sB, tB) has offsets
-/// sA (n . a_i) + sB (n . b_j) + n . (tA + tB): O(facets), no search.
-struct TopologyTable {
-  std::vector<double> nx, ny, nz;  ///< facet normals
-  std::vector<double> pa, pb;      ///< n . a_i and n . b_j of the prototype's support pair
-  std::vector<int> i, j;           ///< the support pair (index tracking)
-  double sign_b = 1;               ///< -1 for a difference: B's translation enters negated
-};
-
-/// The table of a general sum or difference `m` of the operands a and b.
-TopologyTable topology_table(const MinkowskiSum& m, const ConvexPolytope& a,
-                             const ConvexPolytope& b, bool difference);
-
-/// The table of one box-box lane: boxes are taken relative to their centres, so that tA and tB
-/// are the copies' centres; invalid axes are left out.
-template <class T, int N>
-TopologyTable topology_table(const BoxBoxPlanes<T, N>& planes, int lane, const Box& a, const Box& b,
-                             bool difference);
-
-/// The table of one box-triangle lane (box relative to its centre, triangle as given).
-template <class T, int N>
-TopologyTable topology_table(const BoxTrianglePlanes<T, N>& planes, int lane, const Box& box,
-                             const Triangle& tri, bool difference);
-
-/// Offsets of the copy with scales sA, sB > 0 and translations tA, tB: offset_k =
-/// sA pa_k + sB pb_k + n_k . (tA + sign_b tB) (offsets: capacity >= facets). No allocation.
-void instantiate(const TopologyTable& t, double sA, const Eigen::Vector3d& tA, double sB,
-                 const Eigen::Vector3d& tB, double* offsets);
 
 }  // namespace minksum

@@ -167,9 +167,4 @@ constexpr int kMaxContactTriangles = 2048;
 Status mesh_contact(const Octree& a, const ConvexShape& tool, const Eigen::Isometry3d& pose, MeshWorkspace& ws,
                     MeshContact& out);
 
-/// Exact distance between two triangles given by their corners, with the closest points;
-/// 0 when they intersect (degenerate triangles allowed). The distance kernel of mesh_distance.
-double triangle_distance(const Eigen::Vector3d (&s)[3], const Eigen::Vector3d (&t)[3],
-                         Eigen::Vector3d& ps, Eigen::Vector3d& pt);
-
 }  // namespace minksum

@@ -1,8 +1,11 @@
 // minksum: the Minkowski sum A (+) B and difference A (-) B = A (+) (-B) of convex polytopes.
 #pragma once
 
+#include <minksum/kernels.hpp>
 #include <minksum/model.hpp>
 #include <minksum/shape.hpp>
+
+#include <vector>
 
 namespace minksum {
 
@@ -79,5 +82,36 @@ Status minkowski_sum(const Box& a, const Box& b, MinkowskiSum& out);
 /// A (-) B = A (+) (-B), the configuration-space obstacle; index j refers to B's vertex j.
 Status minkowski_difference(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out,
                             Method method = Method::Fast);
+
+/// Index tracking (the paper's Section 4): the facet normals of a prototype sum and, per facet,
+/// n . a_i and n . b_j of its support pair in the operands' own frames. Any copy of the sum with
+/// A scaled by sA > 0 and moved by tA (and B by sB, tB) has offsets
+/// sA (n . a_i) + sB (n . b_j) + n . (tA + tB): O(facets), no search.
+struct TopologyTable {
+  std::vector<double> nx, ny, nz;  ///< facet normals
+  std::vector<double> pa, pb;      ///< n . a_i and n . b_j of the prototype's support pair
+  std::vector<int> i, j;           ///< the support pair (index tracking)
+  double sign_b = 1;               ///< -1 for a difference: B's translation enters negated
+};
+
+/// The table of a general sum or difference `m` of the operands a and b.
+TopologyTable topology_table(const MinkowskiSum& m, const ConvexPolytope& a,
+                             const ConvexPolytope& b, bool difference);
+
+/// The table of one box-box lane: boxes are taken relative to their centres, so that tA and tB
+/// are the copies' centres; invalid axes are left out.
+template <class T, int N>
+TopologyTable topology_table(const BoxBoxPlanes<T, N>& planes, int lane, const Box& a, const Box& b,
+                             bool difference);
+
+/// The table of one box-triangle lane (box relative to its centre, triangle as given).
+template <class T, int N>
+TopologyTable topology_table(const BoxTrianglePlanes<T, N>& planes, int lane, const Box& box,
+                             const Triangle& tri, bool difference);
+
+/// Offsets of the copy with scales sA, sB > 0 and translations tA, tB: offset_k =
+/// sA pa_k + sB pb_k + n_k . (tA + sign_b tB) (offsets: capacity >= facets). No allocation.
+void instantiate(const TopologyTable& t, double sA, const Eigen::Vector3d& tA, double sB,
+                 const Eigen::Vector3d& tB, double* offsets);
 
 }  // namespace minksum

@@ -6,7 +6,6 @@
 
 
 #include <minksum/kernels.hpp>
-#include <minksum/mesh.hpp>
 
 #include "simd/box_pair.hpp"
 #include "query/cache_kinds.hpp"

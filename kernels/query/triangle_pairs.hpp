@@ -3,7 +3,6 @@
 #pragma once
 
 #include <minksum/kernels.hpp>
-#include <minksum/mesh.hpp>
 
 namespace minksum::detail {
 

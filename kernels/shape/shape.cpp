@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "core/predicates.hpp"
+#include "core/validate.hpp"
 #include "shape/shape_data.hpp"
 
 namespace minksum {
@@ -18,12 +19,12 @@ namespace {
 // coordinate is not finite or beyond kMaxCoordinate.
 bool take_vertices(const ConvexPolytope& p, ShapeData& s, double& extent) {
   const size_t V = p.vertices.size();
+  if (detail::check_coordinates(p.vertices.data(), V) != Status::Ok) return false;
   s.px.resize(V), s.py.resize(V), s.pz.resize(V);
   Vector3d lo = Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   s.size = 0;
   for (size_t k = 0; k < V; ++k) {
     const Vector3d& v = p.vertices[k];
-    if (!v.allFinite() || !(v.cwiseAbs().maxCoeff() <= kMaxCoordinate)) return false;
     s.px[k] = v.x(), s.py[k] = v.y(), s.pz[k] = v.z();
     lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
     s.size = std::max(s.size, v.cwiseAbs().maxCoeff());
@@ -358,15 +359,5 @@ Status shape_from_polytope(const ConvexPolytope& p, ConvexShape& out) {
   return adopt(Status::Ok, ConvexPolytope(p), out);
 }
 
-[[gnu::flatten]] Status check_pose(const Eigen::Isometry3d& pose) {
-  const Eigen::Matrix3d R = pose.linear();
-  const Vector3d t = pose.translation();
-  if (!R.allFinite() || !t.allFinite()) return Status::InvalidPose;
-  if (!(t.cwiseAbs().maxCoeff() <= kMaxCoordinate)) return Status::InvalidPose;
-  // A proper rotation: orthonormal columns (to 1e-9) and a right-handed frame.
-  if (!((R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <= 1e-9) || !(R.determinant() > 0))
-    return Status::InvalidPose;
-  return Status::Ok;
-}
 
 }  // namespace minksum

@@ -830,4 +830,26 @@ bool Overlay::number_and_write(const Placed& A, const Placed& B, MinkowskiSum& o
          (closed_manifold(out) && planes_support(A, B, out));
 }
 
+bool planes_support(const Placed& A, const Placed& B, const MinkowskiSum& m) {
+  double size = 0;
+  for (const Placed* x : {&A, &B})
+    for (size_t k = 0; k < x->s->px.size(); ++k) size = std::max(size, x->point(int(k)).cwiseAbs().maxCoeff());
+  const double tol = 1e-12 * size;
+  // No neighbour of vertex v (through the arcs of its cell) is higher along n: local is global.
+  const auto extreme = [tol](const Placed& x, int v, const Vector3d& n) {
+    const ShapeData& s = *x.s;
+    const MapLayout& m = *x.m;
+    const int cell = s.vertex_cell[v];
+    const double top = n.dot(x.point(v));
+    for (int k = m.cell_start[cell]; k < m.cell_start[cell + 1]; ++k)
+      if (n.dot(x.point(s.cell_vertex[m.cell_slot[k].next])) > top + tol) return false;
+    return true;
+  };
+  for (int f = 0; f < m.F; ++f)
+    for (int v : m.facet(f))
+      if (!extreme(A, m.vertices[v].i, m.planes[f].normal) || !extreme(B, m.vertices[v].j, m.planes[f].normal))
+        return false;
+  return true;
+}
+
 }  // namespace minksum::detail

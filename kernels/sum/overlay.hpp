@@ -177,9 +177,6 @@ class Overlay {
   PairNumbering pairs;
 };
 
-/// Every directed edge of the loops appears once, and its reverse once: a closed 2-manifold.
-bool closed_manifold(const MinkowskiSum& m);
-
 /// Every facet's vertices (i, j) are extreme along its normal in A and in B (a_i has no
 /// neighbour higher, nor b_j): a proof that each plane supports A (+) B.
 bool planes_support(const Placed& A, const Placed& B, const MinkowskiSum& m);

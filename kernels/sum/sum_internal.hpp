@@ -14,6 +14,9 @@ struct FacetLoop {
   std::vector<std::pair<int, int>> loop;
 };
 
+/// Every directed edge of the loops appears once, and its reverse once: a closed 2-manifold.
+bool closed_manifold(const MinkowskiSum& m);
+
 /// Builds `out` from facet loops over the points a_i + b_j: drops repeated pairs and facets
 /// with fewer than three distinct pairs, numbers the vertices, computes offsets, V, E, F and
 /// Euler (with the closed-manifold check).

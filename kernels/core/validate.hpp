@@ -1,0 +1,22 @@
+// The checks every entry point runs on its input (internal): coordinates, and the thresholds
+// that make a point set flat or collinear.
+#pragma once
+
+#include <minksum/model.hpp>
+
+#include <cstddef>
+
+namespace minksum::detail {
+
+/// Relative thresholds, in units of the input's bounding-box diagonal D. Points closer than
+/// kFlatTol * D to a plane make the input flat; closer than kLineTol * D to a line, collinear.
+constexpr double kFlatTol = 1e-10;
+constexpr double kLineTol = 1e-12;
+
+/// NonFinite for a NaN or Inf coordinate, OutOfRange beyond kMaxCoordinate, else Ok.
+Status check_coordinates(const Eigen::Vector3d* pts, size_t n);
+
+/// The diagonal of the points' bounding box (n >= 1).
+double diagonal(const Eigen::Vector3d* pts, size_t n);
+
+}  // namespace minksum::detail
