@@ -898,17 +898,36 @@ struct Kernels {
   }
 };
 
+// The table filled member by member, by name: a reordering of KernelTable cannot shift a kernel
+// into another's slot, and a member left out stays null, which table_complete rejects.
 template <class Arch>
 constexpr KernelTable make_table() {
-  return {&Kernels<float, Arch>::box_box,      &Kernels<double, Arch>::box_box,
-          &Kernels<float, Arch>::box_triangle, &Kernels<double, Arch>::box_triangle,
-          &Kernels<float, Arch>::support,      &Kernels<double, Arch>::support,
-          &Kernels<double, Arch>::box_box_axes,
-          &Kernels<float, Arch>::box_box_proximity,  &Kernels<double, Arch>::box_box_proximity,
-          &Kernels<float, Arch>::box_box_separation, &Kernels<double, Arch>::box_box_separation,
-          &Kernels<float, Arch>::box_triangle_overlap, &Kernels<double, Arch>::box_triangle_overlap,
-          &BoxPairQuery<double, Arch>::box_pair,
-          &Kernels<float, Arch>::triangle_distance, &Kernels<double, Arch>::triangle_distance};
+  KernelTable t{};
+  t.box_box_f = &Kernels<float, Arch>::box_box;
+  t.box_box_d = &Kernels<double, Arch>::box_box;
+  t.box_tri_f = &Kernels<float, Arch>::box_triangle;
+  t.box_tri_d = &Kernels<double, Arch>::box_triangle;
+  t.support_f = &Kernels<float, Arch>::support;
+  t.support_d = &Kernels<double, Arch>::support;
+  t.box_box_single_d = &Kernels<double, Arch>::box_box_axes;
+  t.box_box_proximity_f = &Kernels<float, Arch>::box_box_proximity;
+  t.box_box_proximity_d = &Kernels<double, Arch>::box_box_proximity;
+  t.box_box_separation_f = &Kernels<float, Arch>::box_box_separation;
+  t.box_box_separation_d = &Kernels<double, Arch>::box_box_separation;
+  t.box_triangle_overlap_f = &Kernels<float, Arch>::box_triangle_overlap;
+  t.box_triangle_overlap_d = &Kernels<double, Arch>::box_triangle_overlap;
+  t.box_pair_d = &BoxPairQuery<double, Arch>::box_pair;
+  t.tri_tri_f = &Kernels<float, Arch>::triangle_distance;
+  t.tri_tri_d = &Kernels<double, Arch>::triangle_distance;
+  return t;
+}
+
+/// Every entry of the table is set (checked at compile time in each ISA translation unit).
+constexpr bool table_complete(const KernelTable& t) {
+  return t.box_box_f && t.box_box_d && t.box_tri_f && t.box_tri_d && t.support_f && t.support_d &&
+         t.box_box_single_d && t.box_box_proximity_f && t.box_box_proximity_d && t.box_box_separation_f &&
+         t.box_box_separation_d && t.box_triangle_overlap_f && t.box_triangle_overlap_d && t.box_pair_d &&
+         t.tri_tri_f && t.tri_tri_d;
 }
 
 }  // namespace minksum::detail
