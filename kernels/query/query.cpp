@@ -7,6 +7,7 @@
 
 #include <minksum/kernels.hpp>
 
+#include "geometry/closest.hpp"
 #include "simd/box_pair.hpp"
 #include "query/cache_kinds.hpp"
 #include "shape/shape_data.hpp"
@@ -71,8 +72,7 @@ Witness closest_on_facet(const MinkowskiSum& m, const Loop& loop, const Vector3d
   // An edge's or a vertex's region: the closest point on the nearest boundary segment.
   for (size_t k = 0; k < size; ++k) {
     const Vector3d &a = P(k), e = P(k + 1) - P(k);
-    const double len2 = e.squaredNorm();
-    const double t = len2 > 0 ? std::clamp(-a.dot(e) / len2, 0.0, 1.0) : 0.0;
+    const double t = detail::nearest_on_segment(a, P(k + 1));
     const double dist2 = (a + t * e).squaredNorm();
     if (dist2 < best.dist2) {
       best.dist2 = dist2;
@@ -626,9 +626,7 @@ bool nearest_on_simplex(const Vector3d* w, int n, double (&lambda)[4]) {
   for (double& l : lambda) l = 0;
   if (n == 1) return lambda[0] = 1, true;
   if (n == 2) {
-    const Vector3d e = w[1] - w[0];
-    const double len2 = e.squaredNorm();
-    const double t = len2 > 0 ? std::clamp(-w[0].dot(e) / len2, 0.0, 1.0) : 0.0;
+    const double t = detail::nearest_on_segment(w[0], w[1]);
     return lambda[0] = 1 - t, lambda[1] = t, true;
   }
   // Triangle (i, j, k) of w: Ericson's ClosestPtPointTriangle with the query point at the origin.

@@ -1,0 +1,17 @@
+// Closest points of primitives (internal): what the queries share with the triangle distance.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <algorithm>
+
+namespace minksum::detail {
+
+/// The parameter t in [0, 1] of the point a + t (b - a) nearest the origin; 0 when a = b.
+inline double nearest_on_segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const Eigen::Vector3d e = b - a;
+  const double len2 = e.squaredNorm();
+  return len2 > 0 ? std::clamp(-a.dot(e) / len2, 0.0, 1.0) : 0.0;
+}
+
+}  // namespace minksum::detail
