@@ -13,7 +13,7 @@
 #include <set>
 
 #include "checks.hpp"
-#include "simd/kernel_reference.hpp"
+#include "kernel_reference.hpp"
 #include "ties.hpp"
 #include "tools/shapes.hpp"
 

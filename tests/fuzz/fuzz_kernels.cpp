@@ -9,7 +9,7 @@
 #include <minksum/mesh.hpp>
 
 #include "fuzz_common.hpp"
-#include "simd/kernel_reference.hpp"
+#include "kernel_reference.hpp"
 
 #include <limits>
 #include <memory>

@@ -1,4 +1,4 @@
-#include "simd/kernel_reference.hpp"
+#include "kernel_reference.hpp"
 
 #include <limits>
 

@@ -1,5 +1,5 @@
 // Scalar double reference twins of the plane kernels: plain, per pair, brute force over the
-// corners and vertices (internal; the tests check every ISA against them).
+// corners and vertices. Test support, not in the library: every ISA is checked against them.
 #pragma once
 
 #include <minksum/kernels.hpp>
