@@ -6,7 +6,7 @@
 //   FaceToFace/<family>/<apart|touching|pressed>/<minksum_cold|minksum_coherent|fcl_gjk|bullet_gjk_warm>
 // Counters: searched_share (queries that needed the exhaustive search) and, for the coherent
 // rows, warm_share. FCL's GJK answers its distance, Bullet its signed distance (EPA on
-// contact) from its cached separating axis; minksum the distance, or the depth (kWantContact).
+// contact) from its cached separating axis; minksum the distance, or the depth (Want::Contact).
 #include <benchmark/benchmark.h>
 #include <minksum/minksum.hpp>
 
@@ -63,8 +63,8 @@ void FaceToFace(benchmark::State& state, const tools::FacePair& pair, double gap
   for (auto _ : state) {
     const int i = int(ticks++ % kPoses);
     switch (method) {
-      case Method::Cold: proximity(A, pose_a, B, pose_b[i], p, kWantContact), searched += p.searched; break;
-      case Method::Coherent: proximity(A, pose_a, B, pose_b[i], cache, p, kWantContact); break;
+      case Method::Cold: proximity(A, pose_a, B, pose_b[i], p, Want::Contact), searched += p.searched; break;
+      case Method::Coherent: proximity(A, pose_a, B, pose_b[i], cache, p, Want::Contact); break;
       case Method::FclGjk:
         if (boxes) fcl->set_poses(box_pose(pose_a, pair.box_a), box_pose(pose_b[i], pair.box_b));
         else fcl->set_poses(pose_a, pose_b[i]);

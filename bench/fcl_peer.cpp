@@ -146,9 +146,9 @@ size_t FclMeshPair::bytes_a() const {
          size_t(m.num_vertices) * sizeof(fcl::Vector3d) + sizeof(m);
 }
 
-double FclMeshPair::distance(const Pose& pose, Eigen::Vector3d* pa, Eigen::Vector3d* pb) {
+double FclMeshPair::distance(const Eigen::Isometry3d& pose, Eigen::Vector3d* pa, Eigen::Vector3d* pb) {
   fcl::Transform3d t = fcl::Transform3d::Identity();
-  t.linear() = pose.rotation, t.translation() = pose.translation;
+  t.linear() = pose.linear(), t.translation() = pose.translation();
   impl_->b->setTransform(t);
   fcl::DistanceRequestd request(true);  // nearest points always: mesh_distance gives its witnesses
   fcl::DistanceResultd result;

@@ -65,7 +65,7 @@ class FclMeshPair {
   ~FclMeshPair();
   /// fcl::distance with B placed by the pose (A at the identity), nearest points always computed
   /// (mesh_distance gives its witnesses); returned in A's frame when asked.
-  double distance(const Pose& pose, Eigen::Vector3d* pa = nullptr, Eigen::Vector3d* pb = nullptr);
+  double distance(const Eigen::Isometry3d& pose, Eigen::Vector3d* pa = nullptr, Eigen::Vector3d* pb = nullptr);
   /// Bytes of A's BVH: its nodes, vertices, triangles and primitive indices.
   size_t bytes_a() const;
 

@@ -34,14 +34,14 @@ namespace {
 
 using namespace minksum;
 
-std::vector<Pose> bench_poses() {
+std::vector<Eigen::Isometry3d> bench_poses() {
   std::mt19937_64 rng(2024);
   std::uniform_real_distribution<double> u(-1, 1);
-  std::vector<Pose> poses(100);
+  std::vector<Eigen::Isometry3d> poses(100);
   for (size_t k = 0; k < poses.size(); ++k) {
-    poses[k].rotation = Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized().toRotationMatrix();
+    poses[k].linear() = Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized().toRotationMatrix();
     const Eigen::Vector3d dir = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
-    poses[k].translation = (0.10 + 0.20 * double(k) / double(poses.size())) * dir;
+    poses[k].translation() = (0.10 + 0.20 * double(k) / double(poses.size())) * dir;
   }
   return poses;
 }
@@ -73,10 +73,10 @@ struct Scene {
 
 constexpr int kBandedPoses = 99;
 
-std::vector<Pose> poses_of(const Scene& scene) {
+std::vector<Eigen::Isometry3d> poses_of(const Scene& scene) {
   if (scene.banded) {  // the same poses for both methods: built once per scene
-    static std::map<std::string, std::vector<Pose>> cache;
-    std::vector<Pose>& poses = cache[scene.a + "|" + scene.b];
+    static std::map<std::string, std::vector<Eigen::Isometry3d>> cache;
+    std::vector<Eigen::Isometry3d>& poses = cache[scene.a + "|" + scene.b];
     if (poses.empty()) {
       const tools::Mesh &ma = mesh(scene.a), &mb = mesh(scene.b);
       Octree A, B;
@@ -86,9 +86,9 @@ std::vector<Pose> poses_of(const Scene& scene) {
     }
     return poses;
   }
-  std::vector<Pose> poses = bench_poses();
+  std::vector<Eigen::Isometry3d> poses = bench_poses();
   if (scene.a == "sphere_outer")
-    for (Pose& p : poses) p.translation *= 1e-3 / 0.3;  // nearly concentric
+    for (Eigen::Isometry3d& p : poses) p.translation() *= 1e-3 / 0.3;  // nearly concentric
   return poses;
 }
 
@@ -135,10 +135,10 @@ void run_minksum(benchmark::State& state, const Octree& A, const Octree& B, cons
   for (auto _ : state) {
     MeshDistance d;
     const auto t0 = std::chrono::steady_clock::now();
-    mesh_distance(A, B, poses[k++ % poses.size()], ws, d);
+    mesh_distance(A, Eigen::Isometry3d::Identity(), B, poses[k++ % poses.size()], ws, d);
     us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
-    culled.push_back(std::min(d.culled_percent_a, d.culled_percent_b));
-    node_pairs += double(d.node_pairs), leaf_pairs += double(d.leaf_pairs), triangle_pairs += double(d.triangle_pairs);
+    culled.push_back(std::min(d.stats.culled_percent_a, d.stats.culled_percent_b));
+    node_pairs += double(d.stats.node_pairs), leaf_pairs += double(d.stats.leaf_pairs), triangle_pairs += double(d.stats.triangle_pairs);
   }
   report(state, scene, us, culled);
   state.counters["min_culled_pct"] = *std::min_element(culled.begin(), culled.end());

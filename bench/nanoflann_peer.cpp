@@ -38,10 +38,10 @@ NanoflannCloudPair::NanoflannCloudPair(const std::vector<Eigen::Vector3d>& a, co
 
 NanoflannCloudPair::~NanoflannCloudPair() = default;
 
-double NanoflannCloudPair::distance(const Pose& pose, int* ia, int* ib) {
+double NanoflannCloudPair::distance(const Eigen::Isometry3d& pose, int* ia, int* ib) {
   // Queries in the indexed cloud's frame: B's points moved by the pose, or A's moved back.
-  const Eigen::Matrix3d R = impl_->tree_on_a ? pose.rotation : Eigen::Matrix3d(pose.rotation.transpose());
-  const Eigen::Vector3d t = impl_->tree_on_a ? pose.translation : Eigen::Vector3d(-(R * pose.translation));
+  const Eigen::Matrix3d R = impl_->tree_on_a ? pose.linear() : Eigen::Matrix3d(pose.linear().transpose());
+  const Eigen::Vector3d t = impl_->tree_on_a ? pose.translation() : Eigen::Vector3d(-(R * pose.translation()));
   double best2 = std::numeric_limits<double>::infinity();
   size_t best_indexed = 0, best_query = 0;
   const std::vector<Eigen::Vector3d>& queries = *impl_->queries.pts;

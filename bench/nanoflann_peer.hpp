@@ -19,7 +19,7 @@ class NanoflannCloudPair {
   /// The closest pair of points, B placed by the pose in A's frame: one nearest-neighbour query
   /// per point of the smaller cloud, each bounded by the best distance so far (nanoflann prunes
   /// with it). Returns the distance; ia, ib name the points.
-  double distance(const Pose& pose, int* ia = nullptr, int* ib = nullptr);
+  double distance(const Eigen::Isometry3d& pose, int* ia = nullptr, int* ib = nullptr);
   /// Bytes of the kd-tree: nanoflann's node pool and index array (the points are the caller's).
   size_t bytes() const;
 

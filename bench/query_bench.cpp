@@ -3,7 +3,7 @@
 // (every other pair overlapping; minksum answers penetration there, FCL's distance call only
 // reports the collision), PolytopeDistance/<pair>/<method> and PolytopePenetration/<pair>/<method>
 // (one separated and one overlapping pose of each Table 1 pair, and of two hulls of 64 and of
-// 256 points on a sphere). minksum skips the farthest pair (kWantContact) as FCL has none,
+// 256 points on a sphere). minksum skips the farthest pair (Want::Contact) as FCL has none,
 // except in BoxBoxDistance/minksum_with_max. Distance runs use 256 box pairs, half of them
 // overlapping; penetration runs use overlapping pairs only.
 #include <benchmark/benchmark.h>
@@ -41,7 +41,7 @@ std::vector<std::pair<Box, Box>> poses(int n, bool only_overlapping) {
 }
 
 // Distance with closest points, or depth and direction (what FCL's calls return), or (want =
-// kWantAll) the maximum distance as well.
+// Want::All) the maximum distance as well.
 void BoxDistanceMinksum(benchmark::State& state, Want want) {
   const auto ps = poses(256, false);
   Proximity p;
@@ -72,7 +72,7 @@ void BoxPenetrationMinksum(benchmark::State& state) {
   size_t k = 0;
   for (auto _ : state) {
     const auto& [a, b] = ps[k++ & 255];
-    proximity(a, b, p, kWantContact);
+    proximity(a, b, p, Want::Contact);
     benchmark::DoNotOptimize(p.penetration_depth);
   }
 }
@@ -154,8 +154,8 @@ void SmallDistance(benchmark::State& state, bool two_triangles, bool fcl) {
       ps.fcl[i]->proximity(peers::FclSolver::Gjk, answer);
       benchmark::DoNotOptimize(answer.distance);
     } else {
-      if (two_triangles) proximity(ps.s[i], ps.t[i], p, kWantContact);
-      else proximity(ps.boxes[i], ps.t[i], p, kWantContact);
+      if (two_triangles) proximity(ps.s[i], ps.t[i], p, Want::Contact);
+      else proximity(ps.boxes[i], ps.t[i], p, Want::Contact);
       benchmark::DoNotOptimize(p.distance);
     }
   }
@@ -218,15 +218,15 @@ void PolytopeQuery(benchmark::State& state, int row, bool fcl, bool overlapping)
     }
   } else {
     for (auto _ : state) {
-      proximity(A, B, p, kWantContact);
+      proximity(A, B, p, Want::Contact);
       benchmark::DoNotOptimize(p.distance);
     }
   }
 }
 
 const int kRegistered = [] {
-  benchmark::RegisterBenchmark("BoxBoxDistance/minksum", BoxDistanceMinksum, kWantContact);
-  benchmark::RegisterBenchmark("BoxBoxDistance/minksum_with_max", BoxDistanceMinksum, kWantAll);
+  benchmark::RegisterBenchmark("BoxBoxDistance/minksum", BoxDistanceMinksum, Want::Contact);
+  benchmark::RegisterBenchmark("BoxBoxDistance/minksum_with_max", BoxDistanceMinksum, Want::All);
   benchmark::RegisterBenchmark("BoxBoxDistance/fcl_gjk", BoxDistanceFcl, peers::FclSolver::Gjk);
   benchmark::RegisterBenchmark("BoxBoxDistance/fcl_libccd", BoxDistanceFcl, peers::FclSolver::Libccd);
   benchmark::RegisterBenchmark("BoxBoxDistance/minksum_batch", BoxDistanceBatch<float>);

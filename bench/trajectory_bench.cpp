@@ -8,7 +8,7 @@
 //   20 x 16 x 12 mm box tool against the full bunny (exact mesh-mesh distance); the last row
 //   seeds every query with the answer at the far side of the path (the seeded search's worst
 //   case; that refill is not timed).
-// minksum answers the distance, or the depth when they overlap (kWantContact); FCL's GJK
+// minksum answers the distance, or the depth when they overlap (Want::Contact); FCL's GJK
 // answers its distance (a negative or zero value on contact), Bullet its signed distance with
 // EPA, from the detector's cached separating axis.
 #include <benchmark/benchmark.h>
@@ -83,8 +83,8 @@ void BoxBox(benchmark::State& state, Method method) {
   peers::FclAnswer answer;
   peers::BulletPair bullet(a.half_extents, body.half_extents);
   along(
-      state, method, path.size(), [&](size_t i, Proximity& p) { proximity(a, b[i], p, kWantContact); },
-      [&](size_t i, ProximityCache& cache, Proximity& p) { proximity(a, b[i], cache, p, kWantContact); },
+      state, method, path.size(), [&](size_t i, Proximity& p) { proximity(a, b[i], p, Want::Contact); },
+      [&](size_t i, ProximityCache& cache, Proximity& p) { proximity(a, b[i], cache, p, Want::Contact); },
       [&](size_t i) { return fcl.set_boxes(a, b[i]), fcl.proximity(peers::FclSolver::Gjk, answer), answer.distance; },
       [&](size_t i) { return bullet.distance(pose_a, pose_b[i]); });
 }
@@ -110,8 +110,8 @@ void Shapes(benchmark::State& state, std::vector<Vector3d> pa, std::vector<Vecto
   peers::BulletPair bullet(A.polytope(), B.polytope());
   along(
       state, method, path.size(),
-      [&](size_t i, Proximity& p) { proximity(A, pose_a, B, pose_b[i], p, kWantContact); },
-      [&](size_t i, ProximityCache& cache, Proximity& p) { proximity(A, pose_a, B, pose_b[i], cache, p, kWantContact); },
+      [&](size_t i, Proximity& p) { proximity(A, pose_a, B, pose_b[i], p, Want::Contact); },
+      [&](size_t i, ProximityCache& cache, Proximity& p) { proximity(A, pose_a, B, pose_b[i], cache, p, Want::Contact); },
       [&](size_t i) { return fcl.set_poses(pose_a, pose_b[i]), fcl.proximity(peers::FclSolver::Gjk, answer), answer.distance; },
       [&](size_t i) { return bullet.distance(pose_a, pose_b[i]); });
 }
@@ -140,9 +140,9 @@ void BunnyFull(benchmark::State& state, Method method) {
   MeshWorkspace ws;
   make_workspace(A, B, ws);
   const auto path = tools::trajectory(13, kTicks, 30 * mm, 120 * mm, 0.2 * mm);
-  std::vector<Pose> poses(path.size());
+  std::vector<Eigen::Isometry3d> poses(path.size());
   for (size_t k = 0; k < path.size(); ++k)
-    poses[k].rotation = path[k].linear(), poses[k].translation = (lo + hi) / 2 + path[k].translation();
+    poses[k].linear() = path[k].linear(), poses[k].translation() = (lo + hi) / 2 + path[k].translation();
   peers::FclMeshPair fcl(scene.vertices, scene.triangles, tool.vertices, tool.triangles);
   ProximityCache cache;
   MeshDistance d;
@@ -154,16 +154,16 @@ void BunnyFull(benchmark::State& state, Method method) {
   MeshDistance far;
   for (auto _ : state) {
     const size_t i = k++ % poses.size();
-    const Pose& pose = poses[i];
+    const Eigen::Isometry3d& pose = poses[i];
     if (method == Method::StaleCache) {  // a cache from the far side of the path: the seed misleads
       state.PauseTiming();
-      mesh_distance(A, B, poses[(i + poses.size() / 2) % poses.size()], ws, cache, far);
+      mesh_distance(A, Eigen::Isometry3d::Identity(), B, poses[(i + poses.size() / 2) % poses.size()], ws, cache, far);
       state.ResumeTiming();
     }
     const auto t0 = clock::now();
-    if (method == Method::Cold) mesh_distance(A, B, pose, ws, d);
+    if (method == Method::Cold) mesh_distance(A, Eigen::Isometry3d::Identity(), B, pose, ws, d);
     else if (method == Method::FclObbrss) benchmark::DoNotOptimize(fcl.distance(pose));
-    else mesh_distance(A, B, pose, ws, cache, d);
+    else mesh_distance(A, Eigen::Isometry3d::Identity(), B, pose, ws, cache, d);
     if (us.size() < us.capacity()) us.push_back(std::chrono::duration<double, std::micro>(clock::now() - t0).count());
     benchmark::DoNotOptimize(d.distance);
     contacts += d.intersecting, ++ticks;

@@ -20,12 +20,6 @@ double now_us() {
   return duration<double, std::micro>(steady_clock::now().time_since_epoch()).count();
 }
 
-Pose mesh_pose(const Eigen::Isometry3d& p) {
-  Pose pose;
-  pose.rotation = p.linear(), pose.translation = p.translation();
-  return pose;
-}
-
 std::string json(const MeshDistance& d, double time_us) {
   char buf[1024];
   std::snprintf(buf, sizeof buf,
@@ -33,8 +27,8 @@ std::string json(const MeshDistance& d, double time_us) {
                 "%.17g]], \"triangles\": [%d, %d], \"candidates\": [%d, %d], \"culled_percent\": "
                 "[%.3f, %.3f], \"node_pairs\": %ld, \"time_us\": %.1f}",
                 d.distance, d.point_a.x(), d.point_a.y(), d.point_a.z(), d.point_b.x(),
-                d.point_b.y(), d.point_b.z(), d.triangle_a, d.triangle_b, d.candidates_a,
-                d.candidates_b, d.culled_percent_a, d.culled_percent_b, d.node_pairs, time_us);
+                d.point_b.y(), d.point_b.z(), d.triangle_a, d.triangle_b, d.stats.candidates_a,
+                d.stats.candidates_b, d.stats.culled_percent_a, d.stats.culled_percent_b, d.stats.node_pairs, time_us);
   return buf;
 }
 
@@ -79,30 +73,26 @@ int cmd_distance(int argc, char** argv) {
   } else if (!load_mesh(files[0], ma) || !load_mesh(files[1], mb)) {
     return 2;
   }
-  std::vector<Pose> poses;
+  std::vector<Eigen::Isometry3d> poses;
   std::string error;
   if (!poses_file.empty()) {
     std::vector<Eigen::Isometry3d> read;
     if (!read_poses(poses_file, read, error)) return usage_error(error);
-    for (const auto& p : read) poses.push_back(mesh_pose(p));
+    for (const auto& p : read) poses.push_back(p);
   } else if (!pose_text.empty()) {
     Eigen::Isometry3d p;
     if (!parse_pose(pose_text, "--pose", p, error)) return usage_error(error);
-    poses.push_back(mesh_pose(p));
-  } else {
-    // B beside A: shifted along +x by 1.1 x A's bounding-box width.
-    Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-    for (const auto& t : ma.triangles)
-      for (int v : t) lo = lo.cwiseMin(ma.vertices[v]), hi = hi.cwiseMax(ma.vertices[v]);
-    if (ma.triangles.empty())  // a cloud
-      for (const auto& v : ma.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
-    if (!std::isfinite(hi.x() - lo.x())) {
-      std::fprintf(stderr, "minksum: %s: %s\n", files[0].c_str(), to_string(Status::NonFinite));
-      return 2;
-    }
-    Pose p;
-    p.translation.x() = 1.1 * (hi.x() - lo.x());
     poses.push_back(p);
+  } else if (files.empty()) {
+    // The demo places its second copy beside the first: shifted along +x by 1.1 x the width.
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    for (const auto& v : ma.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+    Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+    p.translation().x() = 1.1 * (hi.x() - lo.x());
+    if (!as_json) std::printf("demo: the second copy moved by +%.4g along x\n", p.translation().x());
+    poses.push_back(p);
+  } else {
+    poses.push_back(Eigen::Isometry3d::Identity());  // the files as given
   }
   Octree A, B;
   const double t0 = now_us();
@@ -126,12 +116,12 @@ int cmd_distance(int argc, char** argv) {
   MeshWorkspace ws;
   make_workspace(A, B, ws);
   ProximityCache cache;  // --coherent: consecutive poses share it
-  for (const Pose& pose : poses) {
+  for (const Eigen::Isometry3d& pose : poses) {
     MeshDistance d;
     const double start = now_us();
     const Status s = brute      ? (d = tools::brute_distance(ma, mb, pose), Status::Ok)
-                     : coherent ? mesh_distance(A, B, pose, ws, cache, d)
-                                : mesh_distance(A, B, pose, ws, d);
+                     : coherent ? mesh_distance(A, Eigen::Isometry3d::Identity(), B, pose, ws, cache, d)
+                                : mesh_distance(A, Eigen::Isometry3d::Identity(), B, pose, ws, d);
     const double time = now_us() - start;
     if (s != Status::Ok) {
       std::fprintf(stderr, "minksum: pose: %s\n", to_string(s));
@@ -145,8 +135,8 @@ int cmd_distance(int argc, char** argv) {
                   d.triangle_b, d.intersecting ? "intersecting" : "separated");
       std::printf("candidates %d and %d triangles (%.2f%% and %.2f%% culled), %ld node pairs, "
                   "%ld triangle pairs, %.1f us\n",
-                  d.candidates_a, d.candidates_b, d.culled_percent_a, d.culled_percent_b, d.node_pairs,
-                  d.triangle_pairs, time);
+                  d.stats.candidates_a, d.stats.candidates_b, d.stats.culled_percent_a, d.stats.culled_percent_b, d.stats.node_pairs,
+                  d.stats.triangle_pairs, time);
     }
   }
   return 0;

@@ -334,12 +334,12 @@ tools::Mesh test_mesh(const std::string& name, int fallback_rings) {
   return m;
 }
 
-Pose random_pose(std::mt19937_64& rng, double reach) {
+Eigen::Isometry3d random_pose(std::mt19937_64& rng, double reach) {
   std::uniform_real_distribution<double> u(-1, 1);
   Eigen::Quaterniond q(u(rng), u(rng), u(rng), u(rng));
-  Pose p;
-  p.rotation = q.normalized().toRotationMatrix();
-  p.translation = reach * Vector3d(u(rng), u(rng), u(rng));
+  Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+  p.linear() = q.normalized().toRotationMatrix();
+  p.translation() = reach * Vector3d(u(rng), u(rng), u(rng));
   return p;
 }
 

@@ -36,7 +36,7 @@ struct MeshSetup {
 std::unique_ptr<MeshSetup> mesh_setup(const std::string& name, int fallback_rings);
 
 /// A random pose: uniform rotation, translation in [-reach, reach]^3.
-Pose random_pose(std::mt19937_64& rng, double reach);
+Eigen::Isometry3d random_pose(std::mt19937_64& rng, double reach);
 
 /// Every pairwise sum a + s b of the input points (s = +1 sum, -1 difference).
 std::vector<Eigen::Vector3d> pairwise(const std::vector<Eigen::Vector3d>& a,

@@ -329,6 +329,13 @@ TEST(Cli, DistanceBetweenPointClouds) {
   const CliRun human = run("distance " + xyz + " " + ply);
   ASSERT_EQ(human.code, 0) << human.err;
   EXPECT_NE(human.out.find("4 points and 2 points"), std::string::npos) << human.out;
+  // Without a pose the files are taken as given: a cloud that shares a point with it is 0 away.
+  const std::string shared = write("cloud_shared.xyz", "5 5 5\n0 1 0\n");
+  for (const std::string mode : {"", " --brute"}) {
+    const CliRun given = run("distance " + xyz + " " + shared + " --json" + mode);
+    ASSERT_EQ(given.code, 0) << given.err;
+    EXPECT_EQ(field(given.out, "distance"), std::vector<double>{0}) << given.out;
+  }
   // A cloud against a mesh (the cube [-1, 1]^3 of cube_off): the point (1, 0, 2) is 1 above it.
   const CliRun mesh = run("distance " + cube_off("cloud_cube.off") + " " + ply + " --pose \"1 0 0 0 1 0 -1\" --json");
   ASSERT_EQ(mesh.code, 0) << mesh.err;

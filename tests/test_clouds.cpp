@@ -23,12 +23,12 @@ double diagonal(const tools::Mesh& m) {
 }
 
 // The octree's answer equals brute force: the distance, the verdict, witnesses that realise it.
-void expect_brute(const tools::Mesh& ma, const Octree& A, const tools::Mesh& mb, const Octree& B, const Pose& pose,
+void expect_brute(const tools::Mesh& ma, const Octree& A, const tools::Mesh& mb, const Octree& B, const Eigen::Isometry3d& pose,
                   MeshWorkspace& ws, const std::string& what) {
   MeshDistance got;
-  ASSERT_EQ(mesh_distance(A, B, pose, ws, got), Status::Ok) << what;
+  ASSERT_EQ(mesh_distance(A, Eigen::Isometry3d::Identity(), B, pose, ws, got), Status::Ok) << what;
   const MeshDistance want = tools::brute_distance(ma, mb, pose);
-  const double tol = 1e-12 * (1 + diagonal(ma) + pose.translation.norm());
+  const double tol = 1e-12 * (1 + diagonal(ma) + pose.translation().norm());
   ASSERT_NEAR(got.distance, want.distance, tol) << what;
   ASSERT_EQ(got.intersecting, want.intersecting) << what;
   EXPECT_NEAR((got.point_a - got.point_b).norm(), got.distance, tol) << what;
@@ -71,14 +71,14 @@ void sweep(const std::vector<std::pair<std::string, std::string>>& pairs, int pe
     size_t top = 0;
     for (size_t v = 0; v < ma.vertices.size(); ++v)
       if (ma.vertices[v].z() > ma.vertices[top].z()) top = v;
-    Pose half;
-    half.rotation = Eigen::Vector3d(-1, -1, 1).asDiagonal();
-    half.translation = Vector3d(2 * ma.vertices[top].x(), 2 * ma.vertices[top].y(), 0);
+    Eigen::Isometry3d half = Eigen::Isometry3d::Identity();
+    half.linear() = Eigen::Vector3d(-1, -1, 1).asDiagonal();
+    half.translation() = Vector3d(2 * ma.vertices[top].x(), 2 * ma.vertices[top].y(), 0);
     MeshDistance touch;
-    ASSERT_EQ(mesh_distance(A, A, half, self, touch), Status::Ok);
+    ASSERT_EQ(mesh_distance(A, Eigen::Isometry3d::Identity(), A, half, self, touch), Status::Ok);
     EXPECT_EQ(touch.distance, 0.0) << na << " touching its turned copy";
     expect_brute(ma, A, ma, A, half, self, na + " touching");
-    half.translation.z() += 1e-9;
+    half.translation().z() += 1e-9;
     expect_brute(ma, A, ma, A, half, self, na + " 1e-9 apart");
   }
 }
@@ -157,7 +157,7 @@ TEST(PointCloud, EqualsBruteForce) {
       make_workspace(trees[i], trees[j], ws);
       const int n = i == 0 && j == 0 ? 2 : poses;  // 20K x 20K pairs: two poses
       for (int k = 0; k < n; ++k) {
-        const Pose pose = test::random_pose(rng, 0.02 + 0.2 * k / poses);
+        const Eigen::Isometry3d pose = test::random_pose(rng, 0.02 + 0.2 * k / poses);
         expect_brute(clouds[i], trees[i], clouds[j], trees[j], pose, ws,
                      "clouds " + std::to_string(i) + " " + std::to_string(j) + " pose " + std::to_string(k));
         if (HasFatalFailure()) return;
@@ -175,9 +175,9 @@ TEST(PointCloud, EqualsBruteForce) {
   make_workspace(LA, LB, lws);
   int meet = 0, apart = 0;
   for (int k = 0; k < test::scaled(16, 8); ++k) {
-    Pose pose;
-    pose.rotation = test::ties::quarter_turn(rng);
-    pose.translation = test::ties::lattice_point(rng, 1 + k % 4, 3);
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.linear() = test::ties::quarter_turn(rng);
+    pose.translation() = test::ties::lattice_point(rng, 1 + k % 4, 3);
     expect_brute(cloud(la), LA, cloud(lb), LB, pose, lws, "lattice clouds pose " + std::to_string(k));
     if (HasFatalFailure()) return;
     ++(tools::brute_distance(cloud(la), cloud(lb), pose).intersecting ? meet : apart);
@@ -188,7 +188,7 @@ TEST(PointCloud, EqualsBruteForce) {
   MeshWorkspace ws;
   make_workspace(trees[2], trees[2], ws);
   MeshDistance d;
-  ASSERT_EQ(mesh_distance(trees[2], trees[2], Pose{}, ws, d), Status::Ok);
+  ASSERT_EQ(mesh_distance(trees[2], Eigen::Isometry3d::Identity(), trees[2], Eigen::Isometry3d::Identity(), ws, d), Status::Ok);
   EXPECT_EQ(d.distance, 0.0);
   EXPECT_TRUE(d.intersecting);
 }
@@ -208,10 +208,10 @@ TEST(PointCloud, AgainstAMeshEqualsBruteForce) {
   std::mt19937_64 rng(5);
   const int poses = test::scaled(15, 3);  // (near to far)
   for (int k = 0; k < poses; ++k) {
-    const Pose pose = test::random_pose(rng, 0.03 + 0.2 * k / poses);
+    const Eigen::Isometry3d pose = test::random_pose(rng, 0.03 + 0.2 * k / poses);
     expect_brute(mesh, M, points, C, pose, mc, "mesh-cloud pose " + std::to_string(k));
-    Pose back;  // the same placement seen from the cloud
-    back.rotation = pose.rotation.transpose(), back.translation = -(back.rotation * pose.translation);
+    Eigen::Isometry3d back = Eigen::Isometry3d::Identity();  // the same placement seen from the cloud
+    back.linear() = pose.linear().transpose(), back.translation() = -(back.linear() * pose.translation());
     expect_brute(points, C, mesh, M, back, cm, "cloud-mesh pose " + std::to_string(k));
     if (HasFatalFailure()) return;
   }
@@ -219,11 +219,11 @@ TEST(PointCloud, AgainstAMeshEqualsBruteForce) {
   // axis through a shared corner (exact in binary: the corner maps to itself). Intersecting at
   // distance exactly 0.
   const Vector3d v = mesh.vertices[7 * (mesh.vertices.size() / 14)];
-  Pose half;
-  half.rotation = Vector3d(-1, -1, 1).asDiagonal(), half.translation = Vector3d(2 * v.x(), 2 * v.y(), 0);
-  for (const Pose& pose : {Pose{}, half}) {
+  Eigen::Isometry3d half = Eigen::Isometry3d::Identity();
+  half.linear() = Vector3d(-1, -1, 1).asDiagonal(), half.translation() = Vector3d(2 * v.x(), 2 * v.y(), 0);
+  for (const Eigen::Isometry3d& pose : {Eigen::Isometry3d::Identity(), half}) {
     MeshDistance got;
-    ASSERT_EQ(mesh_distance(M, C, pose, mc, got), Status::Ok);
+    ASSERT_EQ(mesh_distance(M, Eigen::Isometry3d::Identity(), C, pose, mc, got), Status::Ok);
     EXPECT_TRUE(got.intersecting);
     EXPECT_EQ(got.distance, 0.0);
     expect_brute(mesh, M, points, C, pose, mc, "mesh-cloud in exact contact");
@@ -262,8 +262,8 @@ TEST(AdaptiveOctree, DegenerateMeshesKeepWorking) {
     const Vector3d shift = m == &far ? Vector3d(1e6, -1e6, 1e6) : Vector3d::Zero();
     const int poses = test::scaled(10, 3);  // (near to far)
     for (int k = 0; k < poses; ++k) {
-      Pose pose = test::random_pose(rng, 0.02 + 0.2 * k / poses);
-      pose.translation += shift;
+      Eigen::Isometry3d pose = test::random_pose(rng, 0.02 + 0.2 * k / poses);
+      pose.translation() += shift;
       expect_brute(*m, A, base, B, pose, ws, "degenerate set, pose " + std::to_string(k));
       if (HasFatalFailure()) return;
     }

@@ -24,7 +24,7 @@ using Eigen::Vector3d;
 // share the least depth), the direction need not be the cold one, but must realise the depth:
 // moving B by depth * direction just separates them.
 void expect_same(const Proximity& cold, const Proximity& warm, double size, bool unique, const std::string& where,
-                 Want want = kWantAll, const std::vector<Vector3d>& corners_a = {},
+                 Want want = Want::All, const std::vector<Vector3d>& corners_a = {},
                  const std::vector<Vector3d>& corners_b = {}) {
   const double tol = 1e-12 * size;
   ASSERT_EQ(warm.intersecting, cold.intersecting) << where;
@@ -45,7 +45,7 @@ void expect_same(const Proximity& cold, const Proximity& warm, double size, bool
     EXPECT_LE((warm.point_a - cold.point_a).norm(), 1e-7 * size) << where;
     EXPECT_LE((warm.point_b - cold.point_b).norm(), 1e-7 * size) << where;
   }
-  if (want & kWantMaxDistance) {  // (else both hold the default, which proves nothing)
+  if (has(want, Want::MaxDistance)) {  // (else both hold the default, which proves nothing)
     EXPECT_GT(cold.max_distance, 0) << where;
     EXPECT_NEAR(warm.max_distance, cold.max_distance, tol) << where;
   }
@@ -97,8 +97,8 @@ TEST_P(Coherence, BoxPairsAlongTrajectories) {
     for (size_t k = 0; k < path.size(); ++k) {
       const Box b = placed(body, path[k]);
       Proximity cold, hot;
-      ASSERT_EQ(proximity(a, b, cold, kWantAll), Status::Ok);
-      ASSERT_EQ(proximity(a, b, cache, hot, kWantAll), Status::Ok);
+      ASSERT_EQ(proximity(a, b, cold, Want::All), Status::Ok);
+      ASSERT_EQ(proximity(a, b, cache, hot, Want::All), Status::Ok);
       expect_same(cold, hot, size, true, "seed " + std::to_string(seed) + " tick " + std::to_string(k));
       if (testing::Test::HasFailure()) return;
       contacts += cold.intersecting;
@@ -119,9 +119,9 @@ TEST_P(Coherence, BoxPairsAlongTrajectories) {
     lattice_step(rng, k, 3, pose);
     const Box lb = placed(lbody, pose);
     Proximity cold, hot;
-    ASSERT_EQ(proximity(la, lb, cold, kWantAll), Status::Ok);
-    ASSERT_EQ(proximity(la, lb, cache, hot, kWantAll), Status::Ok);
-    expect_same(cold, hot, 8, false, "lattice walk tick " + std::to_string(k), kWantAll, test::ties::corners(la),
+    ASSERT_EQ(proximity(la, lb, cold, Want::All), Status::Ok);
+    ASSERT_EQ(proximity(la, lb, cache, hot, Want::All), Status::Ok);
+    expect_same(cold, hot, 8, false, "lattice walk tick " + std::to_string(k), Want::All, test::ties::corners(la),
                 test::ties::corners(lb));
     if (testing::Test::HasFailure()) return;
     if (cold.intersecting && cold.penetration_depth == 0) {
@@ -150,9 +150,9 @@ TEST_P(Coherence, ShapesAlongTrajectories) {
     for (size_t k = 0; k < path.size(); ++k) {
       const Isometry3d pose_b = pose_a * path[k];
       Proximity cold, hot;
-      ASSERT_EQ(proximity(A, pose_a, B, pose_b, cold, kWantContact), Status::Ok);
-      ASSERT_EQ(proximity(A, pose_a, B, pose_b, cache, hot, kWantContact), Status::Ok);
-      expect_same(cold, hot, 4, false, "pair " + std::to_string(i) + " tick " + std::to_string(k), kWantContact);
+      ASSERT_EQ(proximity(A, pose_a, B, pose_b, cold, Want::Contact), Status::Ok);
+      ASSERT_EQ(proximity(A, pose_a, B, pose_b, cache, hot, Want::Contact), Status::Ok);
+      expect_same(cold, hot, 4, false, "pair " + std::to_string(i) + " tick " + std::to_string(k), Want::Contact);
       if (testing::Test::HasFailure()) return;
     }
     warm += cache.warm, ticks += long(path.size());
@@ -195,10 +195,10 @@ void Coherence::lattice_walks() {
       const std::string where = "lattice walk " + std::to_string(walk) + " tick " + std::to_string(k);
       lattice_step(rng, k, 4, pose_b);
       Proximity cold, hot;
-      ASSERT_EQ(proximity(A, pose_a, B, pose_b, cold, kWantContact), Status::Ok);
-      ASSERT_EQ(proximity(A, pose_a, B, pose_b, cache, hot, kWantContact), Status::Ok);
+      ASSERT_EQ(proximity(A, pose_a, B, pose_b, cold, Want::Contact), Status::Ok);
+      ASSERT_EQ(proximity(A, pose_a, B, pose_b, cache, hot, Want::Contact), Status::Ok);
       const ConvexPolytope TA = test::transformed(A.polytope(), pose_a), TB = test::transformed(B.polytope(), pose_b);
-      expect_same(cold, hot, 8, false, where, kWantContact, TA.vertices, TB.vertices);
+      expect_same(cold, hot, 8, false, where, Want::Contact, TA.vertices, TB.vertices);
       if (cold.intersecting && cold.penetration_depth == 0) {
         EXPECT_EQ(hot.distance, 0.0) << where;
         ++touching;
@@ -221,7 +221,7 @@ void Coherence::lattice_walks() {
     Proximity cold, hot;
     ASSERT_EQ(proximity(box, t, cold), Status::Ok);
     ASSERT_EQ(proximity(box, t, cache, hot), Status::Ok);
-    expect_same(cold, hot, 8, false, "lattice box-triangle tick " + std::to_string(k), kWantAll,
+    expect_same(cold, hot, 8, false, "lattice box-triangle tick " + std::to_string(k), Want::All,
                 test::ties::corners(box), test::ties::corners(t));
     if (cold.intersecting && cold.penetration_depth == 0) {
       EXPECT_EQ(hot.distance, 0.0) << "lattice box-triangle tick " << k;
@@ -348,17 +348,17 @@ TEST(CoherenceMesh, SeededSearchEqualsColdSearch) {
   ProximityCache cache;
   long contacts = 0;
   for (size_t k = 0; k < path.size(); ++k) {
-    Pose pose;
-    pose.rotation = path[k].linear(), pose.translation = centre + path[k].translation();
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.linear() = path[k].linear(), pose.translation() = centre + path[k].translation();
     MeshDistance cold, hot;
-    ASSERT_EQ(mesh_distance(A, B, pose, ws, cold), Status::Ok);
-    ASSERT_EQ(mesh_distance(A, B, pose, ws, cache, hot), Status::Ok);
+    ASSERT_EQ(mesh_distance(A, Eigen::Isometry3d::Identity(), B, pose, ws, cold), Status::Ok);
+    ASSERT_EQ(mesh_distance(A, Eigen::Isometry3d::Identity(), B, pose, ws, cache, hot), Status::Ok);
     ASSERT_EQ(hot.intersecting, cold.intersecting) << k;
     ASSERT_NEAR(hot.distance, cold.distance, 1e-12 * size) << k;
     EXPECT_NEAR((hot.point_a - hot.point_b).norm(), hot.distance, 1e-12 * size) << k;
     // (Batches of 16 pairs may flush later in the seeded search: see mesh.cpp's search.)
-    EXPECT_LE(hot.node_pairs, cold.node_pairs + 16) << k;
-    EXPECT_LE(hot.triangle_pairs, cold.triangle_pairs + 16 * hot.node_pairs) << k;
+    EXPECT_LE(hot.stats.node_pairs, cold.stats.node_pairs + 16) << k;
+    EXPECT_LE(hot.stats.triangle_pairs, cold.stats.triangle_pairs + 16 * hot.stats.node_pairs) << k;
     contacts += cold.intersecting;
   }
   EXPECT_GT(contacts, 0);
@@ -368,11 +368,11 @@ TEST(CoherenceMesh, SeededSearchEqualsColdSearch) {
   for (int bad : {-5, 0, 7, 1 << 30}) {
     ProximityCache spoiled;
     spoiled.kind = 3, spoiled.a[0] = bad, spoiled.b[0] = bad;
-    Pose pose;
-    pose.translation = centre + Vector3d(0.3 * size, 0, 0);
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.translation() = centre + Vector3d(0.3 * size, 0, 0);
     MeshDistance cold, hot;
-    mesh_distance(A, B, pose, ws, cold);
-    ASSERT_EQ(mesh_distance(A, B, pose, ws, spoiled, hot), Status::Ok);
+    mesh_distance(A, Eigen::Isometry3d::Identity(), B, pose, ws, cold);
+    ASSERT_EQ(mesh_distance(A, Eigen::Isometry3d::Identity(), B, pose, ws, spoiled, hot), Status::Ok);
     EXPECT_NEAR(hot.distance, cold.distance, 1e-12 * size) << bad;
   }
   // Ties: the mesh against its own copy turned half a turn about the z axis through a corner
@@ -384,12 +384,12 @@ TEST(CoherenceMesh, SeededSearchEqualsColdSearch) {
   ProximityCache tie_cache;
   for (size_t v = 0; v < m.vertices.size(); v += m.vertices.size() / 40 + 1) {
     for (const double lift : {0.0, 1e-9 * size}) {
-      Pose half;
-      half.rotation = Vector3d(-1, -1, 1).asDiagonal();
-      half.translation = Vector3d(2 * m.vertices[v].x(), 2 * m.vertices[v].y(), lift);
+      Eigen::Isometry3d half = Eigen::Isometry3d::Identity();
+      half.linear() = Vector3d(-1, -1, 1).asDiagonal();
+      half.translation() = Vector3d(2 * m.vertices[v].x(), 2 * m.vertices[v].y(), lift);
       MeshDistance cold, hot;
-      ASSERT_EQ(mesh_distance(A, A, half, self, cold), Status::Ok);
-      ASSERT_EQ(mesh_distance(A, A, half, self, tie_cache, hot), Status::Ok);
+      ASSERT_EQ(mesh_distance(A, Eigen::Isometry3d::Identity(), A, half, self, cold), Status::Ok);
+      ASSERT_EQ(mesh_distance(A, Eigen::Isometry3d::Identity(), A, half, self, tie_cache, hot), Status::Ok);
       ASSERT_EQ(hot.intersecting, cold.intersecting) << "corner " << v << " lift " << lift;
       ASSERT_NEAR(hot.distance, cold.distance, 1e-12 * size) << "corner " << v << " lift " << lift;
       if (lift == 0) EXPECT_TRUE(hot.intersecting && hot.distance == 0) << "corner " << v;

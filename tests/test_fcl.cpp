@@ -116,9 +116,9 @@ TEST(VersusFclMeshes, BunnyRes2Distance) {
   int separated = 0;
   const int n = std::max(40, test::scaled(200));  // (at least 40: both bands, under the sanitizer too)
   for (int k = 0; k < n; ++k) {
-    const Pose pose = test::random_pose(rng, 0.12 + 0.2 * k / n);
+    const Eigen::Isometry3d pose = test::random_pose(rng, 0.12 + 0.2 * k / n);
     MeshDistance got;
-    ASSERT_EQ(mesh_distance(A, A, pose, ws, got), Status::Ok);
+    ASSERT_EQ(mesh_distance(A, Eigen::Isometry3d::Identity(), A, pose, ws, got), Status::Ok);
     const double want = std::max(0.0, fcl.distance(pose));  // FCL reports a collision as <= 0
     ASSERT_NEAR(got.distance, want, 1e-9 * want + 1e-15) << "pose " << k;
     separated += !got.intersecting;
@@ -140,16 +140,16 @@ TEST(VersusNanoflann, CloudsEqualBruteForce) {
   std::mt19937_64 rng(23);
   const int n = test::scaled(20, 3);  // (near to far)
   for (int k = 0; k < n; ++k) {
-    const Pose pose = test::random_pose(rng, 0.02 + 0.2 * k / n);
+    const Eigen::Isometry3d pose = test::random_pose(rng, 0.02 + 0.2 * k / n);
     const MeshDistance want = tools::brute_distance(a, b, pose);
     MeshDistance got;
-    ASSERT_EQ(mesh_distance(A, B, pose, ws, got), Status::Ok);
+    ASSERT_EQ(mesh_distance(A, Eigen::Isometry3d::Identity(), B, pose, ws, got), Status::Ok);
     EXPECT_NEAR(got.distance, want.distance, 1e-15) << "pose " << k;
     int ia = -1, ib = -1;
     EXPECT_NEAR(ab.distance(pose, &ia, &ib), want.distance, 1e-15) << "pose " << k;
-    EXPECT_NEAR((a.vertices[size_t(ia)] - (pose.rotation * b.vertices[size_t(ib)] + pose.translation)).norm(), want.distance, 1e-15);
-    Pose back;
-    back.rotation = pose.rotation.transpose(), back.translation = -(back.rotation * pose.translation);
+    EXPECT_NEAR((a.vertices[size_t(ia)] - (pose.linear() * b.vertices[size_t(ib)] + pose.translation())).norm(), want.distance, 1e-15);
+    Eigen::Isometry3d back = Eigen::Isometry3d::Identity();
+    back.linear() = pose.linear().transpose(), back.translation() = -(back.linear() * pose.translation());
     EXPECT_NEAR(ba.distance(back), want.distance, 1e-15) << "pose " << k;
   }
 }
@@ -182,10 +182,10 @@ TEST(VersusBullet, WarmGjkAlongATrajectory) {
       if (pair == 0) {
         Box b = body;
         b.center = path[k].translation(), b.rotation = path[k].linear();
-        ASSERT_EQ(proximity(a, b, box_cache, ours, kWantContact), Status::Ok);
+        ASSERT_EQ(proximity(a, b, box_cache, ours, Want::Contact), Status::Ok);
         theirs = boxes.distance(Eigen::Isometry3d::Identity(), path[k]);
       } else {
-        ASSERT_EQ(proximity(A, Eigen::Isometry3d::Identity(), B, path[k], shape_cache, ours, kWantContact), Status::Ok);
+        ASSERT_EQ(proximity(A, Eigen::Isometry3d::Identity(), B, path[k], shape_cache, ours, Want::Contact), Status::Ok);
         theirs = shapes.distance(Eigen::Isometry3d::Identity(), path[k]);
       }
       if (!ours.intersecting && ours.distance > 1e-3) {

@@ -22,9 +22,9 @@ namespace {
 using Eigen::Vector3d;
 
 // Distance of p from triangle t (for checking witnesses).
-double off_triangle(const tools::Mesh& m, int t, const Vector3d& p, const Pose& pose) {
+double off_triangle(const tools::Mesh& m, int t, const Vector3d& p, const Eigen::Isometry3d& pose) {
   Vector3d v[3];
-  for (int k = 0; k < 3; ++k) v[k] = pose.rotation * m.vertices[m.triangles[t][k]] + pose.translation;
+  for (int k = 0; k < 3; ++k) v[k] = pose.linear() * m.vertices[m.triangles[t][k]] + pose.translation();
   const Vector3d pt[3] = {p, p, p};
   Vector3d a, b;
   return triangle_distance(v, pt, a, b);
@@ -36,21 +36,30 @@ void check_against_brute_force(const std::string& name, int rings, int poses, un
   const tools::Mesh& m = setup->mesh;
   const Octree& A = setup->tree;
   MeshWorkspace& ws = setup->ws;
-  std::mt19937_64 rng(seed);
+  std::mt19937_64 rng(seed), world_rng(seed + 1);
   int intersecting = 0;
   for (int k = 0; k < poses; ++k) {
-    const Pose pose = test::random_pose(rng, 0.05 + 0.25 * k / poses);
+    const Eigen::Isometry3d pose = test::random_pose(rng, 0.05 + 0.25 * k / poses);
     MeshDistance got;
-    ASSERT_EQ(mesh_distance(A, A, pose, ws, got), Status::Ok);
+    ASSERT_EQ(mesh_distance(A, Eigen::Isometry3d::Identity(), A, pose, ws, got), Status::Ok);
     const MeshDistance want = tools::brute_distance(m, m, pose);
     ASSERT_NEAR(got.distance, want.distance, 1e-12) << "pose " << k;
     ASSERT_EQ(got.intersecting, want.intersecting) << "pose " << k;
     intersecting += got.intersecting;
     // The witnesses realise the distance and lie on the triangles named.
     EXPECT_NEAR((got.point_a - got.point_b).norm(), got.distance, 1e-12) << "pose " << k;
-    EXPECT_LE(off_triangle(m, got.triangle_a, got.point_a, Pose{}), 1e-12) << "pose " << k;
+    EXPECT_LE(off_triangle(m, got.triangle_a, got.point_a, Eigen::Isometry3d::Identity()), 1e-12) << "pose " << k;
     EXPECT_LE(off_triangle(m, got.triangle_b, got.point_b, pose), 1e-12) << "pose " << k;
-    EXPECT_GT(got.candidates_a, 0);
+    EXPECT_GT(got.stats.candidates_a, 0);
+    // Both meshes moved by one rigid motion W (world poses): the same distance, with witnesses
+    // on the moved triangles.
+    const Eigen::Isometry3d W = test::random_pose(world_rng, 1.0);
+    MeshDistance moved;
+    ASSERT_EQ(mesh_distance(A, W, A, W * pose, ws, moved), Status::Ok);
+    EXPECT_NEAR(moved.distance, got.distance, 1e-12) << "pose " << k;
+    EXPECT_EQ(moved.intersecting, got.intersecting) << "pose " << k;
+    EXPECT_LE(off_triangle(m, moved.triangle_a, moved.point_a, W), 1e-12) << "pose " << k;
+    EXPECT_LE(off_triangle(m, moved.triangle_b, moved.point_b, W * pose), 1e-12) << "pose " << k;
     if (testing::Test::HasFailure()) return;
   }
   // The sweep must cover both kinds, or half of the claim went untested.
@@ -90,16 +99,16 @@ TEST(MeshDistance, LatticeBunnyUnderQuarterTurnsEqualsBruteForce) {
   int meet = 0;
   for (int k = 0; k < poses; ++k) {
     const std::string what = "lattice pose " + std::to_string(k);
-    Pose pose;
-    pose.rotation = test::ties::quarter_turn(rng);
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.linear() = test::ties::quarter_turn(rng);
     if (k % 2) {  // turned about corner v: R v + t = v, exactly (t is a lattice point)
       const Vector3d v = m.vertices[rng() % m.vertices.size()];
-      pose.translation = v - pose.rotation * v;
+      pose.translation() = v - pose.linear() * v;
     } else {  // an offset of up to 0.25 per axis (the bunny is about 0.15 across), on the lattice
-      pose.translation = test::ties::lattice_point(rng, 1, 14) / 4;
+      pose.translation() = test::ties::lattice_point(rng, 1, 14) / 4;
     }
     MeshDistance got;
-    ASSERT_EQ(mesh_distance(A, A, pose, ws, got), Status::Ok) << what;
+    ASSERT_EQ(mesh_distance(A, Eigen::Isometry3d::Identity(), A, pose, ws, got), Status::Ok) << what;
     const MeshDistance want = tools::brute_distance(m, m, pose);
     ASSERT_NEAR(got.distance, want.distance, 1e-12) << what;
     bool contact = k % 2 == 1;
@@ -107,7 +116,7 @@ TEST(MeshDistance, LatticeBunnyUnderQuarterTurnsEqualsBruteForce) {
       Vector3d S[3], T[3];
       for (int c = 0; c < 3; ++c) {
         S[c] = m.vertices[m.triangles[want.triangle_a][c]];
-        T[c] = pose.rotation * m.vertices[m.triangles[want.triangle_b][c]] + pose.translation;
+        T[c] = pose.linear() * m.vertices[m.triangles[want.triangle_b][c]] + pose.translation();
       }
       contact = test::exact_triangle_distance(S, T) == 0;
     }
@@ -135,21 +144,20 @@ TEST(MeshDistance, ConcentricSpheresWorstCase) {
   ASSERT_EQ(build_octree(inner.vertices, inner.triangles, B), Status::Ok);
   MeshWorkspace ws, tiny;
   make_workspace(A, B, ws);
-  make_workspace(A, B, tiny);
-  tiny.stack.resize(size_t(8 * (A.depth + B.depth) + 16 + 2));
+  make_workspace(A, B, tiny, 2);
   std::mt19937_64 rng(5);
   const double all_pairs = double(outer.triangles.size()) * double(inner.triangles.size());
   for (int k = 0; k < test::scaled(20); ++k) {
-    Pose pose = test::random_pose(rng, 0);
-    pose.translation = 1e-3 * test::random_pose(rng, 1).translation;  // nearly concentric
+    Eigen::Isometry3d pose = test::random_pose(rng, 0);
+    pose.translation() = 1e-3 * test::random_pose(rng, 1).translation();  // nearly concentric
     MeshDistance got, small;
-    ASSERT_EQ(mesh_distance(A, B, pose, ws, got), Status::Ok);
+    ASSERT_EQ(mesh_distance(A, Eigen::Isometry3d::Identity(), B, pose, ws, got), Status::Ok);
     const MeshDistance want = tools::brute_distance(outer, inner, pose);
     ASSERT_NEAR(got.distance, want.distance, 1e-12) << "pose " << k;
     EXPECT_GT(got.distance, 0.05) << "pose " << k;
-    EXPECT_LT(double(got.triangle_pairs), 0.1 * all_pairs) << "pose " << k;
+    EXPECT_LT(double(got.stats.triangle_pairs), 0.1 * all_pairs) << "pose " << k;
     // A heap of 2 pairs fills at once: the rest of the search is depth first, as exact.
-    ASSERT_EQ(mesh_distance(A, B, pose, tiny, small), Status::Ok);
+    ASSERT_EQ(mesh_distance(A, Eigen::Isometry3d::Identity(), B, pose, tiny, small), Status::Ok);
     EXPECT_NEAR(small.distance, want.distance, 1e-12) << "pose " << k;
   }
 }
@@ -173,11 +181,11 @@ TEST(Octree, DuplicatedTrianglesAreListedOnce) {
   distinct.vertices = m.vertices;
   distinct.triangles.assign(m.triangles.begin(), m.triangles.begin() + 3);
   for (int k = 0; k < 20; ++k) {
-    const Pose pose = test::random_pose(rng, 1.5);
+    const Eigen::Isometry3d pose = test::random_pose(rng, 1.5);
     MeshDistance got;
-    ASSERT_EQ(mesh_distance(A, A, pose, ws, got), Status::Ok);
+    ASSERT_EQ(mesh_distance(A, Eigen::Isometry3d::Identity(), A, pose, ws, got), Status::Ok);
     EXPECT_NEAR(got.distance, tools::brute_distance(distinct, distinct, pose).distance, 1e-12) << "pose " << k;
-    EXPECT_LE(got.triangle_pairs, 4);
+    EXPECT_LE(got.stats.triangle_pairs, 4);
   }
 }
 
@@ -320,13 +328,22 @@ TEST(Octree, RejectsABadPoseAndAForeignWorkspace) {
   MeshWorkspace ws;
   make_workspace(A, A, ws);
   MeshDistance d;
-  Pose pose;
-  pose.rotation(0, 0) = 2;
-  EXPECT_EQ(mesh_distance(A, A, pose, ws, d), Status::InvalidBox);
-  pose = Pose{};
-  pose.translation.x() = std::nan("");
-  EXPECT_EQ(mesh_distance(A, A, pose, ws, d), Status::NonFinite);
-  EXPECT_EQ(mesh_distance(A, small, Pose{}, ws, d), Status::InvalidMesh);
+  // Either pose, not rigid or not finite: InvalidPose, as every other query says.
+  const Eigen::Isometry3d identity = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d stretched = identity, nan = identity;
+  stretched.linear()(0, 0) = 2;
+  nan.translation().x() = std::nan("");
+  for (const Eigen::Isometry3d& bad : {stretched, nan}) {
+    EXPECT_EQ(mesh_distance(A, identity, A, bad, ws, d), Status::InvalidPose);
+    EXPECT_EQ(mesh_distance(A, bad, A, identity, ws, d), Status::InvalidPose);
+  }
+  EXPECT_EQ(mesh_distance(A, Eigen::Isometry3d::Identity(), small, Eigen::Isometry3d::Identity(), ws, d), Status::InvalidMesh);
+  // A workspace make_workspace never sized is refused; a copy of a sized one works.
+  MeshWorkspace empty;
+  EXPECT_EQ(mesh_distance(A, identity, A, identity, empty, d), Status::InvalidMesh);
+  MeshWorkspace copy = ws;
+  EXPECT_EQ(mesh_distance(A, identity, A, identity, copy, d), Status::Ok);
+  EXPECT_TRUE(d.intersecting);
 }
 
 // mesh_contact of a box tool, prepared once and posed per call, on a flat floor (z = 0, wound
@@ -343,7 +360,7 @@ TEST(MeshContact, PosedBoxOnAFloorIsPushedStraightUp) {
   box.half_extents = Vector3d(0.3, 0.2, 0.1);
   ConvexShape tool;
   ASSERT_EQ(shape_from_box(box, tool), Status::Ok);
-  std::mt19937_64 rng(41);
+  std::mt19937_64 rng(41), world_rng(42);
   std::uniform_real_distribution<double> u(-1, 1);
   int touching = 0;
   for (int k = 0; k < 200; ++k) {
@@ -355,21 +372,33 @@ TEST(MeshContact, PosedBoxOnAFloorIsPushedStraightUp) {
                      Eigen::AngleAxisd(M_PI / 2 * quarter, Vector3d::UnitX())).toRotationMatrix();
     pose.translation() = Vector3d(3 * u(rng), 3 * u(rng), 1.5 * half_height * u(rng) + 0.5 * half_height);
     MeshContact c;
-    ASSERT_EQ(mesh_contact(A, tool, pose, ws, c), Status::Ok);
+    ASSERT_EQ(mesh_contact(A, Eigen::Isometry3d::Identity(), tool, pose, ws, c), Status::Ok);
     const double want = half_height - pose.translation().z();  // the bottom face's depth below z = 0
     ASSERT_EQ(c.intersecting, want > 1e-12);  // the centre is above -half_height: the floor cuts the box
     if (!c.intersecting) continue;
     ++touching;
-    EXPECT_NEAR(c.depth, want, 1e-12);
-    EXPECT_NEAR((c.direction - Vector3d::UnitZ()).norm(), 0, 1e-12);
+    EXPECT_NEAR(c.penetration_depth, want, 1e-12);
+    EXPECT_NEAR((c.penetration_direction - Vector3d::UnitZ()).norm(), 0, 1e-12);
     EXPECT_NEAR(c.point.z(), 0, 1e-12);
+    // Floor and tool moved together by one rigid motion W (world poses): the same contact,
+    // its point and direction moved by W.
+    const Eigen::Isometry3d W = test::random_pose(world_rng, 1.0);
+    MeshContact moved;
+    ASSERT_EQ(mesh_contact(A, W, tool, W * pose, ws, moved), Status::Ok);
+    ASSERT_TRUE(moved.intersecting);
+    EXPECT_NEAR(moved.penetration_depth, want, 1e-12);
+    EXPECT_NEAR((moved.penetration_direction - W.linear() * Vector3d::UnitZ()).norm(), 0, 1e-12);
+    EXPECT_NEAR((W.inverse() * moved.point).z(), 0, 1e-12);
   }
   EXPECT_GT(touching, 50);
   MeshContact c;
   Eigen::Isometry3d scaled = Eigen::Isometry3d::Identity();
   scaled.linear() *= 1.01;
-  EXPECT_EQ(mesh_contact(A, tool, scaled, ws, c), Status::InvalidPose);
-  EXPECT_EQ(mesh_contact(A, ConvexShape{}, Eigen::Isometry3d::Identity(), ws, c), Status::TooFewPoints);
+  EXPECT_EQ(mesh_contact(A, Eigen::Isometry3d::Identity(), tool, scaled, ws, c), Status::InvalidPose);
+  EXPECT_EQ(mesh_contact(A, Eigen::Isometry3d::Identity(), ConvexShape{}, Eigen::Isometry3d::Identity(), ws, c), Status::TooFewPoints);
+  EXPECT_EQ(mesh_contact(A, scaled, tool, Eigen::Isometry3d::Identity(), ws, c), Status::InvalidPose);
+  MeshWorkspace none;
+  EXPECT_EQ(mesh_contact(A, Eigen::Isometry3d::Identity(), tool, Eigen::Isometry3d::Identity(), none, c), Status::InvalidMesh);
   EXPECT_FALSE(c.intersecting);
 }
 

@@ -143,8 +143,8 @@ TEST_P(RandomQueries, PolytopePolytopeAgreesWithBruteForce) {
 
 INSTANTIATE_TEST_SUITE_P(Shards, RandomQueries, testing::Range(0, 10));
 
-// `want` selects what is computed: the contact fields alone (kWantContact) equal those of
-// kWantAll and leave the farthest pair at its defaults, and the other way round.
+// `want` selects what is computed: the contact fields alone (Want::Contact) equal those of
+// Want::All and leave the farthest pair at its defaults, and the other way round.
 TEST(Query, WantSelectsTheFields) {
   std::mt19937_64 rng(91);
   const auto same_contact = [](const Proximity& got, const Proximity& all) {
@@ -165,9 +165,9 @@ TEST(Query, WantSelectsTheFields) {
     ASSERT_EQ(polytope_from_box(other, B), Status::Ok);
     const auto check = [&](const auto& query, const char* what) {
       Proximity all, contact, far;
-      ASSERT_EQ(query(all, kWantAll), Status::Ok);
-      ASSERT_EQ(query(contact, kWantContact), Status::Ok);
-      ASSERT_EQ(query(far, kWantMaxDistance), Status::Ok);
+      ASSERT_EQ(query(all, Want::All), Status::Ok);
+      ASSERT_EQ(query(contact, Want::Contact), Status::Ok);
+      ASSERT_EQ(query(far, Want::MaxDistance), Status::Ok);
       const Proximity none;
       EXPECT_TRUE(same_contact(contact, all) && same_far(contact, none)) << what << " pair " << k;
       EXPECT_TRUE(same_far(far, all) && same_contact(far, none)) << what << " pair " << k;
@@ -391,6 +391,15 @@ TEST(Query, BadInputGetsAStatus) {
   bad.center.x() = 1e150;
   EXPECT_EQ(proximity(bad, Box{}, p), Status::OutOfRange);
   EXPECT_EQ(proximity(Box{}, Triangle{{0, 0, 0}, {1e200, 0, 0}, {0, 1, 0}}, p), Status::OutOfRange);
+  // A sum read with operands it was not built from, or no sum at all.
+  MinkowskiSum m;
+  EXPECT_EQ(proximity(m, cube, cube, p), Status::TooFewPoints);
+  ConvexPolytope tetra;
+  ASSERT_EQ(polytope_from_points({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, tetra), Status::Ok);
+  ASSERT_EQ(minkowski_difference(cube, cube, m), Status::Ok);
+  EXPECT_EQ(proximity(m, cube, tetra, p), Status::InvalidMesh);
+  EXPECT_EQ(proximity(m, cube, cube, p), Status::Ok);
+  EXPECT_TRUE(p.intersecting);
 }
 
 TEST(Query, ContainsStopsAtTheFirstSeparatingPlane) {

@@ -99,7 +99,7 @@ TEST(RealTime, KernelsAndQueriesDoNotAllocate) {
     ASSERT_EQ(minkowski_difference(P, Q[0], m), Status::Ok);
     EXPECT_EQ(allocations([&] {
                 for (const ConvexPolytope& q : Q) failed += proximity(P, q, p) != Status::Ok;
-                p = proximity(m, P, Q[0]);
+                failed += proximity(m, P, Q[0], p) != Status::Ok;
                 p.intersecting = contains(m, Eigen::Vector3d::Zero());
                 p.penetration_depth = penetration_along(m, Eigen::Vector3d::UnitX());
               }),
@@ -185,15 +185,15 @@ TEST(RealTime, MeshDistanceDoesNotAllocate) {
   MeshWorkspace& ws = bunny.ws;
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(-1, 1);
-  std::vector<Pose> poses(50);
+  std::vector<Eigen::Isometry3d> poses(50);
   for (auto& p : poses) {
-    p.rotation = Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized().toRotationMatrix();
-    p.translation = 0.2 * Eigen::Vector3d(u(rng), u(rng), u(rng));
+    p.linear() = Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized().toRotationMatrix();
+    p.translation() = 0.2 * Eigen::Vector3d(u(rng), u(rng), u(rng));
   }
   MeshDistance d;
   long pairs = 0;
   EXPECT_EQ(allocations([&] {
-              for (const Pose& p : poses) mesh_distance(A, A, p, ws, d), pairs += d.triangle_pairs;
+              for (const Eigen::Isometry3d& p : poses) mesh_distance(A, Eigen::Isometry3d::Identity(), A, p, ws, d), pairs += d.stats.triangle_pairs;
             }),
             0);
   EXPECT_GT(pairs, 50);  // the queries did real work
@@ -230,12 +230,12 @@ TEST(RealTime, UncachedShapeQueriesAndMeshContactDoNotAllocate) {
   int failed = 0, intersecting = 0, separated = 0, touched = 0;
   EXPECT_EQ(allocations([&] {
               for (const Eigen::Isometry3d& pose : path)
-                for (Want want : {kWantAll, kWantContact, kWantMaxDistance}) {
+                for (Want want : {Want::All, Want::Contact, Want::MaxDistance}) {
                   failed += proximity(A, Eigen::Isometry3d::Identity(), B, pose, p, want) != Status::Ok;
                   (p.intersecting ? intersecting : separated) += 1;
                 }
               for (const Eigen::Isometry3d& pose : tool_poses) {
-                failed += mesh_contact(M, tool, pose, ws, c) != Status::Ok;
+                failed += mesh_contact(M, Eigen::Isometry3d::Identity(), tool, pose, ws, c) != Status::Ok;
                 touched += c.intersecting;
               }
             }),
@@ -271,9 +271,9 @@ TEST(RealTime, CoherentQueriesDoNotAllocate) {
                 proximity(a, b, boxes, p);
                 proximity(a, Triangle{pose * tri.a, pose * tri.b, pose * tri.c}, box_tri, p);
                 proximity(A, Eigen::Isometry3d::Identity(), B, pose, shapes, p);
-                Pose mp;
-                mp.rotation = pose.linear(), mp.translation = 0.05 * pose.translation();
-                mesh_distance(M, M, mp, ws, meshes, d);
+                Eigen::Isometry3d mp = Eigen::Isometry3d::Identity();
+                mp.linear() = pose.linear(), mp.translation() = 0.05 * pose.translation();
+                mesh_distance(M, Eigen::Isometry3d::Identity(), M, mp, ws, meshes, d);
               }
             }),
             0);
@@ -297,8 +297,8 @@ TEST(RealTime, FaceToFaceQueriesDoNotAllocate) {
         EXPECT_EQ(allocations([&] {
                     for (int k = 0; k < 64; ++k) {
                       const Eigen::Isometry3d pose_b = pose_a * tools::face_pose(pair, k, 64, gap, rocking);
-                      proximity(A, pose_a, B, pose_b, p, kWantContact);
-                      proximity(A, pose_a, B, pose_b, cache, p, kWantContact);
+                      proximity(A, pose_a, B, pose_b, p, Want::Contact);
+                      proximity(A, pose_a, B, pose_b, cache, p, Want::Contact);
                     }
                   }),
                   0)

@@ -42,8 +42,8 @@ void expect_contact_as_shapes(const std::vector<Vector3d>& a, const std::vector<
     expect_contact(proximity(A, B, p), p, what + " as polytopes");
   if (shape_from_points(a, SA) != Status::Ok || shape_from_points(b, SB) != Status::Ok) return;  // (a flat triangle)
   const Eigen::Isometry3d m = lattice_motion(rng);
-  expect_contact(proximity(SA, m, SB, m, p, kWantContact), p, what + " as shapes");
-  expect_contact(proximity(SA, m, SB, m, cache, p, kWantContact), p, what + " as shapes, coherent");
+  expect_contact(proximity(SA, m, SB, m, p, Want::Contact), p, what + " as shapes");
+  expect_contact(proximity(SA, m, SB, m, cache, p, Want::Contact), p, what + " as shapes, coherent");
 }
 
 TEST(Ties, ExactContactIsIntersectingAtDistanceZero) {
@@ -152,7 +152,7 @@ TEST(Ties, LatticeQueriesEqualTheExactDistance) {
     ASSERT_EQ(shape_from_box(b, SB), Status::Ok);
     Proximity p;
     const Eigen::Isometry3d m = lattice_motion(rng);
-    ASSERT_EQ(proximity(SA, m, SB, m, p, kWantContact), Status::Ok);
+    ASSERT_EQ(proximity(SA, m, SB, m, p, Want::Contact), Status::Ok);
     EXPECT_EQ(p.intersecting, cases[0].p.intersecting) << "shapes case " << k;
     EXPECT_NEAR(p.distance, cases[0].p.distance, 64 * std::numeric_limits<double>::epsilon() * 16) << "shapes case " << k;
     if (testing::Test::HasFailure()) return;
@@ -197,11 +197,11 @@ TEST(Ties, OctreeOnLatticeTrianglesEqualsTheExactDistance) {
     MeshWorkspace ws;
     make_workspace(A, B, ws);
     for (int k = 0; k < 4; ++k) {
-      Pose pose;
-      pose.rotation = test::ties::quarter_turn(rng);
-      pose.translation = test::ties::lattice_point(rng, 1 + 2 * k, 3);  // from overlapping to apart
+      Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+      pose.linear() = test::ties::quarter_turn(rng);
+      pose.translation() = test::ties::lattice_point(rng, 1 + 2 * k, 3);  // from overlapping to apart
       MeshDistance got;
-      ASSERT_EQ(mesh_distance(A, B, pose, ws, got), Status::Ok);
+      ASSERT_EQ(mesh_distance(A, Eigen::Isometry3d::Identity(), B, pose, ws, got), Status::Ok);
       // Every pair, skipped only when bounding spheres (about a corner, with a margin far
       // above rounding) are already farther apart than the best exact distance.
       double exact = std::numeric_limits<double>::infinity();
@@ -209,8 +209,8 @@ TEST(Ties, OctreeOnLatticeTrianglesEqualsTheExactDistance) {
         for (const auto& y : tb) {
           if (exact == 0) break;  // (nothing is nearer)
           const Vector3d S[3] = {va[x[0]], va[x[1]], va[x[2]]};
-          const Vector3d T[3] = {pose.rotation * vb[y[0]] + pose.translation, pose.rotation * vb[y[1]] + pose.translation,
-                                 pose.rotation * vb[y[2]] + pose.translation};
+          const Vector3d T[3] = {pose.linear() * vb[y[0]] + pose.translation(), pose.linear() * vb[y[1]] + pose.translation(),
+                                 pose.linear() * vb[y[2]] + pose.translation()};
           const double rs = std::max((S[1] - S[0]).norm(), (S[2] - S[0]).norm()), rt = std::max((T[1] - T[0]).norm(), (T[2] - T[0]).norm());
           if ((S[0] - T[0]).norm() - rs - rt > exact + 1e-9) continue;
           exact = std::min(exact, test::exact_triangle_distance(S, T));

@@ -153,9 +153,9 @@ bool run(const Options& options, long (*allocations)(), Report& report, std::str
   long allocations_after_warmup = 0;
   Vector3d previous = path.at(0);
   ProximityCache cache;  // the mesh distance's, from one tick to the next (options.coherent)
-  const auto distance = [&](const Pose& pose, MeshDistance& d) {
-    return options.coherent ? mesh_distance(scene_tree, tool_tree, pose, ws, cache, d)
-                            : mesh_distance(scene_tree, tool_tree, pose, ws, d);
+  const auto distance = [&](const Eigen::Isometry3d& pose, MeshDistance& d) {
+    return options.coherent ? mesh_distance(scene_tree, Eigen::Isometry3d::Identity(), tool_tree, pose, ws, cache, d)
+                            : mesh_distance(scene_tree, Eigen::Isometry3d::Identity(), tool_tree, pose, ws, d);
   };
   for (long k = 0; k < n; ++k) {
     if (k == options.warmup) allocations_after_warmup = allocations();
@@ -172,11 +172,10 @@ bool run(const Options& options, long (*allocations)(), Report& report, std::str
     const double cpu0 = thread_cpu_us();
     try {
       // The tick: pose, collision and distance, penetration, force.
-      Pose pose;  // the tool's placement: mesh_distance's Pose, and the same as an isometry
-      pose.translation = path.at(double(k) * dt);
-      const Eigen::Isometry3d placed(Eigen::Translation3d(pose.translation));
-      const Vector3d velocity = (pose.translation - previous) / dt;
-      previous = pose.translation;
+      // The tool's world pose (the scene sits at the identity).
+      const Eigen::Isometry3d pose(Eigen::Translation3d(path.at(double(k) * dt)));
+      const Vector3d velocity = (pose.translation() - previous) / dt;
+      previous = pose.translation();
       // A convex tool: contact first (it only looks under the tool), the exact distance when
       // there is none. A mesh tool: the mesh-mesh distance, and its hull's depth on contact.
       MeshDistance d;
@@ -184,21 +183,21 @@ bool run(const Options& options, long (*allocations)(), Report& report, std::str
       double force = 0, along = 0, up = 0;
       bool touching;
       if (tool.convex) {
-        touching = mesh_contact(scene_tree, tool.hull, placed, ws, c) == Status::Ok && c.intersecting;
+        touching = mesh_contact(scene_tree, Eigen::Isometry3d::Identity(), tool.hull, pose, ws, c) == Status::Ok && c.intersecting;
         if (!touching) distance(pose, d);
       } else {
         touching = distance(pose, d) == Status::Ok && d.intersecting &&
-                   mesh_contact(scene_tree, tool.hull, placed, ws, c) == Status::Ok && c.intersecting;
+                   mesh_contact(scene_tree, Eigen::Isometry3d::Identity(), tool.hull, pose, ws, c) == Status::Ok && c.intersecting;
       }
       if (!touching) {
         c = MeshContact{};
       } else {
-        const double push = kStiffness * c.depth - kDamping * std::min(0.0, velocity.dot(c.direction));
-        const Vector3d f = std::max(0.0, push) * c.direction;
-        force = f.norm(), along = f.dot(c.direction), up = f.y();
+        const double push = kStiffness * c.penetration_depth - kDamping * std::min(0.0, velocity.dot(c.penetration_direction));
+        const Vector3d f = std::max(0.0, push) * c.penetration_direction;
+        force = f.norm(), along = f.dot(c.penetration_direction), up = f.y();
         ++report.contacts;
       }
-      report.time[k] = double(k) * dt, report.distance[k] = d.distance, report.depth[k] = c.depth;
+      report.time[k] = double(k) * dt, report.distance[k] = d.distance, report.depth[k] = c.penetration_depth;
       report.force[k] = force, report.force_dot_normal[k] = along, report.force_up[k] = up;
     } catch (...) {
       ++report.exceptions;

@@ -200,23 +200,23 @@ bool cgal_demo_mesh(const std::string& name, Mesh& mesh) {
   return true;
 }
 
-std::vector<Pose> banded_poses(const Octree& a, const Octree& b, double size, unsigned seed, int count) {
+std::vector<Eigen::Isometry3d> banded_poses(const Octree& a, const Octree& b, double size, unsigned seed, int count) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1, 1), unit(0, 1);
   MeshWorkspace ws;
   make_workspace(a, b, ws);
   const double reach = std::sqrt(3.0) * (a.nodes[0].half + b.nodes[0].half);  // beyond: apart
-  std::vector<Pose> poses;
+  std::vector<Eigen::Isometry3d> poses;
   while (int(poses.size()) < count) {
     const int band = band_of(int(poses.size()), count);
-    Pose p;
-    p.rotation = Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized().toRotationMatrix();
+    Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+    p.linear() = Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized().toRotationMatrix();
     const Eigen::Vector3d dir = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
-    const Eigen::Vector3d base = a.nodes[0].center - p.rotation * b.nodes[0].center;
+    const Eigen::Vector3d base = a.nodes[0].center - p.linear() * b.nodes[0].center;
     const auto distance = [&](double s) {
-      p.translation = base + s * dir;
+      p.translation() = base + s * dir;
       MeshDistance d;
-      mesh_distance(a, b, p, ws, d);
+      mesh_distance(a, Eigen::Isometry3d::Identity(), b, p, ws, d);
       return d.distance;
     };
     // Target distance, or (contact) the depth to move in from first touching.
@@ -280,21 +280,21 @@ std::vector<Eigen::Vector3d> sample_surface(const Mesh& mesh, int count, unsigne
 }
 
 // Two clouds: every pair of points, |p - q| (the octree's path goes through triangle_distance).
-MeshDistance brute_cloud_distance(const Mesh& a, const Mesh& b, const Pose& pose) {
+MeshDistance brute_cloud_distance(const Mesh& a, const Mesh& b, const Eigen::Isometry3d& pose) {
   MeshDistance out;
   out.distance = std::numeric_limits<double>::infinity();
   for (size_t j = 0; j < b.vertices.size(); ++j) {
-    const Eigen::Vector3d q = pose.rotation * b.vertices[j] + pose.translation;
+    const Eigen::Vector3d q = pose.linear() * b.vertices[j] + pose.translation();
     for (size_t i = 0; i < a.vertices.size(); ++i)
       if (const double d = (a.vertices[i] - q).norm(); d < out.distance)
         out.distance = d, out.point_a = a.vertices[i], out.point_b = q, out.triangle_a = int(i), out.triangle_b = int(j);
   }
   out.intersecting = out.distance == 0;
-  out.triangle_pairs = long(a.vertices.size() * b.vertices.size());
+  out.stats.triangle_pairs = long(a.vertices.size() * b.vertices.size());
   return out;
 }
 
-MeshDistance brute_distance(const Mesh& a_in, const Mesh& b_in, const Pose& pose) {
+MeshDistance brute_distance(const Mesh& a_in, const Mesh& b_in, const Eigen::Isometry3d& pose) {
   using Eigen::Vector3d;
   if (a_in.triangles.empty() && b_in.triangles.empty()) return brute_cloud_distance(a_in, b_in, pose);
   const auto as_mesh = [](const Mesh& m) {
@@ -305,7 +305,7 @@ MeshDistance brute_distance(const Mesh& a_in, const Mesh& b_in, const Pose& pose
   };
   const Mesh a = as_mesh(a_in), b = as_mesh(b_in);
   std::vector<Vector3d> moved;
-  for (const auto& v : b.vertices) moved.push_back(pose.rotation * v + pose.translation);
+  for (const auto& v : b.vertices) moved.push_back(pose.linear() * v + pose.translation());
   // Bounding sphere of each triangle: centroid and largest corner distance.
   const auto spheres = [](const std::vector<Vector3d>& v, const std::vector<std::array<int, 3>>& tris,
                           std::vector<Vector3d>& c, std::vector<double>& r) {
@@ -331,7 +331,7 @@ MeshDistance brute_distance(const Mesh& a_in, const Mesh& b_in, const Pose& pose
       if (dx * dx + dy * dy + dz * dz > reach * reach) continue;
       const Vector3d t[3] = {moved[b.triangles[j][0]], moved[b.triangles[j][1]], moved[b.triangles[j][2]]};
       Vector3d p, q;
-      ++out.triangle_pairs;
+      ++out.stats.triangle_pairs;
       const double d = triangle_distance(s, t, p, q);
       if (d < out.distance) {
         out.distance = d, out.point_a = p, out.point_b = q;
@@ -341,7 +341,7 @@ MeshDistance brute_distance(const Mesh& a_in, const Mesh& b_in, const Pose& pose
     }
   }
   out.intersecting = out.distance == 0;
-  out.candidates_a = int(a.triangles.size()), out.candidates_b = int(b.triangles.size());
+  out.stats.candidates_a = int(a.triangles.size()), out.stats.candidates_b = int(b.triangles.size());
   return out;
 }
 

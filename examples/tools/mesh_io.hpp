@@ -40,7 +40,7 @@ bool cgal_demo_mesh(const std::string& name, Mesh& mesh);
 /// bounding-box diagonal): the first third intersect (up to 5 % deep), the second are apart by
 /// less than 5 %, the rest by 5-50 %. Each has a random rotation and direction; B is moved along
 /// the direction by bisection on mesh_distance to a random distance in its band.
-std::vector<Pose> banded_poses(const Octree& a, const Octree& b, double size, unsigned seed, int count);
+std::vector<Eigen::Isometry3d> banded_poses(const Octree& a, const Octree& b, double size, unsigned seed, int count);
 
 /// The band of the k-th of `count` banded poses: 0 contact, 1 near (< 5 %), 2 far.
 inline int band_of(int k, int count) { return 3 * k / count; }
@@ -52,6 +52,6 @@ Mesh sphere_mesh(double radius, int rings);
 /// All-pairs triangle distance (for checking mesh_distance): every pair is enumerated, a pair
 /// is skipped only if its bounding spheres are already farther apart than the best distance.
 /// A point cloud's points are zero-area triangles; two clouds: plain point-point distances.
-MeshDistance brute_distance(const Mesh& a, const Mesh& b, const Pose& pose);
+MeshDistance brute_distance(const Mesh& a, const Mesh& b, const Eigen::Isometry3d& pose);
 
 }  // namespace minksum::tools

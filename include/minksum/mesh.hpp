@@ -8,6 +8,7 @@
 #include <minksum/query.hpp>
 
 #include <array>
+#include <memory>
 #include <vector>
 
 namespace minksum {
@@ -72,49 +73,39 @@ Status build_octree(const std::vector<Eigen::Vector3d>& vertices,
 /// for a mesh (TooFewPoints for no points).
 Status build_octree(const std::vector<Eigen::Vector3d>& points, Octree& out, const OctreeOptions& options = {});
 
-/// Rigid placement of mesh B in mesh A's frame: x_A = rotation * x_B + translation.
-struct Pose {
-  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();      ///< proper rotation
-  Eigen::Vector3d translation = Eigen::Vector3d::Zero();       ///< offset
+namespace detail {
+struct MeshScratch;
+}  // namespace detail
+
+class MeshWorkspace;
+
+/// Node pairs the best-first search holds in its heap by default; past that it goes depth first.
+constexpr int kMeshHeapPairs = 4096;
+
+/// Sizes a workspace for queries between a and b (heap_pairs >= 1: the search's heap).
+void make_workspace(const Octree& a, const Octree& b, MeshWorkspace& ws, int heap_pairs = kMeshHeapPairs);
+
+/// Scratch memory of mesh_distance and mesh_contact, sized once for a pair of octrees by
+/// make_workspace so that queries never allocate; reuse it for every query of that pair. Its
+/// layout is the library's own. An empty workspace (not from make_workspace) gets InvalidMesh.
+class MeshWorkspace {
+ public:
+  MeshWorkspace();                                           ///< empty
+  MeshWorkspace(const MeshWorkspace& other);                 ///< a copy of the scratch
+  MeshWorkspace(MeshWorkspace&& other) noexcept;             ///< takes the scratch
+  MeshWorkspace& operator=(const MeshWorkspace& other);      ///< a copy of the scratch
+  MeshWorkspace& operator=(MeshWorkspace&& other) noexcept;  ///< takes the scratch
+  ~MeshWorkspace();                                          ///< frees the scratch
+  /// The scratch (null when empty), for the library's queries.
+  detail::MeshScratch* scratch() const { return scratch_.get(); }
+
+ private:
+  friend void make_workspace(const Octree& a, const Octree& b, MeshWorkspace& ws, int heap_pairs);
+  std::unique_ptr<detail::MeshScratch> scratch_;
 };
 
-/// Scratch memory of mesh_distance, sized once for a pair of octrees so that queries never
-/// allocate (make_workspace); reuse it for every query of that pair.
-struct MeshWorkspace {
-  /// A node pair still to visit, with its squared distance bound.
-  struct Entry {
-    int a = 0, b = 0;    ///< node of A, node of B
-    double bound2 = 0;   ///< lower bound of their squared distance
-  };
-  /// Node pairs still to visit: a heap of what it holds beyond 8 (depth_a + depth_b) + 16
-  /// (4,096 from make_workspace), then that reserve for the depth-first fallback.
-  std::vector<Entry> stack;
-  std::vector<Eigen::Vector3d> moved_center; ///< B's sphere centres in A's frame, on demand
-  std::vector<unsigned> center_stamp;        ///< query stamp per triangle of B
-  std::vector<unsigned> seen_a, seen_b;      ///< query stamp per candidate triangle
-  std::vector<int> near_b;                   ///< triangles of B's leaf near A's leaf
-  std::vector<double> near_x, near_y, near_z, near_r;  ///< their spheres (A's frame)
-  std::vector<double> near_lo;               ///< their lowest corners along the leaves' line
-  std::vector<double> proj_a, proj_b;        ///< per leaf triangle: A's highest, B's lowest corner there
-  std::vector<int> pass_a;                   ///< A's leaf triangles near B's leaf, nearest first
-  std::vector<Eigen::Vector3d> near_corners; ///< their corners (A's frame), three each
-  std::vector<Eigen::Vector3d> near_normal;  ///< their unit normals (A's frame)
-  std::vector<int> hits;                     ///< those near one triangle of A
-  std::vector<Eigen::Vector3d> parts;        ///< mesh_contact: corners of the parts inside
-  std::vector<int> part_start;               ///< mesh_contact: where each part's corners start
-  unsigned stamp = 0;                        ///< current query
-};
-
-/// Sizes a workspace for queries between a and b.
-void make_workspace(const Octree& a, const Octree& b, MeshWorkspace& ws);
-
-/// The answer of one mesh-mesh distance query, with its statistics.
-struct MeshDistance {
-  double distance = 0;        ///< exact minimum distance (0 when the meshes intersect)
-  Eigen::Vector3d point_a = Eigen::Vector3d::Zero();  ///< closest point on A (A's frame)
-  Eigen::Vector3d point_b = Eigen::Vector3d::Zero();  ///< closest point on B (A's frame)
-  int triangle_a = -1, triangle_b = -1;  ///< the triangles holding them
-  bool intersecting = false;  ///< the meshes share a point
+/// What one mesh-mesh distance query did (for benchmarks and tuning; no answer depends on it).
+struct MeshStats {
   double first_bound = 0;     ///< U of the first leaf pair reached (its boxes' max distance)
   long node_pairs = 0;        ///< node pairs whose bound was evaluated
   long leaf_pairs = 0;        ///< leaf pairs opened (their triangles tested)
@@ -123,27 +114,39 @@ struct MeshDistance {
   double culled_percent_a = 0, culled_percent_b = 0;  ///< 100 * (1 - candidates / triangles)
 };
 
-/// Exact minimum distance between mesh A and mesh B placed by `pose`: best-first
+/// The answer of one mesh-mesh distance query, and apart from it the query's statistics.
+struct MeshDistance {
+  double distance = 0;        ///< exact minimum distance (0 when the meshes intersect)
+  Eigen::Vector3d point_a = Eigen::Vector3d::Zero();  ///< closest point on A (world frame)
+  Eigen::Vector3d point_b = Eigen::Vector3d::Zero();  ///< closest point on B (world frame)
+  int triangle_a = -1, triangle_b = -1;  ///< the triangles holding them
+  bool intersecting = false;  ///< the meshes share a point
+  MeshStats stats;            ///< what the search did
+};
+
+/// Exact minimum distance between mesh A and mesh B, each placed in the world by its pose (as
+/// every query takes its operands; the points come back in the world frame): best-first
 /// branch-and-bound over node pairs (a fixed-size heap, then depth first if it fills), pruning
-/// pairs whose distance bound reaches the best triangle distance found so far. No allocation with a workspace from
-/// make_workspace(a, b); InvalidBox for a pose that is not a finite proper rotation.
-Status mesh_distance(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace& ws,
-                     MeshDistance& out);
+/// pairs whose distance bound reaches the best triangle distance found so far. B is placed in
+/// A's frame by pose_a^-1 pose_b (with A at the identity, exactly pose_b). No allocation with a
+/// workspace from make_workspace(a, b); InvalidPose for a pose that is not rigid.
+Status mesh_distance(const Octree& a, const Eigen::Isometry3d& pose_a, const Octree& b, const Eigen::Isometry3d& pose_b,
+                     MeshWorkspace& ws, MeshDistance& out);
 
 /// The same exact distance, with the search seeded by the last answer's triangle pair (see
 /// ProximityCache): re-evaluated at the new pose, its distance bounds the search from the
 /// first node pair on. A seed only prunes more, so the worst case is the cold search's plus
 /// one triangle distance; the answer's distance is the cold one (ties may name another pair
 /// at the same distance).
-Status mesh_distance(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace& ws, ProximityCache& cache,
-                     MeshDistance& out);
+Status mesh_distance(const Octree& a, const Eigen::Isometry3d& pose_a, const Octree& b, const Eigen::Isometry3d& pose_b,
+                     MeshWorkspace& ws, ProximityCache& cache, MeshDistance& out);
 
 /// How a convex tool touches a mesh (haptic rendering): the parts of the mesh's triangles
 /// inside the tool, and how far the tool must move to push them all out.
 struct MeshContact {
   bool intersecting = false;   ///< some triangle has a part inside the tool
-  double depth = 0;            ///< how far the tool must move along `direction` to clear them
-  Eigen::Vector3d direction = Eigen::Vector3d::Zero();  ///< unit push-out direction
+  double penetration_depth = 0;  ///< how far the tool must move along the direction to clear them
+  Eigen::Vector3d penetration_direction = Eigen::Vector3d::Zero();  ///< unit push-out direction (as Proximity's)
   Eigen::Vector3d point = Eigen::Vector3d::Zero();      ///< the part's corner that needs it most
   int triangle = -1;           ///< the triangle of that corner
   int tested = 0;              ///< triangles that were clipped
@@ -155,8 +158,8 @@ constexpr int kMaxToolVertices = 256;
 /// Most overlapped triangles one mesh_contact call gathers (beyond: flagged, ignored).
 constexpr int kMaxContactTriangles = 2048;
 
-/// Contact of a convex tool (a shape prepared once in its own frame, placed in the mesh's
-/// frame by a rigid pose on every call) with mesh A. Each triangle whose box meets the tool's
+/// Contact of a convex tool (a shape prepared once in its own frame) with mesh A, each placed
+/// in the world by its pose (the point and direction come back in the world frame). Each triangle whose box meets the tool's
 /// box is clipped by the tool's face planes; the parts left are inside the tool. Their summed area vector (triangle winding:
 /// counter-clockwise = outward) gives the push-out direction u, which turns continuously as
 /// the tool slides over a tessellated surface; the depth is the largest distance, over the
@@ -164,7 +167,7 @@ constexpr int kMaxContactTriangles = 2048;
 /// tool is flat or has more than kMaxToolVertices vertices; the workspace is any made by
 /// make_workspace (its contact buffers are sized there); TooFewPoints for an empty tool,
 /// InvalidPose for a pose that is not rigid.
-Status mesh_contact(const Octree& a, const ConvexShape& tool, const Eigen::Isometry3d& pose, MeshWorkspace& ws,
-                    MeshContact& out);
+Status mesh_contact(const Octree& a, const Eigen::Isometry3d& pose_a, const ConvexShape& tool,
+                    const Eigen::Isometry3d& pose_tool, MeshWorkspace& ws, MeshContact& out);
 
 }  // namespace minksum

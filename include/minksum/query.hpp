@@ -27,7 +27,10 @@ struct Proximity {
 /// What a proximity call computes, as a bit mask; the fields it does not ask for keep their
 /// defaults. Contact: intersecting, distance and closest points, penetration depth and
 /// direction. MaxDistance: max_distance, far_a, far_b.
-enum Want : unsigned { kWantContact = 1, kWantMaxDistance = 2, kWantAll = 3 };
+enum class Want : unsigned { Contact = 1, MaxDistance = 2, All = 3 };
+
+/// True if `want` asks for `part`.
+constexpr bool has(Want want, Want part) { return (unsigned(want) & unsigned(part)) != 0; }
 
 /// What a query keeps from one call to the next on one pair of objects (coherence: a 1 kHz
 /// loop moves them little per tick, so the nearest features rarely change). Caller-owned,
@@ -53,33 +56,34 @@ bool contains(const MinkowskiSum& m, const Eigen::Vector3d& p);
 
 /// The proximity of A and B read off M = A (-) B (from minkowski_difference(a, b, m)): the
 /// origin's Voronoi region of M (facet, edge or vertex) gives the exact distance, and the
-/// support pairs of that feature give the closest points on A and B.
-Proximity proximity(const MinkowskiSum& m, const ConvexPolytope& a, const ConvexPolytope& b);
+/// support pairs of that feature give the closest points on A and B. TooFewPoints for an empty
+/// m; InvalidMesh when m's support pairs index past a's or b's vertices (m is not their sum).
+Status proximity(const MinkowskiSum& m, const ConvexPolytope& a, const ConvexPolytope& b, Proximity& out);
 
-/// The proximity of two convex polytopes (exact). The farthest pair (kWantMaxDistance) looks at
-/// every vertex pair: skip it with kWantContact when the polytopes are large.
-Status proximity(const ConvexPolytope& a, const ConvexPolytope& b, Proximity& out, Want want = kWantAll);
+/// The proximity of two convex polytopes (exact). The farthest pair (Want::MaxDistance) looks at
+/// every vertex pair: skip it with Want::Contact when the polytopes are large.
+Status proximity(const ConvexPolytope& a, const ConvexPolytope& b, Proximity& out, Want want = Want::All);
 /// The proximity of two prepared shapes, each placed by its rigid pose inside the call (the
 /// same exact query as for polytopes; points in the world frame). TooFewPoints for an empty
 /// shape, InvalidPose for a pose that is not rigid (check_pose).
 Status proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
-                 const Eigen::Isometry3d& pose_b, Proximity& out, Want want = kWantAll);
+                 const Eigen::Isometry3d& pose_b, Proximity& out, Want want = Want::All);
 /// Two posed shapes, starting from the last answer's features (see ProximityCache): GJK from
 /// the cached simplex, then the same certificate as the cold query.
 Status proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
-                 const Eigen::Isometry3d& pose_b, ProximityCache& cache, Proximity& out, Want want = kWantAll);
+                 const Eigen::Isometry3d& pose_b, ProximityCache& cache, Proximity& out, Want want = Want::All);
 /// The proximity of two boxes, exact without building A (-) B: the separating axis test, then
 /// an active-set walk on A (-) B's generators from the nearest facet.
-Status proximity(const Box& a, const Box& b, Proximity& out, Want want = kWantAll);
+Status proximity(const Box& a, const Box& b, Proximity& out, Want want = Want::All);
 /// The two boxes' proximity starting from the last answer's active set (see ProximityCache):
 /// the same answer as the cold query, at a fraction of its cost while the boxes stay apart.
-Status proximity(const Box& a, const Box& b, ProximityCache& cache, Proximity& out, Want want = kWantAll);
+Status proximity(const Box& a, const Box& b, ProximityCache& cache, Proximity& out, Want want = Want::All);
 /// The proximity of a box and a triangle.
-Status proximity(const Box& a, const Triangle& b, Proximity& out, Want want = kWantAll);
+Status proximity(const Box& a, const Triangle& b, Proximity& out, Want want = Want::All);
 /// A box and a triangle, starting from the last answer's features (see ProximityCache).
-Status proximity(const Box& a, const Triangle& b, ProximityCache& cache, Proximity& out, Want want = kWantAll);
+Status proximity(const Box& a, const Triangle& b, ProximityCache& cache, Proximity& out, Want want = Want::All);
 /// The proximity of two triangles (coplanar triangles included).
-Status proximity(const Triangle& a, const Triangle& b, Proximity& out, Want want = kWantAll);
+Status proximity(const Triangle& a, const Triangle& b, Proximity& out, Want want = Want::All);
 
 /// How far B must move along the unit direction u for A and B to stop overlapping (0 if they
 /// are separated, or already would be after any move along u).

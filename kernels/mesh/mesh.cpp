@@ -12,10 +12,55 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 namespace minksum {
 
 using Eigen::Vector3d;
+
+namespace detail {
+
+// What a MeshWorkspace holds: the search's node-pair heap and per-triangle marks, and
+// mesh_contact's clipped parts, all sized by make_workspace.
+struct MeshScratch {
+  /// A node pair still to visit, with its squared distance bound.
+  struct Entry {
+    int a = 0, b = 0;    ///< node of A, node of B
+    double bound2 = 0;   ///< lower bound of their squared distance
+  };
+  /// Node pairs still to visit: a heap of what it holds beyond 8 (depth_a + depth_b) + 16
+  /// (make_workspace's heap_pairs), then that reserve for the depth-first fallback.
+  std::vector<Entry> stack;
+  std::vector<Eigen::Vector3d> moved_center; ///< B's sphere centres in A's frame, on demand
+  std::vector<unsigned> center_stamp;        ///< query stamp per triangle of B
+  std::vector<unsigned> seen_a, seen_b;      ///< query stamp per candidate triangle
+  std::vector<int> near_b;                   ///< triangles of B's leaf near A's leaf
+  std::vector<double> near_x, near_y, near_z, near_r;  ///< their spheres (A's frame)
+  std::vector<double> near_lo;               ///< their lowest corners along the leaves' line
+  std::vector<double> proj_a, proj_b;        ///< per leaf triangle: A's highest, B's lowest corner there
+  std::vector<int> pass_a;                   ///< A's leaf triangles near B's leaf, nearest first
+  std::vector<Eigen::Vector3d> near_corners; ///< their corners (A's frame), three each
+  std::vector<Eigen::Vector3d> near_normal;  ///< their unit normals (A's frame)
+  std::vector<int> hits;                     ///< those near one triangle of A
+  std::vector<Eigen::Vector3d> parts;        ///< mesh_contact: corners of the parts inside
+  std::vector<int> part_start;               ///< mesh_contact: where each part's corners start
+  unsigned stamp = 0;                        ///< current query
+};
+
+}  // namespace detail
+
+using detail::MeshScratch;
+
+MeshWorkspace::MeshWorkspace() = default;
+MeshWorkspace::MeshWorkspace(const MeshWorkspace& other)
+    : scratch_(other.scratch_ ? std::make_unique<MeshScratch>(*other.scratch_) : nullptr) {}
+MeshWorkspace::MeshWorkspace(MeshWorkspace&& other) noexcept = default;
+MeshWorkspace& MeshWorkspace::operator=(const MeshWorkspace& other) {
+  if (this != &other) scratch_ = other.scratch_ ? std::make_unique<MeshScratch>(*other.scratch_) : nullptr;
+  return *this;
+}
+MeshWorkspace& MeshWorkspace::operator=(MeshWorkspace&& other) noexcept = default;
+MeshWorkspace::~MeshWorkspace() = default;
 
 namespace {
 
@@ -188,10 +233,9 @@ Status build_octree(const std::vector<Vector3d>& vertices,
 
 namespace {
 
-// The node pairs of the search wait in a heap (kHeapPairs by default), nearest bound first; past
+// The node pairs of the search wait in a heap (kMeshHeapPairs by default), nearest bound first; past
 // that it goes on depth first, where each split pops one pair and pushes at most 8: the stack
 // never grows by more than 7 per level of the current path plus one (depth_reserve).
-constexpr size_t kHeapPairs = 4096;
 size_t depth_reserve(const Octree& a, const Octree& b) { return size_t(8 * (a.depth + b.depth) + 16); }
 
 }  // namespace
@@ -206,8 +250,10 @@ Status build_octree(const std::vector<Vector3d>& points, Octree& out, const Octr
   return s;
 }
 
-void make_workspace(const Octree& a, const Octree& b, MeshWorkspace& ws) {
-  ws.stack.assign(kHeapPairs + depth_reserve(a, b), MeshWorkspace::Entry{});
+void make_workspace(const Octree& a, const Octree& b, MeshWorkspace& workspace, int heap_pairs) {
+  if (!workspace.scratch_) workspace.scratch_ = std::make_unique<MeshScratch>();
+  MeshScratch& ws = *workspace.scratch_;
+  ws.stack.assign(size_t(std::max(heap_pairs, 1)) + depth_reserve(a, b), MeshScratch::Entry{});
   ws.moved_center.assign(b.triangles.size(), Vector3d::Zero());
   ws.center_stamp.assign(b.triangles.size(), 0);
   ws.seen_a.assign(a.triangles.size(), 0);
@@ -234,13 +280,11 @@ namespace {
 // its worst case is the cold search's, plus one triangle distance (the seed) and at most one
 // batch of pairs per leaf pair; the benchmark Trajectory/bunny_full/minksum_stale_cache
 // shows it on every tick.
-Status search(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace& ws, MeshDistance& out, int seed_a,
-              int seed_b) {
-  out = MeshDistance{};
-  Box check;  // the pose's rotation must be a proper rotation, like a box's
-  check.center = pose.translation, check.rotation = pose.rotation;
-  if (const Status s = check_box(check); s != Status::Ok) return s;
+Status search(const Octree& a, const Octree& b, const Eigen::Isometry3d& pose, MeshScratch* scratch, MeshDistance& out,
+              int seed_a, int seed_b) {
   if (a.nodes.empty() || b.nodes.empty()) return Status::TooFewPoints;
+  if (!scratch) return Status::InvalidMesh;  // not a workspace from make_workspace
+  MeshScratch& ws = *scratch;
   if (ws.seen_a.size() != a.triangles.size() || ws.seen_b.size() != b.triangles.size() ||
       ws.center_stamp.size() != b.triangles.size() ||
       ws.hits.size() < size_t(b.max_leaf) || ws.near_r.size() < size_t(b.max_leaf) ||
@@ -253,8 +297,8 @@ Status search(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace&
     std::fill(ws.seen_b.begin(), ws.seen_b.end(), 0u);
     ws.stamp = 1;
   }
-  const Eigen::Matrix3d& R = pose.rotation;
-  const Vector3d& t = pose.translation;
+  const Eigen::Matrix3d R = pose.linear();
+  const Vector3d t = pose.translation();
   // Topological invariance (Section 4): every box of B has the rotation R in A's frame, so all
   // node pairs share the 15 separating axes (A's axes e_i, B's R_j, and the crosses e_i x R_j)
   // and each axis's support widths per unit half extent, |L . e_i| and |L . R_j|: one table per
@@ -333,7 +377,7 @@ Status search(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace&
   // it is full, it is sorted farthest first and the search goes on depth first on that stack
   // (nearest on top), as exact, with a bounded stack (depth_reserve). The heap takes what the
   // workspace's stack holds beyond that reserve.
-  using Entry = MeshWorkspace::Entry;
+  using Entry = MeshScratch::Entry;
   Entry* queue = ws.stack.data();
   // A total order (ties, such as the many bounds of 0 in contact, broken by the nodes): the
   // pairs a seeded search keeps then leave in the cold search's order, so that it opens no
@@ -353,7 +397,7 @@ Status search(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace&
     if (heap) std::push_heap(queue, queue + top, farther);
   };
   push({0, 0, bound2(0, 0)});
-  out.node_pairs = 1;
+  out.stats.node_pairs = 1;
   Entry e{};
   bool next = false;  // e holds the pair to visit next, not yet queued
   while (next || top > 0) {
@@ -374,8 +418,8 @@ Status search(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace&
         ca.center = na.box_center, ca.half_extents = na.box_half;
         cb.center = R * nb.box_center + t, cb.rotation = R, cb.half_extents = nb.box_half;
         Proximity p;
-        proximity(ca, cb, p, kWantMaxDistance);
-        out.first_bound = p.max_distance;
+        proximity(ca, cb, p, Want::MaxDistance);
+        out.stats.first_bound = p.max_distance;
         first_leaf_pair = false;
       }
       // Triangles nearer than `best` to the other node's box and slab, pairwise: the sphere
@@ -413,7 +457,7 @@ Status search(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace&
       // Pruned where the separation exceeds best * |axis| (NaN while best is infinite and the
       // axis zero: then nothing is pruned; for a zero axis every separation is 0).
       if (lo_b - hi_a > best * axis_len) continue;
-      ++out.leaf_pairs;
+      ++out.stats.leaf_pairs;
       const Vector3d* corners_a = &a.item_corners[size_t(3) * size_t(na.first)];
       const Vector3d* corners_b = &b.item_corners[size_t(3) * size_t(nb.first)];
       for (int x = 0; x < na.count; ++x) {
@@ -481,9 +525,9 @@ Status search(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace&
           const int y = ws.hits[h], tb = ws.near_b[y];
           if (clouds) {  // two points: their distance, no triangle kernel (bit-equal to it)
             const double d = (sa[0] - ws.near_corners[3 * y]).norm();
-            ++out.triangle_pairs;
-            if (ws.seen_a[ta] != ws.stamp) ws.seen_a[ta] = ws.stamp, ++out.candidates_a;
-            if (ws.seen_b[tb] != ws.stamp) ws.seen_b[tb] = ws.stamp, ++out.candidates_b;
+            ++out.stats.triangle_pairs;
+            if (ws.seen_a[ta] != ws.stamp) ws.seen_a[ta] = ws.stamp, ++out.stats.candidates_a;
+            if (ws.seen_b[tb] != ws.stamp) ws.seen_b[tb] = ws.stamp, ++out.stats.candidates_b;
             if (d < best) best = d, out.point_a = sa[0], out.point_b = ws.near_corners[3 * y], out.triangle_a = ta, out.triangle_b = tb;
             continue;
           }
@@ -496,9 +540,9 @@ Status search(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace&
           if (lo_b > hi_a && (lo_b - hi_a) * (lo_b - hi_a) >= best * best * axis.squaredNorm()) continue;
           if (plane_gap(na_unit, sa[0], sb) >= best) continue;
           if (plane_gap(ws.near_normal[y], sb[0], sa) >= best) continue;
-          if (ws.seen_a[ta] != ws.stamp) ws.seen_a[ta] = ws.stamp, ++out.candidates_a;
-          if (ws.seen_b[tb] != ws.stamp) ws.seen_b[tb] = ws.stamp, ++out.candidates_b;
-          ++out.triangle_pairs;
+          if (ws.seen_a[ta] != ws.stamp) ws.seen_a[ta] = ws.stamp, ++out.stats.candidates_a;
+          if (ws.seen_b[tb] != ws.stamp) ws.seen_b[tb] = ws.stamp, ++out.stats.candidates_b;
+          ++out.stats.triangle_pairs;
           // Queued for the batched kernel: the tests above see `best` as of the last flush,
           // never below the final one, so they only prune less.
           if (pairs.add(sa, sb, ta, tb)) flush();
@@ -516,7 +560,7 @@ Status search(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace&
     int n = 0;
     for (int c = parent.first_child; c < parent.first_child + parent.child_count; ++c) {
       const double b2 = split_a ? bound2(c, j) : bound2(i, c);
-      ++out.node_pairs;
+      ++out.stats.node_pairs;
       if (b2 < best * best) kids[n++] = {b2, c};
     }
     for (int k = 1; k < n; ++k)  // insertion sort, farthest first (nearest on top when depth first)
@@ -531,35 +575,62 @@ Status search(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace&
   }
   out.distance = best;
   out.intersecting = best == 0;
-  out.culled_percent_a = 100.0 * (1 - double(out.candidates_a) / double(a.triangles.size()));
-  out.culled_percent_b = 100.0 * (1 - double(out.candidates_b) / double(b.triangles.size()));
+  out.stats.culled_percent_a = 100.0 * (1 - double(out.stats.candidates_a) / double(a.triangles.size()));
+  out.stats.culled_percent_b = 100.0 * (1 - double(out.stats.candidates_b) / double(b.triangles.size()));
   return Status::Ok;
 }
 
 }  // namespace
 
-Status mesh_distance(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace& ws,
-                     MeshDistance& out) {
-  return search(a, b, pose, ws, out, -1, -1);
+namespace {
+
+// B's placement in A's frame, after both poses are checked: pose_b itself when A sits at the
+// identity (no rounding), else pose_a^-1 pose_b.
+Status relative_pose(const Eigen::Isometry3d& pose_a, const Eigen::Isometry3d& pose_b, Eigen::Isometry3d& out) {
+  if (const Status s = check_pose(pose_a); s != Status::Ok) return s;
+  if (const Status s = check_pose(pose_b); s != Status::Ok) return s;
+  const bool identity = pose_a.linear() == Eigen::Matrix3d::Identity() && pose_a.translation() == Vector3d::Zero();
+  out = identity ? pose_b : Eigen::Isometry3d(pose_a.inverse(Eigen::Isometry) * pose_b);
+  return Status::Ok;
 }
 
-Status mesh_distance(const Octree& a, const Octree& b, const Pose& pose, MeshWorkspace& ws, ProximityCache& cache,
-                     MeshDistance& out) {
+// A mesh answer's points from A's frame to the world.
+void to_world(const Eigen::Isometry3d& pose_a, MeshDistance& out) {
+  out.point_a = pose_a * out.point_a, out.point_b = pose_a * out.point_b;
+}
+
+}  // namespace
+
+Status mesh_distance(const Octree& a, const Eigen::Isometry3d& pose_a, const Octree& b, const Eigen::Isometry3d& pose_b,
+                     MeshWorkspace& ws, MeshDistance& out) {
+  out = MeshDistance{};
+  Eigen::Isometry3d pose;
+  if (const Status s = relative_pose(pose_a, pose_b, pose); s != Status::Ok) return s;
+  const Status s = search(a, b, pose, ws.scratch(), out, -1, -1);
+  if (s == Status::Ok) to_world(pose_a, out);
+  return s;
+}
+
+Status mesh_distance(const Octree& a, const Eigen::Isometry3d& pose_a, const Octree& b, const Eigen::Isometry3d& pose_b,
+                     MeshWorkspace& ws, ProximityCache& cache, MeshDistance& out) {
   using detail::kCacheMesh;
+  out = MeshDistance{};
+  Eigen::Isometry3d pose;
+  if (const Status s = relative_pose(pose_a, pose_b, pose); s != Status::Ok) return s;
   const bool seeded = cache.kind == kCacheMesh;
-  const Status s = search(a, b, pose, ws, out, seeded ? cache.a[0] : -1, seeded ? cache.b[0] : -1);
+  const Status s = search(a, b, pose, ws.scratch(), out, seeded ? cache.a[0] : -1, seeded ? cache.b[0] : -1);
+  if (s == Status::Ok) to_world(pose_a, out);
   ++(seeded && s == Status::Ok ? cache.warm : cache.cold);
   cache.kind = s == Status::Ok && out.triangle_a >= 0 ? kCacheMesh : 0u;
   cache.a[0] = out.triangle_a, cache.b[0] = out.triangle_b;
   return s;
 }
 
-Status mesh_contact(const Octree& a, const ConvexShape& shape, const Eigen::Isometry3d& pose, MeshWorkspace& ws,
+namespace {
+
+// mesh_contact with the tool placed in A's frame by `pose`.
+Status contact_in_a(const Octree& a, const ConvexShape& shape, const Eigen::Isometry3d& pose, MeshScratch& ws,
                     MeshContact& out) {
-  out = MeshContact{};
-  if (ws.parts.size() < size_t(8 * kMaxContactTriangles) || ws.part_start.size() < size_t(kMaxContactTriangles + 1))
-    return Status::InvalidMesh;  // not a workspace from make_workspace
-  if (const Status s = check_pose(pose); s != Status::Ok) return s;
   if (a.nodes.empty() || shape.empty()) return Status::TooFewPoints;
   const ConvexPolytope& tool = shape.polytope();
   const int nv = int(tool.vertices.size());
@@ -669,7 +740,7 @@ Status mesh_contact(const Octree& a, const ConvexShape& shape, const Eigen::Isom
     corners(hit[0], t);
     u = unit_normal(t);
   }
-  out.direction = u;
+  out.penetration_direction = u;
   // Pass 2: how far the tool must move along u until no part is inside it: for each corner p
   // of the parts, the ray p - lambda u stays in the tool until the first face it leaves by.
   int facing[2 * kMaxToolVertices], nfacing = 0;  // the faces a ray along -u can leave by
@@ -683,11 +754,25 @@ Status mesh_contact(const Octree& a, const ConvexShape& shape, const Eigen::Isom
         const int f = facing[i];
         lambda = std::min(lambda, std::max(0.0, plane_o[f] - plane_n[f].dot(p)) / -plane_n[f].dot(u));
       }
-      if (std::isfinite(lambda) && (lambda > out.depth || out.triangle < 0))
-        out.depth = lambda, out.point = p, out.triangle = hit[h];
+      if (std::isfinite(lambda) && (lambda > out.penetration_depth || out.triangle < 0))
+        out.penetration_depth = lambda, out.point = p, out.triangle = hit[h];
     }
   }
   return Status::Ok;
+}
+
+}  // namespace
+
+Status mesh_contact(const Octree& a, const Eigen::Isometry3d& pose_a, const ConvexShape& shape,
+                    const Eigen::Isometry3d& pose_tool, MeshWorkspace& ws, MeshContact& out) {
+  out = MeshContact{};
+  if (!ws.scratch()) return Status::InvalidMesh;  // not a workspace from make_workspace
+  Eigen::Isometry3d pose;
+  if (const Status s = relative_pose(pose_a, pose_tool, pose); s != Status::Ok) return s;
+  const Status s = contact_in_a(a, shape, pose, *ws.scratch(), out);
+  if (out.intersecting) out.penetration_direction = pose_a.linear() * out.penetration_direction;
+  if (out.triangle >= 0) out.point = pose_a * out.point;
+  return s;
 }
 
 }  // namespace minksum

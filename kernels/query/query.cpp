@@ -111,8 +111,12 @@ bool contains(const MinkowskiSum& m, const Vector3d& p) {
   return true;
 }
 
-Proximity proximity(const MinkowskiSum& m, const ConvexPolytope& a, const ConvexPolytope& b) {
-  Proximity out;
+Status proximity(const MinkowskiSum& m, const ConvexPolytope& a, const ConvexPolytope& b, Proximity& out) {
+  out = Proximity{};
+  if (m.F < 4 || m.V < 4 || int(m.planes.size()) != m.F || int(m.vertices.size()) != m.V) return Status::TooFewPoints;
+  for (const SumVertex& v : m.vertices)
+    if (v.i < 0 || v.j < 0 || size_t(v.i) >= a.vertices.size() || size_t(v.j) >= b.vertices.size())
+      return Status::InvalidMesh;
   farthest(m, a, b, out);
   // Inside M (every offset >= 0): intersecting; the nearest facet is the minimum translation.
   // Within rounding of the boundary (offsets are exact only to a few ulps of M's size) the
@@ -131,7 +135,7 @@ Proximity proximity(const MinkowskiSum& m, const ConvexPolytope& a, const Convex
     // Deepest points: the origin's projection onto that facet, pulled back to A and B.
     witness_points(m, a, b, closest_on_facet(m, m.facet(nearest), m.planes[nearest].normal),
                    out.point_a, out.point_b);
-    return out;
+    return Status::Ok;
   }
   // Outside: the closest point of M lies on a facet whose plane separates the origin.
   Witness best;
@@ -142,7 +146,7 @@ Proximity proximity(const MinkowskiSum& m, const ConvexPolytope& a, const Convex
   }
   out.distance = std::sqrt(best.dist2);
   witness_points(m, a, b, best, out.point_a, out.point_b);
-  return out;
+  return Status::Ok;
 }
 
 double penetration_along(const MinkowskiSum& m, const Vector3d& u) {
@@ -214,9 +218,9 @@ namespace {
 bool box_box_proximity(const Box& a, const Box& b, Proximity& out, Want want, unsigned& active) {
   detail::BoxPair<double> pair;
   detail::PairAnswer<double> r;
-  if (!(want & kWantContact)) active = 0;
-  detail::box_pair_proximity(a, b, want & kWantContact, active, pair, r);
-  if (want & kWantContact) {
+  if (!has(want, Want::Contact)) active = 0;
+  detail::box_pair_proximity(a, b, has(want, Want::Contact), active, pair, r);
+  if (has(want, Want::Contact)) {
     if (!r.converged) {
       box_box_exhaustive(a, b, out);
     } else {
@@ -227,12 +231,12 @@ bool box_box_proximity(const Box& a, const Box& b, Proximity& out, Want want, un
       out.point_a = Vector3d(r.point_a), out.point_b = Vector3d(r.point_b);
     }
   }
-  if ((want & kWantMaxDistance) && r.warm) {  // the warm path loaded only part of the pair
+  if (has(want, Want::MaxDistance) && r.warm) {  // the warm path loaded only part of the pair
     unsigned none = 0;
     detail::PairAnswer<double> unused;
     detail::box_pair_proximity(a, b, false, none, pair, unused);
   }
-  if (want & kWantMaxDistance) box_box_farthest(pair, out);
+  if (has(want, Want::MaxDistance)) box_box_farthest(pair, out);
   return r.warm;
 }
 
@@ -285,7 +289,7 @@ Status proximity(const Box& a, const Box& b, Proximity& out, Want want) {
   unsigned cold = 0;
   bool warm = false;
   const Status s = box_query(a, b, out, want, cold, warm);
-  if (s == Status::Ok && (want & kWantContact)) box_patch(a, b, out);
+  if (s == Status::Ok && has(want, Want::Contact)) box_patch(a, b, out);
   return s;
 }
 
@@ -293,7 +297,7 @@ Status proximity(const Box& a, const Box& b, ProximityCache& cache, Proximity& o
   unsigned active = cache.kind == kCacheBoxBox ? cache.active : 0u;
   bool warm = false;
   const Status s = box_query(a, b, out, want, active, warm);
-  if (s == Status::Ok && (want & kWantContact)) box_patch(a, b, out);
+  if (s == Status::Ok && has(want, Want::Contact)) box_patch(a, b, out);
   cache.kind = kCacheBoxBox, cache.active = s == Status::Ok ? active : 0u;
   ++(warm ? cache.warm : cache.cold);
   return s;
@@ -1543,8 +1547,8 @@ template <class A, class B>
 void exact_proximity(const A& a, const B& b, Proximity& out, Want want, Features* features = nullptr) {
   out = Proximity{};
   const Tolerances t = tolerances(a, b);
-  if (want & kWantMaxDistance) farthest_pair(a, b, t.k, out);
-  if (!(want & kWantContact)) return;
+  if (has(want, Want::MaxDistance)) farthest_pair(a, b, t.k, out);
+  if (!has(want, Want::Contact)) return;
   int fa[4], fb[4];
   const int first = 0;
   int found = gjk_features(a, b, t.k, &first, &first, 1, fa, fb);
@@ -1590,7 +1594,7 @@ bool warm_depth(const A& a, const B& b, const ProximityCache& cache, const Toler
 template <class A, class B>
 MINKSUM_FLATTEN bool warm_proximity(const A& a, const B& b, const ProximityCache& cache, Proximity& out, Want want,
                                      Features& f) {
-  if (cache.kind != kCacheConvex || !(want & kWantContact)) return false;
+  if (cache.kind != kCacheConvex || !has(want, Want::Contact)) return false;
   for (int j = 0; j < 3; ++j)
     if (cache.a[j] < 0 || cache.a[j] >= a.size() || cache.b[j] < 0 || cache.b[j] >= b.size()) return false;
   const Tolerances t = tolerances(a, b);
@@ -1611,7 +1615,7 @@ MINKSUM_FLATTEN bool warm_proximity(const A& a, const B& b, const ProximityCache
   const double clear = 1e-9 * t.reach;
   ok = ok && (out.intersecting ? out.penetration_depth > clear : out.distance > clear);
   if (!ok) return out = Proximity{}, f = Features{}, false;
-  if (want & kWantMaxDistance) farthest_pair(a, b, t.k, out);
+  if (has(want, Want::MaxDistance)) farthest_pair(a, b, t.k, out);
   return true;
 }
 

@@ -163,8 +163,8 @@ void sequence(fuzz::Bytes& in, int kind) {
       sc = proximity(a, t, cold), sw = proximity(a, t, cache, warm);
       reach = largest({a.center, t.a, t.b, t.c}) + a.half_extents.cwiseAbs().sum();
     } else {
-      sc = proximity(A, Eigen::Isometry3d::Identity(), B, pose, cold, kWantContact);
-      sw = proximity(A, Eigen::Isometry3d::Identity(), B, pose, cache, warm, kWantContact);
+      sc = proximity(A, Eigen::Isometry3d::Identity(), B, pose, cold, Want::Contact);
+      sw = proximity(A, Eigen::Isometry3d::Identity(), B, pose, cache, warm, Want::Contact);
       for (const auto& v : A.polytope().vertices) reach = std::max(reach, largest({v}));
       for (const auto& v : B.polytope().vertices) reach = std::max(reach, largest({pose * v}));
     }

@@ -53,11 +53,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     for (int k : t) extent = std::max(extent, mesh.vertices[k].cwiseAbs().maxCoeff());
   if (mesh.triangles.empty())
     for (const auto& v : mesh.vertices) extent = std::max(extent, v.cwiseAbs().maxCoeff());
-  Pose pose;
-  pose.rotation = Eigen::AngleAxisd(0.1 + data[0] / 40.0, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
-  pose.translation = Eigen::Vector3d(0.3, -0.2, 0.1) * extent * (data[size - 1] % 8) / 2.0;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = Eigen::AngleAxisd(0.1 + data[0] / 40.0, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  pose.translation() = Eigen::Vector3d(0.3, -0.2, 0.1) * extent * (data[size - 1] % 8) / 2.0;
   MeshDistance d;
-  if (mesh_distance(tree, tree, pose, ws, d) != Status::Ok) return 0;
+  if (mesh_distance(tree, Eigen::Isometry3d::Identity(), tree, pose, ws, d) != Status::Ok) return 0;
   if (!(d.distance >= 0 && std::isfinite(d.distance))) fuzz::fail("mesh distance not finite and >= 0");
   // The octree prunes with lower bounds only: it must find what all pairs find.
   if (std::max(mesh.triangles.size(), mesh.triangles.empty() ? mesh.vertices.size() : 0) <= 300) {
