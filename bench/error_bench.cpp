@@ -30,7 +30,7 @@
 #include <random>
 
 #include "cgal_peer.hpp"
-#include "tools/shapes.hpp"
+#include "support/shapes.hpp"
 
 namespace {
 

@@ -14,7 +14,7 @@
 
 #include "bullet_peer.hpp"
 #include "fcl_peer.hpp"
-#include "tools/shapes.hpp"
+#include "support/shapes.hpp"
 
 namespace {
 

@@ -9,7 +9,7 @@
 #include <random>
 
 #include "core/hull.hpp"
-#include "tools/shapes.hpp"
+#include "support/shapes.hpp"
 
 namespace {
 

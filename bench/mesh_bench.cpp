@@ -28,7 +28,7 @@
 
 #include "fcl_peer.hpp"
 #include "nanoflann_peer.hpp"
-#include "tools/mesh_io.hpp"
+#include "support/mesh_io.hpp"
 
 namespace {
 

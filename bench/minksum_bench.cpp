@@ -39,7 +39,7 @@
 #include "bullet_peer.hpp"
 #include "cgal_peer.hpp"
 #include "core/hull.hpp"
-#include "tools/shapes.hpp"
+#include "support/shapes.hpp"
 
 namespace {
 

@@ -13,7 +13,7 @@
 #include <random>
 
 #include "fcl_peer.hpp"
-#include "tools/shapes.hpp"
+#include "support/shapes.hpp"
 
 namespace {
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "commands.hpp"
-#include "tools/mesh_io.hpp"
+#include "support/mesh_io.hpp"
 
 namespace minksum::cli {
 

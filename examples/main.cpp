@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "commands.hpp"
-#include "tools/io.hpp"
-#include "tools/shapes.hpp"
+#include "support/io.hpp"
+#include "support/shapes.hpp"
 
 namespace minksum::cli {
 

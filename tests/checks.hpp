@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "tools/mesh_io.hpp"
+#include "support/mesh_io.hpp"
 
 namespace minksum::test {
 

@@ -14,7 +14,7 @@
 #include "cgal_peer.hpp"
 #include "checks.hpp"
 #include "ties.hpp"
-#include "tools/shapes.hpp"
+#include "support/shapes.hpp"
 
 namespace minksum {
 namespace {

@@ -16,8 +16,8 @@
 #include <minksum/kernels.hpp>
 
 #include "checks.hpp"
-#include "tools/io.hpp"
-#include "tools/shapes.hpp"
+#include "support/io.hpp"
+#include "support/shapes.hpp"
 
 namespace minksum {
 namespace {

@@ -6,7 +6,7 @@
 
 #include "checks.hpp"
 #include "ties.hpp"
-#include "tools/mesh_io.hpp"
+#include "support/mesh_io.hpp"
 
 #include <cstdlib>
 #include <random>

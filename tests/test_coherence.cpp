@@ -8,8 +8,8 @@
 
 #include "checks.hpp"
 #include "ties.hpp"
-#include "tools/mesh_io.hpp"
-#include "tools/shapes.hpp"
+#include "support/mesh_io.hpp"
+#include "support/shapes.hpp"
 
 namespace minksum {
 namespace {

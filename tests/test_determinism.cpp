@@ -12,7 +12,7 @@
 
 #include "checks.hpp"
 #include "ties.hpp"
-#include "tools/shapes.hpp"
+#include "support/shapes.hpp"
 
 namespace minksum {
 namespace {

@@ -7,7 +7,7 @@
 #include <minksum/minksum.hpp>
 
 #include "checks.hpp"
-#include "tools/shapes.hpp"
+#include "support/shapes.hpp"
 
 namespace minksum {
 namespace {

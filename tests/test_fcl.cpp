@@ -16,8 +16,8 @@
 #include "bullet_peer.hpp"
 #include "fcl_peer.hpp"
 #include "nanoflann_peer.hpp"
-#include "tools/mesh_io.hpp"
-#include "tools/shapes.hpp"
+#include "support/mesh_io.hpp"
+#include "support/shapes.hpp"
 
 namespace minksum {
 namespace {

@@ -15,7 +15,7 @@
 #include "checks.hpp"
 #include "kernel_reference.hpp"
 #include "ties.hpp"
-#include "tools/shapes.hpp"
+#include "support/shapes.hpp"
 
 namespace minksum {
 namespace {

@@ -13,8 +13,8 @@
 #include "checks.hpp"
 #include "exact_distance.hpp"
 #include "ties.hpp"
-#include "tools/mesh_io.hpp"
-#include "tools/shapes.hpp"
+#include "support/mesh_io.hpp"
+#include "support/shapes.hpp"
 
 namespace minksum {
 namespace {

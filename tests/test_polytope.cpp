@@ -2,7 +2,7 @@
 #include <gtest/gtest.h>
 #include <minksum/minksum.hpp>
 
-#include "tools/shapes.hpp"
+#include "support/shapes.hpp"
 
 namespace minksum {
 namespace {

@@ -11,7 +11,7 @@
 #include "simd/box_pair.hpp"
 #include "checks.hpp"
 #include "ties.hpp"
-#include "tools/shapes.hpp"
+#include "support/shapes.hpp"
 
 namespace minksum {
 namespace {

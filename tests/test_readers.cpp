@@ -13,8 +13,8 @@
 #include <unistd.h>
 
 #include "checks.hpp"
-#include "tools/io.hpp"
-#include "tools/mesh_io.hpp"
+#include "support/io.hpp"
+#include "support/mesh_io.hpp"
 
 namespace minksum {
 namespace {

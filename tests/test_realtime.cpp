@@ -7,8 +7,8 @@
 #include <random>
 
 #include "haptics/loop.hpp"
-#include "tools/mesh_io.hpp"
-#include "tools/shapes.hpp"
+#include "support/mesh_io.hpp"
+#include "support/shapes.hpp"
 
 namespace minksum {
 namespace {

@@ -9,7 +9,7 @@
 
 #include "checks.hpp"
 #include "ties.hpp"
-#include "tools/shapes.hpp"
+#include "support/shapes.hpp"
 
 namespace {
 

@@ -10,7 +10,7 @@
 #include "checks.hpp"
 #include "sum/sum_internal.hpp"
 #include "ties.hpp"
-#include "tools/shapes.hpp"
+#include "support/shapes.hpp"
 
 namespace minksum {
 namespace {

@@ -9,7 +9,7 @@
 #include <thread>
 
 #include "ties.hpp"
-#include "tools/shapes.hpp"
+#include "support/shapes.hpp"
 
 namespace {
 

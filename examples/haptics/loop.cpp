@@ -14,8 +14,8 @@
 #include <sched.h>
 #include <sys/mman.h>
 
-#include "tools/mesh_io.hpp"
-#include "tools/shapes.hpp"
+#include "support/mesh_io.hpp"
+#include "support/shapes.hpp"
 
 namespace minksum::haptics {
 

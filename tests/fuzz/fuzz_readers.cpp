@@ -9,8 +9,8 @@
 #include <string>
 #include <unistd.h>
 
-#include "tools/io.hpp"
-#include "tools/mesh_io.hpp"
+#include "support/io.hpp"
+#include "support/mesh_io.hpp"
 
 using namespace minksum;
 

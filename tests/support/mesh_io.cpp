@@ -1,7 +1,7 @@
 // Mesh input (STL through assimp, the others through the strict reader of io.cpp); the libcgal-demo fallback reads one member of a .tar.gz with zlib.
-#include "tools/mesh_io.hpp"
+#include "support/mesh_io.hpp"
 
-#include "tools/io.hpp"
+#include "support/io.hpp"
 
 #include <assimp/DefaultLogger.hpp>
 #include <assimp/Importer.hpp>

@@ -1,4 +1,4 @@
-#include "shapes.hpp"
+#include "support/shapes.hpp"
 
 #include <Eigen/Geometry>
 #include <algorithm>
