@@ -2,6 +2,8 @@
 // geometry stage: no shape, no sum, no kernel table below it.
 #include <minksum/kernels.hpp>
 
+#include "core/scale.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -31,8 +33,8 @@ double segment_segment(const Vector3d& p0, const Vector3d& p1, const Vector3d& q
       const double b = d1.dot(d2);
       // a e - b^2 = |d1 x d2|^2 and b f - c e = (d1 x d2) . (d2 x r) (Lagrange's identity),
       // without the cancellation for near-parallel segments: as products of dots both lose
-      // eps L^4, which is all of them for segments 1e9 times longer than apart (a fuzz finding:
-      // 2.03e76 for 1.30e76 on needles 1.4e86 long).
+      // eps L^4, which is all of them for segments 1e9 times longer than apart (on needles
+      // 1.4e86 long: 2.03e76 for 1.30e76).
       const Vector3d x = d1.cross(d2);
       const double denom = x.squaredNorm();
       s = denom > 0 ? std::clamp(x.dot(d2.cross(r)) / denom, 0.0, 1.0) : 0.0;
@@ -49,8 +51,7 @@ double segment_segment(const Vector3d& p0, const Vector3d& p1, const Vector3d& q
 // lies inside:
 // edge tests against the normal. Elsewhere an edge of v holds p's closest point, which the
 // edge pairs of triangle_distance cover. (Ericson's barycentric region tests, section 5.1.5,
-// cancel on slivers: a vertex lying in a 0.06-wide, 700-long triangle was put 9e-7 away, a
-// fuzz finding.)
+// cancel on slivers: they put a vertex lying in a 0.06-wide, 700-long triangle 9e-7 away.)
 bool onto_face(const Vector3d& p, const Vector3d (&v)[3], const Vector3d& n, double inv, Vector3d& q) {
   q = p - n * (n.dot(p - v[0]) * inv);
   return (v[1] - v[0]).cross(q - v[0]).dot(n) >= 0 && (v[2] - v[1]).cross(q - v[1]).dot(n) >= 0 &&
@@ -72,8 +73,8 @@ bool pierces(const Vector3d& p, const Vector3d& q, const Vector3d (&t)[3], const
 // The triangle turned (cyclically: the same orientation) so that its first corner is opposite
 // its longest edge: the normal (v1 - v0) x (v2 - v0) is then the cross product of the two
 // shortest edges, whose rounding relative to the area, eps |e1| |e2| / 2A, is the least. (Of
-// a needle 1e10 long and 100 wide, the normal from its far corner turned by 3e-8, which moved
-// its plane by 400 at the near end: a fuzz finding, distance 0 for shapes 24.7 apart.)
+// a needle 1e10 long and 100 wide, the normal from its far corner turns by 3e-8, which moves
+// its plane by 400 at the near end: distance 0 for shapes 24.7 apart.)
 void apex_first(Vector3d (&v)[3]) {
   const double e[3] = {(v[1] - v[0]).squaredNorm(), (v[2] - v[1]).squaredNorm(), (v[0] - v[2]).squaredNorm()};
   const int k = e[1] >= e[0] && e[1] >= e[2] ? 0 : e[2] >= e[0] ? 1 : 2;  // e[1] is opposite v0
@@ -86,14 +87,11 @@ double triangle_distance(const Vector3d (&s_in)[3], const Vector3d (&t_in)[3], V
                          Vector3d& pt) {
   // Work relative to one corner (coordinates far from the origin keep their precision), scaled
   // by a power of two to about 1 (exact): the segment test multiplies four coordinates, which
-  // would overflow beyond 1e77 (a fuzz finding: an infinite distance at 1e86) or underflow.
+  // would overflow beyond 1e77 (an infinite distance at 1e86) or underflow.
   const Vector3d o = s_in[0];
   double size = 0;
   for (const Vector3d* v : {&s_in[1], &s_in[2], &t_in[0], &t_in[1], &t_in[2]}) size = std::max(size, (*v - o).cwiseAbs().maxCoeff());
-  int exponent = 0;
-  std::frexp(size, &exponent);
-  // (At most 2^1000: a subnormal size's 2^-exponent would overflow; 2^1000 makes it normal.)
-  const double shrink = size > 0 ? std::ldexp(1.0, std::min(-exponent, 1000)) : 1.0;
+  const double shrink = detail::scale_to_one(size);
   Vector3d s[3] = {Vector3d::Zero(), shrink * (s_in[1] - o), shrink * (s_in[2] - o)};
   Vector3d t[3] = {shrink * (t_in[0] - o), shrink * (t_in[1] - o), shrink * (t_in[2] - o)};
   apex_first(s), apex_first(t);

@@ -7,6 +7,7 @@
 
 #include <minksum/kernels.hpp>
 
+#include "core/scale.hpp"
 #include "geometry/closest.hpp"
 #include "simd/box_pair.hpp"
 #include "query/cache_kinds.hpp"
@@ -246,8 +247,8 @@ Status box_query(const Box& a, const Box& b, Proximity& out, Want want, unsigned
   warm = false;
   for (const Box* x : {&a, &b})
     if (const Status s = check_box(*x); s != Status::Ok) return s;
-  // Lengths far from 1 over- or underflow in the products of the pair computation (fuzz
-  // findings: NaN for a box of 1e-312 next to one of 200): then it works relative to A's
+  // Lengths far from 1 over- or underflow in the products of the pair computation (NaN for a
+  // box of 1e-312 next to one of 200): then it works relative to A's
   // centre, scaled by a power of two (exact), with half extents below 2^-100 (1e-30) of the
   // pair's size raised to that (the answer moves by less), and the answer is scaled back.
   const Vector3d o = a.center;
@@ -257,11 +258,8 @@ Status box_query(const Box& a, const Box& b, Proximity& out, Want want, unsigned
     warm = box_box_proximity(a, b, out, want, active);
     return Status::Ok;
   }
-  // (The scale is at most 2^1000: for a subnormal pair 2^-exponent would overflow to inf, a
-  // fuzz finding; 2^1000 makes it normal.) Such pairs are answered cold.
-  int exponent = 0;
-  std::frexp(big, &exponent);
-  const double k = std::ldexp(1.0, std::min(-exponent, 1000));
+  // Such pairs are answered cold.
+  const double k = detail::scale_to_one(big);
   Box sa = a, sb = b;
   sa.center.setZero(), sb.center = k * (b.center - o);
   for (Box* x : {&sa, &sb}) x->half_extents = (k * x->half_extents).cwiseMax(std::ldexp(k * big, -100));
@@ -670,8 +668,8 @@ bool nearest_on_simplex(const Vector3d* w, int n, double (&lambda)[4]) {
   if (n == 3) return triangle(0, 1, 2, lambda), true;
   // Tetrahedron: the nearest of the faces whose plane has the origin on the far side from the
   // fourth point (none: the origin is inside). A tetrahedron flat to rounding has no inside
-  // whose sign can be trusted (a fuzz-like case: face-to-face pairs 1e-6 apart gave "inside"):
-  // every face is a candidate.
+  // whose sign can be trusted (face-to-face pairs 1e-6 apart would read as "inside"): every
+  // face is a candidate.
   static constexpr int kFace[4][4] = {{0, 1, 2, 3}, {0, 2, 3, 1}, {0, 3, 1, 2}, {1, 3, 2, 0}};
   const Vector3d e1 = w[1] - w[0], e2 = w[2] - w[0], e3 = w[3] - w[0];
   const bool flat = !(std::abs(e1.dot(e2.cross(e3))) > 1e-12 * e1.norm() * e2.norm() * e3.norm());
@@ -830,8 +828,8 @@ bool certified_distance(const A& a, const B& b, const Vector3d* s, const Vector3
   d = triangle_distance(s3, t3, p, q);
   if (!(d > touching + slack)) return false;
   const Vector3d n0 = (q - p) / d;
-  // (Both sides: d below the planes' bound means p and q are not on A and B, a fuzz finding
-  // where triangle_distance misjudged a triangle 1e10 long.)
+  // (Both sides: d below the planes' bound means p and q are not on A and B, as where
+  // triangle_distance misjudges a triangle 1e10 long.)
   const auto proves = [&](const Vector3d& n) {
     c = heights(a, b, n, tau);
     return std::abs(d - (c.bottom - c.top)) <= slack;
@@ -885,7 +883,7 @@ double area2(const Patch& x) {
 
 // A patch narrower than tol made what it is at that tolerance: a segment between its two
 // farthest points, or a point. (At coordinates of 1e86 a face 50 wide rounds to a polygon of
-// coincident points, whose zero-length edges would hold every point: a fuzz finding.)
+// coincident points, whose zero-length edges would hold every point.)
 void settle(Patch& x, double tol) {
   if (x.size < 2) return;
   const auto farthest = [&](const Eigen::Vector2d& from) {
@@ -1134,9 +1132,9 @@ MINKSUM_FLATTEN bool certified_depth(const A& a, const B& b, const int (&ta)[4],
   // Face u, v, x (counter-clockwise seen from outside), kept only with the origin inside by
   // more than `touching` and than the rounding of its offset d: the points carry eps |w| each,
   // which turns the normal by eps W (|e1| + |e2|) / |e1 x e2| (and the cross product's own
-  // rounding by eps |e1| |e2| / |e1 x e2|), and d by that times W. (A fuzz finding: faces
-  // between a needle's far end, 1e10 away, and points 40 apart, whose normal rounding turns
-  // by 1e-7, gave an origin 24.7 outside M a "depth" of 4.6.)
+  // rounding by eps |e1| |e2| / |e1 x e2|), and d by that times W. (Faces between a needle's
+  // far end, 1e10 away, and points 40 apart have normals turned by 1e-7: unchecked, they give
+  // an origin 24.7 outside M a "depth" of 4.6.)
   const auto add = [&](int u, int v, int x) {
     if (nf == kFaces) return false;
     const Vector3d e1 = w[v] - w[u], e2 = w[x] - w[u];
@@ -1154,8 +1152,8 @@ MINKSUM_FLATTEN bool certified_depth(const A& a, const B& b, const int (&ta)[4],
   for (int k = 0; k < 4; ++k) w[k] = a.vertex(ta[k]) - b.vertex(tb[k]), ia[k] = ta[k], ib[k] = tb[k];
   np = 4;
   static constexpr int kTet[4][4] = {{0, 1, 2, 3}, {0, 3, 1, 2}, {0, 2, 3, 1}, {1, 3, 2, 0}};
-  // A sliver tetrahedron's orientation is rounding (a fuzz finding: a needle 1e3 times longer
-  // than wide gave faces wound both ways, and a "depth" for separated shapes): none of it is
+  // A sliver tetrahedron's orientation is rounding (of a needle 1e3 times longer than wide,
+  // faces come out wound both ways, and separated shapes get a "depth"): none of it is
   // trusted below 1e-9 of its edges' product.
   const Vector3d e1 = w[1] - w[0], e2 = w[2] - w[0], e3 = w[3] - w[0];
   if (!(std::abs(e1.cross(e2).dot(e3)) > 1e-9 * e1.norm() * e2.norm() * e3.norm())) return false;
@@ -1246,14 +1244,6 @@ void farthest_pair(const A& a, const B& b, double k, Proximity& out) {
   out.max_distance = length(out.far_a - out.far_b);
 }
 
-// A power of two near 1 / reach (1 for 0), so that scaled squared lengths neither overflow nor
-// underflow.
-double scale_of(double reach) {
-  int exponent = 0;
-  std::frexp(reach, &exponent);
-  return reach > 0 ? std::ldexp(1.0, std::min(-exponent, 1000)) : 1.0;
-}
-
 
 // The tolerances of one query, from the largest coordinate of its shapes (reach; a bound for a
 // posed shape, so that the cold and the coherent query use the same): `slack`, what a
@@ -1269,7 +1259,7 @@ template <class A, class B>
 Tolerances tolerances(const A& a, const B& b) {
   Tolerances t;
   t.reach = std::max(a.reach(), b.reach());
-  t.k = scale_of(t.reach);
+  t.k = detail::scale_to_one(t.reach);  // scaled squared lengths neither overflow nor underflow
   t.slack = 64 * std::numeric_limits<double>::epsilon() * t.reach;
   t.touching = t.slack, t.tau = 4 * t.slack, t.margin = 1e-9 * t.reach;
   return t;
@@ -1554,8 +1544,8 @@ void exact_proximity(const A& a, const B& b, Proximity& out, Want want, Features
   int found = gjk_features(a, b, t.k, &first, &first, 1, fa, fb);
   if (certified(a, b, found, fa, fb, t, out, features)) return;
   // Once more from the supports along the line between the first vertices: rounding stalls GJK
-  // on needles and slivers from one start and not from another (a fuzz finding: a triangle
-  // 1e10 long, where the search below also misjudges).
+  // on needles and slivers from one start and not from another (a triangle 1e10 long, where
+  // the search below also misjudges).
   double unused;
   const Vector3d d = b.vertex(0) - a.vertex(0);
   const int sa = highest(a, d, unused), sb = highest(b, Vector3d(-d), unused);
@@ -1609,9 +1599,9 @@ MINKSUM_FLATTEN bool warm_proximity(const A& a, const B& b, const ProximityCache
     ok = certified(a, b, found, fa, fb, t, out, &f);
   }
   // Apart or overlapping by less than 1e-9 of the coordinates (touching included), the verdict
-  // rests on the touching tolerance, which the cold query may reach from other features (fuzz
-  // findings at coordinates of 1e86: 1e74 apart cold and touching warm, and the reverse): the
-  // cold query answers.
+  // rests on the touching tolerance, which the cold query may reach from other features (at
+  // coordinates of 1e86: 1e74 apart cold and touching warm, and the reverse): the cold query
+  // answers.
   const double clear = 1e-9 * t.reach;
   ok = ok && (out.intersecting ? out.penetration_depth > clear : out.distance > clear);
   if (!ok) return out = Proximity{}, f = Features{}, false;

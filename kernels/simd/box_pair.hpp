@@ -25,11 +25,6 @@ struct BoxPair {
   T uc[6];    // u_k . c
 };
 
-/// One box as plain pointers into it: centre, rotation (column-major), half extents.
-struct BoxView {
-  const double *c, *u, *h;
-};
-
 template <class T>
 struct SatResult {
   T separation;     // largest separation over the axes (negative: the smallest overlap)
@@ -69,7 +64,7 @@ struct BoxPairQuery {
 
   // The zonotope A (-) B of boxes a and b, computed from locals and stored once: reading back
   // what was just stored element by element with wider loads stalls (store forwarding fails).
-  MINKSUM_SCALAR_CODE static void load(const BoxView& a, const BoxView& b, BoxPair<T>& p) {
+  MINKSUM_SCALAR_CODE static void load(const BoxLanes<double>& a, const BoxLanes<double>& b, BoxPair<T>& p) {
     T u[6][3], h[6], c[3];
     for (int d = 0; d < 3; ++d) c[d] = T(a.c[d] - b.c[d]), p.ca[d] = T(a.c[d]);
     for (int k = 0; k < 3; ++k) {
@@ -265,7 +260,7 @@ struct BoxPairQuery {
   /// (kActiveSet) and proves optimal for separated boxes (out.warm; then p holds only what
   /// that path reads), else cold. `active` returns the answer's active set (0 when the boxes
   /// overlap: the next query starts cold).
-  MINKSUM_SCALAR_CODE static void box_pair(const BoxView& a, const BoxView& b, bool answer, unsigned& active,
+  MINKSUM_SCALAR_CODE static void box_pair(const BoxLanes<double>& a, const BoxLanes<double>& b, bool answer, unsigned& active,
                                            BoxPair<T>& p, PairAnswer<T>& out) {
     out.warm = false;
     if (answer && (active & kActiveSet)) {
@@ -277,7 +272,7 @@ struct BoxPairQuery {
   }
 
   // What the warm path reads of the pair: c, ca, h and the generators (not C nor u . c).
-  MINKSUM_SCALAR_CODE static void load_generators(const BoxView& a, const BoxView& b, BoxPair<T>& p) {
+  MINKSUM_SCALAR_CODE static void load_generators(const BoxLanes<double>& a, const BoxLanes<double>& b, BoxPair<T>& p) {
     for (int d = 0; d < 3; ++d) p.c[d] = T(a.c[d] - b.c[d]), p.ca[d] = T(a.c[d]);
     for (int k = 0; k < 3; ++k) {
       p.h[k] = T(a.h[k]), p.h[3 + k] = T(b.h[k]);

@@ -148,6 +148,14 @@ void triangle_distance(const double* s, const double* t, int count, int stride, 
   triangle_lanes(s, t, count, stride, distance, point_s, point_t, dispatch().tri_tri_d);
 }
 
+namespace {
+
+// One box as a single lane (stride 1) of the kernels' structure of arrays, read in place:
+// Eigen's column-major rotation is already the lanes' u layout.
+BoxLanes<double> one_lane(const Box& b) { return {b.center.data(), b.rotation.data(), b.half_extents.data()}; }
+
+}  // namespace
+
 void pack_box_pair(const Box& a, const Box& b, double (&in)[30]) {
   for (int d = 0; d < 3; ++d) {
     in[d] = a.center[d], in[3 + d] = b.center[d];
@@ -160,9 +168,7 @@ void pack_box_pair(const Box& a, const Box& b, double (&in)[30]) {
 
 void box_pair_proximity(const Box& a, const Box& b, bool answer, unsigned& active, BoxPair<double>& pair,
                         PairAnswer<double>& out) {
-  const BoxView va{a.center.data(), a.rotation.data(), a.half_extents.data()};
-  const BoxView vb{b.center.data(), b.rotation.data(), b.half_extents.data()};
-  dispatch().box_pair_d(va, vb, answer, active, pair, out);
+  dispatch().box_pair_d(one_lane(a), one_lane(b), answer, active, pair, out);
 }
 
 }  // namespace detail
@@ -178,19 +184,6 @@ void support_push(const double* x, const double* y, const double* z, int n, cons
 }
 
 namespace {
-
-// One box as a single lane (stride 1) of the kernels' structure of arrays.
-struct OneBox {
-  double c[3], u[9], h[3];
-  explicit OneBox(const Box& b) {
-    for (int d = 0; d < 3; ++d) {
-      c[d] = b.center[d];
-      h[d] = b.half_extents[d];
-      for (int a = 0; a < 3; ++a) u[3 * a + d] = b.rotation(d, a);
-    }
-  }
-  detail::BoxLanes<double> lanes() const { return {c, u, h}; }
-};
 
 // Converts a single-lane box-triangle result: plane p and p + 13 share axis p; each plane has
 // its own code; bit 30 of valid marks a degenerate triangle.
@@ -230,13 +223,12 @@ KernelPlane BoxBoxPair::plane(int p) const {
 
 void box_triangle_planes(const Box& box, const Triangle& tri, bool difference,
                          KernelPlane (&out)[26]) {
-  const OneBox lb(box);
   double v[9], n[39], offset[26];
   const Eigen::Vector3d* p[3] = {&tri.a, &tri.b, &tri.c};
   for (int i = 0; i < 3; ++i)
     for (int d = 0; d < 3; ++d) v[3 * i + d] = (*p[i])[d];
   std::int64_t code[26], valid;
-  detail::kTableScalar.box_tri_d(lb.lanes(), v, 1, 1, difference, {n, offset, code, &valid});
+  detail::kTableScalar.box_tri_d(detail::one_lane(box), v, 1, 1, difference, {n, offset, code, &valid});
   read_triangle_planes(n, offset, code, valid, out);
 }
 

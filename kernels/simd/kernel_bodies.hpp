@@ -488,8 +488,8 @@ struct Kernels {
     fold_all(fold, r.c, r.ca, r.g, r.g2, std::make_integer_sequence<int, 15>{});
     // Separated or not is one decision, the separating axis test's: judging each facet's plane
     // on its own let rounding call one part of a facet split between parallel generator pairs
-    // separating and another not, and the distance came from the wrong part (a fuzz finding:
-    // 320.9 for touching boxes in float). Every facet part is in M, so when separated the
+    // separating and another not, and the distance came from the wrong part (320.9 for
+    // touching boxes in float). Every facet part is in M, so when separated the
     // nearest of all of them is the nearest point of M.
     const auto separated = fold.least < zero;
     store_proximity(out, N, k, S::select(separated, one, zero),

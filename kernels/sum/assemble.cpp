@@ -120,7 +120,7 @@ Status hull_corrector(const std::vector<Vector3d>& a, const std::vector<Vector3d
   }
   assemble(a, b, facets, out);
   out.corrected = true;
-  // Qhull's facets of a badly scaled input (fuzzed: 1e11 next to 1e-304) can fail to close
+  // Qhull's facets of a badly scaled input (1e11 next to 1e-304) can fail to close
   // into a manifold: a clear error rather than an inconsistent "Ok".
   return out.euler_ok ? Status::Ok : Status::HullFailed;
 }
