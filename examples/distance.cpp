@@ -86,7 +86,8 @@ int cmd_distance(int argc, char** argv) {
   } else if (files.empty()) {
     // The demo places its second copy beside the first: shifted along +x by 1.1 x the width.
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-    for (const auto& v : ma.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+    for (const auto& t : ma.triangles)
+      for (int v : t) lo = lo.cwiseMin(ma.vertices[v]), hi = hi.cwiseMax(ma.vertices[v]);
     Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
     p.translation().x() = 1.1 * (hi.x() - lo.x());
     if (!as_json) std::printf("demo: the second copy moved by +%.4g along x\n", p.translation().x());
