@@ -14,6 +14,7 @@
 
 #include "checks.hpp"
 #include "kernel_reference.hpp"
+#include "simd/simd.hpp"
 #include "ties.hpp"
 #include "support/shapes.hpp"
 
@@ -583,6 +584,28 @@ TEST_P(Kernels, TriangleDistanceMatchesTheScalarPath) {
 
 INSTANTIATE_TEST_SUITE_P(Isa, Kernels, testing::ValuesIn(kIsas),
                          [](const auto& info) { return std::string(to_string(info.param)); });
+
+// Every ISA's kernel table has every entry set: make_table fills it by name, so an entry
+// left out would stay null and crash only when that kernel is first called on that ISA.
+TEST(Kernels, EveryTableIsComplete) {
+  using detail::KernelTable;
+  const std::pair<const KernelTable*, const char*> tables[] = {{&detail::kTableScalar, "scalar"},
+                                                               {&detail::kTableSse4_2, "sse4_2"},
+                                                               {&detail::kTableAvx2, "avx2"},
+                                                               {&detail::kTableAvx512, "avx512"}};
+  for (const auto& [t, name] : tables) {
+    const bool set[] = {t->box_box_f != nullptr, t->box_box_d != nullptr, t->box_tri_f != nullptr,
+                        t->box_tri_d != nullptr, t->support_f != nullptr, t->support_d != nullptr,
+                        t->box_box_single_d != nullptr, t->box_box_proximity_f != nullptr,
+                        t->box_box_proximity_d != nullptr, t->box_box_separation_f != nullptr,
+                        t->box_box_separation_d != nullptr, t->box_triangle_overlap_f != nullptr,
+                        t->box_triangle_overlap_d != nullptr, t->box_pair_d != nullptr,
+                        t->tri_tri_f != nullptr, t->tri_tri_d != nullptr};
+    static_assert(sizeof(set) == 16 && sizeof(KernelTable) == 16 * sizeof(void (*)()),
+                  "a new kernel table entry needs its check here");
+    for (size_t k = 0; k < sizeof(set); ++k) EXPECT_TRUE(set[k]) << name << " entry " << k;
+  }
+}
 
 // The ISA suites above skip an ISA the CPU lacks; a skip must not hide one it has. The CPU's
 // own answer (CPUID through the compiler's builtin, independent of xsimd's detection) must
