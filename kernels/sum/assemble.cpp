@@ -1,10 +1,12 @@
 // A sum's result from its facets' support loops, its closed-manifold check, and the paper's
 // Section 3 corrector that rebuilds it from the hull of the pairwise sums.
 #include "sum/sum_internal.hpp"
+#include "sum/pair_numbering.hpp"
 
 #include "core/hull.hpp"
 
 #include <algorithm>
+#include <limits>
 
 namespace minksum {
 
@@ -45,8 +47,7 @@ void assemble(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, st
   out.loop_start.assign(1, 0);
   out.V = out.E = out.F = 0;
   out.euler_ok = out.corrected = false;
-  thread_local std::vector<int> start, fill, number;
-  thread_local std::vector<long long> slots, distinct;
+  thread_local PairNumbering pairs;
   size_t kept = 0, entries = 0;
   for (auto& f : facets) {
     // Consecutive repeats come from zero-length arcs of flat operands; drop them, then drop
@@ -62,41 +63,20 @@ void assemble(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, st
     ++kept;
   }
   facets.resize(kept);
-  // Vertices are the distinct pairs (i, j), numbered in (i, j) order, found through a hash
-  // table of codes i |B| + j (linear probing) and ordered by a counting sort on i.
-  const long long nb = (long long)(b.size());
-  size_t cap = 16;
-  while (cap < 2 * entries) cap *= 2;
-  slots.assign(cap, -1), number.resize(cap), distinct.clear();
-  const auto slot = [&](long long code) {
-    size_t h = size_t((unsigned long long)(code) * 0x9E3779B97F4A7C15ull >> 20) & (cap - 1);
-    while (slots[h] != -1 && slots[h] != code) h = (h + 1) & (cap - 1);
-    return h;
-  };
-  for (const auto& f : facets)
-    for (const auto& p : f.loop)
-      if (const size_t h = slot(p.first * nb + p.second); slots[h] == -1) slots[h] = p.first * nb + p.second, distinct.push_back(slots[h]);
-  start.assign(a.size() + 1, 0);
-  for (long long code : distinct) ++start[code / nb + 1];
-  for (size_t i = 0; i < a.size(); ++i) start[i + 1] += start[i];
-  fill.assign(start.begin(), start.end() - 1);
-  out.vertices.resize(distinct.size());
-  for (long long code : distinct) {
-    const int i = int(code / nb), j = int(code % nb);
-    // Within one i, insertion by j (a vertex of A meets a few of B).
-    int k = fill[i]++;
-    for (; k > start[i] && out.vertices[k - 1].j > j; --k) out.vertices[k] = out.vertices[k - 1];
-    out.vertices[k] = SumVertex{i, j, a[i] + b[j]};
-  }
-  for (int v = 0; v < int(out.vertices.size()); ++v) number[slot(out.vertices[v].i * nb + out.vertices[v].j)] = v;
-  for (const FacetLoop& f : facets) {
-    SumPlane plane{f.normal.normalized(), -std::numeric_limits<double>::infinity(), f.loop[0].first, f.loop[0].second};
-    for (const auto& p : f.loop) {
-      out.loop_vertex.push_back(number[slot(p.first * nb + p.second)]);
-      // The offset is the largest over the facet's vertices, so no vertex is ever cut off.
-      plane.offset = std::max(plane.offset, plane.normal.dot(out.vertices[out.loop_vertex.back()].point));
-    }
+  // The loops as pair codes, then as vertex indices once every pair is known.
+  pairs.reset(int(a.size()), int(b.size()), entries);
+  for (const auto& f : facets) {
+    for (const auto& p : f.loop) out.loop_vertex.push_back(pairs.code(p.first, p.second));
     out.loop_start.push_back(int(out.loop_vertex.size()));
+  }
+  pairs.finish(out.loop_vertex.data(), out.loop_vertex.size(),
+               [&](int, int i, int j) { out.vertices.push_back(SumVertex{i, j, a[size_t(i)] + b[size_t(j)]}); });
+  for (size_t f = 0; f < facets.size(); ++f) {
+    const auto& first = facets[f].loop[0];
+    SumPlane plane{facets[f].normal.normalized(), -std::numeric_limits<double>::infinity(), first.first, first.second};
+    // The offset is the largest over the facet's vertices, so no vertex is ever cut off.
+    for (int k = out.loop_start[f]; k < out.loop_start[f + 1]; ++k)
+      plane.offset = std::max(plane.offset, plane.normal.dot(out.vertices[size_t(out.loop_vertex[size_t(k)])].point));
     out.planes.push_back(plane);
   }
   out.V = int(out.vertices.size());

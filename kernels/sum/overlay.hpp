@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "shape/shape_data.hpp"
+#include "sum/pair_numbering.hpp"
 
 namespace minksum::detail {
 
@@ -74,58 +75,6 @@ struct Crossing {
   int ea, eb;
   bool up;
   int facet = -1;
-};
-
-/// The number of set bits (without the POPCNT instruction the baseline build may not assume:
-/// the compiler's builtin is then a library call).
-inline int bit_count(std::uint64_t x) {
-  x = x - ((x >> 1) & 0x5555555555555555ull);
-  x = (x & 0x3333333333333333ull) + ((x >> 2) & 0x3333333333333333ull);
-  x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0full;
-  return int((x * 0x0101010101010101ull) >> 56);
-}
-
-/// The vertices of a sum, pairs (i, j), numbered in (i, j) order. While the loops are written
-/// each pair is stored as a code; once all are known the codes become vertex indices. Pairs
-/// live as bits in one row per vertex of A, and their indices in a table by code, when that
-/// table holds at most kDenseCodes (operands of up to some hundreds of vertices each); else in
-/// a hash table sorted by i at the end.
-class PairNumbering {
- public:
-  static constexpr size_t kDenseCodes = size_t(1) << 18;  // 1 MB of indices, 32 KB of rows
-  /// Starts a sum of operands with nva and nvb vertices, whose loops hold about `entries` pairs.
-  void reset(int nva, int nvb, size_t entries);
-  /// The code of pair (i, j), registering it.
-  int code(int i, int j) {
-    if (dense_) {
-      rows_[size_t(i) * words_ + size_t(j >> 6)] |= std::uint64_t(1) << (j & 63);
-      return i << shift_b_ | j;
-    }
-    return hashed(i, j);
-  }
-  /// Whether the pair of code x comes before that of code y in (i, j) order.
-  bool less(int x, int y) const { return dense_ ? x < y : key_[size_t(x)] < key_[size_t(y)]; }
-  /// The number of distinct pairs.
-  int count() const;
-  /// Calls emit(k, i, j) for the pairs in (i, j) order and turns the codes in [codes, codes + n)
-  /// into their indices k.
-  template <class Emit>
-  void finish(int* codes, size_t n, Emit&& emit);
-
- private:
-  int hashed(int i, int j);
-  void grow();
-  bool dense_ = true;
-  int nva_ = 0, shift_b_ = 0;
-  size_t words_ = 0;
-  std::vector<std::uint64_t> rows_;
-  std::vector<int> index_;  // by code: the pair's index (written for the pairs there are)
-  // Hash mode: the keys i 2^32 + j by code, the table (open addressing), and the sort by i.
-  static constexpr std::uint64_t kEmpty = ~std::uint64_t(0);
-  std::vector<std::uint64_t> key_, slot_key_;
-  std::vector<int> slot_code_, bucket_, fill_, order_;
-  int codes_ = 0;
-  unsigned mask_ = 0, shift_ = 58;  // table size - 1; 64 - log2(size)
 };
 
 /// The overlay's scratch (one per thread: a sum allocates only while it grows) and its steps.
