@@ -356,7 +356,7 @@ TEST(CoherenceMesh, SeededSearchEqualsColdSearch) {
     ASSERT_EQ(hot.intersecting, cold.intersecting) << k;
     ASSERT_NEAR(hot.distance, cold.distance, 1e-12 * size) << k;
     EXPECT_NEAR((hot.point_a - hot.point_b).norm(), hot.distance, 1e-12 * size) << k;
-    // (Batches of 16 pairs may flush later in the seeded search: see mesh.cpp's search.)
+    // (Batches of 16 pairs may flush later in the seeded search: see mesh/distance.cpp's search.)
     EXPECT_LE(hot.stats.node_pairs, cold.stats.node_pairs + 16) << k;
     EXPECT_LE(hot.stats.triangle_pairs, cold.stats.triangle_pairs + 16 * hot.stats.node_pairs) << k;
     contacts += cold.intersecting;
