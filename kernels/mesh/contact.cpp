@@ -1,0 +1,193 @@
+// How a convex tool touches a mesh (haptic rendering): the mesh's triangles clipped by the tool
+// (clip_triangle), their parts inside gathered through the octree (gather_parts), and the depth
+// the tool must move to push them out (push_out).
+#include "mesh/mesh_internal.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace minksum {
+
+using Eigen::Vector3d;
+using detail::MeshScratch;
+
+namespace {
+
+constexpr int kMaxPlanes = 2 * kMaxToolVertices;
+
+// The tool in A's frame: its face planes (n . x <= o inside; the normals also as SoA for the
+// corner tests) and its bounding box.
+struct ToolPlanes {
+  int count = 0;
+  Vector3d n[kMaxPlanes];
+  double o[kMaxPlanes];
+  alignas(64) double nx[kMaxPlanes], ny[kMaxPlanes], nz[kMaxPlanes];
+  Vector3d lo, hi;
+};
+
+// Room for one clip: two polygons (a triangle cut by every plane gains a corner per plane) and
+// the per-plane corner tests.
+struct ClipScratch {
+  Vector3d poly[2][3 + kMaxPlanes];
+  alignas(64) double above[kMaxPlanes], below[kMaxPlanes];
+  int cut[kMaxPlanes];
+};
+
+// The part of triangle t inside the tool: its corner count (0: they do not meet), the corners
+// at `poly`. First every plane against the three corners at once (a loop the compiler
+// vectorises): a plane with all corners beyond it rejects the triangle, and only the planes
+// with a corner beyond can cut it; a plane with every corner inside leaves every point of the
+// triangle inside, so clipping by it would change nothing (to rounding). Then
+// Sutherland-Hodgman (1974) over the cutting planes: O(faces) per triangle.
+int clip_triangle(const ToolPlanes& tool, const Vector3d (&t)[3], ClipScratch& s, const Vector3d*& poly) {
+  const int nf = tool.count;
+  for (int f = 0; f < nf; ++f) {
+    const double d0 = tool.nx[f] * t[0].x() + tool.ny[f] * t[0].y() + tool.nz[f] * t[0].z() - tool.o[f];
+    const double d1 = tool.nx[f] * t[1].x() + tool.ny[f] * t[1].y() + tool.nz[f] * t[1].z() - tool.o[f];
+    const double d2 = tool.nx[f] * t[2].x() + tool.ny[f] * t[2].y() + tool.nz[f] * t[2].z() - tool.o[f];
+    s.above[f] = std::max(std::max(d0, d1), d2), s.below[f] = std::min(std::min(d0, d1), d2);
+  }
+  double reject = -1;
+  for (int f = 0; f < nf; ++f) reject = std::max(reject, s.below[f]);
+  if (reject > 0) return 0;
+  int ncut = 0;
+  for (int f = 0; f < nf; ++f) s.cut[ncut] = f, ncut += s.above[f] > 0;
+  int m = 3, cur = 0;
+  for (int k = 0; k < 3; ++k) s.poly[0][k] = t[k];
+  for (int i = 0; i < ncut && m > 0; ++i) {
+    const Vector3d& n = tool.n[s.cut[i]];
+    const double o = tool.o[s.cut[i]];
+    int out_m = 0;
+    for (int k = 0; k < m; ++k) {
+      const Vector3d &p = s.poly[cur][k], &q = s.poly[cur][(k + 1) % m];
+      const double dp = n.dot(p) - o, dq = n.dot(q) - o;
+      if (dp <= 0) s.poly[1 - cur][out_m++] = p;
+      if ((dp < 0 && dq > 0) || (dp > 0 && dq < 0)) s.poly[1 - cur][out_m++] = p + dp / (dp - dq) * (q - p);
+    }
+    m = out_m, cur = 1 - cur;
+  }
+  poly = s.poly[cur];
+  return m;
+}
+
+void triangle_corners(const Octree& a, int tri, Vector3d (&t)[3]) {
+  for (int k = 0; k < 3; ++k) t[k] = a.vertices[a.triangles[tri][k]];
+}
+
+// The overlapped triangles (each once: a triangle is listed in one leaf), their parts inside
+// the tool in ws.parts, and the area vector of those parts, whose direction is the push-out
+// direction (a sum over the contact patch: it turns continuously as the tool slides, unlike any
+// single triangle's normal). Returns how many triangles were hit; their indices go to `hit`.
+int gather_parts(const Octree& a, const ToolPlanes& tool, MeshScratch& ws, int (&hit)[kMaxContactTriangles],
+                 Vector3d& area, MeshContact& out) {
+  const Vector3d box_c = (tool.lo + tool.hi) / 2, box_h = (tool.hi - tool.lo) / 2;
+  ClipScratch scratch;
+  int hits = 0;
+  ws.part_start[0] = 0;
+  area = Vector3d::Zero();
+  int stack[8 * 25 + 8], top = 0;  // depth <= 24 (OctreeOptions): at most 7 more per level
+  stack[top++] = 0;
+  while (top > 0) {
+    const Octree::Node& n = a.nodes[stack[--top]];
+    if (((n.box_center - box_c).cwiseAbs() - n.box_half - box_h).maxCoeff() > 0) continue;
+    if (n.first_child >= 0) {
+      for (int c = n.first_child; c < n.first_child + n.child_count; ++c) stack[top++] = c;
+      continue;
+    }
+    for (int x = n.first; x < n.first + n.count; ++x) {
+      const int tri = a.items[x];
+      Vector3d t[3];
+      triangle_corners(a, tri, t);
+      const Vector3d tlo = t[0].cwiseMin(t[1]).cwiseMin(t[2]), thi = t[0].cwiseMax(t[1]).cwiseMax(t[2]);
+      if ((tlo.array() > tool.hi.array()).any() || (thi.array() < tool.lo.array()).any()) continue;
+      ++out.tested;
+      const Vector3d* poly;
+      const int m = clip_triangle(tool, t, scratch, poly);
+      if (m == 0) continue;
+      if (hits == kMaxContactTriangles || ws.part_start[hits] + m > int(ws.parts.size())) {
+        out.overflow = true;  // more contact than capacity: flagged, the first parts count
+        continue;
+      }
+      hit[hits] = tri;
+      std::copy(poly, poly + m, ws.parts.begin() + ws.part_start[hits]);
+      ws.part_start[hits + 1] = ws.part_start[hits] + m;
+      ++hits;
+      for (int k = 1; k + 1 < m; ++k) area += (poly[k] - poly[0]).cross(poly[k + 1] - poly[0]) / 2;
+    }
+  }
+  return hits;
+}
+
+// How far the tool must move along u until no part is inside it: for each corner p of the
+// parts, the ray p - lambda u stays in the tool until the first face it leaves by.
+void push_out(const ToolPlanes& tool, const MeshScratch& ws, const int* hit, int hits, const Vector3d& u,
+              MeshContact& out) {
+  int facing[kMaxPlanes], nfacing = 0;  // the faces a ray along -u can leave by
+  for (int f = 0; f < tool.count; ++f)
+    if (tool.n[f].dot(u) < 0) facing[nfacing++] = f;
+  for (int h = 0; h < hits; ++h) {
+    for (int k = ws.part_start[h]; k < ws.part_start[h + 1]; ++k) {
+      const Vector3d& p = ws.parts[k];
+      double lambda = std::numeric_limits<double>::infinity();
+      for (int i = 0; i < nfacing; ++i) {
+        const int f = facing[i];
+        lambda = std::min(lambda, std::max(0.0, tool.o[f] - tool.n[f].dot(p)) / -tool.n[f].dot(u));
+      }
+      if (std::isfinite(lambda) && (lambda > out.penetration_depth || out.triangle < 0))
+        out.penetration_depth = lambda, out.point = p, out.triangle = hit[h];
+    }
+  }
+}
+
+// mesh_contact with the tool placed in A's frame by `pose`.
+Status contact_in_a(const Octree& a, const ConvexShape& shape, const Eigen::Isometry3d& pose, MeshScratch& ws,
+                    MeshContact& out) {
+  if (a.nodes.empty() || shape.empty()) return Status::TooFewPoints;
+  const ConvexPolytope& polytope = shape.polytope();
+  const int nv = int(polytope.vertices.size());
+  if (nv > kMaxToolVertices || polytope.flat || nv < 4) return Status::InvalidMesh;
+  if (polytope.faces.size() > size_t(kMaxPlanes)) return Status::InvalidMesh;
+  ToolPlanes tool;
+  tool.lo = Vector3d::Constant(std::numeric_limits<double>::infinity()), tool.hi = -tool.lo;
+  for (int k = 0; k < nv; ++k) {
+    const Vector3d v = pose * polytope.vertices[k];
+    tool.lo = tool.lo.cwiseMin(v), tool.hi = tool.hi.cwiseMax(v);
+  }
+  tool.count = int(polytope.faces.size());
+  for (int f = 0; f < tool.count; ++f) {
+    tool.n[f] = pose.linear() * polytope.faces[f].normal;
+    tool.o[f] = polytope.faces[f].offset + tool.n[f].dot(pose.translation());
+    tool.nx[f] = tool.n[f].x(), tool.ny[f] = tool.n[f].y(), tool.nz[f] = tool.n[f].z();
+  }
+  int hit[kMaxContactTriangles];
+  Vector3d area;
+  const int hits = gather_parts(a, tool, ws, hit, area, out);
+  if (hits == 0) return Status::Ok;
+  out.intersecting = true;
+  Vector3d u = area.norm() > 0 ? Vector3d(area.normalized()) : Vector3d::Zero();
+  if (u.isZero()) {  // parts facing both ways cancel (a sheet pinched from both sides)
+    Vector3d t[3];
+    triangle_corners(a, hit[0], t);
+    u = detail::unit_normal(t);
+  }
+  out.penetration_direction = u;
+  push_out(tool, ws, hit, hits, u, out);
+  return Status::Ok;
+}
+
+}  // namespace
+
+Status mesh_contact(const Octree& a, const Eigen::Isometry3d& pose_a, const ConvexShape& shape,
+                    const Eigen::Isometry3d& pose_tool, MeshWorkspace& ws, MeshContact& out) {
+  out = MeshContact{};
+  if (!ws.scratch()) return Status::InvalidMesh;  // not a workspace from make_workspace
+  Eigen::Isometry3d pose;
+  if (const Status s = detail::relative_pose(pose_a, pose_tool, pose); s != Status::Ok) return s;
+  const Status s = contact_in_a(a, shape, pose, *ws.scratch(), out);
+  if (out.intersecting) out.penetration_direction = pose_a.linear() * out.penetration_direction;
+  if (out.triangle >= 0) out.point = pose_a * out.point;
+  return s;
+}
+
+}  // namespace minksum

@@ -1,0 +1,201 @@
+// The adaptive octree of a mesh or a point cloud (the paper's Section 5.1): cubes split where
+// the triangles are dense, each node bounding its triangles whole by a box and a slab.
+#include "mesh/mesh_internal.hpp"
+
+#include "core/validate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <array>
+#include <limits>
+
+namespace minksum {
+
+using Eigen::Vector3d;
+using detail::kDepthCap;
+using detail::unit_normal;
+
+namespace {
+
+// The node's box (its triangles' bounding box) and its slab along the triangles' area-weighted
+// mean normal (any unit normal gives a valid slab; a flat patch a thin one). Both hold the
+// node's triangles whole, so every bound of the search holds for whole triangles.
+void fit_bounds(const std::vector<Vector3d>& v, const std::vector<std::array<int, 3>>& tris,
+                const std::vector<int>& list, Octree::Node& node) {
+  Vector3d lo = Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo, n = Vector3d::Zero();
+  for (int t : list) {
+    const auto& x = tris[t];
+    for (int k : x) lo = lo.cwiseMin(v[k]), hi = hi.cwiseMax(v[k]);
+    n += (v[x[1]] - v[x[0]]).cross(v[x[2]] - v[x[0]]);
+  }
+  node.box_center = (lo + hi) / 2;
+  node.box_half = ((hi - lo) / 2).cwiseMax(0.0) * (1 + 1e-12) + Vector3d::Constant(1e-15 * (1 + node.center.norm()));
+  node.normal = n.norm() > 0 ? Vector3d(n.normalized()) : Vector3d::UnitZ();
+  node.slab_lo = std::numeric_limits<double>::infinity(), node.slab_hi = -node.slab_lo;
+  for (int t : list)
+    for (int k : tris[t]) {
+      const double d = node.normal.dot(v[k]);
+      node.slab_lo = std::min(node.slab_lo, d), node.slab_hi = std::max(node.slab_hi, d);
+    }
+  const double pad = 1e-12 * (std::abs(node.slab_lo) + std::abs(node.slab_hi)) + 1e-15;
+  node.slab_lo -= pad, node.slab_hi += pad;
+}
+
+}  // namespace
+
+size_t Octree::bytes() const {
+  return (vertices.capacity() + normals.capacity() + corners.capacity() + item_corners.capacity()) * sizeof(Vector3d) +
+         triangles.capacity() * sizeof(triangles[0]) + spheres.capacity() * sizeof(spheres[0]) +
+         nodes.capacity() * sizeof(Node) + items.capacity() * sizeof(int);
+}
+
+namespace {
+
+// Per triangle: its bounding sphere (centroid, farthest corner, rounded up) and unit normal.
+void triangle_bounds(Octree& out) {
+  const auto& v = out.vertices;
+  for (const auto& t : out.triangles) {
+    const Vector3d m = (v[t[0]] + v[t[1]] + v[t[2]]) / 3;
+    double r = 0;
+    for (int k : t) r = std::max(r, (v[k] - m).norm());
+    out.spheres.emplace_back(m.x(), m.y(), m.z(), r * (1 + 1e-12) + 1e-15 * (m.norm() + r));
+    const Vector3d corners[3] = {v[t[0]], v[t[1]], v[t[2]]};
+    out.normals.push_back(unit_normal(corners));
+  }
+}
+
+// The triangles the leaves list: a triangle with exactly the corners of an earlier one is left
+// out (it cannot be nearer, and a mesh of many copies would make leaf pairs quadratic in the
+// copies).
+std::vector<int> distinct_triangles(const Octree& out) {
+  const auto& v = out.vertices;
+  const auto& tris = out.triangles;
+  std::vector<std::array<double, 9>> key(tris.size());
+  for (size_t k = 0; k < tris.size(); ++k) {
+    std::array<Vector3d, 3> c = {v[tris[k][0]], v[tris[k][1]], v[tris[k][2]]};
+    std::sort(c.begin(), c.end(), [](const Vector3d& x, const Vector3d& y) {
+      return std::lexicographical_compare(x.data(), x.data() + 3, y.data(), y.data() + 3);
+    });
+    for (int i = 0; i < 3; ++i)
+      for (int d = 0; d < 3; ++d) key[k][3 * i + d] = c[i][d];
+  }
+  std::vector<int> order(tris.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = int(k);
+  std::stable_sort(order.begin(), order.end(), [&](int x, int y) { return key[x] < key[y]; });
+  std::vector<char> copy(tris.size(), 0);
+  for (size_t k = 1; k < order.size(); ++k) copy[order[k]] = key[order[k]] == key[order[k - 1]];
+  std::vector<int> list;
+  for (size_t k = 0; k < tris.size(); ++k)
+    if (!copy[k]) list.push_back(int(k));
+  return list;
+}
+
+// Node i becomes a leaf of the triangles in `list`: its items, their corners, and its distinct
+// corners.
+void make_leaf(Octree& out, size_t i, const std::vector<int>& list) {
+  out.nodes[i].first = int(out.items.size());
+  out.nodes[i].count = int(list.size());
+  out.items.insert(out.items.end(), list.begin(), list.end());
+  for (int t : list)
+    for (int k : out.triangles[t]) out.item_corners.push_back(out.vertices[k]);
+  std::vector<int> used;
+  for (int t : list) used.insert(used.end(), out.triangles[t].begin(), out.triangles[t].end());
+  std::sort(used.begin(), used.end());
+  used.erase(std::unique(used.begin(), used.end()), used.end());
+  out.nodes[i].corner_first = int(out.corners.size());
+  out.nodes[i].corner_count = int(used.size());
+  for (int k : used) out.corners.push_back(out.vertices[k]);
+  ++out.leaves;
+  out.max_leaf = std::max(out.max_leaf, int(list.size()));
+}
+
+// Each triangle of `list` goes to the child cube of node i that holds its centroid (listed
+// once: a triangle pair is tested in one leaf pair only; the boxes bound whole triangles, so a
+// box may reach beyond its cube). All in one child (a dense patch): the cube narrows in on it,
+// no level is made; 60 halvings are below any double's resolution. False when they cannot be
+// parted (identical centroids): the node is a leaf.
+bool part(Octree& out, size_t i, const std::vector<int>& list, std::vector<int> (&sub)[8]) {
+  for (int tries = 0;; ++tries) {
+    const Vector3d c = out.nodes[i].center;
+    for (auto& x : sub) x.clear();
+    for (int t : list) {
+      const Vector3d m = out.spheres[size_t(t)].head<3>();
+      sub[(m.x() > c.x()) | (m.y() > c.y()) << 1 | (m.z() > c.z()) << 2].push_back(t);
+    }
+    const auto full = std::find_if(std::begin(sub), std::end(sub), [&](const auto& x) { return x.size() == list.size(); });
+    if (full == std::end(sub)) return true;
+    if (tries == 60) return false;
+    const int octant = int(full - std::begin(sub));
+    out.nodes[i].half /= 2;
+    out.nodes[i].center += out.nodes[i].half * Vector3d(octant & 1 ? 1 : -1, octant & 2 ? 1 : -1, octant & 4 ? 1 : -1);
+  }
+}
+
+}  // namespace
+
+Status build_octree(const std::vector<Vector3d>& vertices,
+                    const std::vector<std::array<int, 3>>& triangles, Octree& out,
+                    const OctreeOptions& options) {
+  out = Octree{};
+  if (triangles.empty()) return Status::TooFewPoints;
+  if (options.max_depth < -1 || options.max_depth > 24 || options.leaf_size < 1) return Status::InvalidMesh;
+  const int max_depth = options.max_depth >= 0 ? options.max_depth : kDepthCap;
+  if (const Status s = detail::check_coordinates(vertices.data(), vertices.size()); s != Status::Ok) return s;
+  const int nv = int(vertices.size());
+  Vector3d lo = Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const auto& t : triangles)
+    for (int k : t) {
+      if (k < 0 || k >= nv) return Status::InvalidMesh;
+      lo = lo.cwiseMin(vertices[k]), hi = hi.cwiseMax(vertices[k]);
+    }
+  out.vertices = vertices, out.triangles = triangles;
+  triangle_bounds(out);
+  // The root: the bounding cube of the used vertices, a little larger so nothing sits on it.
+  const Vector3d center = (lo + hi) / 2;
+  const double size = std::max(1.0, center.cwiseAbs().maxCoeff());
+  const double root_half = (hi - lo).maxCoeff() / 2 * (1 + 1e-9) + 1e-12 * size;
+  // Breadth first, so that every node's children are contiguous.
+  std::vector<std::vector<int>> lists(1, distinct_triangles(out));
+  std::vector<int> level(1, 0);
+  out.nodes.emplace_back();
+  out.nodes[0].center = center, out.nodes[0].half = root_half;
+  for (size_t i = 0; i < out.nodes.size(); ++i) {
+    std::vector<int> list = std::move(lists[i]);
+    out.depth = std::max(out.depth, level[i]);
+    fit_bounds(vertices, triangles, list, out.nodes[i]);
+    std::vector<int> sub[8];
+    if (int(list.size()) <= options.leaf_size || level[i] >= max_depth || !part(out, i, list, sub)) {
+      make_leaf(out, i, list);
+      continue;
+    }
+    const Vector3d c = out.nodes[i].center;
+    const double h = out.nodes[i].half / 2;
+    const int first_child = int(out.nodes.size());
+    for (int octant = 0; octant < 8; ++octant) {
+      if (sub[octant].empty()) continue;
+      out.nodes.emplace_back();
+      out.nodes.back().center = c + h * Vector3d(octant & 1 ? 1 : -1, octant & 2 ? 1 : -1, octant & 4 ? 1 : -1);
+      out.nodes.back().half = h;
+      lists.push_back(std::move(sub[octant]));
+      level.push_back(level[i] + 1);
+    }
+    out.nodes[i].first_child = first_child;
+    out.nodes[i].child_count = int(out.nodes.size()) - first_child;
+  }
+  // The arrays grew by doubling: give back what they do not use (up to half of each).
+  out.nodes.shrink_to_fit(), out.items.shrink_to_fit(), out.corners.shrink_to_fit();
+  out.item_corners.shrink_to_fit(), out.spheres.shrink_to_fit(), out.normals.shrink_to_fit();
+  return Status::Ok;
+}
+
+Status build_octree(const std::vector<Vector3d>& points, Octree& out, const OctreeOptions& options) {
+  // Nothing in the octree or the search needs an area: a zero-area triangle's box, slab and
+  // sphere bound its point, and triangle_distance takes degenerate triangles.
+  std::vector<std::array<int, 3>> triangles(points.size());
+  for (size_t k = 0; k < points.size(); ++k) triangles[k] = {int(k), int(k), int(k)};
+  const Status s = build_octree(points, triangles, out, options);
+  out.points = s == Status::Ok;
+  return s;
+}
+
+}  // namespace minksum
