@@ -97,108 +97,136 @@ double percentile(std::vector<double> v, double q) {
   return v[std::min(v.size() - 1, size_t(q * double(v.size())))];
 }
 
+// Everything a run sets up before its first tick: all of its allocation happens here.
+struct Setup {
+  tools::Mesh scene;
+  Tool tool;
+  Octree scene_tree, tool_tree;
+  MeshWorkspace ws;
+  Path path;
+};
+
+bool set_up(const Options& options, Setup& s, Report& report, std::string& error) {
+  if (options.scene.empty() || options.scene == "bunny_full") {
+    s.scene = tools::demo_mesh(options.scene.empty() ? "bun_zipper_res2.ply" : "bun_zipper.ply", report.scene_source);
+  } else {
+    if (!tools::read_mesh(options.scene, s.scene, error)) return false;
+    report.scene_source = options.scene;
+  }
+  if (!make_tool(options.tool, s.tool, report.tool_name, error)) return false;
+  // A small tool is fastest as one leaf (a deeper tree multiplies the node pairs).
+  OctreeOptions tool_options;
+  if (s.tool.mesh.triangles.size() <= 64) tool_options.max_depth = 0;
+  if (Status st = build_octree(s.scene.vertices, s.scene.triangles, s.scene_tree); st != Status::Ok)
+    return error = "scene: " + std::string(to_string(st)), false;
+  if (Status st = build_octree(s.tool.mesh.vertices, s.tool.mesh.triangles, s.tool_tree, tool_options); st != Status::Ok)
+    return error = "tool: " + std::string(to_string(st)), false;
+  make_workspace(s.scene_tree, s.tool_tree, s.ws);
+  s.path.top = s.scene.vertices[s.scene.triangles[0][0]];
+  for (const auto& t : s.scene.triangles)
+    for (int k : t)
+      if (s.scene.vertices[k].y() > s.path.top.y()) s.path.top = s.scene.vertices[k];
+  for (const auto& v : s.tool.hull.polytope().vertices) s.path.lift = std::max(s.path.lift, -v.y());
+  return true;
+}
+
+// Paced runs ask for real-time scheduling and locked memory (granted to root or with
+// CAP_SYS_NICE / CAP_IPC_LOCK; otherwise the run goes on at normal priority and says so).
+void ask_for_realtime(Report& report) {
+  sched_param param{};
+  param.sched_priority = sched_get_priority_max(SCHED_FIFO) / 2;
+  report.realtime_priority = sched_setscheduler(0, SCHED_FIFO, &param) == 0;
+  mlockall(MCL_CURRENT | MCL_FUTURE);  // no page fault or swap-in inside the loop
+  // One core of its own: no migrations between ticks (the last core; best effort).
+  cpu_set_t one;
+  CPU_ZERO(&one);
+  CPU_SET(std::max(0, int(std::thread::hardware_concurrency()) - 1), &one);
+  sched_setaffinity(0, sizeof one, &one);
+}
+
+// One tick's queries and force, with the tool at `pose` (the scene sits at the identity) moving
+// at `velocity`; written to the report at k. A convex tool: contact first (it only looks under
+// the tool), the exact distance when there is none. A mesh tool: the mesh-mesh distance, and
+// its hull's depth on contact.
+void tick(const Options& options, Setup& s, ProximityCache& cache, const Eigen::Isometry3d& pose,
+          const Vector3d& velocity, long k, Report& report) {
+  const Eigen::Isometry3d scene = Eigen::Isometry3d::Identity();
+  const auto distance = [&](MeshDistance& d) {
+    return options.coherent ? mesh_distance(s.scene_tree, scene, s.tool_tree, pose, s.ws, cache, d)
+                            : mesh_distance(s.scene_tree, scene, s.tool_tree, pose, s.ws, d);
+  };
+  MeshDistance d;
+  MeshContact c;
+  double force = 0, along = 0, up = 0;
+  bool touching;
+  if (s.tool.convex) {
+    touching = mesh_contact(s.scene_tree, scene, s.tool.hull, pose, s.ws, c) == Status::Ok && c.intersecting;
+    if (!touching) distance(d);
+  } else {
+    touching = distance(d) == Status::Ok && d.intersecting &&
+               mesh_contact(s.scene_tree, scene, s.tool.hull, pose, s.ws, c) == Status::Ok && c.intersecting;
+  }
+  if (!touching) {
+    c = MeshContact{};
+  } else {
+    const double push = kStiffness * c.penetration_depth - kDamping * std::min(0.0, velocity.dot(c.penetration_direction));
+    const Vector3d f = std::max(0.0, push) * c.penetration_direction;
+    force = f.norm(), along = f.dot(c.penetration_direction), up = f.y();
+    ++report.contacts;
+  }
+  report.distance[k] = d.distance, report.depth[k] = c.penetration_depth;
+  report.force[k] = force, report.force_dot_normal[k] = along, report.force_up[k] = up;
+}
+
+// The latency percentiles of a finished run.
+void summarise(Report& report) {
+  report.p50_us = percentile(report.latency_us, 0.5), report.p99_us = percentile(report.latency_us, 0.99);
+  report.p999_us = percentile(report.latency_us, 0.999);
+  report.max_us = *std::max_element(report.latency_us.begin(), report.latency_us.end());
+  report.cpu_p50_us = percentile(report.cpu_us, 0.5), report.cpu_p99_us = percentile(report.cpu_us, 0.99);
+  report.cpu_p999_us = percentile(report.cpu_us, 0.999);
+  report.cpu_max_us = *std::max_element(report.cpu_us.begin(), report.cpu_us.end());
+}
+
 }  // namespace
 
 bool run(const Options& options, long (*allocations)(), Report& report, std::string& error) {
   report = Report{};
   if (!(options.seconds > 0) || !(options.rate > 0) || options.seconds * options.rate > 1e8)
     return error = "--seconds and --rate must be positive (at most 1e8 ticks)", false;
-  // Set-up: everything that allocates happens here.
-  tools::Mesh scene;
-  if (options.scene.empty() || options.scene == "bunny_full") {
-    scene = tools::demo_mesh(options.scene.empty() ? "bun_zipper_res2.ply" : "bun_zipper.ply", report.scene_source);
-  } else {
-    if (!tools::read_mesh(options.scene, scene, error)) return false;
-    report.scene_source = options.scene;
-  }
-  Tool tool;
-  if (!make_tool(options.tool, tool, report.tool_name, error)) return false;
-  Octree scene_tree, tool_tree;
-  // A small tool is fastest as one leaf (a deeper tree multiplies the node pairs).
-  OctreeOptions tool_options;
-  if (tool.mesh.triangles.size() <= 64) tool_options.max_depth = 0;
-  if (Status s = build_octree(scene.vertices, scene.triangles, scene_tree); s != Status::Ok)
-    return error = "scene: " + std::string(to_string(s)), false;
-  if (Status s = build_octree(tool.mesh.vertices, tool.mesh.triangles, tool_tree, tool_options); s != Status::Ok)
-    return error = "tool: " + std::string(to_string(s)), false;
-  MeshWorkspace ws;
-  make_workspace(scene_tree, tool_tree, ws);
-  Path path;
-  path.top = scene.vertices[scene.triangles[0][0]];
-  for (const auto& t : scene.triangles)
-    for (int k : t)
-      if (scene.vertices[k].y() > path.top.y()) path.top = scene.vertices[k];
-  for (const auto& v : tool.hull.polytope().vertices) path.lift = std::max(path.lift, -v.y());
+  Setup s;
+  if (!set_up(options, s, report, error)) return false;
   const long n = long(std::llround(options.seconds * options.rate));
   for (auto* v : {&report.time, &report.distance, &report.depth, &report.force, &report.latency_us,
                   &report.cpu_us, &report.force_dot_normal, &report.force_up})
     v->assign(size_t(n), 0.0);
   const double dt = 1 / options.rate;
   using clock = std::chrono::steady_clock;
-  // Paced runs ask for real-time scheduling and locked memory (granted to root or with
-  // CAP_SYS_NICE / CAP_IPC_LOCK; otherwise the run goes on at normal priority and says so).
-  if (options.realtime) {
-    sched_param param{};
-    param.sched_priority = sched_get_priority_max(SCHED_FIFO) / 2;
-    report.realtime_priority = sched_setscheduler(0, SCHED_FIFO, &param) == 0;
-    mlockall(MCL_CURRENT | MCL_FUTURE);  // no page fault or swap-in inside the loop
-    // One core of its own: no migrations between ticks (the last core; best effort).
-    cpu_set_t one;
-    CPU_ZERO(&one);
-    CPU_SET(std::max(0, int(std::thread::hardware_concurrency()) - 1), &one);
-    sched_setaffinity(0, sizeof one, &one);
-  }
+  if (options.realtime) ask_for_realtime(report);
   const auto start = clock::now();
   const auto period = std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(dt));
   long allocations_after_warmup = 0;
-  Vector3d previous = path.at(0);
+  Vector3d previous = s.path.at(0);
   ProximityCache cache;  // the mesh distance's, from one tick to the next (options.coherent)
-  const auto distance = [&](const Eigen::Isometry3d& pose, MeshDistance& d) {
-    return options.coherent ? mesh_distance(scene_tree, Eigen::Isometry3d::Identity(), tool_tree, pose, ws, cache, d)
-                            : mesh_distance(scene_tree, Eigen::Isometry3d::Identity(), tool_tree, pose, ws, d);
-  };
   for (long k = 0; k < n; ++k) {
     if (k == options.warmup) allocations_after_warmup = allocations();
     const auto deadline = start + (k + 1) * period;
     if (options.realtime) {
       // Sleep until shortly before the tick, then spin: the kernel's wake-up is late by tens
       // of microseconds, sometimes more, and a haptic tick cannot start late.
-      const auto tick = start + k * period;
-      std::this_thread::sleep_until(tick - std::chrono::microseconds(300));
-      while (clock::now() < tick) {
+      const auto at = start + k * period;
+      std::this_thread::sleep_until(at - std::chrono::microseconds(300));
+      while (clock::now() < at) {
       }
     }
     const auto t0 = clock::now();
     const double cpu0 = thread_cpu_us();
     try {
-      // The tick: pose, collision and distance, penetration, force.
-      // The tool's world pose (the scene sits at the identity).
-      const Eigen::Isometry3d pose(Eigen::Translation3d(path.at(double(k) * dt)));
+      const Eigen::Isometry3d pose(Eigen::Translation3d(s.path.at(double(k) * dt)));
       const Vector3d velocity = (pose.translation() - previous) / dt;
       previous = pose.translation();
-      // A convex tool: contact first (it only looks under the tool), the exact distance when
-      // there is none. A mesh tool: the mesh-mesh distance, and its hull's depth on contact.
-      MeshDistance d;
-      MeshContact c;
-      double force = 0, along = 0, up = 0;
-      bool touching;
-      if (tool.convex) {
-        touching = mesh_contact(scene_tree, Eigen::Isometry3d::Identity(), tool.hull, pose, ws, c) == Status::Ok && c.intersecting;
-        if (!touching) distance(pose, d);
-      } else {
-        touching = distance(pose, d) == Status::Ok && d.intersecting &&
-                   mesh_contact(scene_tree, Eigen::Isometry3d::Identity(), tool.hull, pose, ws, c) == Status::Ok && c.intersecting;
-      }
-      if (!touching) {
-        c = MeshContact{};
-      } else {
-        const double push = kStiffness * c.penetration_depth - kDamping * std::min(0.0, velocity.dot(c.penetration_direction));
-        const Vector3d f = std::max(0.0, push) * c.penetration_direction;
-        force = f.norm(), along = f.dot(c.penetration_direction), up = f.y();
-        ++report.contacts;
-      }
-      report.time[k] = double(k) * dt, report.distance[k] = d.distance, report.depth[k] = c.penetration_depth;
-      report.force[k] = force, report.force_dot_normal[k] = along, report.force_up[k] = up;
+      report.time[k] = double(k) * dt;
+      tick(options, s, cache, pose, velocity, k, report);
     } catch (...) {
       ++report.exceptions;
     }
@@ -215,12 +243,7 @@ bool run(const Options& options, long (*allocations)(), Report& report, std::str
   // -1: this build does not count (allocations() says -1).
   report.allocations = allocations() < 0 ? -1 : n > options.warmup ? allocations() - allocations_after_warmup : 0;
   report.ticks = n;
-  report.p50_us = percentile(report.latency_us, 0.5), report.p99_us = percentile(report.latency_us, 0.99);
-  report.p999_us = percentile(report.latency_us, 0.999);
-  report.max_us = *std::max_element(report.latency_us.begin(), report.latency_us.end());
-  report.cpu_p50_us = percentile(report.cpu_us, 0.5), report.cpu_p99_us = percentile(report.cpu_us, 0.99);
-  report.cpu_p999_us = percentile(report.cpu_us, 0.999);
-  report.cpu_max_us = *std::max_element(report.cpu_us.begin(), report.cpu_us.end());
+  summarise(report);
   return true;
 }
 
