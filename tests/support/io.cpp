@@ -236,36 +236,39 @@ bool ply_binary_value(std::istream& in, int type, bool is_signed, bool big_endia
   return true;
 }
 
-bool read_ply(std::istream& in, Reader r, std::vector<Vector3d>& pts, Faces& faces) {
+// The lines of a PLY file's text (the header; an ASCII body), counted for the messages.
+struct PlyLines {
+  std::istream& in;
   std::string line;
   int number = 0;
-  auto next = [&]() {
+  bool next() {
     if (!std::getline(in, line)) return false;
     ++number;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     return true;
-  };
-  if (!next() || line != "ply") return r.fail(1, "expected the ply header");
-  std::string format;
-  std::vector<PlyElement> elements;
+  }
+};
+
+// The header after its "ply" line: the format and the elements with their properties.
+bool ply_header(PlyLines& lines, Reader r, std::string& format, std::vector<PlyElement>& elements) {
   while (true) {
-    if (!next()) return r.fail(number, "header has no end_header");
-    std::istringstream ss(line);
+    if (!lines.next()) return r.fail(lines.number, "header has no end_header");
+    std::istringstream ss(lines.line);
     std::string key;
     ss >> key;
     if (key == "end_header") break;
     if (key == "format") {
       ss >> format;
       if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian")
-        return r.fail(number, "unknown PLY format \"" + format + "\"");
+        return r.fail(lines.number, "unknown PLY format \"" + format + "\"");
     } else if (key == "element") {
       PlyElement e;
       std::string count;
       if (!(ss >> e.name >> count) || !parse_index(count, e.count) || e.count < 0 || e.count > kMaxCount)
-        return r.fail(number, "bad element line");
+        return r.fail(lines.number, "bad element line");
       elements.push_back(e);
     } else if (key == "property") {
-      if (elements.empty()) return r.fail(number, "a property before any element");
+      if (elements.empty()) return r.fail(lines.number, "a property before any element");
       PlyProperty p;
       std::string type;
       ss >> type;
@@ -274,18 +277,22 @@ bool read_ply(std::istream& in, Reader r, std::vector<Vector3d>& pts, Faces& fac
         bool count_signed = false;
         ss >> count_type >> type;
         p.count_type = ply_type(count_type, count_signed);
-        if (p.count_type <= 0) return r.fail(number, "a list count must be an integer type");
+        if (p.count_type <= 0) return r.fail(lines.number, "a list count must be an integer type");
       }
       p.type = ply_type(type, p.is_signed);
-      if (p.type == 0 || !(ss >> p.name)) return r.fail(number, "bad property line");
+      if (p.type == 0 || !(ss >> p.name)) return r.fail(lines.number, "bad property line");
       elements.back().properties.push_back(p);
     } else if (key != "comment" && key != "obj_info") {
-      return r.fail(number, "unknown header line \"" + key + "\"");
+      return r.fail(lines.number, "unknown header line \"" + key + "\"");
     }
   }
-  if (format.empty()) return r.fail(number, "the header has no format line");
-  const bool ascii = format == "ascii", big_endian = format == "binary_big_endian";
-  // Which properties are kept: checked before the body is read.
+  if (format.empty()) return r.fail(lines.number, "the header has no format line");
+  return true;
+}
+
+// Which properties are kept (the vertex element's x, y, z; the face element's index list),
+// checked before the body is read.
+bool ply_kept(std::vector<PlyElement>& elements, Reader r, int number) {
   int vertex_elements = 0;
   for (PlyElement& e : elements) {
     for (size_t p = 0; p < e.properties.size(); ++p) {
@@ -300,62 +307,76 @@ bool read_ply(std::istream& in, Reader r, std::vector<Vector3d>& pts, Faces& fac
     if (e.name == "face" && e.indices < 0) return r.fail(number, "the face element has no vertex_indices list");
   }
   if (vertex_elements == 0) return r.fail(number, "no vertex element");
-  std::vector<long> polygon;
-  for (const PlyElement& e : elements) {
-    const int* axis = e.axis;
-    const int indices = e.indices;
-    for (long k = 0; k < e.count; ++k) {
-      std::istringstream ss;
-      if (ascii) {
-        if (!next()) return r.fail(number, "file ends before all " + e.name + " elements are read");
-        ss.str(line);
+  return true;
+}
+
+// Row k of element e: its x, y, z (if it has them) into xyz, its index list (if it has one)
+// into polygon.
+bool ply_row(PlyLines& lines, Reader r, const std::string& format, const PlyElement& e, long k, double (&xyz)[3],
+             std::vector<long>& polygon) {
+  const bool ascii = format == "ascii", big_endian = format == "binary_big_endian";
+  std::istringstream ss;
+  if (ascii) {
+    if (!lines.next()) return r.fail(lines.number, "file ends before all " + e.name + " elements are read");
+    ss.str(lines.line);
+  }
+  std::istream& src = ascii ? static_cast<std::istream&>(ss) : lines.in;
+  const int at = ascii ? lines.number : 0;  // binary rows have no line
+  // One value of `type`: from the line's next token, or from the binary stream.
+  const auto value = [&](int type, bool is_signed, double& out) {
+    if (!ascii) return ply_binary_value(src, type, is_signed, big_endian, out);
+    std::string tok;
+    char* end = nullptr;
+    if (!(src >> tok)) return false;
+    out = std::strtod(tok.c_str(), &end);
+    if (type == -4 && std::isfinite(out)) out = double(float(out));  // as declared
+    return end != tok.c_str() && *end == '\0';
+  };
+  for (size_t p = 0; p < e.properties.size(); ++p) {
+    const PlyProperty& q = e.properties[p];
+    double v = 0;
+    long n = 1;
+    if (q.count_type != 0) {
+      if (!value(q.count_type, false, v) || !(v >= 0 && v <= 1e6) || v != std::floor(v))
+        return r.fail(at, e.name + " " + std::to_string(k) + ": bad list count");
+      n = long(v);
+    }
+    if (int(p) == e.indices) polygon.clear();
+    for (long j = 0; j < n; ++j) {
+      if (!value(q.type, q.is_signed, v))
+        return r.fail(at, e.name + " " + std::to_string(k) + ": missing or malformed " + q.name);
+      if (!std::isfinite(v)) return r.fail(at, e.name + " " + std::to_string(k) + ": " + q.name + " is not finite");
+      if (int(p) == e.indices) {
+        if (q.type < 0 || v != std::floor(v) || std::abs(v) > 1e15)
+          return r.fail(at, "face " + std::to_string(k) + ": a vertex index must be an integer");
+        polygon.push_back(long(v));
       }
-      std::istream& src = ascii ? static_cast<std::istream&>(ss) : in;
-      // One value of `type`: from the line's next token, or from the binary stream.
-      const auto value = [&](int type, bool is_signed, double& out) {
-        if (!ascii) return ply_binary_value(src, type, is_signed, big_endian, out);
-        std::string tok;
-        char* end = nullptr;
-        if (!(src >> tok)) return false;
-        out = std::strtod(tok.c_str(), &end);
-        if (type == -4 && std::isfinite(out)) out = double(float(out));  // as declared
-        return end != tok.c_str() && *end == '\0';
-      };
-      double xyz[3] = {0, 0, 0};
-      for (size_t p = 0; p < e.properties.size(); ++p) {
-        const PlyProperty& q = e.properties[p];
-        double v = 0;
-        long n = 1;
-        if (q.count_type != 0) {
-          if (!value(q.count_type, false, v) || !(v >= 0 && v <= 1e6) || v != std::floor(v))
-            return r.fail(ascii ? number : 0, e.name + " " + std::to_string(k) + ": bad list count");
-          n = long(v);
-        }
-        if (int(p) == indices) polygon.clear();
-        for (long j = 0; j < n; ++j) {
-          if (!value(q.type, q.is_signed, v))
-            return r.fail(ascii ? number : 0, e.name + " " + std::to_string(k) + ": missing or malformed " + q.name);
-          if (!std::isfinite(v))
-            return r.fail(ascii ? number : 0, e.name + " " + std::to_string(k) + ": " + q.name + " is not finite");
-          if (int(p) == indices) {
-            if (q.type < 0 || v != std::floor(v) || std::abs(v) > 1e15)
-              return r.fail(ascii ? number : 0, "face " + std::to_string(k) + ": a vertex index must be an integer");
-            polygon.push_back(long(v));
-          }
-          for (int a = 0; a < 3; ++a)
-            if (q.count_type == 0 && int(p) == axis[a]) xyz[a] = v;
-        }
-      }
-      if (ascii) {
-        std::string extra;
-        if (ss >> extra) return r.fail(number, "more values than the " + e.name + " element's properties");
-      }
-      if (e.name == "vertex") pts.emplace_back(xyz[0], xyz[1], xyz[2]);
-      if (indices >= 0) faces.add(polygon, ascii ? number : 0);
+      for (int a = 0; a < 3; ++a)
+        if (q.count_type == 0 && int(p) == e.axis[a]) xyz[a] = v;
     }
   }
-  if (ascii ? next() && line.find_first_not_of(" \t") != std::string::npos : in.peek() != EOF)
-    return r.fail(ascii ? number : 0, "more data after the last element");
+  std::string extra;
+  if (ascii && ss >> extra) return r.fail(at, "more values than the " + e.name + " element's properties");
+  return true;
+}
+
+bool read_ply(std::istream& in, Reader r, std::vector<Vector3d>& pts, Faces& faces) {
+  PlyLines lines{in};
+  if (!lines.next() || lines.line != "ply") return r.fail(1, "expected the ply header");
+  std::string format;
+  std::vector<PlyElement> elements;
+  if (!ply_header(lines, r, format, elements) || !ply_kept(elements, r, lines.number)) return false;
+  const bool ascii = format == "ascii";
+  std::vector<long> polygon;
+  for (const PlyElement& e : elements)
+    for (long k = 0; k < e.count; ++k) {
+      double xyz[3] = {0, 0, 0};
+      if (!ply_row(lines, r, format, e, k, xyz, polygon)) return false;
+      if (e.name == "vertex") pts.emplace_back(xyz[0], xyz[1], xyz[2]);
+      if (e.indices >= 0) faces.add(polygon, ascii ? lines.number : 0);
+    }
+  if (ascii ? lines.next() && lines.line.find_first_not_of(" \t") != std::string::npos : in.peek() != EOF)
+    return r.fail(ascii ? lines.number : 0, "more data after the last element");
   return true;
 }
 
