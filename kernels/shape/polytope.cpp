@@ -7,6 +7,7 @@
 #include <map>
 
 #include "core/hull.hpp"
+#include "core/manifold.hpp"
 #include "core/predicates.hpp"
 #include "core/validate.hpp"
 
@@ -22,24 +23,26 @@ namespace {
 Status check_coordinates(const std::vector<Vector3d>& pts) { return detail::check_coordinates(pts.data(), pts.size()); }
 double diagonal(const std::vector<Vector3d>& pts) { return detail::diagonal(pts.data(), pts.size()); }
 
-// Fills `edges` from the face loops; false unless every directed edge has exactly one twin.
+// Fills `edges` from the face loops (in (v0, v1) order); false unless every directed edge has
+// exactly one twin.
 bool edges_from_loops(ConvexPolytope& p) {
-  std::map<std::pair<int, int>, int> directed;
+  std::vector<int> start(1, 0), vertex, face, twin, scratch;
   for (int f = 0; f < int(p.faces.size()); ++f) {
-    const auto& loop = p.faces[f].loop;
-    for (size_t k = 0; k < loop.size(); ++k) {
-      const auto key = std::make_pair(loop[k], loop[(k + 1) % loop.size()]);
-      if (!directed.emplace(key, f).second) return false;
-    }
+    for (int v : p.faces[f].loop) vertex.push_back(v), face.push_back(f);
+    start.push_back(int(vertex.size()));
   }
+  twin.resize(vertex.size());
+  if (!detail::pair_edges(start.data(), int(p.faces.size()), vertex.data(), int(p.vertices.size()), twin.data(), scratch))
+    return false;
   p.edges.clear();
-  for (const auto& [key, f] : directed) {
-    if (key.first > key.second) continue;
-    auto twin = directed.find({key.second, key.first});
-    if (twin == directed.end()) return false;
-    p.edges.push_back(Edge{key.first, key.second, f, twin->second});
+  for (size_t k = 0; k < vertex.size(); ++k) {
+    const int v0 = vertex[k], v1 = vertex[size_t(twin[k])];  // the twin starts where this edge ends
+    if (v0 < v1) p.edges.push_back(Edge{v0, v1, face[k], face[size_t(twin[k])]});
   }
-  return p.edges.size() * 2 == directed.size();
+  std::sort(p.edges.begin(), p.edges.end(), [](const Edge& x, const Edge& y) {
+    return x.v0 != y.v0 ? x.v0 < y.v0 : x.v1 < y.v1;
+  });
+  return true;
 }
 
 // Flat polytope from a counter-clockwise (about n) loop of the points `pts`.

@@ -4,6 +4,7 @@
 #include "sum/pair_numbering.hpp"
 
 #include "core/hull.hpp"
+#include "core/manifold.hpp"
 
 #include <algorithm>
 #include <limits>
@@ -15,28 +16,9 @@ using Eigen::Vector3d;
 namespace detail {
 
 bool closed_manifold(const MinkowskiSum& m) {
-  // Every directed edge u -> v once, and v -> u once. Outgoing edges are grouped per vertex (a
-  // few per vertex), so each check is a short scan.
-  thread_local std::vector<int> start, head, fill;
-  const size_t V = m.vertices.size();
-  start.assign(V + 1, 0);
-  head.resize(m.loop_vertex.size());
-  for (int u : m.loop_vertex) ++start[size_t(u) + 1];
-  for (size_t v = 0; v < V; ++v) start[v + 1] += start[v];
-  fill.assign(start.begin(), start.end() - 1);
-  for (int f = 0; f < m.F; ++f) {
-    const Loop loop = m.facet(f);
-    for (int k = 0; k < loop.size(); ++k) head[size_t(fill[loop[k]]++)] = loop[(k + 1) % loop.size()];
-  }
-  const auto count = [&](int u, int v) {
-    int n = 0;
-    for (int k = start[u]; k < start[u + 1]; ++k) n += head[k] == v;
-    return n;
-  };
-  for (size_t u = 0; u < V; ++u)
-    for (int k = start[u]; k < start[u + 1]; ++k)
-      if (count(int(u), head[k]) != 1 || count(head[k], int(u)) != 1) return false;
-  return true;
+  thread_local std::vector<int> scratch;
+  return m.F >= 0 && m.loop_start.size() == size_t(m.F) + 1 &&
+         pair_edges(m.loop_start.data(), m.F, m.loop_vertex.data(), int(m.vertices.size()), nullptr, scratch);
 }
 
 void assemble(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, std::vector<FacetLoop>& facets,
