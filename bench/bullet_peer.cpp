@@ -43,7 +43,8 @@ std::unique_ptr<btConvexShape> hull(const ConvexPolytope& p) {
 int bullet_hull(const std::vector<Eigen::Vector3d>& points) {
   // One computer per thread, reused as a user's loop would (its arrays keep their capacity).
   thread_local btConvexHullComputer computer;
-  const btScalar shrink = computer.compute(points.data()->data(), int(sizeof(Eigen::Vector3d)), int(points.size()), 0, 0);
+  const btScalar shrink =
+      computer.compute(points.data()->data(), int(sizeof(Eigen::Vector3d)), int(points.size()), 0, 0);
   return shrink < 0 ? -1 : computer.faces.size();
 }
 

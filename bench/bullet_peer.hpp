@@ -17,7 +17,7 @@ int bullet_hull(const std::vector<Eigen::Vector3d>& points);
 
 /// Bullet's answer for one pose.
 struct BulletAnswer {
-  double distance = 0;  ///< signed: negative is the penetration depth
+  double distance = 0;                                ///< signed: negative is the penetration depth
   Eigen::Vector3d point_b = Eigen::Vector3d::Zero();  ///< its nearest (deepest) point on B
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();   ///< unit normal on B, towards A
 };

@@ -70,7 +70,8 @@ namespace {
 // triangles merged where exactly coplanar (union-find over facets); a true vertex touches at
 // least three merged facets. With `facets`, each merged facet's true vertices, sorted.
 template <class K>
-ExactCounts hull_structure(const std::vector<typename K::Point_3>& points, std::vector<std::vector<Eigen::Vector3d>>* facets) {
+ExactCounts hull_structure(const std::vector<typename K::Point_3>& points,
+                           std::vector<std::vector<Eigen::Vector3d>>* facets) {
   CGAL::Polyhedron_3<K> hull;
   CGAL::convex_hull_3(points.begin(), points.end(), hull);
   using Facet = typename CGAL::Polyhedron_3<K>::Facet_const_handle;
@@ -101,10 +102,12 @@ ExactCounts hull_structure(const std::vector<typename K::Point_3>& points, std::
   for (auto v = hull.vertices_begin(); v != hull.vertices_end(); ++v) {
     std::set<int> around;
     auto h = v->vertex_begin();
-    do around.insert(find(id[h->facet()])); while (++h != v->vertex_begin());
+    do around.insert(find(id[h->facet()]));
+    while (++h != v->vertex_begin());
     if (around.size() < 3) continue;
     ++V;
-    const Eigen::Vector3d p(CGAL::to_double(v->point().x()), CGAL::to_double(v->point().y()), CGAL::to_double(v->point().z()));
+    const Eigen::Vector3d p(CGAL::to_double(v->point().x()), CGAL::to_double(v->point().y()),
+                            CGAL::to_double(v->point().z()));
     for (int c : around) corners[c].push_back(p);
   }
   if (facets) {
@@ -141,7 +144,8 @@ ExactCounts exact_counts(const std::vector<Eigen::Vector3d>& a, const std::vecto
   std::vector<Epeck::Point_3> p;
   for (const auto& u : a)
     for (const auto& v : b)
-      p.emplace_back(Epeck::FT(u.x()) + Epeck::FT(s) * Epeck::FT(v.x()), Epeck::FT(u.y()) + Epeck::FT(s) * Epeck::FT(v.y()),
+      p.emplace_back(Epeck::FT(u.x()) + Epeck::FT(s) * Epeck::FT(v.x()),
+                     Epeck::FT(u.y()) + Epeck::FT(s) * Epeck::FT(v.y()),
                      Epeck::FT(u.z()) + Epeck::FT(s) * Epeck::FT(v.z()));
   return hull_structure<Epeck>(p, facets);
 }

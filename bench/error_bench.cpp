@@ -72,7 +72,8 @@ Case box_case(const Box& a, const Box& b, bool turned = true) {
   return c;
 }
 
-Box box(const Vector3d& h, const Eigen::Matrix3d& R = Eigen::Matrix3d::Identity(), const Vector3d& c = Vector3d::Zero()) {
+Box box(const Vector3d& h, const Eigen::Matrix3d& R = Eigen::Matrix3d::Identity(),
+        const Vector3d& c = Vector3d::Zero()) {
   Box b;
   b.half_extents = h, b.rotation = R, b.center = c;
   return b;
@@ -87,11 +88,13 @@ const std::vector<Case>& cases(const std::string& set) {
   const auto R = tools::table1_rotation();
   if (set == "generic") {
     for (const auto& pair : tools::exact_table1_pairs())
-      out.push_back(pair.name == "cube_rotcube" ? box_case(box({1, 1, 1}), box({1, 1, 1}, R)) : make_case(pair.a, pair.b));
+      out.push_back(pair.name == "cube_rotcube" ? box_case(box({1, 1, 1}), box({1, 1, 1}, R))
+                                                : make_case(pair.a, pair.b));
     std::mt19937_64 rng(5);
     for (int k = 0; k < 10; ++k) out.push_back(box_case(tools::random_box(rng, 0), tools::random_box(rng, 0)));
   } else {
-    for (int e = 3; e <= 15; e += 2) out.push_back(box_case(box({1, 1, 1}), box({1, 1, 1}, tools::axis_angle(kGeneric, std::pow(10.0, -e)))));
+    for (int e = 3; e <= 15; e += 2)
+      out.push_back(box_case(box({1, 1, 1}), box({1, 1, 1}, tools::axis_angle(kGeneric, std::pow(10.0, -e)))));
     out.push_back(box_case(box({1, 2, 3}), box({0.5, 0.25, 4}), false));
     out.push_back(box_case(box({1, 1, 1}), box({1, 1, 1}, tools::axis_angle({0, 0, 1}, M_PI / 4)), false));
     const Vector3d far(1e6, -1e6, 1e6);
@@ -116,16 +119,20 @@ double support_error(const Case& c, const std::vector<Vector3d>& vertices) {
   double worst = 0;
   for (const auto& u : directions()) {
     long double ha = -INFINITY, hb = -INFINITY, ho = -INFINITY;
-    for (const auto& p : c.a) ha = std::max(ha, (long double)u.x() * p.x() + (long double)u.y() * p.y() + (long double)u.z() * p.z());
-    for (const auto& p : c.b) hb = std::max(hb, (long double)u.x() * p.x() + (long double)u.y() * p.y() + (long double)u.z() * p.z());
-    for (const auto& p : vertices) ho = std::max(ho, (long double)u.x() * p.x() + (long double)u.y() * p.y() + (long double)u.z() * p.z());
+    for (const auto& p : c.a)
+      ha = std::max(ha, (long double)u.x() * p.x() + (long double)u.y() * p.y() + (long double)u.z() * p.z());
+    for (const auto& p : c.b)
+      hb = std::max(hb, (long double)u.x() * p.x() + (long double)u.y() * p.y() + (long double)u.z() * p.z());
+    for (const auto& p : vertices)
+      ho = std::max(ho, (long double)u.x() * p.x() + (long double)u.y() * p.y() + (long double)u.z() * p.z());
     worst = std::max(worst, double(std::abs(ho - ha - hb)));
   }
   return worst / c.size;
 }
 
 void report(benchmark::State& state, size_t n, double error, double exact_fraction) {
-  state.counters["s_per_case"] = benchmark::Counter(double(n), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.counters["s_per_case"] =
+      benchmark::Counter(double(n), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
   state.counters["max_rel_error"] = error;
   state.counters["exact_structure"] = exact_fraction;
 }
@@ -191,8 +198,10 @@ void Kernel(benchmark::State& state, std::string set, Isa isa) {
       if (p >= 15) n = -n;
       const double len = n.norm();
       long double ha = -INFINITY, hb = -INFINITY;
-      for (const auto& q : cs[k]->a) ha = std::max(ha, (long double)n.x() * q.x() + (long double)n.y() * q.y() + (long double)n.z() * q.z());
-      for (const auto& q : cs[k]->b) hb = std::max(hb, (long double)n.x() * q.x() + (long double)n.y() * q.y() + (long double)n.z() * q.z());
+      for (const auto& q : cs[k]->a)
+        ha = std::max(ha, (long double)n.x() * q.x() + (long double)n.y() * q.y() + (long double)n.z() * q.z());
+      for (const auto& q : cs[k]->b)
+        hb = std::max(hb, (long double)n.x() * q.x() + (long double)n.y() * q.y() + (long double)n.z() * q.z());
       error = std::max(error, double(std::abs((long double)out->offset[p][k] - ha - hb)) / len / cs[k]->size);
       bool seen = false;  // distinct planes only (aligned boxes repeat their faces)
       for (const auto& m : normals) seen = seen || (m - n / len).norm() < 1e-6;
@@ -219,7 +228,8 @@ void NearParallel(benchmark::State& state, int k, Method method) {
 const int kRegistered = [] {
   for (const std::string set : {"generic", "hard"}) {
     const std::string base = "SpeedError/" + set + "/";
-    benchmark::RegisterBenchmark((base + "osm_reference/double/scalar").c_str(), Osm, set, Method::Reference, Isa::Scalar);
+    benchmark::RegisterBenchmark((base + "osm_reference/double/scalar").c_str(), Osm, set, Method::Reference,
+                                 Isa::Scalar);
     benchmark::RegisterBenchmark((base + "qhull/double/scalar").c_str(), Osm, set, Method::Hull, Isa::Scalar);
     benchmark::RegisterBenchmark((base + "cgal_quickhull/double/scalar").c_str(), CgalQuickhull, set);
     for (Isa isa : {Isa::Scalar, Isa::Sse4_2, Isa::Avx2, Isa::Avx512}) {
@@ -230,7 +240,8 @@ const int kRegistered = [] {
     }
   }
   for (int k = 1; k <= 15; ++k)
-    for (auto [name, method] : {std::pair{"osm_fast", Method::Fast}, std::pair{"osm_reference", Method::Reference}, std::pair{"qhull", Method::Hull}})
+    for (auto [name, method] : {std::pair{"osm_fast", Method::Fast}, std::pair{"osm_reference", Method::Reference},
+                                std::pair{"qhull", Method::Hull}})
       benchmark::RegisterBenchmark(("NearParallel/" + std::to_string(k) + "/" + name).c_str(), NearParallel, k, method)
           ->Unit(benchmark::kMicrosecond);
   return 0;

@@ -38,7 +38,8 @@ void FaceToFace(benchmark::State& state, const tools::FacePair& pair, double gap
     return;
   }
   // A at a generic pose, so that nothing is axis-aligned in the world.
-  const Isometry3d pose_a(Eigen::Translation3d(0.3, -0.2, 0.1) * Eigen::AngleAxisd(0.4, Vector3d(1, 2, 3).normalized()));
+  const Isometry3d pose_a(Eigen::Translation3d(0.3, -0.2, 0.1) *
+                          Eigen::AngleAxisd(0.4, Vector3d(1, 2, 3).normalized()));
   std::vector<Isometry3d> pose_b(kPoses);
   for (int k = 0; k < kPoses; ++k) pose_b[k] = pose_a * tools::face_pose(pair, k, kPoses, gap, rocking);
   std::unique_ptr<peers::FclPair> fcl;
@@ -63,11 +64,17 @@ void FaceToFace(benchmark::State& state, const tools::FacePair& pair, double gap
   for (auto _ : state) {
     const int i = int(ticks++ % kPoses);
     switch (method) {
-      case Method::Cold: proximity(A, pose_a, B, pose_b[i], p, Want::Contact), searched += p.searched; break;
-      case Method::Coherent: proximity(A, pose_a, B, pose_b[i], cache, p, Want::Contact); break;
+      case Method::Cold:
+        proximity(A, pose_a, B, pose_b[i], p, Want::Contact), searched += p.searched;
+        break;
+      case Method::Coherent:
+        proximity(A, pose_a, B, pose_b[i], cache, p, Want::Contact);
+        break;
       case Method::FclGjk:
-        if (boxes) fcl->set_poses(box_pose(pose_a, pair.box_a), box_pose(pose_b[i], pair.box_b));
-        else fcl->set_poses(pose_a, pose_b[i]);
+        if (boxes)
+          fcl->set_poses(box_pose(pose_a, pair.box_a), box_pose(pose_b[i], pair.box_b));
+        else
+          fcl->set_poses(pose_a, pose_b[i]);
         fcl->proximity(peers::FclSolver::Gjk, answer);
         benchmark::DoNotOptimize(answer.distance);
         break;
@@ -97,8 +104,9 @@ const int registered = [] {
     for (bool rocking : {false, true})
       for (const auto& [gap_name, gap] : gaps)
         for (const auto& [name, m] : methods)
-          benchmark::RegisterBenchmark(("FaceToFace/" + pair.name + (rocking ? "_rocking/" : "/") + gap_name + "/" + name).c_str(),
-                                       FaceToFace, std::cref(pair), gap, rocking, m);
+          benchmark::RegisterBenchmark(
+              ("FaceToFace/" + pair.name + (rocking ? "_rocking/" : "/") + gap_name + "/" + name).c_str(), FaceToFace,
+              std::cref(pair), gap, rocking, m);
   return 0;
 }();
 

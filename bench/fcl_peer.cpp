@@ -142,7 +142,8 @@ size_t FclMeshPair::bytes_a() const {
   // What BVHModel::memUsage adds up (in FCL 0.7 it returns BVH_OK, 0, not the sum), plus the
   // per-triangle primitive indices of the leaves.
   const auto& m = *impl_->ga;
-  return size_t(m.getNumBVs()) * sizeof(fcl::BVNode<fcl::OBBRSSd>) + size_t(m.num_tris) * (sizeof(fcl::Triangle) + sizeof(unsigned)) +
+  return size_t(m.getNumBVs()) * sizeof(fcl::BVNode<fcl::OBBRSSd>) +
+         size_t(m.num_tris) * (sizeof(fcl::Triangle) + sizeof(unsigned)) +
          size_t(m.num_vertices) * sizeof(fcl::Vector3d) + sizeof(m);
 }
 

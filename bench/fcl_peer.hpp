@@ -18,7 +18,7 @@ enum class FclSolver { Gjk, Libccd };
 
 /// What FCL answers for one pair.
 struct FclAnswer {
-  double distance = 0;  ///< FCL's min_distance (negative or 0 when it reports a collision)
+  double distance = 0;               ///< FCL's min_distance (negative or 0 when it reports a collision)
   Eigen::Vector3d point_a, point_b;  ///< its nearest points
   bool collide = false;              ///< from fcl::collide
   double depth = 0;                  ///< penetration depth of the first contact

@@ -16,7 +16,6 @@ namespace {
 using namespace minksum;
 using Eigen::Vector3d;
 
-
 template <int N>
 void BoxBoxBatch(benchmark::State& state, Isa isa) {
   force_isa(isa);
@@ -60,8 +59,7 @@ void SupportPushBench(benchmark::State& state, Isa isa, int n) {
   for (const auto& p : pts) x.push_back(float(p.x())), y.push_back(float(p.y())), z.push_back(float(p.z()));
   for (const auto& d : dirs) dx.push_back(float(d.x())), dy.push_back(float(d.y())), dz.push_back(float(d.z()));
   for (auto _ : state) {
-    support_push(x.data(), y.data(), z.data(), n, dx.data(), dy.data(), dz.data(), 64, best.data(),
-                 arg.data());
+    support_push(x.data(), y.data(), z.data(), n, dx.data(), dy.data(), dz.data(), 64, best.data(), arg.data());
     benchmark::DoNotOptimize(arg.data());
   }
   state.SetItemsProcessed(state.iterations() * 64);  // directions
@@ -139,8 +137,7 @@ const int kRegistered = [] {
     benchmark::RegisterBenchmark(("BoxTriangle/" + name + "/1024").c_str(), BoxTriangleBatch<1024>, isa);
     benchmark::RegisterBenchmark(("BoxTriangle/" + name + "/65536").c_str(), BoxTriangleBatch<65536>, isa);
     for (int n : {8, 64, 512, 4096})
-      benchmark::RegisterBenchmark(("SupportPush/" + name + "/" + std::to_string(n)).c_str(),
-                                   SupportPushBench, isa, n);
+      benchmark::RegisterBenchmark(("SupportPush/" + name + "/" + std::to_string(n)).c_str(), SupportPushBench, isa, n);
   }
   benchmark::RegisterBenchmark("BoxBox/single", BoxBoxSingle);
   benchmark::RegisterBenchmark("BoxBox/qhull", BoxBoxQhull);

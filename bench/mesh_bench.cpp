@@ -51,9 +51,12 @@ const tools::Mesh& mesh(const std::string& name) {
   if (!cache.count(name)) {
     std::string source;
     tools::Mesh& m = cache[name];
-    if (name == "sphere_outer") m = tools::sphere_mesh(1.0, 40);
-    else if (name == "sphere_inner") m = tools::sphere_mesh(0.9, 40);
-    else if (name.find(".off") == std::string::npos || !tools::cgal_demo_mesh(name, m)) m = tools::demo_mesh(name, source);
+    if (name == "sphere_outer")
+      m = tools::sphere_mesh(1.0, 40);
+    else if (name == "sphere_inner")
+      m = tools::sphere_mesh(0.9, 40);
+    else if (name.find(".off") == std::string::npos || !tools::cgal_demo_mesh(name, m))
+      m = tools::demo_mesh(name, source);
   }
   return cache[name];
 }
@@ -100,7 +103,8 @@ double median(std::vector<double> x) {
 // us[k]: the time of the k-th query, pose k % poses; culled[k] its least culled percentage.
 // Banded scenes: each pose counts with the fastest of its runs (the machine is shared: a
 // single preempted run would otherwise be a pose's "worst"), then median and worst per band.
-void report(benchmark::State& state, const Scene& scene, const std::vector<double>& us, const std::vector<double>& culled) {
+void report(benchmark::State& state, const Scene& scene, const std::vector<double>& us,
+            const std::vector<double>& culled) {
   if (!scene.banded) {
     state.counters["median_us"] = median(us);
     state.counters["max_us"] = *std::max_element(us.begin(), us.end());
@@ -138,7 +142,8 @@ void run_minksum(benchmark::State& state, const Octree& A, const Octree& B, cons
     mesh_distance(A, Eigen::Isometry3d::Identity(), B, poses[k++ % poses.size()], ws, d);
     us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
     culled.push_back(std::min(d.stats.culled_percent_a, d.stats.culled_percent_b));
-    node_pairs += double(d.stats.node_pairs), leaf_pairs += double(d.stats.leaf_pairs), triangle_pairs += double(d.stats.triangle_pairs);
+    node_pairs += double(d.stats.node_pairs), leaf_pairs += double(d.stats.leaf_pairs),
+        triangle_pairs += double(d.stats.triangle_pairs);
   }
   report(state, scene, us, culled);
   state.counters["min_culled_pct"] = *std::min_element(culled.begin(), culled.end());
@@ -190,7 +195,7 @@ const std::vector<Eigen::Vector3d>& cloud(const std::string& name, int count) {
 }
 
 struct CloudScene {
-  std::string a, b;  // the meshes sampled
+  std::string a, b;    // the meshes sampled
   int na = 0, nb = 0;  // points per cloud
 };
 
@@ -239,28 +244,49 @@ const int kRegistered = [] {
     const std::string base = std::string("MeshDistance/") + label + "/";
     const Scene scene{file, label == std::string("concentric_spheres") ? "sphere_inner" : file};
     // At least the 100 poses once each.
-    benchmark::RegisterBenchmark((base + "minksum").c_str(), Minksum, scene)->Unit(benchmark::kMicrosecond)->Iterations(300);
-    benchmark::RegisterBenchmark((base + "fcl_obbrss").c_str(), Fcl, scene)->Unit(benchmark::kMicrosecond)->Iterations(300);
-    benchmark::RegisterBenchmark((std::string("MeshBuild/") + label).c_str(), Build, file)->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark((base + "minksum").c_str(), Minksum, scene)
+        ->Unit(benchmark::kMicrosecond)
+        ->Iterations(300);
+    benchmark::RegisterBenchmark((base + "fcl_obbrss").c_str(), Fcl, scene)
+        ->Unit(benchmark::kMicrosecond)
+        ->Iterations(300);
+    benchmark::RegisterBenchmark((std::string("MeshBuild/") + label).c_str(), Build, file)
+        ->Unit(benchmark::kMillisecond);
   }
   // Banded poses: the bunny, and libcgal-demo meshes of other shapes paired (every one used).
-  for (auto [label, a, b] : {std::tuple{"bunny", "bun_zipper.ply", "bun_zipper.ply"}, std::tuple{"camel_bull", "camel.off", "bull.off"},
-                             std::tuple{"femur_turbine", "femur.off", "turbine.off"}, std::tuple{"fandisk_blade", "fandisk.off", "blade.off"},
-                             std::tuple{"blade_camel", "blade.off", "camel.off"}, std::tuple{"turbine_bull", "turbine.off", "bull.off"}}) {
+  for (auto [label, a, b] :
+       {std::tuple{"bunny", "bun_zipper.ply", "bun_zipper.ply"}, std::tuple{"camel_bull", "camel.off", "bull.off"},
+        std::tuple{"femur_turbine", "femur.off", "turbine.off"},
+        std::tuple{"fandisk_blade", "fandisk.off", "blade.off"}, std::tuple{"blade_camel", "blade.off", "camel.off"},
+        std::tuple{"turbine_bull", "turbine.off", "bull.off"}}) {
     const std::string base = std::string("MeshDistance/") + label + "/";
     const Scene scene{a, b, true};
-    benchmark::RegisterBenchmark((base + "minksum").c_str(), Minksum, scene)->Unit(benchmark::kMicrosecond)->Iterations(3 * kBandedPoses);
-    benchmark::RegisterBenchmark((base + "fcl_obbrss").c_str(), Fcl, scene)->Unit(benchmark::kMicrosecond)->Iterations(3 * kBandedPoses);
+    benchmark::RegisterBenchmark((base + "minksum").c_str(), Minksum, scene)
+        ->Unit(benchmark::kMicrosecond)
+        ->Iterations(3 * kBandedPoses);
+    benchmark::RegisterBenchmark((base + "fcl_obbrss").c_str(), Fcl, scene)
+        ->Unit(benchmark::kMicrosecond)
+        ->Iterations(3 * kBandedPoses);
   }
-  for (const CloudScene& c : {CloudScene{"camel.off", "bull.off", 100000, 100000}, CloudScene{"femur.off", "turbine.off", 50000, 200000},
-                              CloudScene{"fandisk.off", "blade.off", 150000, 150000}}) {
-    const std::string base = "PointDistance/" + c.a.substr(0, c.a.size() - 4) + "_" + c.b.substr(0, c.b.size() - 4) + "/";
-    benchmark::RegisterBenchmark((base + "minksum").c_str(), PointMinksum, c)->Unit(benchmark::kMicrosecond)->Iterations(kBandedPoses);
-    benchmark::RegisterBenchmark((base + "nanoflann").c_str(), PointNanoflann, c)->Unit(benchmark::kMicrosecond)->Iterations(kBandedPoses);
+  for (const CloudScene& c :
+       {CloudScene{"camel.off", "bull.off", 100000, 100000}, CloudScene{"femur.off", "turbine.off", 50000, 200000},
+        CloudScene{"fandisk.off", "blade.off", 150000, 150000}}) {
+    const std::string base =
+        "PointDistance/" + c.a.substr(0, c.a.size() - 4) + "_" + c.b.substr(0, c.b.size() - 4) + "/";
+    benchmark::RegisterBenchmark((base + "minksum").c_str(), PointMinksum, c)
+        ->Unit(benchmark::kMicrosecond)
+        ->Iterations(kBandedPoses);
+    benchmark::RegisterBenchmark((base + "nanoflann").c_str(), PointNanoflann, c)
+        ->Unit(benchmark::kMicrosecond)
+        ->Iterations(kBandedPoses);
     for (const auto& [name, n] : {std::pair{c.a, c.na}, std::pair{c.b, c.nb}}) {
       const std::string label = "PointBuild/" + name.substr(0, name.size() - 4) + "_" + std::to_string(n / 1000) + "k/";
-      benchmark::RegisterBenchmark((label + "minksum").c_str(), PointBuildMinksum, std::pair{name, n})->Unit(benchmark::kMillisecond)->Iterations(3);
-      benchmark::RegisterBenchmark((label + "nanoflann").c_str(), PointBuildNanoflann, std::pair{name, n})->Unit(benchmark::kMillisecond)->Iterations(3);
+      benchmark::RegisterBenchmark((label + "minksum").c_str(), PointBuildMinksum, std::pair{name, n})
+          ->Unit(benchmark::kMillisecond)
+          ->Iterations(3);
+      benchmark::RegisterBenchmark((label + "nanoflann").c_str(), PointBuildNanoflann, std::pair{name, n})
+          ->Unit(benchmark::kMillisecond)
+          ->Iterations(3);
     }
   }
   return 0;

@@ -140,7 +140,6 @@ void Table1Kernel(benchmark::State& state) {
   state.counters["kernel"] = m.method == Method::Kernel;
 }
 
-
 // The pairwise sums a + s b, formed in the timed loop as a hull method's user must.
 void pairwise_sums(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b, double s,
                    std::vector<Eigen::Vector3d>& out) {
@@ -174,7 +173,8 @@ void DegeneratePrepared(benchmark::State& state, const tools::DegeneratePair& pa
   MinkowskiSum m;
   Status s = Status::Ok;
   for (auto _ : state) {
-    s = pair.difference ? minkowski_difference(p.A, identity, p.B, identity, m) : minkowski_sum(p.A, identity, p.B, identity, m);
+    s = pair.difference ? minkowski_difference(p.A, identity, p.B, identity, m)
+                        : minkowski_sum(p.A, identity, p.B, identity, m);
     benchmark::DoNotOptimize(m.planes.data());
   }
   if (s != Status::Ok || m.corrected) state.SkipWithError("the prepared sum failed or needed the corrector");
@@ -225,7 +225,8 @@ const int kRegistered = [] {
     const std::string base = "Scaling/" + std::to_string(n) + "/";
     benchmark::RegisterBenchmark((base + "osm_prepared").c_str(), ScalingPrepared, n)->Unit(benchmark::kMicrosecond);
     const Prepared p = scaling_pair(n);
-    benchmark::RegisterBenchmark((base + "qhull").c_str(), HullPeer, p.A.vertices, p.B.vertices, 1.0, false)->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark((base + "qhull").c_str(), HullPeer, p.A.vertices, p.B.vertices, 1.0, false)
+        ->Unit(benchmark::kMicrosecond);
     benchmark::RegisterBenchmark((base + "cgal_quickhull").c_str(), ScalingCgal, n)->Unit(benchmark::kMicrosecond);
   }
   benchmark::RegisterBenchmark("Scaling/2048/osm_prepared", ScalingPrepared, 2048)->Unit(benchmark::kMicrosecond);
@@ -251,15 +252,17 @@ const int kRegistered = [] {
         ->Unit(benchmark::kMicrosecond);
     benchmark::RegisterBenchmark((base + "cgal_quickhull").c_str(), Table1Cgal, row, false)
         ->Unit(benchmark::kMicrosecond);
-    benchmark::RegisterBenchmark((base + "cgal_nef").c_str(), Table1Cgal, row, true)
-        ->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark((base + "cgal_nef").c_str(), Table1Cgal, row, true)->Unit(benchmark::kMillisecond);
   }
   for (const auto& pair : tools::degenerate_pairs()) {
     const std::string base = "Degenerate/" + pair.name + "/";
     const double sign = pair.difference ? -1 : 1;
-    benchmark::RegisterBenchmark((base + "osm_prepared").c_str(), DegeneratePrepared, pair)->Unit(benchmark::kMicrosecond);
-    benchmark::RegisterBenchmark((base + "qhull").c_str(), HullPeer, pair.a, pair.b, sign, false)->Unit(benchmark::kMicrosecond);
-    benchmark::RegisterBenchmark((base + "bullet_hull").c_str(), HullPeer, pair.a, pair.b, sign, true)->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark((base + "osm_prepared").c_str(), DegeneratePrepared, pair)
+        ->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark((base + "qhull").c_str(), HullPeer, pair.a, pair.b, sign, false)
+        ->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark((base + "bullet_hull").c_str(), HullPeer, pair.a, pair.b, sign, true)
+        ->Unit(benchmark::kMicrosecond);
   }
   return 0;
 }();

@@ -14,7 +14,9 @@ struct Points {  // nanoflann's dataset interface, over the caller's cloud (not 
   size_t kdtree_get_point_count() const { return pts->size(); }
   double kdtree_get_pt(size_t i, size_t d) const { return (*pts)[i][int(d)]; }
   template <class Box>
-  bool kdtree_get_bbox(Box&) const { return false; }
+  bool kdtree_get_bbox(Box&) const {
+    return false;
+  }
 };
 
 using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Points>, Points, 3>;
@@ -60,8 +62,6 @@ double NanoflannCloudPair::distance(const Eigen::Isometry3d& pose, int* ia, int*
   return std::sqrt(best2);
 }
 
-size_t NanoflannCloudPair::bytes() const {
-  return impl_->tree->usedMemory(*impl_->tree);
-}
+size_t NanoflannCloudPair::bytes() const { return impl_->tree->usedMemory(*impl_->tree); }
 
 }  // namespace minksum::peers

@@ -138,7 +138,8 @@ SmallPairs small_pairs(bool two_triangles) {
     if ((two_triangles ? proximity(s, t, p) : proximity(box, t, p)) != Status::Ok) continue;
     if (p.intersecting != (out.t.size() % 2 == 0)) continue;
     out.boxes.push_back(box), out.s.push_back(s), out.t.push_back(t);
-    out.fcl.push_back(two_triangles ? std::make_unique<peers::FclPair>(s, t) : std::make_unique<peers::FclPair>(box, t));
+    out.fcl.push_back(two_triangles ? std::make_unique<peers::FclPair>(s, t)
+                                    : std::make_unique<peers::FclPair>(box, t));
   }
   return out;
 }
@@ -154,8 +155,10 @@ void SmallDistance(benchmark::State& state, bool two_triangles, bool fcl) {
       ps.fcl[i]->proximity(peers::FclSolver::Gjk, answer);
       benchmark::DoNotOptimize(answer.distance);
     } else {
-      if (two_triangles) proximity(ps.s[i], ps.t[i], p, Want::Contact);
-      else proximity(ps.boxes[i], ps.t[i], p, Want::Contact);
+      if (two_triangles)
+        proximity(ps.s[i], ps.t[i], p, Want::Contact);
+      else
+        proximity(ps.boxes[i], ps.t[i], p, Want::Contact);
       benchmark::DoNotOptimize(p.distance);
     }
   }
@@ -212,8 +215,10 @@ void PolytopeQuery(benchmark::State& state, int row, bool fcl, bool overlapping)
     peers::FclPair peer(A, B);
     peers::FclAnswer answer;
     for (auto _ : state) {
-      if (overlapping) peer.penetration(peers::FclSolver::Gjk, answer);
-      else peer.proximity(peers::FclSolver::Gjk, answer);
+      if (overlapping)
+        peer.penetration(peers::FclSolver::Gjk, answer);
+      else
+        peer.proximity(peers::FclSolver::Gjk, answer);
       benchmark::DoNotOptimize(answer.depth);
     }
   } else {

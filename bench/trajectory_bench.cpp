@@ -53,10 +53,18 @@ void along(benchmark::State& state, Method method, size_t n, Cold cold, Coherent
   for (auto _ : state) {
     const size_t i = k++ % n;
     switch (method) {
-      case Method::Cold: cold(i, p), searched += p.searched; break;
-      case Method::Coherent: coherent(i, cache, p); break;
-      case Method::FclGjk: benchmark::DoNotOptimize(fcl(i)); break;
-      default: benchmark::DoNotOptimize(bullet(i)); break;
+      case Method::Cold:
+        cold(i, p), searched += p.searched;
+        break;
+      case Method::Coherent:
+        coherent(i, cache, p);
+        break;
+      case Method::FclGjk:
+        benchmark::DoNotOptimize(fcl(i));
+        break;
+      default:
+        benchmark::DoNotOptimize(bullet(i));
+        break;
     }
     benchmark::DoNotOptimize(p.distance);
     contacts += p.intersecting, ++ticks;
@@ -109,10 +117,13 @@ void Shapes(benchmark::State& state, std::vector<Vector3d> pa, std::vector<Vecto
   peers::FclAnswer answer;
   peers::BulletPair bullet(A.polytope(), B.polytope());
   along(
-      state, method, path.size(),
-      [&](size_t i, Proximity& p) { proximity(A, pose_a, B, pose_b[i], p, Want::Contact); },
-      [&](size_t i, ProximityCache& cache, Proximity& p) { proximity(A, pose_a, B, pose_b[i], cache, p, Want::Contact); },
-      [&](size_t i) { return fcl.set_poses(pose_a, pose_b[i]), fcl.proximity(peers::FclSolver::Gjk, answer), answer.distance; },
+      state, method, path.size(), [&](size_t i, Proximity& p) { proximity(A, pose_a, B, pose_b[i], p, Want::Contact); },
+      [&](size_t i, ProximityCache& cache, Proximity& p) {
+        proximity(A, pose_a, B, pose_b[i], cache, p, Want::Contact);
+      },
+      [&](size_t i) {
+        return fcl.set_poses(pose_a, pose_b[i]), fcl.proximity(peers::FclSolver::Gjk, answer), answer.distance;
+      },
       [&](size_t i) { return bullet.distance(pose_a, pose_b[i]); });
 }
 
@@ -126,7 +137,8 @@ void BunnyFull(benchmark::State& state, Method method) {
   for (const auto& v : scene.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
   const double mm = (hi - lo).norm() / 0.25025 * 1e-3;
   tools::Mesh tool;
-  for (const Vector3d& p : tools::cube_points()) tool.vertices.emplace_back(10 * mm * p.x(), 8 * mm * p.y(), 6 * mm * p.z());
+  for (const Vector3d& p : tools::cube_points())
+    tool.vertices.emplace_back(10 * mm * p.x(), 8 * mm * p.y(), 6 * mm * p.z());
   ConvexShape hull;
   shape_from_points(tool.vertices, hull);
   tool.vertices = hull.polytope().vertices;
@@ -161,9 +173,12 @@ void BunnyFull(benchmark::State& state, Method method) {
       state.ResumeTiming();
     }
     const auto t0 = clock::now();
-    if (method == Method::Cold) mesh_distance(A, Eigen::Isometry3d::Identity(), B, pose, ws, d);
-    else if (method == Method::FclObbrss) benchmark::DoNotOptimize(fcl.distance(pose));
-    else mesh_distance(A, Eigen::Isometry3d::Identity(), B, pose, ws, cache, d);
+    if (method == Method::Cold)
+      mesh_distance(A, Eigen::Isometry3d::Identity(), B, pose, ws, d);
+    else if (method == Method::FclObbrss)
+      benchmark::DoNotOptimize(fcl.distance(pose));
+    else
+      mesh_distance(A, Eigen::Isometry3d::Identity(), B, pose, ws, cache, d);
     if (us.size() < us.capacity()) us.push_back(std::chrono::duration<double, std::micro>(clock::now() - t0).count());
     benchmark::DoNotOptimize(d.distance);
     contacts += d.intersecting, ++ticks;

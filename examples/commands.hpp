@@ -11,8 +11,8 @@ namespace minksum::cli {
 int usage_error(const std::string& what);
 
 /// Parses exactly `count` finite numbers (`what` names the option, `layout` lists them).
-bool parse_numbers(const std::string& text, const std::string& what, const std::string& layout,
-                   size_t count, std::vector<double>& v, std::string& error);
+bool parse_numbers(const std::string& text, const std::string& what, const std::string& layout, size_t count,
+                   std::vector<double>& v, std::string& error);
 
 /// The rotation of the unit quaternion q[0..3] = (w, x, y, z); false if |q| is not 1 (1e-6).
 bool unit_quaternion(const double* q, Eigen::Matrix3d& rotation, std::string& error);

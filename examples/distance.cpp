@@ -26,9 +26,9 @@ std::string json(const MeshDistance& d, double time_us) {
                 "{\"distance\": %.17g, \"closest_points\": [[%.17g, %.17g, %.17g], [%.17g, %.17g, "
                 "%.17g]], \"triangles\": [%d, %d], \"candidates\": [%d, %d], \"culled_percent\": "
                 "[%.3f, %.3f], \"node_pairs\": %ld, \"time_us\": %.1f}",
-                d.distance, d.point_a.x(), d.point_a.y(), d.point_a.z(), d.point_b.x(),
-                d.point_b.y(), d.point_b.z(), d.triangle_a, d.triangle_b, d.stats.candidates_a,
-                d.stats.candidates_b, d.stats.culled_percent_a, d.stats.culled_percent_b, d.stats.node_pairs, time_us);
+                d.distance, d.point_a.x(), d.point_a.y(), d.point_a.z(), d.point_b.x(), d.point_b.y(), d.point_b.z(),
+                d.triangle_a, d.triangle_b, d.stats.candidates_a, d.stats.candidates_b, d.stats.culled_percent_a,
+                d.stats.culled_percent_b, d.stats.node_pairs, time_us);
   return buf;
 }
 
@@ -108,7 +108,8 @@ int cmd_distance(int argc, char** argv) {
   const double build_us = (now_us() - t0) / 2;
   const bool human = !as_json && poses_file.empty();  // else one JSON line per pose
   const auto size = [](const tools::Mesh& m) {
-    return m.triangles.empty() ? std::to_string(m.vertices.size()) + " points" : std::to_string(m.triangles.size()) + " triangles";
+    return m.triangles.empty() ? std::to_string(m.vertices.size()) + " points"
+                               : std::to_string(m.triangles.size()) + " triangles";
   };
   if (human)
     std::printf("octrees: %s and %s, depth %d and %d, %d and %d leaves, %.1f and %.1f KiB, %.0f us per build\n",
@@ -132,12 +133,14 @@ int cmd_distance(int argc, char** argv) {
       std::printf("%s\n", json(d, time).c_str());
     } else {
       std::printf("%s distance %.17g between %s %d and %s %d (%s)\n", brute ? "all-pairs" : "octree", d.distance,
-                  ma.triangles.empty() ? "point" : "triangle", d.triangle_a, mb.triangles.empty() ? "point" : "triangle",
-                  d.triangle_b, d.intersecting ? "intersecting" : "separated");
-      std::printf("candidates %d and %d triangles (%.2f%% and %.2f%% culled), %ld node pairs, "
-                  "%ld triangle pairs, %.1f us\n",
-                  d.stats.candidates_a, d.stats.candidates_b, d.stats.culled_percent_a, d.stats.culled_percent_b, d.stats.node_pairs,
-                  d.stats.triangle_pairs, time);
+                  ma.triangles.empty() ? "point" : "triangle", d.triangle_a,
+                  mb.triangles.empty() ? "point" : "triangle", d.triangle_b,
+                  d.intersecting ? "intersecting" : "separated");
+      std::printf(
+          "candidates %d and %d triangles (%.2f%% and %.2f%% culled), %ld node pairs, "
+          "%ld triangle pairs, %.1f us\n",
+          d.stats.candidates_a, d.stats.candidates_b, d.stats.culled_percent_a, d.stats.culled_percent_b,
+          d.stats.node_pairs, d.stats.triangle_pairs, time);
     }
   }
   return 0;

@@ -23,8 +23,8 @@ int usage_error(const std::string& what) {
   return 2;
 }
 
-bool parse_numbers(const std::string& text, const std::string& what, const std::string& layout,
-                   size_t count, std::vector<double>& v, std::string& error) {
+bool parse_numbers(const std::string& text, const std::string& what, const std::string& layout, size_t count,
+                   std::vector<double>& v, std::string& error) {
   std::istringstream in(text);
   v.clear();
   for (std::string token; in >> token;) {
@@ -158,18 +158,18 @@ void print_answer(const Proximity& p, bool json) {
     return std::string(buf);
   };
   if (json) {
-    std::printf("{\"intersecting\": %s, \"distance\": %.17g, \"closest_points\": [%s, %s], "
-                "\"max_distance\": %.17g, \"penetration_depth\": %.17g, "
-                "\"penetration_direction\": %s}\n",
-                p.intersecting ? "true" : "false", p.distance, vec(p.point_a).c_str(),
-                vec(p.point_b).c_str(), p.max_distance, p.penetration_depth,
-                vec(p.penetration_direction).c_str());
+    std::printf(
+        "{\"intersecting\": %s, \"distance\": %.17g, \"closest_points\": [%s, %s], "
+        "\"max_distance\": %.17g, \"penetration_depth\": %.17g, "
+        "\"penetration_direction\": %s}\n",
+        p.intersecting ? "true" : "false", p.distance, vec(p.point_a).c_str(), vec(p.point_b).c_str(), p.max_distance,
+        p.penetration_depth, vec(p.penetration_direction).c_str());
   } else if (p.intersecting) {
-    std::printf("intersecting: penetration depth %.17g along %s; max distance %.17g\n",
-                p.penetration_depth, vec(p.penetration_direction).c_str(), p.max_distance);
+    std::printf("intersecting: penetration depth %.17g along %s; max distance %.17g\n", p.penetration_depth,
+                vec(p.penetration_direction).c_str(), p.max_distance);
   } else {
-    std::printf("separated: distance %.17g between %s and %s; max distance %.17g\n", p.distance,
-                vec(p.point_a).c_str(), vec(p.point_b).c_str(), p.max_distance);
+    std::printf("separated: distance %.17g between %s and %s; max distance %.17g\n", p.distance, vec(p.point_a).c_str(),
+                vec(p.point_b).c_str(), p.max_distance);
   }
 }
 
@@ -286,9 +286,10 @@ int cmd_sum(int argc, char** argv) {
   const Eigen::Isometry3d identity = Eigen::Isometry3d::Identity();
   MinkowskiSum m;
   const double t0 = now_us();
-  const Status s = method == Method::Fast
-                       ? (diff ? minkowski_difference(SA, identity, SB, pose_b, m) : minkowski_sum(SA, identity, SB, pose_b, m))
-                       : (diff ? minkowski_difference(A, moved_b, m, method) : minkowski_sum(A, moved_b, m, method));
+  const Status s =
+      method == Method::Fast
+          ? (diff ? minkowski_difference(SA, identity, SB, pose_b, m) : minkowski_sum(SA, identity, SB, pose_b, m))
+          : (diff ? minkowski_difference(A, moved_b, m, method) : minkowski_sum(A, moved_b, m, method));
   const double t1 = now_us();
   if (s != Status::Ok) {
     std::fprintf(stderr, "minksum: %s\n", to_string(s));
@@ -303,19 +304,18 @@ int cmd_sum(int argc, char** argv) {
   }
   if (json) {
     // %.17g round-trips every double; indices are mapped back to the files' vertex order.
-    std::printf("{\"vertices\": %d, \"facets\": %d, \"edges\": %d, \"euler_ok\": %s, \"planes\": [",
-                m.V, m.F, m.E, m.euler_ok ? "true" : "false");
+    std::printf("{\"vertices\": %d, \"facets\": %d, \"edges\": %d, \"euler_ok\": %s, \"planes\": [", m.V, m.F, m.E,
+                m.euler_ok ? "true" : "false");
     for (size_t k = 0; k < m.planes.size(); ++k) {
       const auto& p = m.planes[k];
-      std::printf("%s[%.17g, %.17g, %.17g, %.17g, %d, %d]", k ? ", " : "", p.normal.x(),
-                  p.normal.y(), p.normal.z(), p.offset, A.input_index[p.i], B.input_index[method == Method::Fast ? p.j : moved_b.input_index[p.j]]);
+      std::printf("%s[%.17g, %.17g, %.17g, %.17g, %d, %d]", k ? ", " : "", p.normal.x(), p.normal.y(), p.normal.z(),
+                  p.offset, A.input_index[p.i], B.input_index[method == Method::Fast ? p.j : moved_b.input_index[p.j]]);
     }
     std::printf("], \"method\": \"%s\", \"time_us\": %.17g}\n", method_name(method), t1 - t0);
   } else {
-    std::printf("%s %s %s: V=%d E=%d F=%d, Euler %s%s, %.1f us (%s path)\n", files[0].c_str(),
-                diff ? "(-)" : "(+)", files[1].c_str(), m.V, m.E, m.F,
-                m.euler_ok ? "holds" : "fails", m.corrected ? " (corrected)" : "", t1 - t0,
-                method_name(method));
+    std::printf("%s %s %s: V=%d E=%d F=%d, Euler %s%s, %.1f us (%s path)\n", files[0].c_str(), diff ? "(-)" : "(+)",
+                files[1].c_str(), m.V, m.E, m.F, m.euler_ok ? "holds" : "fails", m.corrected ? " (corrected)" : "",
+                t1 - t0, method_name(method));
   }
   return 0;
 }
@@ -351,15 +351,16 @@ double kernel_sum_ns(bool& general) {
 }
 
 int cmd_demo() {
-  std::printf("minksum demo: the paper's Table 1 (B rotated 0.7 rad about (1,2,3)),\n"
-              "median time per full sum (planes, support pairs, vertices, facet loops) on this\n"
-              "machine: prepared shapes (built once, B's rotation passed as its pose), the fast\n"
-              "path on polytopes (prepared on every call), the reference path (the paper as\n"
-              "written), and the hull method (Qhull on the pairwise sums). The paper (2007): OSM\n"
-              "6.1-82.9 ms, CGAL quickhull 131-277 ms. Google Benchmark runs:\n"
-              "build/bench/minksum_bench.\n\n");
-  std::printf("%-14s %4s %4s %4s  %13s %10s %14s %10s  %13s\n", "pair", "V", "E", "F", "prepared [us]",
-              "fast [us]", "reference [us]", "hull [us]", "hull/prepared");
+  std::printf(
+      "minksum demo: the paper's Table 1 (B rotated 0.7 rad about (1,2,3)),\n"
+      "median time per full sum (planes, support pairs, vertices, facet loops) on this\n"
+      "machine: prepared shapes (built once, B's rotation passed as its pose), the fast\n"
+      "path on polytopes (prepared on every call), the reference path (the paper as\n"
+      "written), and the hull method (Qhull on the pairwise sums). The paper (2007): OSM\n"
+      "6.1-82.9 ms, CGAL quickhull 131-277 ms. Google Benchmark runs:\n"
+      "build/bench/minksum_bench.\n\n");
+  std::printf("%-14s %4s %4s %4s  %13s %10s %14s %10s  %13s\n", "pair", "V", "E", "F", "prepared [us]", "fast [us]",
+              "reference [us]", "hull [us]", "hull/prepared");
   const Eigen::Matrix3d R = tools::table1_rotation();
   Eigen::Isometry3d pose_b = Eigen::Isometry3d::Identity();
   pose_b.linear() = R;
@@ -369,7 +370,8 @@ int cmd_demo() {
     ConvexPolytope A, B;
     ConvexShape SA, SB;
     if (polytope_from_points(pair.a, A) != Status::Ok || polytope_from_points(pair.b, B) != Status::Ok ||
-        shape_from_points(pair.a, SA) != Status::Ok || shape_from_points(tools::rotated(pair.b, R.transpose()), SB) != Status::Ok)
+        shape_from_points(pair.a, SA) != Status::Ok ||
+        shape_from_points(tools::rotated(pair.b, R.transpose()), SB) != Status::Ok)
       return 1;
     MinkowskiSum m;
     double t[4];
@@ -377,17 +379,18 @@ int cmd_demo() {
     const Method methods[3] = {Method::Fast, Method::Reference, Method::Hull};
     for (int k = 0; k < 3; ++k) t[k + 1] = time_us([&] { minkowski_sum(A, B, m, methods[k]); });
     minkowski_sum(SA, identity, SB, pose_b, m);
-    std::printf("%-14s %4d %4d %4d  %13.2f %10.2f %14.2f %10.2f  %12.1fx\n", pair.name.c_str(), m.V, m.E,
-                m.F, t[0], t[1], t[2], t[3], t[3] / t[0]);
+    std::printf("%-14s %4d %4d %4d  %13.2f %10.2f %14.2f %10.2f  %12.1fx\n", pair.name.c_str(), m.V, m.E, m.F, t[0],
+                t[1], t[2], t[3], t[3] / t[0]);
     if (pair.name == "cube_rotcube") hull_cubes = t[3];
   }
   bool general_d = false, general_f = false;
   const double ns_d = kernel_sum_ns<double>(general_d), ns_f = kernel_sum_ns<float>(general_f);
-  std::printf("\ncube_rotcube through the box-box kernel (box_box_sum: planes, support pairs, vertex\n"
-              "loops and corners; 32 pairs per call): %.1f ns per sum in double, %.1f ns in float;\n"
-              "hull / kernel %.0fx and %.0fx%s\n",
-              ns_d, ns_f, 1e3 * hull_cubes / ns_d, 1e3 * hull_cubes / ns_f,
-              general_d && general_f ? "" : " (NOT in general position: the loops do not apply)");
+  std::printf(
+      "\ncube_rotcube through the box-box kernel (box_box_sum: planes, support pairs, vertex\n"
+      "loops and corners; 32 pairs per call): %.1f ns per sum in double, %.1f ns in float;\n"
+      "hull / kernel %.0fx and %.0fx%s\n",
+      ns_d, ns_f, 1e3 * hull_cubes / ns_d, 1e3 * hull_cubes / ns_f,
+      general_d && general_f ? "" : " (NOT in general position: the loops do not apply)");
   return 0;
 }
 

@@ -14,8 +14,7 @@ namespace minksum::test {
 
 using Eigen::Vector3d;
 
-std::vector<Vector3d> pairwise(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b,
-                               double s) {
+std::vector<Vector3d> pairwise(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, double s) {
   std::vector<Vector3d> out;
   for (const auto& p : a)
     for (const auto& q : b) out.push_back(p + s * q);
@@ -30,11 +29,9 @@ double max_dot(const std::vector<Vector3d>& pts, const Vector3d& n) {
 }
 }  // namespace
 
-testing::AssertionResult valid_sum(const std::vector<Vector3d>& a_pts,
-                                   const std::vector<Vector3d>& b_pts, double s,
-                                   const ConvexPolytope& A, const ConvexPolytope& B,
-                                   const MinkowskiSum& m, double tol, double support_tol,
-                                   int directions, unsigned seed) {
+testing::AssertionResult valid_sum(const std::vector<Vector3d>& a_pts, const std::vector<Vector3d>& b_pts, double s,
+                                   const ConvexPolytope& A, const ConvexPolytope& B, const MinkowskiSum& m, double tol,
+                                   double support_tol, int directions, unsigned seed) {
   const auto sums = pairwise(a_pts, b_pts, s);
   // Rounding errors scale with the inputs' coordinates, which may dwarf the result (A (-) A).
   double size = 0;
@@ -57,8 +54,8 @@ testing::AssertionResult valid_sum(const std::vector<Vector3d>& a_pts,
       return testing::AssertionFailure() << "facet " << f << " has a bad plane";
     for (const auto& p : sums)
       if (pl.normal.dot(p) > pl.offset + tol * size)
-        return testing::AssertionFailure() << "a pairwise sum is outside facet " << f << " by "
-                                           << pl.normal.dot(p) - pl.offset;
+        return testing::AssertionFailure()
+               << "a pairwise sum is outside facet " << f << " by " << pl.normal.dot(p) - pl.offset;
     Vector3d newell = Vector3d::Zero();
     const Loop loop = m.facet(f);
     if (loop.size() < 3) return testing::AssertionFailure() << "facet " << f << " has fewer than 3 vertices";
@@ -95,23 +92,23 @@ testing::AssertionResult valid_sum(const std::vector<Vector3d>& a_pts,
       for (const Edge& f : B.edges) {
         const Vector3d da = A.vertices[e.v1] - A.vertices[e.v0], db = B.vertices[f.v1] - B.vertices[f.v0];
         const Vector3d c = da.cross(db);
-        if (c.norm() > 1e-9 * da.norm() * db.norm()) probes.push_back(c.normalized()), probes.push_back(-c.normalized());
+        if (c.norm() > 1e-9 * da.norm() * db.norm())
+          probes.push_back(c.normalized()), probes.push_back(-c.normalized());
       }
   }
   for (const Vector3d& n : probes) {
     const double expect = max_dot(a_pts, n) + max_dot(neg_b, n);
     const double got = max_dot(verts, n);
     if (std::abs(got - expect) > support_tol * std::max(size, 1e-300))
-      return testing::AssertionFailure() << "support error " << got - expect << " in direction "
-                                         << n.transpose();
+      return testing::AssertionFailure() << "support error " << got - expect << " in direction " << n.transpose();
   }
   return testing::AssertionSuccess();
 }
 
 testing::AssertionResult same_sum(const MinkowskiSum& x, const MinkowskiSum& y, double tol) {
   if (x.V != y.V || x.E != y.E || x.F != y.F)
-    return testing::AssertionFailure() << "V/E/F " << x.V << "/" << x.E << "/" << x.F << " vs "
-                                       << y.V << "/" << y.E << "/" << y.F;
+    return testing::AssertionFailure() << "V/E/F " << x.V << "/" << x.E << "/" << x.F << " vs " << y.V << "/" << y.E
+                                       << "/" << y.F;
   double size = 0;
   for (const auto& v : x.vertices) size = std::max(size, v.point.cwiseAbs().maxCoeff());
   auto pairs = [](const MinkowskiSum& m, size_t f) {
@@ -124,8 +121,7 @@ testing::AssertionResult same_sum(const MinkowskiSum& x, const MinkowskiSum& y, 
   // ill-conditioned; its plane through the vertices is not.)
   auto off_plane = [&](const MinkowskiSum& m, size_t f, const SumPlane& p) {
     double worst = 0;
-    for (int k : m.facet(int(f)))
-      worst = std::max(worst, std::abs(p.normal.dot(m.vertices[k].point) - p.offset));
+    for (int k : m.facet(int(f))) worst = std::max(worst, std::abs(p.normal.dot(m.vertices[k].point) - p.offset));
     return worst;
   };
   std::map<std::set<std::pair<int, int>>, size_t> by_pairs;
@@ -134,8 +130,7 @@ testing::AssertionResult same_sum(const MinkowskiSum& x, const MinkowskiSum& y, 
     auto it = by_pairs.find(pairs(x, f));
     if (it == by_pairs.end()) {
       auto r = testing::AssertionFailure();
-      r << "facet " << f << " (n = " << x.planes[f].normal.transpose()
-        << ") has no facet with the same vertex pairs:";
+      r << "facet " << f << " (n = " << x.planes[f].normal.transpose() << ") has no facet with the same vertex pairs:";
       for (const auto& p : pairs(x, f)) r << " (" << p.first << "," << p.second << ")";
       for (size_t g = 0; g < y.planes.size(); ++g)
         if ((y.planes[g].normal - x.planes[f].normal).norm() < 1e-6) {
@@ -184,7 +179,8 @@ testing::AssertionResult equals_exact_hull(const std::vector<Vector3d>& a, const
   std::vector<std::vector<Vector3d>> facets;
   const peers::ExactCounts e = peers::exact_counts(a, b, s, &facets);
   if (m.V != e.V || m.E != e.E || m.F != e.F)
-    return testing::AssertionFailure() << "V, E, F " << m.V << "/" << m.E << "/" << m.F << ", exact " << e.V << "/" << e.E << "/" << e.F;
+    return testing::AssertionFailure() << "V, E, F " << m.V << "/" << m.E << "/" << m.F << ", exact " << e.V << "/"
+                                       << e.E << "/" << e.F;
   double size = 1;
   for (const auto& v : m.vertices) size = std::max(size, v.point.cwiseAbs().maxCoeff());
   const double within = tol * size;
@@ -208,8 +204,8 @@ testing::AssertionResult equals_exact_hull(const std::vector<Vector3d>& a, const
     for (const auto& p : f) {
       const int k = vertex_of(p);
       if (k < 0)
-        return testing::AssertionFailure() << "the exact vertex " << p.transpose() << (k == -1 ? " is not" : " is more than one")
-                                           << " vertex of the sum";
+        return testing::AssertionFailure() << "the exact vertex " << p.transpose()
+                                           << (k == -1 ? " is not" : " is more than one") << " vertex of the sum";
       ids.push_back(k);
     }
     std::sort(ids.begin(), ids.end());
@@ -240,8 +236,10 @@ double segment_distance(const Vector3d& p0, const Vector3d& p1, const Vector3d& 
       const double b = d1.dot(d2), denom = a * e - b * b;
       s = denom > 0 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
       t = (b * s + f) / e;
-      if (t < 0) t = 0, s = std::clamp(-c / a, 0.0, 1.0);
-      else if (t > 1) t = 1, s = std::clamp((b - c) / a, 0.0, 1.0);
+      if (t < 0)
+        t = 0, s = std::clamp(-c / a, 0.0, 1.0);
+      else if (t > 1)
+        t = 1, s = std::clamp((b - c) / a, 0.0, 1.0);
     }
   }
   return (p0 + s * d1 - (q0 + t * d2)).norm();
@@ -303,8 +301,8 @@ Oracle brute_force(const ConvexPolytope& A, const ConvexPolytope& B) {
       for (const auto& f : A.faces) o.distance = std::min(o.distance, point_polygon(p, A.vertices, f.loop, f.normal));
     for (const auto& ea : A.edges)
       for (const auto& eb : B.edges)
-        o.distance = std::min(o.distance, segment_distance(A.vertices[ea.v0], A.vertices[ea.v1],
-                                                           B.vertices[eb.v0], B.vertices[eb.v1]));
+        o.distance = std::min(
+            o.distance, segment_distance(A.vertices[ea.v0], A.vertices[ea.v1], B.vertices[eb.v0], B.vertices[eb.v1]));
   }
   for (const auto& p : A.vertices)
     for (const auto& q : B.vertices) o.max_distance = std::max(o.max_distance, (p - q).norm());

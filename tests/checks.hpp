@@ -39,8 +39,8 @@ std::unique_ptr<MeshSetup> mesh_setup(const std::string& name, int fallback_ring
 Eigen::Isometry3d random_pose(std::mt19937_64& rng, double reach);
 
 /// Every pairwise sum a + s b of the input points (s = +1 sum, -1 difference).
-std::vector<Eigen::Vector3d> pairwise(const std::vector<Eigen::Vector3d>& a,
-                                      const std::vector<Eigen::Vector3d>& b, double s);
+std::vector<Eigen::Vector3d> pairwise(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
+                                      double s);
 
 /// Checks `m` = A (+) sB against the raw input points, by brute force:
 /// each vertex (i, j) equals a_i + s b_j; every pairwise sum is inside every plane (within
@@ -48,11 +48,9 @@ std::vector<Eigen::Vector3d> pairwise(const std::vector<Eigen::Vector3d>& a,
 /// function of m's vertices equals h_A + h_B in `directions` random directions and (for
 /// operands of up to 4000 edge pairs) at every candidate facet normal of the exact sum: the
 /// operands' face normals and the crosses of their edges (relative error <= support_tol).
-testing::AssertionResult valid_sum(const std::vector<Eigen::Vector3d>& a_pts,
-                                   const std::vector<Eigen::Vector3d>& b_pts, double s,
-                                   const ConvexPolytope& A, const ConvexPolytope& B,
-                                   const MinkowskiSum& m, double tol, double support_tol,
-                                   int directions = 1000, unsigned seed = 1);
+testing::AssertionResult valid_sum(const std::vector<Eigen::Vector3d>& a_pts, const std::vector<Eigen::Vector3d>& b_pts,
+                                   double s, const ConvexPolytope& A, const ConvexPolytope& B, const MinkowskiSum& m,
+                                   double tol, double support_tol, int directions = 1000, unsigned seed = 1);
 
 /// The same polytope: same V, E, F and, facet by facet, the same vertex pairs, and planes
 /// that agree at those vertices within tol * size.
@@ -68,7 +66,8 @@ struct ExactFacet {
 
 /// The exact hull of the pairwise sums a + s b of a solid sum, with coplanar triangles merged
 /// (peers::exact_counts).
-std::vector<ExactFacet> exact_hull(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b, double s);
+std::vector<ExactFacet> exact_hull(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
+                                   double s);
 
 /// m is the exact hull of the pairwise sums a + s b: the same V, E, F as CGAL's exact hull, and
 /// facet by facet the same vertices, equal within tol * size (tol = 0: exactly, for sums that are
@@ -93,7 +92,7 @@ Oracle brute_force(const ConvexPolytope& a, const ConvexPolytope& b);
 ConvexPolytope transformed(const ConvexPolytope& p, const Eigen::Isometry3d& pose);
 
 /// Distance between the segments [p0, p1] and [q0, q1].
-double segment_distance(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
-                        const Eigen::Vector3d& q0, const Eigen::Vector3d& q1);
+double segment_distance(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& q0,
+                        const Eigen::Vector3d& q1);
 
 }  // namespace minksum::test

@@ -59,8 +59,8 @@ mpq_class point_triangle(const Q3& p, const Q3 (&v)[3]) {
 // Squared distance between the segments p0-p1 and q0-q1: the convex quadratic's minimum over
 // the unit square, at its interior critical point or on the square's boundary.
 mpq_class segment_segment(const Q3& p0, const Q3& p1, const Q3& q0, const Q3& q1) {
-  mpq_class best = std::min({point_segment(p0, q0, q1), point_segment(p1, q0, q1), point_segment(q0, p0, p1),
-                             point_segment(q1, p0, p1)});
+  mpq_class best = std::min(
+      {point_segment(p0, q0, q1), point_segment(p1, q0, q1), point_segment(q0, p0, p1), point_segment(q1, p0, p1)});
   const Q3 d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
   const mpq_class a = dot(d1, d1), b = dot(d1, d2), c = dot(d1, r), e = dot(d2, d2), f = dot(d2, r);
   const mpq_class den = a * e - b * b;
@@ -87,7 +87,8 @@ bool crosses(const Q3& p, const Q3& q, const Q3 (&t)[3]) {
 }  // namespace
 
 double exact_triangle_distance(const Eigen::Vector3d (&s_in)[3], const Eigen::Vector3d (&t_in)[3]) {
-  const Q3 s[3] = {exact(s_in[0]), exact(s_in[1]), exact(s_in[2])}, t[3] = {exact(t_in[0]), exact(t_in[1]), exact(t_in[2])};
+  const Q3 s[3] = {exact(s_in[0]), exact(s_in[1]), exact(s_in[2])},
+           t[3] = {exact(t_in[0]), exact(t_in[1]), exact(t_in[2])};
   for (int k = 0; k < 3; ++k)
     if (crosses(s[k], s[(k + 1) % 3], t) || crosses(t[k], t[(k + 1) % 3], s)) return 0;
   mpq_class best = point_triangle(s[0], t);

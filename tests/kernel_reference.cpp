@@ -38,15 +38,17 @@ void both_sides(KernelPlane* out, int p, int axes, bool valid, const Vector3d& n
 
 }  // namespace
 
-void box_box_reference(const Box& a, const Box& b, bool difference, double tau,
-                       KernelPlane (&out)[30]) {
+void box_box_reference(const Box& a, const Box& b, bool difference, double tau, KernelPlane (&out)[30]) {
   const double s = difference ? -1 : 1;
   for (int p = 0; p < 15; ++p) {
     Vector3d n;
     bool valid = true;
-    if (p < 3) n = a.rotation.col(p);
-    else if (p < 6) n = b.rotation.col(p - 3);
-    else valid = unit_axis(a.rotation.col((p - 6) / 3).cross(b.rotation.col((p - 6) % 3)), 1, tau, n);
+    if (p < 3)
+      n = a.rotation.col(p);
+    else if (p < 6)
+      n = b.rotation.col(p - 3);
+    else
+      valid = unit_axis(a.rotation.col((p - 6) / 3).cross(b.rotation.col((p - 6) % 3)), 1, tau, n);
     both_sides(out, p, 15, valid, n, [&](KernelPlane& k) {
       // h_{A (+) sB}(n) = h_A(n) + h_B(s n); B's support corner is the maximiser in s n.
       k.offset = box_support_brute(a, k.normal, &k.i) + box_support_brute(b, s * k.normal, &k.j);
@@ -54,8 +56,7 @@ void box_box_reference(const Box& a, const Box& b, bool difference, double tau,
   }
 }
 
-void box_triangle_reference(const Box& box, const Triangle& tri, bool difference, double tau,
-                            KernelPlane (&out)[26]) {
+void box_triangle_reference(const Box& box, const Triangle& tri, bool difference, double tau, KernelPlane (&out)[26]) {
   const Vector3d v[3] = {tri.a, tri.b, tri.c};
   const Vector3d e[3] = {v[1] - v[0], v[2] - v[1], v[0] - v[2]};
   Vector3d nt;
@@ -64,10 +65,12 @@ void box_triangle_reference(const Box& box, const Triangle& tri, bool difference
   for (int p = 0; p < 13; ++p) {
     Vector3d n;
     bool valid = tri_ok;
-    if (p < 3) n = box.rotation.col(p);
-    else if (p == 3) n = nt;
-    else valid = tri_ok && unit_axis(box.rotation.col((p - 4) / 3).cross(e[(p - 4) % 3]),
-                                     e[(p - 4) % 3].norm(), tau, n);
+    if (p < 3)
+      n = box.rotation.col(p);
+    else if (p == 3)
+      n = nt;
+    else
+      valid = tri_ok && unit_axis(box.rotation.col((p - 4) / 3).cross(e[(p - 4) % 3]), e[(p - 4) % 3].norm(), tau, n);
     both_sides(out, p, 13, valid, n, [&](KernelPlane& k) {
       double best = -std::numeric_limits<double>::infinity();
       for (int i = 0; i < 3; ++i)  // the first vertex of s T that is extreme in n

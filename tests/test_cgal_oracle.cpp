@@ -33,8 +33,7 @@ testing::AssertionResult equals_exact(const std::vector<Vector3d>& a, const std:
   return test::equals_exact_hull(a, b, s, m, 0);
 }
 
-void expect_matches_oracle(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b,
-                           int expected_F = -1) {
+void expect_matches_oracle(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, int expected_F = -1) {
   ConvexPolytope A, B;
   ASSERT_EQ(polytope_from_points(a, A), Status::Ok);
   ASSERT_EQ(polytope_from_points(b, B), Status::Ok);
@@ -84,7 +83,9 @@ TEST(ExactOracle, IdenticalAndMirroredPolytopes) {
   expect_matches_oracle(d, mirrored);
 }
 
-TEST(ExactOracle, ThinBox) { expect_matches_oracle(box({1, 1, 1e-7}), exact_rotated(scaled(tools::cube_points(), 30))); }
+TEST(ExactOracle, ThinBox) {
+  expect_matches_oracle(box({1, 1, 1e-7}), exact_rotated(scaled(tools::cube_points(), 30)));
+}
 
 // --- Exact ties: integer grids and degenerate families (issue 29) --------------------------
 
@@ -118,7 +119,8 @@ TEST(ExactTies, TheLoopBufferOverflow) {
 }
 
 TEST(ExactTies, TheSplitFacet) {
-  const std::vector<Vector3d> a = {{-1, 2, -2}, {0, 2, -2}, {-2, -1, 2}, {1, -1, 0}, {0, 2, 0}, {1, -2, -2}, {1, 1, 1}, {1, 0, -2}};
+  const std::vector<Vector3d> a = {{-1, 2, -2}, {0, 2, -2},  {-2, -1, 2}, {1, -1, 0},
+                                   {0, 2, 0},   {1, -2, -2}, {1, 1, 1},   {1, 0, -2}};
   const std::vector<Vector3d> b = {{-2, 0, 0}, {1, -1, 2}, {-2, -1, 2}, {0, -1, 2}, {-2, 2, 0}};
   expect_exact_both_ways(a, b);
   ConvexPolytope A, B;
@@ -138,7 +140,8 @@ TEST(ExactTies, TheSplitFacet) {
 TEST(ExactTies, FclBoxRegression7) {
   Box b1, b2;
   b1.half_extents = Vector3d(0.050000000000000002776, 0.55000000000000004441, 0.2999999999999999889) / 2;
-  b1.rotation << 0.00079632671073326442932, -0.99999968293183538748, 0, 0.99999968293183538748, 0.00079632671073326442932, 0, 0, 0, 1;
+  b1.rotation << 0.00079632671073326442932, -0.99999968293183538748, 0, 0.99999968293183538748,
+      0.00079632671073326442932, 0, 0, 0, 1;
   b1.center = Vector3d(0.75000000000000055511, -2.4083553715553102684e-15, 0.14999999999999999445);
   b2.half_extents = Vector3d(0.25, 0.2000000000000000111, 0.14999999999999999445) / 2;
   b2.rotation << 6.1232339957367660359e-17, 0, 1, -1, 6.1232339957367660359e-17, 6.1232339957367660359e-17,
@@ -227,7 +230,8 @@ TEST_P(IntegerGrids, SumsAndDifferencesAreTheExactHull) {
       ++checked;
     }
     if (k % 10 == 0 && !coplanar_flats)
-      expect_posed_exact(pts[0], pts[1], signed_permutation_pose(rng), signed_permutation_pose(rng), k % 20 == 0 ? 1 : -1);
+      expect_posed_exact(pts[0], pts[1], signed_permutation_pose(rng), signed_permutation_pose(rng),
+                         k % 20 == 0 ? 1 : -1);
   }
   EXPECT_GT(checked, test::scaled(5000));
 }
@@ -355,9 +359,9 @@ TEST(ExactOracle, DistancesAgreeWithCgalPolytopeDistance) {
 struct HardCase {
   std::string name;
   std::vector<Vector3d> a, b;
-  bool exact = false;         // compare the structure with CGAL's exact counts
-  double tol = 1e-12;         // containment tolerance, relative to the sum's size
-  Status error = Status::Ok;  // the status polytope_from_points must return, if not Ok
+  bool exact = false;              // compare the structure with CGAL's exact counts
+  double tol = 1e-12;              // containment tolerance, relative to the sum's size
+  Status error = Status::Ok;       // the status polytope_from_points must return, if not Ok
   Status sum_status = Status::Ok;  // the status every path must return
 };
 
@@ -383,33 +387,55 @@ std::vector<HardCase> hard_cases() {
                  box({1, 1, 1}, tools::axis_angle(generic, std::pow(10.0, -e))), false, 1e-8});
   c.push_back({"rot45_about_z", box({1, 1, 1}), box({1, 1, 1}, tools::axis_angle({0, 0, 1}, M_PI / 4)), true});
   c.push_back({"rot45_about_x", box({1, 2, 3}), box({1, 1, 1}, tools::axis_angle({1, 0, 0}, M_PI / 4)), false});
-  c.push_back({"rot45_about_generic_axis", box({1, 1, 1}), box({1, 1, 1}, tools::axis_angle(generic, M_PI / 4)), false});
+  c.push_back(
+      {"rot45_about_generic_axis", box({1, 1, 1}), box({1, 1, 1}, tools::axis_angle(generic, M_PI / 4)), false});
   for (double tilt : {1e-6, 1e-9, 1e-12})  // the paper's Fig. 6: edges almost parallel
     c.push_back({"paper_fig6_tilt_" + std::to_string(int(-std::log10(tilt))), box({2, 2, 2}),
-                 box({1, 1, 1}, tools::axis_angle(generic, tilt) * tools::axis_angle({0, 0, 1}, M_PI / 2)), false, 1e-8});
+                 box({1, 1, 1}, tools::axis_angle(generic, tilt) * tools::axis_angle({0, 0, 1}, M_PI / 2)), false,
+                 1e-8});
   const Vector3d far(1e6, -1e6, 1e6);
   c.push_back({"offset_1e6_box_box", offset(box({1, 2, 3}), far), offset(box({1, 1, 1}, R), far)});
-  c.push_back({"offset_1e6_icosa_dodeca", offset(tools::icosahedron_points(), far), offset(tools::rotated(tools::dodecahedron_points(), R), far)});
-  c.push_back({"offset_1e6_box_triangle", offset(box({1, 1, 1}, R), far), offset({{0.1, 0.2, 0.3}, {1.1, -0.4, 0.5}, {0.3, 0.9, -0.7}}, far)});
+  c.push_back({"offset_1e6_icosa_dodeca", offset(tools::icosahedron_points(), far),
+               offset(tools::rotated(tools::dodecahedron_points(), R), far)});
+  c.push_back({"offset_1e6_box_triangle", offset(box({1, 1, 1}, R), far),
+               offset({{0.1, 0.2, 0.3}, {1.1, -0.4, 0.5}, {0.3, 0.9, -0.7}}, far)});
   c.push_back({"scale_1e-6_icosa_tiny_box", tools::icosahedron_points(), box({1e-6, 1e-6, 1e-6}, R)});
   c.push_back({"scale_1e-6_cube_tiny_icosa", box({1, 1, 1}, R), scaled(tools::icosahedron_points(), 1e-6)});
   c.push_back({"scale_1e-6_tiny_triangle_box", {{0, 0, 0}, {1e-6, 0, 0}, {0, 1e-6, 0}}, box({1, 2, 3}, R)});
   for (int axis = 0; axis < 3; ++axis) {
     Vector3d h(30, 30, 30);
     h[axis] = 30e-7;
-    c.push_back({"thin_box_1e-7_axis_" + std::to_string(axis), box(h), exact_rotated(scaled(tools::cube_points(), 30)), true});
+    c.push_back(
+        {"thin_box_1e-7_axis_" + std::to_string(axis), box(h), exact_rotated(scaled(tools::cube_points(), 30)), true});
   }
   // A triangle in the plane of a box face (dyadic coordinates: exact).
   c.push_back({"triangle_on_box_face_top", box({1, 1, 1}), {{-0.5, -0.5, 1}, {0.75, -0.25, 1}, {0.125, 0.5, 1}}, true});
-  c.push_back({"triangle_on_box_face_side", box({1, 1, 1}), {{-1, -0.5, -0.5}, {-1, 0.75, -0.25}, {-1, 0.125, 0.5}}, true});
+  c.push_back(
+      {"triangle_on_box_face_side", box({1, 1, 1}), {{-1, -0.5, -0.5}, {-1, 0.75, -0.25}, {-1, 0.125, 0.5}}, true});
   c.push_back({"triangle_on_box_face_larger", box({1, 1, 1}), {{-4, -4, -1}, {4, -4, -1}, {0, 4, -1}}, true});
-  c.push_back({"triangle_triangle_generic", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0.25, 0.125, -0.5}, {0.375, 0.25, 0.75}, {-0.5, 0.75, 0.125}}, true});
+  c.push_back({"triangle_triangle_generic",
+               {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}},
+               {{0.25, 0.125, -0.5}, {0.375, 0.25, 0.75}, {-0.5, 0.75, 0.125}},
+               true});
   // Two flat operands in parallel planes: the sum is flat, which is not a solid.
-  c.push_back({"triangle_triangle_parallel_planes", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0.5, 0.5, 1}, {-0.5, 0.25, 1}, {0.25, -0.75, 1}},
-               false, 0, Status::Ok, Status::DegenerateResult});
-  c.push_back({"triangle_triangle_coplanar", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{2, 0, 0}, {3, 1, 0}, {2, 2, 0}},
-               false, 0, Status::Ok, Status::DegenerateResult});
-  c.push_back({"triangle_triangle_shared_edge_direction", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 0, 1}, {2, 0, 1}, {0.5, 0.5, 3}}, true});
+  c.push_back({"triangle_triangle_parallel_planes",
+               {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}},
+               {{0.5, 0.5, 1}, {-0.5, 0.25, 1}, {0.25, -0.75, 1}},
+               false,
+               0,
+               Status::Ok,
+               Status::DegenerateResult});
+  c.push_back({"triangle_triangle_coplanar",
+               {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}},
+               {{2, 0, 0}, {3, 1, 0}, {2, 2, 0}},
+               false,
+               0,
+               Status::Ok,
+               Status::DegenerateResult});
+  c.push_back({"triangle_triangle_shared_edge_direction",
+               {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}},
+               {{0, 0, 1}, {2, 0, 1}, {0.5, 0.5, 3}},
+               true});
   c.push_back({"identical_cube", exact_rotated(cube), exact_rotated(cube), true});
   c.push_back({"identical_icosahedron", exact_rotated(ico), exact_rotated(ico), true});
   c.push_back({"identical_pyritohedron", exact_rotated(dod), exact_rotated(dod), true});
@@ -417,19 +443,26 @@ std::vector<HardCase> hard_cases() {
     std::vector<Vector3d> mirrored;
     const auto turned = exact_rotated(*shape);
     for (const auto& p : turned) mirrored.push_back(Vector3d(-p.x(), p.y(), p.z()));
-    c.push_back({std::string("mirrored_") + (shape == &cube ? "cube" : shape == &ico ? "icosahedron" : "pyritohedron"), turned, mirrored, true});
+    c.push_back({std::string("mirrored_") + (shape == &cube  ? "cube"
+                                             : shape == &ico ? "icosahedron"
+                                                             : "pyritohedron"),
+                 turned, mirrored, true});
   }
   for (double eps : {0.0, 1e-15, 1e-9}) {
     auto a = tools::icosahedron_points();
     const auto copy = a;
     for (const auto& p : copy) a.push_back(p * (1 + eps));
-    c.push_back({eps == 0 ? "duplicated_vertices" : "near_duplicated_vertices_" + std::string(eps == 1e-15 ? "1e-15" : "1e-9"),
-                 a, tools::rotated(tools::cube_points(), R), false, eps == 1e-9 ? 1e-8 : 1e-12});
+    c.push_back(
+        {eps == 0 ? "duplicated_vertices" : "near_duplicated_vertices_" + std::string(eps == 1e-15 ? "1e-15" : "1e-9"),
+         a, tools::rotated(tools::cube_points(), R), false, eps == 1e-9 ? 1e-8 : 1e-12});
   }
   for (double bad : {std::nan(""), std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()}) {
     auto pts = tools::cube_points();
     pts[5][1] = bad;
-    c.push_back({std::string("non_finite_") + (std::isnan(bad) ? "nan" : bad > 0 ? "inf" : "minus_inf"), tools::cube_points(), pts, false, 0, Status::NonFinite});
+    c.push_back({std::string("non_finite_") + (std::isnan(bad) ? "nan"
+                                               : bad > 0       ? "inf"
+                                                               : "minus_inf"),
+                 tools::cube_points(), pts, false, 0, Status::NonFinite});
   }
   auto huge = tools::cube_points();
   huge[2][0] = 1e200;
@@ -452,7 +485,9 @@ TEST_P(Stability, EveryPathIsValidAndExactWhereDefined) {
   for (double s : {1.0, -1.0}) {
     const peers::ExactCounts exact = c.exact ? peers::exact_counts(c.a, c.b, s) : peers::ExactCounts{};
     for (Method method : {Method::Fast, Method::Reference, Method::Hull}) {
-      SCOPED_TRACE(std::string(s > 0 ? "sum " : "difference ") + (method == Method::Fast ? "fast" : method == Method::Reference ? "reference" : "hull"));
+      SCOPED_TRACE(std::string(s > 0 ? "sum " : "difference ") + (method == Method::Fast        ? "fast"
+                                                                  : method == Method::Reference ? "reference"
+                                                                                                : "hull"));
       MinkowskiSum m;
       const Status st = s > 0 ? minkowski_sum(A, B, m, method) : minkowski_difference(A, B, m, method);
       ASSERT_EQ(st, c.sum_status) << to_string(st);

@@ -46,8 +46,8 @@ std::string slurp(const fs::path& p) {
 // Runs the CLI with extra environment assignments (e.g. "MINKSUM_ISA=avx2").
 CliRun run_env(const std::string& env, const std::string& args) {
   const fs::path dir = scratch();
-  const std::string cmd = "env " + env + " " + std::string(MINKSUM_CLI) + " " + args + " > " +
-                          (dir / "out").string() + " 2> " + (dir / "err").string();
+  const std::string cmd = "env " + env + " " + std::string(MINKSUM_CLI) + " " + args + " > " + (dir / "out").string() +
+                          " 2> " + (dir / "err").string();
   const int status = std::system(cmd.c_str());
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir / "out"), slurp(dir / "err")};
 }
@@ -72,8 +72,7 @@ std::string write_points(const std::string& name, const std::vector<Vector3d>& p
          "end_header\n";
   if (format == 0) s << "# plain text, one point per line\n";
   for (const auto& p : pts)
-    s << (format == 2 ? "v " : format == 3 ? "0.5 " : "") << p.x() << ' ' << p.y() << ' ' << p.z()
-      << '\n';
+    s << (format == 2 ? "v " : format == 3 ? "0.5 " : "") << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
   return write(name + ext[format], s.str());
 }
 
@@ -87,8 +86,8 @@ std::vector<JsonPlane> parse_planes(const std::string& json) {
   std::vector<JsonPlane> out;
   const std::regex plane(R"(\[([-+0-9.eE]+), ([-+0-9.eE]+), ([-+0-9.eE]+), ([-+0-9.eE]+), (\d+), (\d+)\])");
   for (std::sregex_iterator it(json.begin(), json.end(), plane), end; it != end; ++it)
-    out.push_back({Vector3d(std::stod((*it)[1]), std::stod((*it)[2]), std::stod((*it)[3])),
-                   std::stod((*it)[4]), std::stoi((*it)[5]), std::stoi((*it)[6])});
+    out.push_back({Vector3d(std::stod((*it)[1]), std::stod((*it)[2]), std::stod((*it)[3])), std::stod((*it)[4]),
+                   std::stoi((*it)[5]), std::stoi((*it)[6])});
   return out;
 }
 
@@ -111,7 +110,8 @@ void expect_exact_planes(const std::vector<JsonPlane>& planes, const std::vector
 
 // The sum's JSON (from points a and b; s = -1 for the difference): a solid whose planes are the
 // exact hull's, and the facet count it states.
-void expect_exact_sum(const std::string& json, const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, double s) {
+void expect_exact_sum(const std::string& json, const std::vector<Vector3d>& a, const std::vector<Vector3d>& b,
+                      double s) {
   EXPECT_NE(json.find("\"euler_ok\": true"), std::string::npos) << json;
   const auto planes = parse_planes(json);
   EXPECT_NE(json.find("\"facets\": " + std::to_string(planes.size())), std::string::npos);
@@ -165,10 +165,12 @@ TEST(Cli, PoseBPlacesTheSecondOperand) {
   const Vector3d t(30, -20, 45);
   std::ostringstream pose;
   pose.precision(17);
-  pose << "\"" << q.w() << ' ' << q.x() << ' ' << q.y() << ' ' << q.z() << ' ' << t.x() << ' ' << t.y() << ' ' << t.z() << "\"";
+  pose << "\"" << q.w() << ' ' << q.x() << ' ' << q.y() << ' ' << q.z() << ' ' << t.x() << ' ' << t.y() << ' ' << t.z()
+       << "\"";
   std::vector<Vector3d> moved;
   for (const auto& p : pair.b) moved.push_back(q * p + t);
-  const std::string a = write_points("pa", pair.a, 0), b = write_points("pb", pair.b, 1), bm = write_points("pbm", moved, 0);
+  const std::string a = write_points("pa", pair.a, 0), b = write_points("pb", pair.b, 1),
+                    bm = write_points("pbm", moved, 0);
   for (const char* method : {"fast", "reference", "hull"}) {
     SCOPED_TRACE(method);
     const CliRun r = run("sum " + a + " " + b + " --pose-b " + pose.str() + " --json --method " + method);
@@ -190,7 +192,6 @@ TEST(Cli, PoseBPlacesTheSecondOperand) {
   expect_rejected("query --box \"0 0 0 1 1 1 1 0 0 0\" --box \"3 0 0 1 1 1 1 0 0 0\" --pose-b \"1 0 0 0 0 0 0\"",
                   "vertex files");
 }
-
 
 TEST(Cli, BadInputGetsExitCodeTwoAndOneLine) {
   const std::string cube = write_points("cube", tools::cube_points(), 0);
@@ -237,8 +238,7 @@ TEST(Cli, VersionPrintsTheIsasAndMinksumIsaForcesOne) {
     if (!isa_supported(isa)) continue;
     const CliRun forced = run_env(std::string("MINKSUM_ISA=") + to_string(isa), "--version");
     ASSERT_EQ(forced.code, 0);
-    EXPECT_NE(forced.out.find(std::string("active ISA: ") + to_string(isa) + "\n"), std::string::npos)
-        << forced.out;
+    EXPECT_NE(forced.out.find(std::string("active ISA: ") + to_string(isa) + "\n"), std::string::npos) << forced.out;
   }
   // An unknown value is ignored: the best supported ISA stays active.
   const CliRun bogus = run_env("MINKSUM_ISA=altivec", "--version");
@@ -279,12 +279,14 @@ TEST(Cli, QueryRejectsBadInput) {
 std::string cube_off(const std::string& name, const std::string& bad_vertex = "", int bad_index = -1) {
   std::string text = "OFF\n8 12 0\n";
   for (int k = 0; k < 8; ++k)
-    text += (k == 7 && !bad_vertex.empty()) ? bad_vertex + "\n"
-                                          : std::to_string(k & 1) + " " + std::to_string(k >> 1 & 1) + " " + std::to_string(k >> 2 & 1) + "\n";
+    text += (k == 7 && !bad_vertex.empty())
+                ? bad_vertex + "\n"
+                : std::to_string(k & 1) + " " + std::to_string(k >> 1 & 1) + " " + std::to_string(k >> 2 & 1) + "\n";
   const int f[12][3] = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
                         {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
   for (int k = 0; k < 12; ++k)
-    text += "3 " + std::to_string(f[k][0]) + " " + std::to_string(f[k][1]) + " " + std::to_string(k == 11 && bad_index >= 0 ? bad_index : f[k][2]) + "\n";
+    text += "3 " + std::to_string(f[k][0]) + " " + std::to_string(f[k][1]) + " " +
+            std::to_string(k == 11 && bad_index >= 0 ? bad_index : f[k][2]) + "\n";
   return write(name, text);
 }
 
@@ -318,8 +320,9 @@ std::vector<double> field(const std::string& out, const std::string& key);
 // and a cloud against a mesh, as all pairs give them.
 TEST(Cli, DistanceBetweenPointClouds) {
   const std::string xyz = write("cloud.xyz", "0 0 0\n1 0 0\n1 0 0\n0 1 0\n");  // a duplicate point
-  const std::string ply = write("cloud.ply", "ply\nformat ascii 1.0\nelement vertex 2\nproperty double x\n"
-                                             "property double y\nproperty double z\nend_header\n0 0 3\n0.25 0 5\n");
+  const std::string ply = write("cloud.ply",
+                                "ply\nformat ascii 1.0\nelement vertex 2\nproperty double x\n"
+                                "property double y\nproperty double z\nend_header\n0 0 3\n0.25 0 5\n");
   // B moved by (1, 0, -1): its points at (1, 0, 2) and (1.25, 0, 4); the nearest is (1, 0, 0), 2 away.
   for (const std::string mode : {"", " --brute"}) {
     const CliRun r = run("distance " + xyz + " " + ply + " --pose \"1 0 0 0 1 0 -1\" --json" + mode);
@@ -341,8 +344,10 @@ TEST(Cli, DistanceBetweenPointClouds) {
   ASSERT_EQ(mesh.code, 0) << mesh.err;
   EXPECT_NEAR(field(mesh.out, "distance").at(0), 1, 1e-15) << mesh.out;
   expect_rejected("distance " + xyz + " " + write("cloud_nan.xyz", "0 0 0\n1 nan 0\n"), "cloud_nan.xyz:2:");
-  expect_rejected("distance " + xyz + " " + write("cloud_empty.ply", "ply\nformat ascii 1.0\nelement vertex 0\nproperty double x\n"
-                                                                      "property double y\nproperty double z\nend_header\n"),
+  expect_rejected("distance " + xyz + " " +
+                      write("cloud_empty.ply",
+                            "ply\nformat ascii 1.0\nelement vertex 0\nproperty double x\n"
+                            "property double y\nproperty double z\nend_header\n"),
                   "no vertices");
 }
 
@@ -353,7 +358,8 @@ TEST(Cli, DistanceRejectsBadInput) {
   expect_rejected("distance " + a + " " + write("garbage.off", "OFF\n3 1 0\n0 0\n"), "garbage.off");
   expect_rejected("distance " + a + " " + a + " --pose \"1 0 0 0 1 2\"", "7 numbers");
   expect_rejected("distance " + a + " " + a + " --pose \"2 0 0 0 1 2 3\"", "unit length");
-  expect_rejected("distance " + a + " " + a + " --poses " + write("bad_poses.txt", "1 0 0 0 0 0 0\n1 0 0 x 0 0 0\n"), "bad_poses.txt:2:");
+  expect_rejected("distance " + a + " " + a + " --poses " + write("bad_poses.txt", "1 0 0 0 0 0 0\n1 0 0 x 0 0 0\n"),
+                  "bad_poses.txt:2:");
   expect_rejected("distance " + a, "two mesh files");
 }
 

@@ -23,8 +23,8 @@ double diagonal(const tools::Mesh& m) {
 }
 
 // The octree's answer equals brute force: the distance, the verdict, witnesses that realise it.
-void expect_brute(const tools::Mesh& ma, const Octree& A, const tools::Mesh& mb, const Octree& B, const Eigen::Isometry3d& pose,
-                  MeshWorkspace& ws, const std::string& what) {
+void expect_brute(const tools::Mesh& ma, const Octree& A, const tools::Mesh& mb, const Octree& B,
+                  const Eigen::Isometry3d& pose, MeshWorkspace& ws, const std::string& what) {
   MeshDistance got;
   ASSERT_EQ(mesh_distance(A, Eigen::Isometry3d::Identity(), B, pose, ws, got), Status::Ok) << what;
   const MeshDistance want = tools::brute_distance(ma, mb, pose);
@@ -36,9 +36,11 @@ void expect_brute(const tools::Mesh& ma, const Octree& A, const tools::Mesh& mb,
 
 // The benchmark's mesh pairs (bench/mesh_bench.cpp), libcgal-demo's meshes scaled to a unit
 // diagonal.
-const std::vector<std::pair<std::string, std::string>> kPairs = {
-    {"camel.off", "bull.off"}, {"femur.off", "turbine.off"}, {"fandisk.off", "blade.off"},
-    {"blade.off", "camel.off"}, {"turbine.off", "bull.off"}};
+const std::vector<std::pair<std::string, std::string>> kPairs = {{"camel.off", "bull.off"},
+                                                                 {"femur.off", "turbine.off"},
+                                                                 {"fandisk.off", "blade.off"},
+                                                                 {"blade.off", "camel.off"},
+                                                                 {"turbine.off", "bull.off"}};
 
 // `per_pair` banded poses of every pair (a third in contact, a third within 5 %, a third
 // farther), then two touching poses per mesh: a copy turned half a turn about the z axis through
@@ -167,7 +169,8 @@ TEST(PointCloud, EqualsBruteForce) {
   // motions (quarter turns, 1/8 steps), which keep every coordinate exact: from coincident
   // points (contact at distance exactly 0) to apart.
   std::vector<Vector3d> la, lb;
-  for (int k = 0; k < 1500; ++k) la.push_back(test::ties::lattice_point(rng, 1, 3)), lb.push_back(test::ties::lattice_point(rng, 1, 3));
+  for (int k = 0; k < 1500; ++k)
+    la.push_back(test::ties::lattice_point(rng, 1, 3)), lb.push_back(test::ties::lattice_point(rng, 1, 3));
   Octree LA, LB;
   ASSERT_EQ(build_octree(la, LA), Status::Ok);
   ASSERT_EQ(build_octree(lb, LB), Status::Ok);
@@ -188,7 +191,8 @@ TEST(PointCloud, EqualsBruteForce) {
   MeshWorkspace ws;
   make_workspace(trees[2], trees[2], ws);
   MeshDistance d;
-  ASSERT_EQ(mesh_distance(trees[2], Eigen::Isometry3d::Identity(), trees[2], Eigen::Isometry3d::Identity(), ws, d), Status::Ok);
+  ASSERT_EQ(mesh_distance(trees[2], Eigen::Isometry3d::Identity(), trees[2], Eigen::Isometry3d::Identity(), ws, d),
+            Status::Ok);
   EXPECT_EQ(d.distance, 0.0);
   EXPECT_TRUE(d.intersecting);
 }
@@ -243,9 +247,9 @@ TEST(AdaptiveOctree, DegenerateMeshesKeepWorking) {
   tools::Mesh degenerate = base;
   for (size_t k = 0; k < base.triangles.size(); k += 7) {
     const auto& t = base.triangles[k];
-    degenerate.triangles.push_back({t[0], t[1], t[1]});                     // a segment
-    degenerate.triangles.push_back({t[2], t[2], t[2]});                     // a point
-    degenerate.triangles.push_back(t);                                      // a duplicate
+    degenerate.triangles.push_back({t[0], t[1], t[1]});  // a segment
+    degenerate.triangles.push_back({t[2], t[2], t[2]});  // a point
+    degenerate.triangles.push_back(t);                   // a duplicate
     degenerate.vertices.push_back((base.vertices[t[0]] + base.vertices[t[1]]) / 2);
     degenerate.triangles.push_back({t[0], t[1], int(degenerate.vertices.size()) - 1});  // collinear
   }

@@ -106,7 +106,7 @@ TEST_P(Coherence, BoxPairsAlongTrajectories) {
     warm += cache.warm, ticks += long(path.size());
     EXPECT_EQ(cache.warm + cache.cold, long(path.size()));
   }
-  EXPECT_GT(contacts, ticks / 10);         // the paths do pass through contact
+  EXPECT_GT(contacts, ticks / 10);          // the paths do pass through contact
   EXPECT_GT(warm, (ticks - contacts) / 2);  // and the cache answers most separated ticks
   // A tie-heavy walk (tests/ties): lattice boxes, B stepping 1/8 along an axis each tick (back
   // towards A when it strays) and taking a quarter turn now and then, through exact face, edge

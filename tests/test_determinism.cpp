@@ -25,17 +25,17 @@ bool same_bytes(const T& x, const T& y) {
 }
 // Field by field where a struct has padding (its bytes are not part of the value).
 bool same(const Proximity& x, const Proximity& y) {
-  return x.intersecting == y.intersecting && same_bytes(x.distance, y.distance) &&
-         same_bytes(x.point_a, y.point_a) && same_bytes(x.point_b, y.point_b) &&
-         same_bytes(x.max_distance, y.max_distance) && same_bytes(x.far_a, y.far_a) &&
-         same_bytes(x.far_b, y.far_b) && same_bytes(x.penetration_depth, y.penetration_depth) &&
+  return x.intersecting == y.intersecting && same_bytes(x.distance, y.distance) && same_bytes(x.point_a, y.point_a) &&
+         same_bytes(x.point_b, y.point_b) && same_bytes(x.max_distance, y.max_distance) &&
+         same_bytes(x.far_a, y.far_a) && same_bytes(x.far_b, y.far_b) &&
+         same_bytes(x.penetration_depth, y.penetration_depth) &&
          same_bytes(x.penetration_direction, y.penetration_direction);
 }
 bool same(const MeshDistance& x, const MeshDistance& y) {
-  return same_bytes(x.distance, y.distance) && same_bytes(x.point_a, y.point_a) &&
-         same_bytes(x.point_b, y.point_b) && x.triangle_a == y.triangle_a && x.triangle_b == y.triangle_b &&
-         x.intersecting == y.intersecting && x.stats.node_pairs == y.stats.node_pairs &&
-         x.stats.triangle_pairs == y.stats.triangle_pairs && x.stats.candidates_a == y.stats.candidates_a && x.stats.candidates_b == y.stats.candidates_b;
+  return same_bytes(x.distance, y.distance) && same_bytes(x.point_a, y.point_a) && same_bytes(x.point_b, y.point_b) &&
+         x.triangle_a == y.triangle_a && x.triangle_b == y.triangle_b && x.intersecting == y.intersecting &&
+         x.stats.node_pairs == y.stats.node_pairs && x.stats.triangle_pairs == y.stats.triangle_pairs &&
+         x.stats.candidates_a == y.stats.candidates_a && x.stats.candidates_b == y.stats.candidates_b;
 }
 
 class Determinism : public testing::TestWithParam<Isa> {
@@ -57,7 +57,9 @@ TEST_P(Determinism, KernelsRepeatBitForBit) {
     Triangle t = tools::random_triangle(rng, 2);
     // Ties, where an order-dependent choice would show (tests/ties): lattice lanes, and lanes in
     // exact contact.
-    if (k % 8 == 3) a = test::ties::lattice_box(rng, 2, 1), b = test::ties::lattice_box(rng, 2, 1), t = test::ties::lattice_triangle(rng, 2, 1);
+    if (k % 8 == 3)
+      a = test::ties::lattice_box(rng, 2, 1), b = test::ties::lattice_box(rng, 2, 1),
+      t = test::ties::lattice_triangle(rng, 2, 1);
     if (k % 16 == 7) std::tie(a, b) = test::ties::touching_boxes(rng);
     if (k % 16 == 15) std::tie(a, t) = test::ties::touching_box_triangle(rng);
     A->set(k, a), B->set(k, b), T->set(k, t);
@@ -104,7 +106,8 @@ TEST(Determinism, SumsRepeatBitForBit) {
   auto pairs = tools::table1_pairs();
   std::mt19937_64 rng(9);
   for (int k = 0; k < 8; ++k)  // ties (tests/ties): lattice solids, coplanar faces and parallel edges
-    pairs.push_back({"lattice " + std::to_string(k), test::ties::lattice_solid_points(rng, 2, 1), test::ties::lattice_solid_points(rng, 2, 1)});
+    pairs.push_back({"lattice " + std::to_string(k), test::ties::lattice_solid_points(rng, 2, 1),
+                     test::ties::lattice_solid_points(rng, 2, 1)});
   for (const auto& pair : pairs) {
     ConvexPolytope A, B;
     ASSERT_EQ(polytope_from_points(pair.a, A), Status::Ok);
@@ -116,7 +119,8 @@ TEST(Determinism, SumsRepeatBitForBit) {
       ASSERT_EQ(x.F, y.F) << pair.name;
       for (int f = 0; f < x.F; ++f) {
         ASSERT_TRUE(same_bytes(x.planes[f], y.planes[f])) << pair.name << " plane " << f;
-        ASSERT_TRUE(std::equal(x.facet(f).begin(), x.facet(f).end(), y.facet(f).begin(), y.facet(f).end())) << pair.name;
+        ASSERT_TRUE(std::equal(x.facet(f).begin(), x.facet(f).end(), y.facet(f).begin(), y.facet(f).end()))
+            << pair.name;
       }
     }
   }

@@ -43,7 +43,8 @@ TEST(FaceToFace, EveryFamilyEqualsBruteForceWithoutTheSearch) {
       for (double gap : kGaps) {
         ProximityCache cache;
         for (int k = 0; k < 64; k += stride) {
-          const std::string where = pair.name + (rocking ? " rocking" : "") + " gap " + std::to_string(gap) + " tick " + std::to_string(k);
+          const std::string where =
+              pair.name + (rocking ? " rocking" : "") + " gap " + std::to_string(gap) + " tick " + std::to_string(k);
           const Isometry3d pose_b = kPoseA * tools::face_pose(pair, k, 64, gap, rocking);
           Proximity cold, warm;
           ASSERT_EQ(proximity(A, kPoseA, B, pose_b, cold, Want::Contact), Status::Ok);
@@ -58,7 +59,8 @@ TEST(FaceToFace, EveryFamilyEqualsBruteForceWithoutTheSearch) {
           EXPECT_LE(outside(TA, cold.point_a), tol) << where;
           EXPECT_LE(outside(TB, cold.point_b), tol) << where;
           if (cold.intersecting)
-            EXPECT_LE((cold.point_a - cold.point_b - cold.penetration_depth * cold.penetration_direction).norm(), tol) << where;
+            EXPECT_LE((cold.point_a - cold.point_b - cold.penetration_depth * cold.penetration_direction).norm(), tol)
+                << where;
           else
             EXPECT_NEAR((cold.point_a - cold.point_b).norm(), cold.distance, tol) << where;
           // The coherent query: the same answer.
@@ -111,7 +113,8 @@ TEST(FaceToFace, BoxAndTriangleShapesTakeTheirOwnPaths) {
     ASSERT_EQ(shape_from_box(a, A), Status::Ok);
     ASSERT_EQ(shape_from_box(b, B), Status::Ok);
     ASSERT_EQ(shape_from_triangle(t, T), Status::Ok);
-    const Isometry3d pa(Eigen::Translation3d(0.1 * k, 0, 0) * Eigen::AngleAxisd(0.01 * k, Vector3d(0, 1, 1).normalized()));
+    const Isometry3d pa(Eigen::Translation3d(0.1 * k, 0, 0) *
+                        Eigen::AngleAxisd(0.01 * k, Vector3d(0, 1, 1).normalized()));
     const Isometry3d pb(Eigen::AngleAxisd(0.02 * k, Vector3d(1, 0, 1).normalized()));
     const auto place = [](const Box& x, const Isometry3d& pose) {
       Box y = x;

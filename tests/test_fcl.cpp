@@ -41,8 +41,10 @@ TEST_P(VersusFcl, DistanceAndPenetration) {
   for (int k = 0; k < n; ++k) {
     Box a = tools::random_box(rng, 2), b = tools::random_box(rng, 2);
     // Every 32nd pair is tie-heavy (tests/ties): lattice boxes, every other one in exact contact.
-    if (k % 64 == 63) std::tie(a, b) = test::ties::touching_boxes(rng);
-    else if (k % 32 == 31) a = test::ties::lattice_box(rng, 2, 1), b = test::ties::lattice_box(rng, 2, 1);
+    if (k % 64 == 63)
+      std::tie(a, b) = test::ties::touching_boxes(rng);
+    else if (k % 32 == 31)
+      a = test::ties::lattice_box(rng, 2, 1), b = test::ties::lattice_box(rng, 2, 1);
     Proximity p;
     ASSERT_EQ(proximity(a, b, p), Status::Ok);
     peers::FclPair pair(a, b);
@@ -59,7 +61,8 @@ TEST_P(VersusFcl, DistanceAndPenetration) {
       // FCL's verdict (fcl::collide) and, apart, its distance against the exact answer.
       peers::FclAnswer answer;
       const bool fcl_meet = pair.penetration(peers::FclSolver::Gjk, answer);
-      if (fcl_meet != meet || (!meet && std::abs(pair.distance(peers::FclSolver::Gjk) - gap) > 1e-6)) ++fcl_lattice_wrong;
+      if (fcl_meet != meet || (!meet && std::abs(pair.distance(peers::FclSolver::Gjk) - gap) > 1e-6))
+        ++fcl_lattice_wrong;
       continue;
     }
     if (!p.intersecting && p.distance > 1e-9) {
@@ -95,11 +98,12 @@ TEST_P(VersusFcl, DistanceAndPenetration) {
   RecordProperty("fcl_depth_off_by_more_than_1e-6", depth_wrong);
   EXPECT_GT(lattice[0], 0);
   EXPECT_GT(lattice[1], 0);
-  std::printf("shard %d: %d separated (FCL GJK off by > 1e-6: %d, libccd: %d), %d overlapping "
-              "(%d FCL depths, %d off by > 1e-6); the exact oracle sided with minksum every time; "
-              "lattice pairs apart / meeting %d / %d, all exact (FCL GJK with the other verdict or off by > 1e-6: %d)\n",
-              GetParam(), separated, fcl_wrong[0], fcl_wrong[1], overlapping, depth_checked,
-              depth_wrong, lattice[0], lattice[1], fcl_lattice_wrong);
+  std::printf(
+      "shard %d: %d separated (FCL GJK off by > 1e-6: %d, libccd: %d), %d overlapping "
+      "(%d FCL depths, %d off by > 1e-6); the exact oracle sided with minksum every time; "
+      "lattice pairs apart / meeting %d / %d, all exact (FCL GJK with the other verdict or off by > 1e-6: %d)\n",
+      GetParam(), separated, fcl_wrong[0], fcl_wrong[1], overlapping, depth_checked, depth_wrong, lattice[0],
+      lattice[1], fcl_lattice_wrong);
 }
 
 INSTANTIATE_TEST_SUITE_P(Shards, VersusFcl, testing::Range(0, 4));
@@ -147,7 +151,8 @@ TEST(VersusNanoflann, CloudsEqualBruteForce) {
     EXPECT_NEAR(got.distance, want.distance, 1e-15) << "pose " << k;
     int ia = -1, ib = -1;
     EXPECT_NEAR(ab.distance(pose, &ia, &ib), want.distance, 1e-15) << "pose " << k;
-    EXPECT_NEAR((a.vertices[size_t(ia)] - (pose.linear() * b.vertices[size_t(ib)] + pose.translation())).norm(), want.distance, 1e-15);
+    EXPECT_NEAR((a.vertices[size_t(ia)] - (pose.linear() * b.vertices[size_t(ib)] + pose.translation())).norm(),
+                want.distance, 1e-15);
     Eigen::Isometry3d back = Eigen::Isometry3d::Identity();
     back.linear() = pose.linear().transpose(), back.translation() = -(back.linear() * pose.translation());
     EXPECT_NEAR(ba.distance(back), want.distance, 1e-15) << "pose " << k;
@@ -185,14 +190,16 @@ TEST(VersusBullet, WarmGjkAlongATrajectory) {
         ASSERT_EQ(proximity(a, b, box_cache, ours, Want::Contact), Status::Ok);
         theirs = boxes.distance(Eigen::Isometry3d::Identity(), path[k]);
       } else {
-        ASSERT_EQ(proximity(A, Eigen::Isometry3d::Identity(), B, path[k], shape_cache, ours, Want::Contact), Status::Ok);
+        ASSERT_EQ(proximity(A, Eigen::Isometry3d::Identity(), B, path[k], shape_cache, ours, Want::Contact),
+                  Status::Ok);
         theirs = shapes.distance(Eigen::Isometry3d::Identity(), path[k]);
       }
       if (!ours.intersecting && ours.distance > 1e-3) {
         EXPECT_NEAR(theirs, ours.distance, 1e-6 * (1 + ours.distance)) << "pair " << pair << " tick " << k;
         ++apart;
       } else if (ours.intersecting && ours.penetration_depth > 1e-3) {
-        EXPECT_NEAR(-theirs, ours.penetration_depth, 1e-4 * (1 + ours.penetration_depth)) << "pair " << pair << " tick " << k;
+        EXPECT_NEAR(-theirs, ours.penetration_depth, 1e-4 * (1 + ours.penetration_depth))
+            << "pair " << pair << " tick " << k;
         ++overlapping;
       }
       if (testing::Test::HasFailure()) return;

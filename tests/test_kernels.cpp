@@ -30,7 +30,6 @@ Eigen::Matrix3d random_rotation(std::mt19937_64& rng) {
   return tools::axis_angle(Vector3d(u(rng), u(rng), u(rng)), 3.2 * u(rng));
 }
 
-
 // The box (triangle) as the float kernel sees it: every input rounded to T.
 template <class T>
 Box rounded(const Box& b) {
@@ -57,8 +56,8 @@ struct Expected {
 // Compares one kernel plane with the reference plane. Offsets are compared with the exact
 // support at the kernel's own normal; corner codes except where n . u_k is a tie.
 template <class T>
-void compare(const KernelPlane& got, const KernelPlane& ref, const Expected& e,
-             double ulps, double cross_len, const char* what, int p) {
+void compare(const KernelPlane& got, const KernelPlane& ref, const Expected& e, double ulps, double cross_len,
+             const char* what, int p) {
   const double eps = std::numeric_limits<T>::epsilon();
   // Near the parallel threshold either decision is right (documented tie).
   if (std::abs(cross_len - double(kParallelThreshold<T>)) < 0.01 * kParallelThreshold<T>) return;
@@ -94,8 +93,7 @@ void check_box_box(Isa isa, const std::vector<std::pair<Box, Box>>& pairs, bool 
       for (int p = 0; p < 30; ++p) {
         const int axis = p % 15;
         KernelPlane got;
-        got.normal = (p < 15 ? 1.0 : -1.0) *
-                     Vector3d(out->n[axis][0][k], out->n[axis][1][k], out->n[axis][2][k]);
+        got.normal = (p < 15 ? 1.0 : -1.0) * Vector3d(out->n[axis][0][k], out->n[axis][1][k], out->n[axis][2][k]);
         got.offset = out->offset[p][k];
         got.valid = out->valid[k] >> axis & 1;
         const double cross_len =
@@ -103,8 +101,7 @@ void check_box_box(Isa isa, const std::vector<std::pair<Box, Box>>& pairs, bool 
         // Exact support of A (+) sB at the kernel's normal, and the scale of its terms.
         int ca, cb;
         const double s = difference ? -1 : 1;
-        Expected e{detail::box_support_brute(a, got.normal, &ca) +
-                       detail::box_support_brute(b, s * got.normal, &cb),
+        Expected e{detail::box_support_brute(a, got.normal, &ca) + detail::box_support_brute(b, s * got.normal, &cb),
                    std::abs(got.normal.dot(a.center)) + std::abs(got.normal.dot(b.center))};
         for (int d = 0; d < 3; ++d)
           e.scale += a.half_extents[d] * std::abs(got.normal.dot(a.rotation.col(d))) +
@@ -117,7 +114,8 @@ void check_box_box(Isa isa, const std::vector<std::pair<Box, Box>>& pairs, bool 
           if (std::abs(got.normal.dot(a.rotation.col(bit))) > 64 * eps)
             EXPECT_EQ(c >> bit & 1, ca >> bit & 1) << "A corner, plane " << p;
           if (std::abs(got.normal.dot(b.rotation.col(bit))) > 64 * eps)
-            EXPECT_EQ(c >> (3 + bit) & 1, cb >> bit & 1) << "B corner, plane " << p << " pair " << base + k << " of " << pairs.size();
+            EXPECT_EQ(c >> (3 + bit) & 1, cb >> bit & 1)
+                << "B corner, plane " << p << " pair " << base + k << " of " << pairs.size();
         }
       }
       if (testing::Test::HasFailure()) return;
@@ -136,8 +134,10 @@ std::vector<std::pair<Box, Box>> random_box_pairs(int n, double spread, unsigned
   std::vector<std::pair<Box, Box>> pairs;
   for (int k = 0; k < n; ++k) {
     pairs.emplace_back(tools::random_box(rng, spread, 2), tools::random_box(rng, spread, 2));
-    if (k % 32 == 31) pairs.back() = test::ties::touching_boxes(rng);
-    else if (k % 16 == 15) pairs.back() = {test::ties::lattice_box(rng, 2, 1), test::ties::lattice_box(rng, 2, 1)};
+    if (k % 32 == 31)
+      pairs.back() = test::ties::touching_boxes(rng);
+    else if (k % 16 == 15)
+      pairs.back() = {test::ties::lattice_box(rng, 2, 1), test::ties::lattice_box(rng, 2, 1)};
   }
   return pairs;
 }
@@ -192,10 +192,8 @@ TEST_P(Kernels, BoxBoxDoubleMatchesTheReference) {
   }
 }
 
-
 template <class T>
-void check_box_triangle(Isa isa, const std::vector<std::pair<Box, Triangle>>& pairs,
-                        bool difference) {
+void check_box_triangle(Isa isa, const std::vector<std::pair<Box, Triangle>>& pairs, bool difference) {
   ASSERT_TRUE(force_isa(isa));
   auto A = std::make_unique<BoxBatch<T, kN>>();
   auto tri = std::make_unique<TriangleBatch<T, kN>>();
@@ -219,8 +217,7 @@ void check_box_triangle(Isa isa, const std::vector<std::pair<Box, Triangle>>& pa
       for (int p = 0; p < 26; ++p) {
         const int axis = p % 13;
         KernelPlane got;
-        got.normal = (p < 13 ? 1.0 : -1.0) *
-                     Vector3d(out->n[axis][0][k], out->n[axis][1][k], out->n[axis][2][k]);
+        got.normal = (p < 13 ? 1.0 : -1.0) * Vector3d(out->n[axis][0][k], out->n[axis][1][k], out->n[axis][2][k]);
         got.offset = out->offset[p][k];
         got.valid = !degenerate && (out->valid[k] >> axis & 1);
         double cross_len = axis < 3 ? 1 : tri_len;
@@ -234,8 +231,7 @@ void check_box_triangle(Isa isa, const std::vector<std::pair<Box, Triangle>>& pa
         int vi = 0;
         for (int i = 0; i < 3; ++i)
           if (s * got.normal.dot(v[i]) > hv) hv = s * got.normal.dot(v[i]), vi = i;
-        Expected ex{detail::box_support_brute(a, got.normal, &ca) + hv,
-                    std::abs(got.normal.dot(a.center))};
+        Expected ex{detail::box_support_brute(a, got.normal, &ca) + hv, std::abs(got.normal.dot(a.center))};
         for (int d = 0; d < 3; ++d) {
           ex.scale += a.half_extents[d] * std::abs(got.normal.dot(a.rotation.col(d)));
           ex.scale += std::abs(got.normal.dot(v[d]));
@@ -261,15 +257,17 @@ std::vector<std::pair<Box, Triangle>> box_triangle_pairs(int n, unsigned seed) {
   std::vector<std::pair<Box, Triangle>> pairs;
   for (int k = 0; k < n; ++k) {
     pairs.emplace_back(tools::random_box(rng, 3, 2), tools::random_triangle(rng, 3));
-    if (k % 32 == 31) pairs.back() = test::ties::touching_box_triangle(rng);  // tie-heavy (tests/ties)
-    else if (k % 16 == 15) pairs.back() = {test::ties::lattice_box(rng, 2, 1), test::ties::lattice_triangle(rng, 2, 1)};
+    if (k % 32 == 31)
+      pairs.back() = test::ties::touching_box_triangle(rng);  // tie-heavy (tests/ties)
+    else if (k % 16 == 15)
+      pairs.back() = {test::ties::lattice_box(rng, 2, 1), test::ties::lattice_triangle(rng, 2, 1)};
   }
   // Hard cases: a triangle in a box face's plane, an axis-parallel edge, degenerate triangles.
   Box unit;
   pairs.emplace_back(unit, Triangle{{-0.5, -0.5, 1}, {0.7, -0.2, 1}, {0.1, 0.6, 1}});
   pairs.emplace_back(unit, Triangle{{0, 0, 0}, {1, 0, 0}, {0.3, 0.2, 0.9}});
-  pairs.emplace_back(unit, Triangle{{0, 0, 0}, {1, 1, 1}, {2, 2, 2}});      // collinear
-  pairs.emplace_back(unit, Triangle{{1, 2, 3}, {1, 2, 3}, {1, 2, 3}});      // a point
+  pairs.emplace_back(unit, Triangle{{0, 0, 0}, {1, 1, 1}, {2, 2, 2}});  // collinear
+  pairs.emplace_back(unit, Triangle{{1, 2, 3}, {1, 2, 3}, {1, 2, 3}});  // a point
   Box far = unit;
   far.center = Vector3d(1e6, 1e6, -1e6);
   pairs.emplace_back(far, Triangle{{1e6, 1e6, -1e6}, {1e6 + 1, 1e6, -1e6}, {1e6, 1e6 + 1, -1e6 + 0.5}});
@@ -314,11 +312,11 @@ void check_support(Isa isa) {
     std::vector<int> arg(K);
     for (int k = 0; k < n; ++k) x[k] = T(u(rng)), y[k] = T(u(rng)), z[k] = T(u(rng));
     for (int q = 0; q < K; ++q) dx[q] = T(u(rng)), dy[q] = T(u(rng)), dz[q] = T(u(rng));
-    support_push(x.data(), y.data(), z.data(), n, dx.data(), dy.data(), dz.data(), K, best.data(),
-                 arg.data());
+    support_push(x.data(), y.data(), z.data(), n, dx.data(), dy.data(), dz.data(), K, best.data(), arg.data());
     for (int q = 0; q < K; ++q) {
       double top = -1e300;
-      for (int k = 0; k < n; ++k) top = std::max(top, double(dx[q]) * x[k] + double(dy[q]) * y[k] + double(dz[q]) * z[k]);
+      for (int k = 0; k < n; ++k)
+        top = std::max(top, double(dx[q]) * x[k] + double(dy[q]) * y[k] + double(dz[q]) * z[k]);
       ASSERT_NEAR(best[q], top, 8 * eps) << "n " << n;
       ASSERT_GE(arg[q], 0);
       ASSERT_LT(arg[q], n);
@@ -388,7 +386,8 @@ std::vector<std::pair<Triangle, Triangle>> triangle_pairs(int n, unsigned seed, 
           *x = {f * x->a, f * x->b, f * x->c};
         }
         break;
-      default: break;
+      default:
+        break;
     }
     out.emplace_back(s, t);
   }
@@ -427,7 +426,9 @@ void check_triangle_distance(Isa isa, unsigned seed) {
     double span = 0;
     for (const Vector3d* v : {&s.b, &s.c, &t.a, &t.b, &t.c}) span = std::max(span, (*v - s.a).cwiseAbs().maxCoeff());
     const double got = double(out->distance[k]);
-    ASSERT_NEAR(got, want, eps * span) << "lane " << k << std::setprecision(17) << " s " << s.a.transpose() << " / " << s.b.transpose() << " / " << s.c.transpose() << " t " << t.a.transpose() << " / " << t.b.transpose() << " / " << t.c.transpose();
+    ASSERT_NEAR(got, want, eps * span) << "lane " << k << std::setprecision(17) << " s " << s.a.transpose() << " / "
+                                       << s.b.transpose() << " / " << s.c.transpose() << " t " << t.a.transpose()
+                                       << " / " << t.b.transpose() << " / " << t.c.transpose();
     // The points are absolute: also a few ulps of the corner's coordinates.
     const double at = 4 * eps * span + 8 * std::numeric_limits<T>::epsilon() * s.a.cwiseAbs().maxCoeff();
     const Vector3d ps(out->point_s[0][k], out->point_s[1][k], out->point_s[2][k]);
@@ -462,12 +463,13 @@ int check_box_box_sum(Isa isa, const std::vector<std::pair<Box, Box>>& pairs) {
     for (int k = 0; k < n; ++k) {
       const std::string what = std::string(to_string(isa)) + " pair " + std::to_string(base + k);
       const Box a = rounded<T>(pairs[base + k].first), b = rounded<T>(pairs[base + k].second);
-      const double size = std::max({a.center.norm(), b.center.norm(), 1.0}) + a.half_extents.sum() + b.half_extents.sum();
+      const double size =
+          std::max({a.center.norm(), b.center.norm(), 1.0}) + a.half_extents.sum() + b.half_extents.sum();
       const double tol = 64 * eps * size;
       std::vector<Vector3d> sums;
       for (int i = 0; i < 8; ++i)
         for (int j = 0; j < 8; ++j) sums.push_back(box_corner(a, i) + box_corner(b, j));
-      const auto corner = [&](const T (&c)[8][3][N], int i) { return Vector3d(c[i][0][k], c[i][1][k], c[i][2][k]); };
+      const auto corner = [&](const T(&c)[8][3][N], int i) { return Vector3d(c[i][0][k], c[i][1][k], c[i][2][k]); };
       for (int i = 0; i < 8; ++i) {
         EXPECT_LE((corner(out->corner_a, i) - box_corner(a, i)).norm(), tol) << what;
         EXPECT_LE((corner(out->corner_b, i) - box_corner(b, i)).norm(), tol) << what;
@@ -480,7 +482,8 @@ int check_box_box_sum(Isa isa, const std::vector<std::pair<Box, Box>>& pairs) {
       std::map<std::pair<int, int>, int> directed;
       for (int p = 0; p < 30; ++p) {
         const int q = p % 15;
-        const Vector3d nrm = (p < 15 ? 1.0 : -1.0) * Vector3d(out->planes.n[q][0][k], out->planes.n[q][1][k], out->planes.n[q][2][k]);
+        const Vector3d nrm =
+            (p < 15 ? 1.0 : -1.0) * Vector3d(out->planes.n[q][0][k], out->planes.n[q][1][k], out->planes.n[q][2][k]);
         int v[4];
         Vector3d P[4];
         for (int m = 0; m < 4; ++m) {
@@ -491,10 +494,12 @@ int check_box_box_sum(Isa isa, const std::vector<std::pair<Box, Box>>& pairs) {
         }
         double support = -std::numeric_limits<double>::infinity();
         for (const auto& x : sums) support = std::max(support, nrm.dot(x));
-        EXPECT_NEAR(support, double(out->planes.offset[p][k]), tol) << what << " facet " << p << " does not support the sums";
+        EXPECT_NEAR(support, double(out->planes.offset[p][k]), tol)
+            << what << " facet " << p << " does not support the sums";
         for (int m = 0; m < 4; ++m) {
           ++directed[{v[m], v[(m + 1) % 4]}];
-          EXPECT_GT((P[(m + 1) % 4] - P[m]).cross(P[(m + 2) % 4] - P[(m + 1) % 4]).dot(nrm), 0) << what << " facet " << p;
+          EXPECT_GT((P[(m + 1) % 4] - P[m]).cross(P[(m + 2) % 4] - P[(m + 1) % 4]).dot(nrm), 0)
+              << what << " facet " << p;
         }
       }
       EXPECT_EQ(got.size(), 32u) << what;
@@ -509,7 +514,8 @@ int check_box_box_sum(Isa isa, const std::vector<std::pair<Box, Box>>& pairs) {
 TEST_P(Kernels, BoxBoxSumIsTheHullOfThePairwiseSums) {
   const auto random = random_box_pairs(2000, 5, 41);
   for (int t = 0; t < 2; ++t) {
-    const int general = t ? check_box_box_sum<float>(GetParam(), random) : check_box_box_sum<double>(GetParam(), random);
+    const int general =
+        t ? check_box_box_sum<float>(GetParam(), random) : check_box_box_sum<double>(GetParam(), random);
     EXPECT_GT(general, 1780) << "random pairs are in general position (all but the 125 lattice pairs)";
   }
   // Aligned boxes, and a cube turned about one of its axes (three coplanar edges), are not in
@@ -594,13 +600,22 @@ TEST(Kernels, EveryTableIsComplete) {
                                                                {&detail::kTableAvx2, "avx2"},
                                                                {&detail::kTableAvx512, "avx512"}};
   for (const auto& [t, name] : tables) {
-    const bool set[] = {t->box_box_f != nullptr, t->box_box_d != nullptr, t->box_tri_f != nullptr,
-                        t->box_tri_d != nullptr, t->support_f != nullptr, t->support_d != nullptr,
-                        t->box_box_single_d != nullptr, t->box_box_proximity_f != nullptr,
-                        t->box_box_proximity_d != nullptr, t->box_box_separation_f != nullptr,
-                        t->box_box_separation_d != nullptr, t->box_triangle_overlap_f != nullptr,
-                        t->box_triangle_overlap_d != nullptr, t->box_pair_d != nullptr,
-                        t->tri_tri_f != nullptr, t->tri_tri_d != nullptr};
+    const bool set[] = {t->box_box_f != nullptr,
+                        t->box_box_d != nullptr,
+                        t->box_tri_f != nullptr,
+                        t->box_tri_d != nullptr,
+                        t->support_f != nullptr,
+                        t->support_d != nullptr,
+                        t->box_box_single_d != nullptr,
+                        t->box_box_proximity_f != nullptr,
+                        t->box_box_proximity_d != nullptr,
+                        t->box_box_separation_f != nullptr,
+                        t->box_box_separation_d != nullptr,
+                        t->box_triangle_overlap_f != nullptr,
+                        t->box_triangle_overlap_d != nullptr,
+                        t->box_pair_d != nullptr,
+                        t->tri_tri_f != nullptr,
+                        t->tri_tri_d != nullptr};
     static_assert(sizeof(set) == 16 && sizeof(KernelTable) == 16 * sizeof(void (*)()),
                   "a new kernel table entry needs its check here");
     for (size_t k = 0; k < sizeof(set); ++k) EXPECT_TRUE(set[k]) << name << " entry " << k;
@@ -632,7 +647,9 @@ TEST(Kernels, SinglePairApiMatchesTheReference) {
     Triangle t = tools::random_triangle(rng, 3);
     // One pair in 8 tie-heavy (tests/ties): boxes in exact contact, a box and a triangle in
     // exact contact, or lattice ones (parallel edges, shared normals).
-    if (k % 8 == 3) a = test::ties::lattice_box(rng, 2, 1), b = test::ties::lattice_box(rng, 2, 1), t = test::ties::lattice_triangle(rng, 2, 1);
+    if (k % 8 == 3)
+      a = test::ties::lattice_box(rng, 2, 1), b = test::ties::lattice_box(rng, 2, 1),
+      t = test::ties::lattice_triangle(rng, 2, 1);
     if (k % 16 == 7) std::tie(a, b) = test::ties::touching_boxes(rng), t = test::ties::lattice_triangle(rng, 2, 1);
     if (k % 16 == 15) std::tie(a, t) = test::ties::touching_box_triangle(rng), b = test::ties::lattice_box(rng, 2, 1);
     BoxBoxPair pair;
@@ -659,8 +676,7 @@ TEST(Kernels, SinglePairApiMatchesTheReference) {
       ASSERT_EQ(tg[p].valid, tr[p].valid);
       EXPECT_NEAR(tg[p].offset, tr[p].offset, 1e-12 * (1 + std::abs(tr[p].offset)));
       for (int bit = 0; bit < 3; ++bit)
-        if (std::abs(tr[p].normal.dot(a.rotation.col(bit))) > 1e-12)
-          EXPECT_EQ(tg[p].i >> bit & 1, tr[p].i >> bit & 1);
+        if (std::abs(tr[p].normal.dot(a.rotation.col(bit))) > 1e-12) EXPECT_EQ(tg[p].i >> bit & 1, tr[p].i >> bit & 1);
       // The triangle normal ties all three vertices, an edge cross ties the edge's two, and on
       // the lattice a box normal may tie two as well.
       if (p % 13 >= 3 || !tr[p].valid) continue;
@@ -683,8 +699,7 @@ Box scaled_moved(const Box& b, double s, const Vector3d& t) {
 
 // Every instantiated facet has a valid freshly computed plane with the same normal and offset.
 template <size_t P>
-void expect_same_planes(const TopologyTable& t, const std::vector<double>& offsets,
-                        const KernelPlane (&fresh)[P]) {
+void expect_same_planes(const TopologyTable& t, const std::vector<double>& offsets, const KernelPlane (&fresh)[P]) {
   for (size_t f = 0; f < offsets.size(); ++f) {
     const Vector3d n(t.nx[f], t.ny[f], t.nz[f]);
     bool found = false;
@@ -720,8 +735,8 @@ TEST(Topology, BoxBoxInstantiateEqualsFreshPlanes) {
         std::vector<double> offsets(t.nx.size());
         instantiate(t, sa, ta, sb, tb, offsets.data());
         KernelPlane fresh[30];
-        detail::box_box_reference(scaled_moved(a, sa, ta), scaled_moved(b, sb, tb), diff,
-                                  kParallelThreshold<double>, fresh);
+        detail::box_box_reference(scaled_moved(a, sa, ta), scaled_moved(b, sb, tb), diff, kParallelThreshold<double>,
+                                  fresh);
         expect_same_planes(t, offsets, fresh);
       }
     }
@@ -754,8 +769,7 @@ TEST(Topology, BoxTriangleInstantiateEqualsFreshPlanes) {
         instantiate(t, s, ta, 1.0, tb, offsets.data());
         const Triangle moved{tri.a + tb, tri.b + tb, tri.c + tb};
         KernelPlane fresh[26];
-        detail::box_triangle_reference(scaled_moved(box, s, ta), moved, diff,
-                                       kParallelThreshold<double>, fresh);
+        detail::box_triangle_reference(scaled_moved(box, s, ta), moved, diff, kParallelThreshold<double>, fresh);
         expect_same_planes(t, offsets, fresh);
       }
     }

@@ -167,7 +167,8 @@ TEST(MeshDistance, ConcentricSpheresWorstCase) {
 TEST(Octree, DuplicatedTrianglesAreListedOnce) {
   tools::Mesh m;
   m.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 0}};  // vertex 4 repeats 1
-  for (int k = 0; k < 300; ++k) m.triangles.push_back({0, 1, 2}), m.triangles.push_back({3, 4, 0}), m.triangles.push_back({2, 1, 0});
+  for (int k = 0; k < 300; ++k)
+    m.triangles.push_back({0, 1, 2}), m.triangles.push_back({3, 4, 0}), m.triangles.push_back({2, 1, 0});
   Octree A;
   ASSERT_EQ(build_octree(m.vertices, m.triangles, A), Status::Ok);
   std::set<int> listed(A.items.begin(), A.items.end());
@@ -199,7 +200,8 @@ TEST(TriangleDistance, AgreesWithTheGeneralPath) {
     Triangle s = tools::random_triangle(rng, 1.2), t = tools::random_triangle(rng, 1.2);
     if (k % 4 == 1) {  // near-parallel: t is s's plane, lifted and tilted by ~1e-9
       const Vector3d n = (s.b - s.a).cross(s.c - s.a).normalized(), lift = 0.01 * (1 + u(rng)) * n;
-      t = {s.a + lift + Vector3d(tiny(rng), tiny(rng), tiny(rng)) + 0.3 * (s.b - s.a), s.b + lift, s.c + lift + 0.2 * (s.a - s.c)};
+      t = {s.a + lift + Vector3d(tiny(rng), tiny(rng), tiny(rng)) + 0.3 * (s.b - s.a), s.b + lift,
+           s.c + lift + 0.2 * (s.a - s.c)};
     }
     if (k % 4 == 2) {  // coplanar
       const Vector3d n = (s.b - s.a).cross(s.c - s.a);
@@ -208,8 +210,10 @@ TEST(TriangleDistance, AgreesWithTheGeneralPath) {
     const Vector3d far = k % 8 == 3 ? Vector3d(1e5, -1e5, 1e5) : Vector3d::Zero();
     for (Triangle* x : {&s, &t}) x->a += far, x->b += far, x->c += far;
     const bool ties = k % 8 == 7;  // tests/ties: triangles in exact contact, or on the lattice
-    if (ties && k % 16 == 15) std::tie(s, t) = test::ties::touching_triangles(rng);
-    else if (ties) s = test::ties::lattice_triangle(rng, 2, 1), t = test::ties::lattice_triangle(rng, 2, 1);
+    if (ties && k % 16 == 15)
+      std::tie(s, t) = test::ties::touching_triangles(rng);
+    else if (ties)
+      s = test::ties::lattice_triangle(rng, 2, 1), t = test::ties::lattice_triangle(rng, 2, 1);
     // The general path (A (-) B of the two flat polytopes), not the triangle query, which is
     // built on triangle_distance.
     ConvexPolytope S, T;
@@ -262,8 +266,8 @@ TEST(TriangleDistance, HugeAndTinyCoordinates) {
 }
 
 TEST(TriangleDistance, DegenerateTriangles) {
-  const Vector3d seg[3] = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};     // collinear
-  const Vector3d point[3] = {{0, 1, 0}, {0, 1, 0}, {0, 1, 0}};   // one point
+  const Vector3d seg[3] = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};    // collinear
+  const Vector3d point[3] = {{0, 1, 0}, {0, 1, 0}, {0, 1, 0}};  // one point
   const Vector3d tri[3] = {{3, 0, -1}, {3, 0, 1}, {3, 1, 0}};
   Vector3d p, q;
   EXPECT_NEAR(triangle_distance(seg, point, p, q), 1, 1e-15);
@@ -337,7 +341,8 @@ TEST(Octree, RejectsABadPoseAndAForeignWorkspace) {
     EXPECT_EQ(mesh_distance(A, identity, A, bad, ws, d), Status::InvalidPose);
     EXPECT_EQ(mesh_distance(A, bad, A, identity, ws, d), Status::InvalidPose);
   }
-  EXPECT_EQ(mesh_distance(A, Eigen::Isometry3d::Identity(), small, Eigen::Isometry3d::Identity(), ws, d), Status::InvalidMesh);
+  EXPECT_EQ(mesh_distance(A, Eigen::Isometry3d::Identity(), small, Eigen::Isometry3d::Identity(), ws, d),
+            Status::InvalidMesh);
   // A workspace make_workspace never sized is refused; a copy of a sized one works.
   MeshWorkspace empty;
   EXPECT_EQ(mesh_distance(A, identity, A, identity, empty, d), Status::InvalidMesh);
@@ -368,8 +373,9 @@ TEST(MeshContact, PosedBoxOnAFloorIsPushedStraightUp) {
     const int quarter = k % 4;  // 0, 2: z half extent is vertical; 1, 3: y's
     const double half_height = quarter % 2 ? box.half_extents.y() : box.half_extents.z();
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-    pose.linear() = (Eigen::AngleAxisd(M_PI * u(rng), Vector3d::UnitZ()) *
-                     Eigen::AngleAxisd(M_PI / 2 * quarter, Vector3d::UnitX())).toRotationMatrix();
+    pose.linear() =
+        (Eigen::AngleAxisd(M_PI * u(rng), Vector3d::UnitZ()) * Eigen::AngleAxisd(M_PI / 2 * quarter, Vector3d::UnitX()))
+            .toRotationMatrix();
     pose.translation() = Vector3d(3 * u(rng), 3 * u(rng), 1.5 * half_height * u(rng) + 0.5 * half_height);
     MeshContact c;
     ASSERT_EQ(mesh_contact(A, Eigen::Isometry3d::Identity(), tool, pose, ws, c), Status::Ok);
@@ -395,10 +401,12 @@ TEST(MeshContact, PosedBoxOnAFloorIsPushedStraightUp) {
   Eigen::Isometry3d scaled = Eigen::Isometry3d::Identity();
   scaled.linear() *= 1.01;
   EXPECT_EQ(mesh_contact(A, Eigen::Isometry3d::Identity(), tool, scaled, ws, c), Status::InvalidPose);
-  EXPECT_EQ(mesh_contact(A, Eigen::Isometry3d::Identity(), ConvexShape{}, Eigen::Isometry3d::Identity(), ws, c), Status::TooFewPoints);
+  EXPECT_EQ(mesh_contact(A, Eigen::Isometry3d::Identity(), ConvexShape{}, Eigen::Isometry3d::Identity(), ws, c),
+            Status::TooFewPoints);
   EXPECT_EQ(mesh_contact(A, scaled, tool, Eigen::Isometry3d::Identity(), ws, c), Status::InvalidPose);
   MeshWorkspace none;
-  EXPECT_EQ(mesh_contact(A, Eigen::Isometry3d::Identity(), tool, Eigen::Isometry3d::Identity(), none, c), Status::InvalidMesh);
+  EXPECT_EQ(mesh_contact(A, Eigen::Isometry3d::Identity(), tool, Eigen::Isometry3d::Identity(), none, c),
+            Status::InvalidMesh);
   EXPECT_FALSE(c.intersecting);
 }
 
@@ -417,13 +425,15 @@ TEST(Octree, EveryTriangleOnceInsideItsNodesBounds) {
   std::set<std::array<double, 9>> seen;
   for (size_t t = 0; t < m.triangles.size(); ++t) {
     std::array<std::array<double, 3>, 3> c;
-    for (int k = 0; k < 3; ++k) c[k] = {m.vertices[m.triangles[t][k]].x(), m.vertices[m.triangles[t][k]].y(), m.vertices[m.triangles[t][k]].z()};
+    for (int k = 0; k < 3; ++k)
+      c[k] = {m.vertices[m.triangles[t][k]].x(), m.vertices[m.triangles[t][k]].y(), m.vertices[m.triangles[t][k]].z()};
     std::sort(c.begin(), c.end());
     copy[t] = !seen.insert({c[0][0], c[0][1], c[0][2], c[1][0], c[1][1], c[1][2], c[2][0], c[2][1], c[2][2]}).second;
   }
   std::vector<int> parent(A.nodes.size(), -1), times(m.triangles.size(), 0);
   for (size_t i = 0; i < A.nodes.size(); ++i)
-    for (int c = A.nodes[i].first_child; c >= 0 && c < A.nodes[i].first_child + A.nodes[i].child_count; ++c) parent[size_t(c)] = int(i);
+    for (int c = A.nodes[i].first_child; c >= 0 && c < A.nodes[i].first_child + A.nodes[i].child_count; ++c)
+      parent[size_t(c)] = int(i);
   int checked = 0;
   for (size_t i = 0; i < A.nodes.size(); ++i) {
     if (A.nodes[i].first_child >= 0) continue;
@@ -434,7 +444,8 @@ TEST(Octree, EveryTriangleOnceInsideItsNodesBounds) {
         const Octree::Node& node = A.nodes[size_t(n)];
         for (int k : m.triangles[size_t(t)]) {
           const Vector3d& v = m.vertices[size_t(k)];
-          ASSERT_LE(((v - node.box_center).cwiseAbs() - node.box_half).maxCoeff(), 0.0) << "triangle " << t << " node " << n;
+          ASSERT_LE(((v - node.box_center).cwiseAbs() - node.box_half).maxCoeff(), 0.0)
+              << "triangle " << t << " node " << n;
           ASSERT_GE(node.normal.dot(v), node.slab_lo) << "triangle " << t << " node " << n;
           ASSERT_LE(node.normal.dot(v), node.slab_hi) << "triangle " << t << " node " << n;
         }

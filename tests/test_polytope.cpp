@@ -61,7 +61,7 @@ TEST(Polytope, PlatonicSolidsHaveTheirKnownCounts) {
 TEST(Polytope, InteriorAndDuplicatePointsAreDroppedAndIndicesKept) {
   auto pts = tools::cube_points();
   pts.insert(pts.begin(), Vector3d(0.1, 0.2, 0.3));  // interior
-  pts.push_back(pts[5]);                              // duplicate of input point 5
+  pts.push_back(pts[5]);                             // duplicate of input point 5
   ConvexPolytope p;
   ASSERT_EQ(polytope_from_points(pts, p), Status::Ok);
   EXPECT_EQ(p.vertices.size(), 8u);
@@ -89,8 +89,7 @@ TEST(Polytope, TooFewOrCollinearPointsAreRejected) {
   ConvexPolytope p;
   EXPECT_EQ(polytope_from_points({}, p), Status::TooFewPoints);
   EXPECT_EQ(polytope_from_points({{1, 2, 3}, {1, 2, 3}, {1, 2, 3}}, p), Status::TooFewPoints);
-  EXPECT_EQ(polytope_from_points({{0, 0, 0}, {1, 1, 1}, {2, 2, 2}, {3, 3, 3}}, p),
-            Status::Collinear);
+  EXPECT_EQ(polytope_from_points({{0, 0, 0}, {1, 1, 1}, {2, 2, 2}, {3, 3, 3}}, p), Status::Collinear);
   EXPECT_EQ(polytope_from_triangle({{0, 0, 0}, {1, 1, 1}, {2, 2, 2}}, p), Status::Collinear);
   EXPECT_EQ(polytope_from_triangle({{0, 0, 0}, {0, 0, 0}, {2, 2, 2}}, p), Status::TooFewPoints);
 }
@@ -105,8 +104,7 @@ TEST(Polytope, BoxCornerCodesFollowTheAxisSigns) {
   ASSERT_EQ(p.vertices.size(), 8u);
   for (int k = 0; k < 8; ++k) {
     const Vector3d local = b.rotation.transpose() * (p.vertices[k] - b.center);
-    for (int a = 0; a < 3; ++a)
-      EXPECT_NEAR(local[a], ((k >> a) & 1 ? 1 : -1) * b.half_extents[a], 1e-12);
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(local[a], ((k >> a) & 1 ? 1 : -1) * b.half_extents[a], 1e-12);
   }
   expect_valid(p);
 }
@@ -176,8 +174,7 @@ TEST(Polytope, SupportFunctionPicksTheExtremeVertex) {
 }
 
 TEST(Status, EveryStatusHasAMessage) {
-  for (int s = 0; s <= int(Status::HullFailed); ++s)
-    EXPECT_STRNE(to_string(Status(s)), "unknown status");
+  for (int s = 0; s <= int(Status::HullFailed); ++s) EXPECT_STRNE(to_string(Status(s)), "unknown status");
 }
 
 }  // namespace

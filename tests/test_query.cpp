@@ -27,8 +27,8 @@ double outside(const ConvexPolytope& P, const Vector3d& p) {
 
 // `exact_gap` (>= 0 for lattice operands) is the exact distance between the surfaces
 // (ties::exact_surface_gap): then the verdict must be exact, and the distance at contact exactly 0.
-void expect_agrees(const ConvexPolytope& A, const ConvexPolytope& B, const Proximity& got,
-                   const std::string& what, double exact_gap = -1) {
+void expect_agrees(const ConvexPolytope& A, const ConvexPolytope& B, const Proximity& got, const std::string& what,
+                   double exact_gap = -1) {
   const test::Oracle o = test::brute_force(A, B);
   double size = 1;
   for (const auto* P : {&A, &B})
@@ -39,8 +39,10 @@ void expect_agrees(const ConvexPolytope& A, const ConvexPolytope& B, const Proxi
     // distance is a ratio of small integers), so brute force's containment verdict is sure there.
     const bool meet = exact_gap == 0 || o.overlap;
     ASSERT_EQ(got.intersecting, meet) << what << ": exact surface gap " << exact_gap;
-    if (meet) EXPECT_EQ(got.distance, 0.0) << what;
-    else EXPECT_NEAR(got.distance, exact_gap, tol) << what;
+    if (meet)
+      EXPECT_EQ(got.distance, 0.0) << what;
+    else
+      EXPECT_NEAR(got.distance, exact_gap, tol) << what;
   } else if (o.distance > tol || o.depth > tol) {
     // Touching within rounding may be reported either way; a real gap or overlap may not.
     ASSERT_EQ(got.intersecting, o.overlap) << what;
@@ -51,11 +53,12 @@ void expect_agrees(const ConvexPolytope& A, const ConvexPolytope& B, const Proxi
   // The witnesses lie on A and B, and realise the distance (or the penetration).
   EXPECT_LE(outside(A, got.point_a), tol) << what;
   EXPECT_LE(outside(B, got.point_b), tol) << what;
-  if (!got.intersecting) EXPECT_NEAR((got.point_a - got.point_b).norm(), got.distance, tol) << what;
+  if (!got.intersecting)
+    EXPECT_NEAR((got.point_a - got.point_b).norm(), got.distance, tol) << what;
   else
     EXPECT_LE((got.point_a - got.point_b - got.penetration_depth * got.penetration_direction).norm(), tol)
-        << what << ": depth " << got.penetration_depth << " along " << got.penetration_direction.transpose() << ", witnesses "
-        << got.point_a.transpose() << " and " << got.point_b.transpose();
+        << what << ": depth " << got.penetration_depth << " along " << got.penetration_direction.transpose()
+        << ", witnesses " << got.point_a.transpose() << " and " << got.point_b.transpose();
   EXPECT_NEAR((got.far_a - got.far_b).norm(), got.max_distance, tol) << what;
 }
 
@@ -75,13 +78,16 @@ TEST_P(RandomQueries, BoxBoxAgreesWithBruteForce) {
   for (int k = 0; k < test::scaled(10000, 64); ++k) {
     Box a = tools::random_box(rng, 1.5), b = tools::random_box(rng, 1.5);
     if (k % 8 == 0) b.rotation = a.rotation;  // parallel generators
-    if (touching_case(k)) std::tie(a, b) = test::ties::touching_boxes(rng);
-    else if (lattice_case(k)) a = test::ties::lattice_box(rng, 2, 1), b = test::ties::lattice_box(rng, 2, 1);
+    if (touching_case(k))
+      std::tie(a, b) = test::ties::touching_boxes(rng);
+    else if (lattice_case(k))
+      a = test::ties::lattice_box(rng, 2, 1), b = test::ties::lattice_box(rng, 2, 1);
     Proximity got;
     ASSERT_EQ(proximity(a, b, got), Status::Ok);
     ConvexPolytope A, B;
     polytope_from_box(a, A), polytope_from_box(b, B);
-    expect_agrees(A, B, got, "box-box pair " + std::to_string(k), lattice_case(k) ? test::ties::exact_surface_gap(A, B) : -1);
+    expect_agrees(A, B, got, "box-box pair " + std::to_string(k),
+                  lattice_case(k) ? test::ties::exact_surface_gap(A, B) : -1);
     if (testing::Test::HasFailure()) return;
   }
 }
@@ -91,13 +97,16 @@ TEST_P(RandomQueries, BoxTriangleAgreesWithBruteForce) {
   for (int k = 0; k < test::scaled(10000, 64); ++k) {
     Box a = tools::random_box(rng, 1.5);
     Triangle t = tools::random_triangle(rng, 1.5);
-    if (touching_case(k)) std::tie(a, t) = test::ties::touching_box_triangle(rng);
-    else if (lattice_case(k)) a = test::ties::lattice_box(rng, 2, 1), t = test::ties::lattice_triangle(rng, 2, 1);
+    if (touching_case(k))
+      std::tie(a, t) = test::ties::touching_box_triangle(rng);
+    else if (lattice_case(k))
+      a = test::ties::lattice_box(rng, 2, 1), t = test::ties::lattice_triangle(rng, 2, 1);
     Proximity got;
     ASSERT_EQ(proximity(a, t, got), Status::Ok);
     ConvexPolytope A, B;
     polytope_from_box(a, A), polytope_from_triangle(t, B);
-    expect_agrees(A, B, got, "box-triangle pair " + std::to_string(k), lattice_case(k) ? test::ties::exact_surface_gap(A, B) : -1);
+    expect_agrees(A, B, got, "box-triangle pair " + std::to_string(k),
+                  lattice_case(k) ? test::ties::exact_surface_gap(A, B) : -1);
     if (testing::Test::HasFailure()) return;
   }
 }
@@ -106,13 +115,16 @@ TEST_P(RandomQueries, TriangleTriangleAgreesWithBruteForce) {
   std::mt19937_64 rng(300 + GetParam());
   for (int k = 0; k < test::scaled(10000, 64); ++k) {
     Triangle s = tools::random_triangle(rng, 1.2), t = tools::random_triangle(rng, 1.2);
-    if (touching_case(k)) std::tie(s, t) = test::ties::touching_triangles(rng);
-    else if (lattice_case(k)) s = test::ties::lattice_triangle(rng, 2, 1), t = test::ties::lattice_triangle(rng, 2, 1);
+    if (touching_case(k))
+      std::tie(s, t) = test::ties::touching_triangles(rng);
+    else if (lattice_case(k))
+      s = test::ties::lattice_triangle(rng, 2, 1), t = test::ties::lattice_triangle(rng, 2, 1);
     Proximity got;
     ASSERT_EQ(proximity(s, t, got), Status::Ok);
     ConvexPolytope A, B;
     polytope_from_triangle(s, A), polytope_from_triangle(t, B);
-    expect_agrees(A, B, got, "triangle-triangle pair " + std::to_string(k), lattice_case(k) ? test::ties::exact_surface_gap(A, B) : -1);
+    expect_agrees(A, B, got, "triangle-triangle pair " + std::to_string(k),
+                  lattice_case(k) ? test::ties::exact_surface_gap(A, B) : -1);
     if (testing::Test::HasFailure()) return;
   }
 }
@@ -136,7 +148,8 @@ TEST_P(RandomQueries, PolytopePolytopeAgreesWithBruteForce) {
     }
     Proximity got;
     ASSERT_EQ(proximity(A, B, got), Status::Ok);
-    expect_agrees(A, B, got, "polytope pair " + std::to_string(k), lattice_polytopes(k) ? test::ties::exact_surface_gap(A, B) : -1);
+    expect_agrees(A, B, got, "polytope pair " + std::to_string(k),
+                  lattice_polytopes(k) ? test::ties::exact_surface_gap(A, B) : -1);
     if (testing::Test::HasFailure()) return;
   }
 }
@@ -148,9 +161,8 @@ INSTANTIATE_TEST_SUITE_P(Shards, RandomQueries, testing::Range(0, 10));
 TEST(Query, WantSelectsTheFields) {
   std::mt19937_64 rng(91);
   const auto same_contact = [](const Proximity& got, const Proximity& all) {
-    return got.intersecting == all.intersecting && got.distance == all.distance &&
-           got.point_a == all.point_a && got.point_b == all.point_b &&
-           got.penetration_depth == all.penetration_depth &&
+    return got.intersecting == all.intersecting && got.distance == all.distance && got.point_a == all.point_a &&
+           got.point_b == all.point_b && got.penetration_depth == all.penetration_depth &&
            got.penetration_direction == all.penetration_direction;
   };
   const auto same_far = [](const Proximity& got, const Proximity& all) {
@@ -192,10 +204,12 @@ TEST(Query, WantSelectsTheFields) {
 TEST(SmallShapes, AgreeWithTheGeneralPath) {
   std::mt19937_64 rng(77);
   std::uniform_real_distribution<double> u(-1, 1);
-  const auto agree = [](const Proximity& got, const Proximity& want, double size, const std::string& what, bool ties = false) {
+  const auto agree = [](const Proximity& got, const Proximity& want, double size, const std::string& what,
+                        bool ties = false) {
     const double tol = 1e-9 * size;
     // (On lattice operands the verdict is exact: both paths must give the same, within rounding too.)
-    if (ties || want.distance > tol || want.penetration_depth > tol) ASSERT_EQ(got.intersecting, want.intersecting) << what;
+    if (ties || want.distance > tol || want.penetration_depth > tol)
+      ASSERT_EQ(got.intersecting, want.intersecting) << what;
     if (ties && want.intersecting) EXPECT_EQ(got.distance, 0.0) << what;
     EXPECT_NEAR(got.distance, want.distance, tol) << what;
     EXPECT_NEAR(got.penetration_depth, want.penetration_depth, tol) << what;
@@ -208,7 +222,8 @@ TEST(SmallShapes, AgreeWithTheGeneralPath) {
     Box box = tools::random_box(rng, 1.5);
     box.center = scale * box.center + offset, box.half_extents *= scale;
     Triangle t = tools::random_triangle(rng, 1.5), s = tools::random_triangle(rng, 1.5);
-    for (Triangle* x : {&t, &s}) x->a = scale * x->a + offset, x->b = scale * x->b + offset, x->c = scale * x->c + offset;
+    for (Triangle* x : {&t, &s})
+      x->a = scale * x->a + offset, x->b = scale * x->b + offset, x->c = scale * x->c + offset;
     if (k % 7 == 1) {  // t in the plane of the box's +x face
       const Vector3d n = box.rotation.col(0), p = box.center + box.half_extents[0] * n;
       for (Vector3d* c : {&t.a, &t.b, &t.c}) *c -= n.dot(*c - p) * n;
@@ -216,7 +231,8 @@ TEST(SmallShapes, AgreeWithTheGeneralPath) {
     if (k % 7 == 2) {  // t inside the box
       const Vector3d* c[3] = {&t.a, &t.b, &t.c};
       for (int i = 0; i < 3; ++i)
-        *const_cast<Vector3d*>(c[i]) = box.center + box.rotation * (0.5 * box.half_extents.cwiseProduct(Vector3d(u(rng), u(rng), u(rng))));
+        *const_cast<Vector3d*>(c[i]) =
+            box.center + box.rotation * (0.5 * box.half_extents.cwiseProduct(Vector3d(u(rng), u(rng), u(rng))));
     }
     if (k % 7 == 3) {  // s coplanar with t
       const Vector3d n = (t.b - t.a).cross(t.c - t.a).normalized();
@@ -311,8 +327,8 @@ TEST(QueryHardCases, TinyGapsAndPenetrations) {
 
 TEST(QueryHardCases, CoordinatesAtAMillion) {
   const Vector3d far(1e6, -1e6, 1e6);
-  const Proximity p = query(box_at(far), box_at(far + Vector3d(2.5, 0.5, 0.25), Vector3d::Ones(),
-                                                tools::axis_angle({0, 0, 1}, 0.0)));
+  const Proximity p =
+      query(box_at(far), box_at(far + Vector3d(2.5, 0.5, 0.25), Vector3d::Ones(), tools::axis_angle({0, 0, 1}, 0.0)));
   EXPECT_NEAR(p.distance, 0.5, 1e-9);
 }
 
@@ -487,10 +503,13 @@ void check_batched_proximity(Isa isa, unsigned seed, double spread) {
     Box a = tools::random_box(rng, spread), b = tools::random_box(rng, spread);
     if (k < int(hard.size())) a = hard[k].first, b = hard[k].second;
     // Parallel but not axis-aligned (a facet of A (-) B is then a zonogon of four generators).
-    else if (k % 5 == 0) b.rotation = a.rotation;
+    else if (k % 5 == 0)
+      b.rotation = a.rotation;
     // Tie-heavy (tests/ties; exact in float too): boxes in exact contact, lattice boxes.
-    else if (k % 16 == 7) std::tie(a, b) = test::ties::touching_boxes(rng);
-    else if (k % 16 == 11) a = test::ties::lattice_box(rng, 2, 1), b = test::ties::lattice_box(rng, 2, 1);
+    else if (k % 16 == 7)
+      std::tie(a, b) = test::ties::touching_boxes(rng);
+    else if (k % 16 == 11)
+      a = test::ties::lattice_box(rng, 2, 1), b = test::ties::lattice_box(rng, 2, 1);
     // Round the inputs to T so that both sides see the same boxes.
     for (Box* x : {&a, &b}) {
       x->center = x->center.cast<T>().template cast<double>();
@@ -523,7 +542,8 @@ void check_batched_proximity(Isa isa, unsigned seed, double spread) {
     Proximity ref;
     ASSERT_EQ(proximity(pa, pb, ref), Status::Ok);
     const std::string what = std::string(to_string(isa)) + " pair " + std::to_string(k);
-    if (k >= int(hard.size()) && k % 5 != 0 && k % 16 == 7) EXPECT_EQ(out->distance[k], 0.0) << what << " (exact contact)";
+    if (k >= int(hard.size()) && k % 5 != 0 && k % 16 == 7)
+      EXPECT_EQ(out->distance[k], 0.0) << what << " (exact contact)";
     EXPECT_NEAR(out->distance[k], ref.distance, eps * 4) << what;
     EXPECT_NEAR(out->depth[k], ref.penetration_depth, eps * 4) << what;
     if (ref.distance > 1e-3) {
@@ -602,8 +622,7 @@ TEST_P(BatchedProximity, TouchingAlongParallelFaces) {
   check_touching_parallel_faces<double>();
 }
 
-INSTANTIATE_TEST_SUITE_P(Isa, BatchedProximity,
-                         testing::Values(Isa::Scalar, Isa::Sse4_2, Isa::Avx2, Isa::Avx512),
+INSTANTIATE_TEST_SUITE_P(Isa, BatchedProximity, testing::Values(Isa::Scalar, Isa::Sse4_2, Isa::Avx2, Isa::Avx512),
                          [](const auto& info) { return std::string(to_string(info.param)); });
 
 // The single-pair query (separating axis, then the active set on A (-) B) of every ISA against
@@ -649,8 +668,10 @@ TEST_P(BatchedProximity, SinglePairActiveSetAgreesWithAllFacets) {
       // The witnesses realise the answer: p_A - p_B is the closest point of A (-) B, or the
       // deepest boundary point depth * direction.
       const Vector3d pa(got.point_a), pb(got.point_b), dir(got.direction);
-      if (got.intersecting) EXPECT_LE((pa - pb - got.depth * dir).norm(), scale) << "pair " << k;
-      else EXPECT_NEAR((pa - pb).norm(), got.distance, scale) << "pair " << k;
+      if (got.intersecting)
+        EXPECT_LE((pa - pb - got.depth * dir).norm(), scale) << "pair " << k;
+      else
+        EXPECT_NEAR((pa - pb).norm(), got.distance, scale) << "pair " << k;
       if (testing::Test::HasFailure()) return;
     }
   }
@@ -784,8 +805,7 @@ TEST_P(FusedSat, AgreesWithTheExactProximity) {
   check_fused<float>(GetParam(), 62);
 }
 
-INSTANTIATE_TEST_SUITE_P(Isa, FusedSat,
-                         testing::Values(Isa::Scalar, Isa::Sse4_2, Isa::Avx2, Isa::Avx512),
+INSTANTIATE_TEST_SUITE_P(Isa, FusedSat, testing::Values(Isa::Scalar, Isa::Sse4_2, Isa::Avx2, Isa::Avx512),
                          [](const auto& info) { return std::string(to_string(info.param)); });
 
 }  // namespace

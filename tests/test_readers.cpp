@@ -64,7 +64,8 @@ void expect_same(const Corners& got, const Corners& want, const std::string& wha
   for (size_t f = 0; f < got.size(); ++f)
     for (int k = 0; k < 3; ++k)
       ASSERT_LE((got[f][k] - want[f][k]).cwiseAbs().maxCoeff(), tol)
-          << what << ": triangle " << f << " corner " << k << ": " << got[f][k].transpose() << " vs " << want[f][k].transpose();
+          << what << ": triangle " << f << " corner " << k << ": " << got[f][k].transpose() << " vs "
+          << want[f][k].transpose();
 }
 
 // A mesh of quads (fanned into two triangles each by every reader) with float coordinates, so
@@ -97,8 +98,8 @@ std::string write_ply(const QuadMesh& q, const std::string& format, const std::s
   out.precision(9);  // a float round-trips through 9 significant digits
   // An extra property on each element and an element after the faces, which must be skipped.
   out << "ply\nformat " << format << " 1.0\ncomment test\nelement vertex " << q.v.size()
-      << "\nproperty float x\nproperty uchar flag\nproperty float y\nproperty float z\nelement face "
-      << q.quads.size() << "\nproperty list uchar int vertex_indices\nproperty short tag\n"
+      << "\nproperty float x\nproperty uchar flag\nproperty float y\nproperty float z\nelement face " << q.quads.size()
+      << "\nproperty list uchar int vertex_indices\nproperty short tag\n"
       << "element note 1\nproperty list ushort double values\nend_header\n";
   const bool big = format == "binary_big_endian";
   for (const auto& p : q.v)
@@ -110,9 +111,12 @@ std::string write_ply(const QuadMesh& q, const std::string& format, const std::s
     if (format == "ascii")
       out << "4 " << f[0] << ' ' << f[1] << ' ' << f[2] << ' ' << f[3] << " -3\n";
     else
-      put(out, uint8_t(4), big), put(out, f[0], big), put(out, f[1], big), put(out, f[2], big), put(out, f[3], big), put(out, int16_t(-3), big);
-  if (format == "ascii") out << "2 0.5 -1e300\n";
-  else put(out, uint16_t(2), big), put(out, 0.5, big), put(out, -1e300, big);
+      put(out, uint8_t(4), big), put(out, f[0], big), put(out, f[1], big), put(out, f[2], big), put(out, f[3], big),
+          put(out, int16_t(-3), big);
+  if (format == "ascii")
+    out << "2 0.5 -1e300\n";
+  else
+    put(out, uint16_t(2), big), put(out, 0.5, big), put(out, -1e300, big);
   return scratch(name);
 }
 
@@ -129,7 +133,8 @@ TEST(Readers, EveryEncodingReadsAsAssimpReadsIt) {
   std::ostringstream off, obj;
   off.precision(17), obj.precision(17);
   off << "OFF\n# a comment\n" << q.v.size() << ' ' << q.quads.size() << " 0\n";
-  for (const auto& p : q.v) off << p.x() << ' ' << p.y() << ' ' << p.z() << '\n', obj << "v " << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
+  for (const auto& p : q.v)
+    off << p.x() << ' ' << p.y() << ' ' << p.z() << '\n', obj << "v " << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
   obj << "vt 0 0\nvn 0 0 1\n";
   for (const auto& f : q.quads) {
     off << "4 " << f[0] << ' ' << f[1] << ' ' << f[2] << ' ' << f[3] << '\n';
@@ -169,7 +174,8 @@ TEST(Readers, BunnyAsAssimpReadsIt) {
 // Each kind of malformed file, and the start of the message it gets.
 TEST(Readers, MalformedFilesGetAClearError) {
   const std::string cube_v = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
-  const std::string ply_head = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n";
+  const std::string ply_head =
+      "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n";
   const struct {
     const char* name;
     std::string text;
@@ -188,15 +194,19 @@ TEST(Readers, MalformedFilesGetAClearError) {
       {"relative.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -4\n", ":4: face 0: vertex index -1 is out of range"},
       {"word.obj", "v 0 0 0\nf a b c\n", ":2: bad face vertex \"a\""},
       {"nan.obj", "v 0 nan 0\n", ":1: a vertex needs three finite coordinates"},
-      {"index.ply", ply_head + "element face 1\nproperty list uchar int vertex_indices\nend_header\n" + cube_v + "3 0 1 9\n",
+      {"index.ply",
+       ply_head + "element face 1\nproperty list uchar int vertex_indices\nend_header\n" + cube_v + "3 0 1 9\n",
        ":14: face 0: vertex index 9 is out of range [0, 4)"},
-      {"float_index.ply", ply_head + "element face 1\nproperty list uchar float vertex_indices\nend_header\n" + cube_v + "3 0 1 2.5\n",
+      {"float_index.ply",
+       ply_head + "element face 1\nproperty list uchar float vertex_indices\nend_header\n" + cube_v + "3 0 1 2.5\n",
        ":14: face 0: a vertex index must be an integer"},
-      {"list_count.ply", ply_head + "element face 1\nproperty list uchar int vertex_indices\nend_header\n" + cube_v + "-3 0 1 2\n",
+      {"list_count.ply",
+       ply_head + "element face 1\nproperty list uchar int vertex_indices\nend_header\n" + cube_v + "-3 0 1 2\n",
        ":14: face 0: bad list count"},
       {"no_list.ply", ply_head + "element face 1\nproperty int vertex_indices\nend_header\n" + cube_v + "3\n",
        ":9: the face element has no vertex_indices list"},
-      {"missing_z.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n0 0\n",
+      {"missing_z.ply",
+       "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n0 0\n",
        ":6: the vertex element needs one x, y and z each"},
       {"short.ply", ply_head + "end_header\n0 0 0\n1 0 0\n", ":9: file ends before all vertex elements"},
       {"extra_value.ply", ply_head + "end_header\n0 0 0 5\n", ":8: more values than the vertex element's properties"},
@@ -204,7 +214,8 @@ TEST(Readers, MalformedFilesGetAClearError) {
       {"inf.ply", ply_head + "end_header\n0 0 0\n1 0 inf\n", ":9: vertex 1: z is not finite"},
       {"format.ply", "ply\nformat binary_middle_endian 1.0\n", ":2: unknown PLY format \"binary_middle_endian\""},
       {"type.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty quad x\n", ":4: bad property line"},
-      {"binary_short.ply", "ply\nformat binary_little_endian 1.0\n" + ply_head.substr(ply_head.find("element")) + "end_header\n\x01\x02",
+      {"binary_short.ply",
+       "ply\nformat binary_little_endian 1.0\n" + ply_head.substr(ply_head.find("element")) + "end_header\n\x01\x02",
        ": vertex 0: missing or malformed x"},
       {"garbage.stl", "this is not an STL file", ": not an STL file"},
       {"empty.off", "", ": empty file"},
@@ -216,7 +227,8 @@ TEST(Readers, MalformedFilesGetAClearError) {
     const std::string path = write_text(c.name, c.text);
     EXPECT_FALSE(tools::read_mesh(path, m, error)) << c.name;
     EXPECT_EQ(error.rfind(path, 0), 0u) << c.name << ": " << error;
-    EXPECT_NE(error.find(c.message), std::string::npos) << c.name << ": got \"" << error << "\", want \"" << c.message << "\"";
+    EXPECT_NE(error.find(c.message), std::string::npos)
+        << c.name << ": got \"" << error << "\", want \"" << c.message << "\"";
   }
 }
 

@@ -68,8 +68,8 @@ TEST(RealTime, KernelsAndQueriesDoNotAllocate) {
     EXPECT_EQ(allocations([&] { box_triangle_overlap(*A, *T, *overlap); }), 0);
     EXPECT_EQ(allocations([&] { triangle_distance(*T, *T2, *tri_dist); }), 0);
     EXPECT_EQ(allocations([&] {
-                support_push(x.data(), y.data(), z.data(), 100, d.data(), d.data(), d.data(), 8,
-                             best.data(), arg.data());
+                support_push(x.data(), y.data(), z.data(), 100, d.data(), d.data(), d.data(), 8, best.data(),
+                             arg.data());
               }),
               0);
     BoxBoxPair pair;
@@ -144,7 +144,8 @@ TEST(RealTime, SumsDoNotAllocateOnceTheResultHasGrown) {
   const auto run_all = [&] {
     for (const Operands& o : pairs) {
       const Eigen::Isometry3d& pb = o.common_pose ? pose_a : pose_b;
-      const Status s = o.difference ? minkowski_difference(o.a, pose_a, o.b, pb, m) : minkowski_sum(o.a, pose_a, o.b, pb, m);
+      const Status s =
+          o.difference ? minkowski_difference(o.a, pose_a, o.b, pb, m) : minkowski_sum(o.a, pose_a, o.b, pb, m);
       const bool posed_ok = s == Status::Ok && !m.corrected;
       facets += m.F;
       const Status t = o.difference ? minkowski_difference(o.pa, o.pb, m) : minkowski_sum(o.pa, o.pb, m);
@@ -157,7 +158,7 @@ TEST(RealTime, SumsDoNotAllocateOnceTheResultHasGrown) {
   facets = 0;
   EXPECT_EQ(allocations([&] { run_all(), run_all(); }), 0);
   EXPECT_GE(facets, 4 * 6 * int(pairs.size()));  // every sum was made (6 facets or more), none by the corrector
-  Box a, b;  // and the box-box entry on aligned boxes (its general path)
+  Box a, b;                                      // and the box-box entry on aligned boxes (its general path)
   b.half_extents = Eigen::Vector3d(0.5, 2, 0.25);
   ASSERT_EQ(minkowski_sum(a, b, m), Status::Ok);
   EXPECT_EQ(allocations([&] { minkowski_sum(a, b, m); }), 0);
@@ -193,7 +194,8 @@ TEST(RealTime, MeshDistanceDoesNotAllocate) {
   MeshDistance d;
   long pairs = 0;
   EXPECT_EQ(allocations([&] {
-              for (const Eigen::Isometry3d& p : poses) mesh_distance(A, Eigen::Isometry3d::Identity(), A, p, ws, d), pairs += d.stats.triangle_pairs;
+              for (const Eigen::Isometry3d& p : poses)
+                mesh_distance(A, Eigen::Isometry3d::Identity(), A, p, ws, d), pairs += d.stats.triangle_pairs;
             }),
             0);
   EXPECT_GT(pairs, 50);  // the queries did real work

@@ -17,8 +17,8 @@ using namespace minksum;
 using Eigen::Isometry3d;
 using Eigen::Vector3d;
 using test::same_sum;
-using test::valid_sum;
 using test::transformed;
+using test::valid_sum;
 
 // A hull of 4 to 600 points (log-uniform) on a random ellipsoid, or now and then a box (parallel
 // faces and edges).
@@ -27,7 +27,8 @@ std::vector<Vector3d> random_shape_points(std::mt19937_64& rng) {
   if (u(rng) < 0.1) {
     std::vector<Vector3d> box;
     const Vector3d h(scale(rng), scale(rng), scale(rng));
-    for (int k = 0; k < 8; ++k) box.emplace_back(k & 1 ? h.x() : -h.x(), k & 2 ? h.y() : -h.y(), k & 4 ? h.z() : -h.z());
+    for (int k = 0; k < 8; ++k)
+      box.emplace_back(k & 1 ? h.x() : -h.x(), k & 2 ? h.y() : -h.y(), k & 4 ? h.z() : -h.z());
     return box;
   }
   const int n = int(std::lround(std::exp(std::log(4.0) + u(rng) * (std::log(600.0) - std::log(4.0)))));
@@ -90,7 +91,8 @@ TEST(PosedShapes, EqualTheSumOfTheTransformedPolytopes) {
       ++independent;
     }
     if (k % 50 == 0) {
-      ASSERT_TRUE(valid_sum(TA.vertices, TB.vertices, difference ? -1 : 1, TA, TB, posed, 1e-9, 1e-9, 200, unsigned(k)));
+      ASSERT_TRUE(
+          valid_sum(TA.vertices, TB.vertices, difference ? -1 : 1, TA, TB, posed, 1e-9, 1e-9, 200, unsigned(k)));
       ++checked;
     }
   }
@@ -112,7 +114,8 @@ TEST(PosedShapes, EqualTheSumOfTheTransformedPolytopes) {
     }
     const double s = k % 2 ? -1 : 1;
     MinkowskiSum m;
-    ASSERT_EQ(s > 0 ? minkowski_sum(A, pose[0], B, pose[1], m) : minkowski_difference(A, pose[0], B, pose[1], m), Status::Ok);
+    ASSERT_EQ(s > 0 ? minkowski_sum(A, pose[0], B, pose[1], m) : minkowski_difference(A, pose[0], B, pose[1], m),
+              Status::Ok);
     ASSERT_FALSE(m.corrected);
     ASSERT_TRUE(test::equals_exact_hull(moved(a, pose[0]), moved(b, pose[1]), s, m, 0));
   }
@@ -134,8 +137,8 @@ TEST(PosedShapes, Table1PairsWithTheirRotationAsAPose) {
     MinkowskiSum posed;
     ASSERT_EQ(minkowski_sum(A, Isometry3d::Identity(), B, pb, posed), Status::Ok);
     EXPECT_FALSE(posed.corrected);
-    EXPECT_TRUE(valid_sum(pair.a, moved(body_b, pb), 1, A.polytope(), transformed(B.polytope(), pb), posed, 1e-12,
-                          1e-12, 300));
+    EXPECT_TRUE(
+        valid_sum(pair.a, moved(body_b, pb), 1, A.polytope(), transformed(B.polytope(), pb), posed, 1e-12, 1e-12, 300));
   }
 }
 
@@ -189,8 +192,10 @@ TEST(PosedShapes, ProximityEqualsTheTransformedPolytopes) {
     const double gap = test::ties::exact_surface_gap(TA, TB);
     const bool overlap = gap == 0 || test::brute_force(TA, TB).overlap;  // (containment is far from rounding)
     ASSERT_EQ(posed.intersecting, overlap) << "exact surface gap " << gap;
-    if (overlap) EXPECT_EQ(posed.distance, 0.0);
-    else EXPECT_NEAR(posed.distance, gap, 1e-12);
+    if (overlap)
+      EXPECT_EQ(posed.distance, 0.0);
+    else
+      EXPECT_NEAR(posed.distance, gap, 1e-12);
     meet += overlap;
   }
   EXPECT_GT(meet, 0);
@@ -204,19 +209,20 @@ TEST(PosedShapes, NonRigidPosesAreRejected) {
   ASSERT_EQ(shape_from_points(tools::sphere_points(20, 3), B), Status::Ok);
   const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
   std::vector<Isometry3d> bad(7, Isometry3d::Identity());
-  bad[0].linear() *= 2;                          // scale
-  bad[1].linear()(0, 1) = 0.1;                   // shear
-  bad[2].linear()(2, 2) = -1;                    // reflection
+  bad[0].linear() *= 2;         // scale
+  bad[1].linear()(0, 1) = 0.1;  // shear
+  bad[2].linear()(2, 2) = -1;   // reflection
   bad[3].translation().x() = nan;
   bad[4].linear()(1, 0) = inf;
-  bad[5].translation().y() = 1e101;              // beyond kMaxCoordinate
-  bad[6].linear() *= 1 + 1e-6;                   // not a rotation to 1e-9
+  bad[5].translation().y() = 1e101;  // beyond kMaxCoordinate
+  bad[6].linear() *= 1 + 1e-6;       // not a rotation to 1e-9
   for (size_t k = 0; k < bad.size(); ++k) {
     SCOPED_TRACE("pose " + std::to_string(k));
     EXPECT_EQ(check_pose(bad[k]), Status::InvalidPose);
     for (int side = 0; side < 2; ++side) {
       MinkowskiSum m;
-      ASSERT_EQ(minkowski_sum(A, Isometry3d::Identity(), B, Isometry3d::Identity(), m), Status::Ok);  // m holds a result
+      ASSERT_EQ(minkowski_sum(A, Isometry3d::Identity(), B, Isometry3d::Identity(), m),
+                Status::Ok);  // m holds a result
       const Isometry3d pa = side ? Isometry3d::Identity() : bad[k], pb = side ? bad[k] : Isometry3d::Identity();
       EXPECT_EQ(minkowski_sum(A, pa, B, pb, m), Status::InvalidPose);
       EXPECT_EQ(m.F, 0);
@@ -255,7 +261,8 @@ TEST(PosedShapes, BadShapesGetAStatus) {
   EXPECT_TRUE(s.polytope().vertices.empty());
   MinkowskiSum m;
   EXPECT_EQ(minkowski_sum(s, Isometry3d::Identity(), good, Isometry3d::Identity(), m), Status::TooFewPoints);
-  EXPECT_EQ(minkowski_sum(good, Isometry3d::Identity(), ConvexShape{}, Isometry3d::Identity(), m), Status::TooFewPoints);
+  EXPECT_EQ(minkowski_sum(good, Isometry3d::Identity(), ConvexShape{}, Isometry3d::Identity(), m),
+            Status::TooFewPoints);
   EXPECT_EQ(m.F, 0);
   Proximity prox;
   EXPECT_EQ(proximity(s, Isometry3d::Identity(), good, Isometry3d::Identity(), prox), Status::TooFewPoints);

@@ -37,16 +37,14 @@ Operands make(std::vector<Vector3d> a, std::vector<Vector3d> b) {
 // (the structure is well defined); with `exact`, the fast and the Qhull paths equal CGAL's exact
 // hull of the pairwise sums, facet by facet (where nothing is near-degenerate: Qhull merges
 // facets with its own tolerance).
-void check_all(const Operands& o, double tol, bool same, MinkowskiSum* fast_sum = nullptr,
-               bool exact = false) {
+void check_all(const Operands& o, double tol, bool same, MinkowskiSum* fast_sum = nullptr, bool exact = false) {
   for (double s : {1.0, -1.0}) {
     MinkowskiSum m[3];
     for (int k = 0; k < 3; ++k) {
-      const Status st = s > 0 ? minkowski_sum(o.A, o.B, m[k], kMethods[k])
-                              : minkowski_difference(o.A, o.B, m[k], kMethods[k]);
+      const Status st =
+          s > 0 ? minkowski_sum(o.A, o.B, m[k], kMethods[k]) : minkowski_difference(o.A, o.B, m[k], kMethods[k]);
       ASSERT_EQ(st, Status::Ok) << to_string(st);
-      EXPECT_TRUE(valid_sum(o.a, o.b, s, o.A, o.B, m[k], tol, 1e-12, 300))
-          << "method " << k << " sign " << s;
+      EXPECT_TRUE(valid_sum(o.a, o.b, s, o.A, o.B, m[k], tol, 1e-12, 300)) << "method " << k << " sign " << s;
     }
     EXPECT_FALSE(m[0].corrected) << "the fast path needed the corrector";
     if (same) {
@@ -90,8 +88,7 @@ std::vector<Vector3d> random_points(std::mt19937_64& rng) {
   const Vector3d axes(scale(rng), scale(rng), scale(rng)), shift(3 * u(rng), 3 * u(rng), 3 * u(rng));
   const Eigen::Matrix3d R = tools::axis_angle(Vector3d(u(rng), u(rng), u(rng)), 3.2 * u(rng));
   std::vector<Vector3d> pts;
-  for (const auto& p : tools::sphere_points(n, unsigned(rng())))
-    pts.push_back(R * p.cwiseProduct(axes) + shift);
+  for (const auto& p : tools::sphere_points(n, unsigned(rng()))) pts.push_back(R * p.cwiseProduct(axes) + shift);
   return pts;
 }
 
@@ -105,11 +102,12 @@ TEST_P(RandomPairs, FastEqualsReferenceAndBruteForce) {
   for (int k = 0; k < test::scaled(1000, 8); ++k) {
     SCOPED_TRACE("shard " + std::to_string(GetParam()) + " pair " + std::to_string(k));
     const bool lattice = k % 4 == 3;
-    const Operands o = lattice ? make(test::ties::lattice_solid_points(rng, 2, 1), test::ties::lattice_solid_points(rng, 2, 1)) : make(random_points(rng), random_points(rng));
+    const Operands o =
+        lattice ? make(test::ties::lattice_solid_points(rng, 2, 1), test::ties::lattice_solid_points(rng, 2, 1))
+                : make(random_points(rng), random_points(rng));
     for (double s : {1.0, -1.0}) {
       MinkowskiSum fast, ref;
-      ASSERT_EQ(s > 0 ? minkowski_sum(o.A, o.B, fast) : minkowski_difference(o.A, o.B, fast),
-                Status::Ok);
+      ASSERT_EQ(s > 0 ? minkowski_sum(o.A, o.B, fast) : minkowski_difference(o.A, o.B, fast), Status::Ok);
       ASSERT_EQ(s > 0 ? minkowski_sum(o.A, o.B, ref, Method::Reference)
                       : minkowski_difference(o.A, o.B, ref, Method::Reference),
                 Status::Ok);
@@ -170,8 +168,8 @@ std::vector<Vector3d> pyramid_points() {
 }
 
 // The overlay (overlay.cpp) answers the generic Table 1 pairs (exact coordinates) and random
-// pairs of up to 64 points (every fourth checked) with CGAL's exact hull of the pairwise sums (an independent construction), never
-// through the corrector; and pairs with parallel faces or edges (where facets merge) with the
+// pairs of up to 64 points (every fourth checked) with CGAL's exact hull of the pairwise sums (an independent
+// construction), never through the corrector; and pairs with parallel faces or edges (where facets merge) with the
 // merged facets the reference path finds, without the corrector too.
 TEST(Overlay, AnswersGenericPairsLikeTheExactHullAndMergesTies) {
   for (const auto& pair : tools::exact_table1_pairs()) {
@@ -197,8 +195,9 @@ TEST(Overlay, AnswersGenericPairsLikeTheExactHullAndMergesTies) {
   // parallel edges; a face parallel to a face of the cube with no edge parallel to one of its
   // edges (a tie in the support alone: the facet is the sum of the two faces).
   check_all(make(box_points(Vector3d(1, 1, 1)), box_points(Vector3d(0.5, 2, 3))), 1e-12, true);
-  check_all(make(box_points(Vector3d(1, 1, 1)), box_points(Vector3d(1, 1, 1), tools::axis_angle(Vector3d(0, 0, 1), 0.3))),
-            1e-12, true);
+  check_all(
+      make(box_points(Vector3d(1, 1, 1)), box_points(Vector3d(1, 1, 1), tools::axis_angle(Vector3d(0, 0, 1), 0.3))),
+      1e-12, true);
   check_all(make(box_points(Vector3d(1, 1, 1)), pyramid_points()), 1e-12, true);
 }
 
@@ -251,7 +250,8 @@ TEST(BoxSum, KernelPathEqualsTheGeneralPath) {
     ASSERT_EQ(minkowski_sum(A, B, want), Status::Ok);
     ASSERT_TRUE(same_sum(got, want, 1e-9)) << "pair " << k;
     if (!aligned) ++generic, kernel += got.method == Method::Kernel;
-    if (k % 10 == 4 || k % 10 == 5) ASSERT_TRUE(test::equals_exact_hull(A.vertices, B.vertices, 1, got, 0)) << "pair " << k;
+    if (k % 10 == 4 || k % 10 == 5)
+      ASSERT_TRUE(test::equals_exact_hull(A.vertices, B.vertices, 1, got, 0)) << "pair " << k;
     if (k % 50 == 0) ASSERT_TRUE(valid_sum(A.vertices, B.vertices, 1, A, B, got, 1e-12, 1e-12, 200)) << "pair " << k;
   }
   EXPECT_EQ(kernel, generic);  // the kernel's result stands for every generic pair
@@ -272,19 +272,18 @@ TEST(HardCases, TinyRotations) {
   for (double angle : {1e-3, 1e-5, 1e-7, 1e-9, 1e-11, 1e-13, 1e-15}) {
     SCOPED_TRACE(angle);
     // The structure is near-degenerate, so paths may merge differently; all must be valid.
-    check_all(make(box_points({1, 1, 1}), box_points({1, 1, 1}, tools::axis_angle(kGeneric, angle))),
-              1e-8, angle >= 1e-3);
+    check_all(make(box_points({1, 1, 1}), box_points({1, 1, 1}, tools::axis_angle(kGeneric, angle))), 1e-8,
+              angle >= 1e-3);
   }
 }
 
 TEST(HardCases, FortyFiveDegreesAboutAnAxis) {
   // About z the merged facets are exact in doubles: 8 side facets, top and bottom merged.
   MinkowskiSum m;
-  check_all(make(box_points({1, 1, 1}), box_points({1, 1, 1}, tools::axis_angle({0, 0, 1}, M_PI / 4))),
-            1e-12, true, &m);
+  check_all(make(box_points({1, 1, 1}), box_points({1, 1, 1}, tools::axis_angle({0, 0, 1}, M_PI / 4))), 1e-12, true,
+            &m);
   EXPECT_EQ(m.F, 10);
-  check_all(make(box_points({1, 1, 1}), box_points({1, 1, 1}, tools::axis_angle(kGeneric, M_PI / 4))),
-            1e-12, true);
+  check_all(make(box_points({1, 1, 1}), box_points({1, 1, 1}, tools::axis_angle(kGeneric, M_PI / 4))), 1e-12, true);
 }
 
 TEST(HardCases, PaperFigure6NearParallelEdges) {
@@ -302,14 +301,11 @@ TEST(HardCases, CoordinatesOffsetByAMillion) {
 }
 
 TEST(HardCases, ScaleRatioOneInAMillion) {
-  check_all(make(tools::icosahedron_points(),
-                 box_points({1e-6, 1e-6, 1e-6}, tools::table1_rotation())),
-            1e-12, false);
+  check_all(make(tools::icosahedron_points(), box_points({1e-6, 1e-6, 1e-6}, tools::table1_rotation())), 1e-12, false);
 }
 
 TEST(HardCases, BoxWithHalfExtentTenToTheMinusSeven) {
-  check_all(make(box_points({1, 1, 1e-7}), box_points({1, 1, 1}, tools::table1_rotation())), 1e-12,
-            true);
+  check_all(make(box_points({1, 1, 1e-7}), box_points({1, 1, 1}, tools::table1_rotation())), 1e-12, true);
 }
 
 TEST(HardCases, TriangleCoplanarWithABoxFace) {
@@ -382,7 +378,8 @@ void check_fast(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, 
 // pairwise sum 0.7 size beyond it. (Coordinates 4e71 against units.)
 TEST(HardCases, CrossingOfAShortArcWithAParallelEdge) {
   const double L = 4.2525583765009148e+71, M = 4.2525583765008447e+71;
-  check_fast({{0, 1, 0}, {-L, 1, 0}, {0, 0, -L}, {-L, -L, -L}, {0, -M, -L}}, {{-L, 0, 197}, {-L, -L, -L}, {1, 1, 0}}, true);
+  check_fast({{0, 1, 0}, {-L, 1, 0}, {0, 0, -L}, {-L, -L, -L}, {0, -M, -L}}, {{-L, 0, 197}, {-L, -L, -L}, {1, 1, 0}},
+             true);
 }
 
 // Fuzz finding (fuzz_sum, seed 32): a sliver tetrahedron whose adjacent faces nearly oppose
@@ -392,8 +389,10 @@ TEST(HardCases, CrossingOfAShortArcWithAParallelEdge) {
 TEST(HardCases, SliverWithNearlyOpposedFaces) {
   const double L = 4.2525583765009148e+71;
   check_fast({{256, 8.3885719050467071e-308, -4}, {0, 0.03125, 0}, {-L, -200, 0}, {-L, -197.640625, -L}},
-             {{1.1210841918420029e-71, -L, -4.2525583780818657e+71}, {-L, 199.390625, 196.765625},
-              {-L, -4.2525587812305062e+71, -196.78125}, {0, 1.8699346191297772e-307, -L}},
+             {{1.1210841918420029e-71, -L, -4.2525583780818657e+71},
+              {-L, 199.390625, 196.765625},
+              {-L, -4.2525587812305062e+71, -196.78125},
+              {0, 1.8699346191297772e-307, -L}},
              false);
 }
 

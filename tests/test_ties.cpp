@@ -122,7 +122,8 @@ TEST(Ties, LatticeQueriesEqualTheExactDistance) {
   for (int k = 0; k < n; ++k) {
     const Box a = test::ties::lattice_box(rng, 3, 3), b = test::ties::lattice_box(rng, 3, 3);
     const Triangle s = test::ties::lattice_triangle(rng, 4, 3), t = test::ties::lattice_triangle(rng, 4, 3);
-    const auto ca = test::ties::corners(a), cb = test::ties::corners(b), cs = test::ties::corners(s), ct = test::ties::corners(t);
+    const auto ca = test::ties::corners(a), cb = test::ties::corners(b), cs = test::ties::corners(s),
+               ct = test::ties::corners(t);
     struct Case {
       const char* name;
       Status status = Status::Ok;
@@ -135,7 +136,8 @@ TEST(Ties, LatticeQueriesEqualTheExactDistance) {
     for (const auto& x : ca) cases[0].contained = cases[0].contained || inside(b, x);
     cases[1].name = "box-triangle", cases[1].status = proximity(a, s, cases[1].p), cases[1].exact = exact_gap(a, s);
     cases[1].contained = inside(a, s.a);
-    cases[2].name = "triangle-triangle", cases[2].status = proximity(s, t, cases[2].p), cases[2].exact = exact_gap(s, t);
+    cases[2].name = "triangle-triangle", cases[2].status = proximity(s, t, cases[2].p),
+    cases[2].exact = exact_gap(s, t);
     for (int j = 0; j < 3; ++j) {
       const Case& c = cases[j];
       const std::string what = std::string(c.name) + " case " + std::to_string(k);
@@ -154,7 +156,8 @@ TEST(Ties, LatticeQueriesEqualTheExactDistance) {
     const Eigen::Isometry3d m = lattice_motion(rng);
     ASSERT_EQ(proximity(SA, m, SB, m, p, Want::Contact), Status::Ok);
     EXPECT_EQ(p.intersecting, cases[0].p.intersecting) << "shapes case " << k;
-    EXPECT_NEAR(p.distance, cases[0].p.distance, 64 * std::numeric_limits<double>::epsilon() * 16) << "shapes case " << k;
+    EXPECT_NEAR(p.distance, cases[0].p.distance, 64 * std::numeric_limits<double>::epsilon() * 16)
+        << "shapes case " << k;
     if (testing::Test::HasFailure()) return;
   }
   std::printf("lattice pairs that meet / are apart: box-box %d / %d, box-triangle %d / %d, triangle-triangle %d / %d\n",
@@ -209,9 +212,11 @@ TEST(Ties, OctreeOnLatticeTrianglesEqualsTheExactDistance) {
         for (const auto& y : tb) {
           if (exact == 0) break;  // (nothing is nearer)
           const Vector3d S[3] = {va[x[0]], va[x[1]], va[x[2]]};
-          const Vector3d T[3] = {pose.linear() * vb[y[0]] + pose.translation(), pose.linear() * vb[y[1]] + pose.translation(),
+          const Vector3d T[3] = {pose.linear() * vb[y[0]] + pose.translation(),
+                                 pose.linear() * vb[y[1]] + pose.translation(),
                                  pose.linear() * vb[y[2]] + pose.translation()};
-          const double rs = std::max((S[1] - S[0]).norm(), (S[2] - S[0]).norm()), rt = std::max((T[1] - T[0]).norm(), (T[2] - T[0]).norm());
+          const double rs = std::max((S[1] - S[0]).norm(), (S[2] - S[0]).norm()),
+                       rt = std::max((T[1] - T[0]).norm(), (T[2] - T[0]).norm());
           if ((S[0] - T[0]).norm() - rs - rt > exact + 1e-9) continue;
           exact = std::min(exact, test::exact_triangle_distance(S, T));
         }

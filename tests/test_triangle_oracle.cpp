@@ -57,15 +57,16 @@ TEST(TriangleOracle, NeedlesEqualTheExactDistance) {
   std::mt19937_64 rng(41);
   std::uniform_real_distribution<double> u(-1, 1), e(0, 10);
   const auto unit = [&] { return Vector3d(u(rng), u(rng), u(rng)).normalized(); };
-  check_pairs(test::scaled(5000),
-      [&](int k, Vector3d (&s)[3], Vector3d (&t)[3]) {
+  check_pairs(
+      test::scaled(5000),
+      [&](int k, Vector3d(&s)[3], Vector3d(&t)[3]) {
         const double w = std::pow(10.0, e(rng) / 5), L = w * std::pow(10.0, 1 + e(rng) * 0.8);
         const Vector3d near = 3 * w * Vector3d(u(rng), u(rng), u(rng));
         s[0] = near, s[1] = near + w * unit(), s[2] = near + L * unit();
         for (auto& x : t) x = w * Vector3d(u(rng), u(rng), u(rng));
         if (k % 2) std::swap(s, t);  // the needle on either side
       },
-      [](const Vector3d (&s)[3], const Vector3d (&t)[3]) {
+      [](const Vector3d(&s)[3], const Vector3d(&t)[3]) {
         double L = 0;
         for (const auto* v : {&s, &t})
           for (const auto& x : *v) L = std::max(L, x.cwiseAbs().maxCoeff());
@@ -91,12 +92,13 @@ TEST(TriangleOracle, LatticeTrianglesEqualTheExactDistance) {
   for (const double scale : {1.0, std::ldexp(1.0, -20)}) {
     const Vector3d shift = scale == 1.0 ? Vector3d::Zero() : Vector3d::Constant(std::ldexp(1.0, 20));
     int meet = 0;
-    check_pairs(test::scaled(5000),
-        [&](int, Vector3d (&s)[3], Vector3d (&t)[3]) {
+    check_pairs(
+        test::scaled(5000),
+        [&](int, Vector3d(&s)[3], Vector3d(&t)[3]) {
           for (auto* v : {&s, &t})
             for (auto& x : *v) x = shift + scale * Vector3d(c(rng), c(rng), c(rng));
         },
-        [&](const Vector3d (&)[3], const Vector3d (&)[3]) {
+        [&](const Vector3d(&)[3], const Vector3d(&)[3]) {
           return 64 * std::numeric_limits<double>::epsilon() * (shift.norm() + 8 * scale);
         },
         scale == 1.0 ? "lattice" : "lattice_far", &meet);

@@ -57,17 +57,21 @@ struct Face {
 Face face_of(const Box& a, std::mt19937_64& rng) {
   const int axis = int(rng() % 3), side = rng() % 2 ? 1 : -1;
   const int iu = (axis + 1) % 3, iv = (axis + 2) % 3;
-  return {side * a.rotation.col(axis), a.rotation.col(iu), a.rotation.col(iv),
-          a.center + side * a.half_extents[axis] * a.rotation.col(axis), a.half_extents[iu], a.half_extents[iv]};
+  return {side * a.rotation.col(axis), a.rotation.col(iu),
+          a.rotation.col(iv),          a.center + side * a.half_extents[axis] * a.rotation.col(axis),
+          a.half_extents[iu],          a.half_extents[iv]};
 }
 
 // A lattice point of A's face: inside it, on an edge, or at a corner.
 Vector3d on_face(const Face& f, std::mt19937_64& rng) {
   const auto coordinate = [&](double h) {
     switch (rng() % 4) {
-      case 0: return h;
-      case 1: return -h;
-      default: return std::ldexp(std::trunc(std::ldexp(h, 4) * std::uniform_real_distribution<double>(-1, 1)(rng)), -4);
+      case 0:
+        return h;
+      case 1:
+        return -h;
+      default:
+        return std::ldexp(std::trunc(std::ldexp(h, 4) * std::uniform_real_distribution<double>(-1, 1)(rng)), -4);
     }
   };
   return f.centre + coordinate(f.hu) * f.u + coordinate(f.hv) * f.v;
@@ -121,10 +125,16 @@ std::pair<Triangle, Triangle> touching_triangles(std::mt19937_64& rng) {
       const Vector3d m = (s.a + s.b) / 2, w = n + lattice_point(rng, 1, 2);
       return {s, Triangle{m + w, m - w, m + n + w}};
     }
-    case 0: p = s.b; break;                                 // a shared corner
-    case 1: p = (s.a + s.c) / 2; break;                     // on an edge
-    case 2: p = (s.a + s.b + 2 * s.c) / 4; break;           // inside the face
-    default: {                                               // coplanar, overlapping
+    case 0:
+      p = s.b;
+      break;  // a shared corner
+    case 1:
+      p = (s.a + s.c) / 2;
+      break;  // on an edge
+    case 2:
+      p = (s.a + s.b + 2 * s.c) / 4;
+      break;    // inside the face
+    default: {  // coplanar, overlapping
       const Vector3d q = (s.a + s.b + s.c * 2) / 4;
       return {s, Triangle{q, q + (s.b - s.a) / 2, q + (s.c - s.a) / 2}};
     }
@@ -155,7 +165,8 @@ std::vector<std::array<Vector3d, 3>> surface(const ConvexPolytope& P) {
   std::vector<std::array<Vector3d, 3>> out;
   for (size_t f = 0; f < (P.flat ? 1 : P.faces.size()); ++f) {
     const auto& loop = P.faces[f].loop;
-    for (size_t k = 2; k < loop.size(); ++k) out.push_back({P.vertices[loop[0]], P.vertices[loop[k - 1]], P.vertices[loop[k]]});
+    for (size_t k = 2; k < loop.size(); ++k)
+      out.push_back({P.vertices[loop[0]], P.vertices[loop[k - 1]], P.vertices[loop[k]]});
   }
   return out;
 }

@@ -48,29 +48,33 @@ int cmd_haptics(int argc, char** argv) {
     return 2;
   }
   if (json) {
-    std::printf("{\"ticks\": %ld, \"p50_us\": %.2f, \"p99_us\": %.2f, \"p999_us\": %.2f, \"max_us\": %.2f, "
-                "\"cpu_p999_us\": %.2f, \"cpu_max_us\": %.2f, \"misses\": %ld, \"late_starts\": %ld, "
-                "\"overruns\": %ld, \"allocations\": %ld, \"exceptions\": %ld, \"contacts\": %ld, "
-                "\"realtime_priority\": %s, \"max_late_start_us\": %.1f, \"cold\": {\"p50_us\": %.2f, "
-                "\"p99_us\": %.2f, \"p999_us\": %.2f, \"max_us\": %.2f, \"cpu_p999_us\": %.2f, \"misses\": %ld}}\n",
-                r.ticks, r.p50_us, r.p99_us, r.p999_us, r.max_us, r.cpu_p999_us, r.cpu_max_us, r.misses, r.late_starts,
-                r.overruns, r.allocations, r.exceptions, r.contacts, r.realtime_priority ? "true" : "false",
-                r.max_late_start_us, cold.p50_us, cold.p99_us, cold.p999_us, cold.max_us, cold.cpu_p999_us, cold.misses);
+    std::printf(
+        "{\"ticks\": %ld, \"p50_us\": %.2f, \"p99_us\": %.2f, \"p999_us\": %.2f, \"max_us\": %.2f, "
+        "\"cpu_p999_us\": %.2f, \"cpu_max_us\": %.2f, \"misses\": %ld, \"late_starts\": %ld, "
+        "\"overruns\": %ld, \"allocations\": %ld, \"exceptions\": %ld, \"contacts\": %ld, "
+        "\"realtime_priority\": %s, \"max_late_start_us\": %.1f, \"cold\": {\"p50_us\": %.2f, "
+        "\"p99_us\": %.2f, \"p999_us\": %.2f, \"max_us\": %.2f, \"cpu_p999_us\": %.2f, \"misses\": %ld}}\n",
+        r.ticks, r.p50_us, r.p99_us, r.p999_us, r.max_us, r.cpu_p999_us, r.cpu_max_us, r.misses, r.late_starts,
+        r.overruns, r.allocations, r.exceptions, r.contacts, r.realtime_priority ? "true" : "false",
+        r.max_late_start_us, cold.p50_us, cold.p99_us, cold.p999_us, cold.max_us, cold.cpu_p999_us, cold.misses);
   } else {
-    std::printf("haptics: %s on %s, %ld ticks at %.0f Hz (%s), the same path cold and coherent\n",
-                r.tool_name.c_str(), r.scene_source.c_str(), r.ticks, o.rate,
-                !o.realtime ? "back to back" : r.realtime_priority ? "paced, SCHED_FIFO" : "paced, normal priority");
+    std::printf("haptics: %s on %s, %ld ticks at %.0f Hz (%s), the same path cold and coherent\n", r.tool_name.c_str(),
+                r.scene_source.c_str(), r.ticks, o.rate,
+                !o.realtime           ? "back to back"
+                : r.realtime_priority ? "paced, SCHED_FIFO"
+                                      : "paced, normal priority");
     std::printf("%-26s %9s %9s %9s %9s\n", "tick latency [us]", "p50", "p99", "p99.9", "max");
     for (const haptics::Report* x : {&cold, &r}) {
       const char* name = x == &cold ? "cold" : "coherent";
       std::printf("%-9s wall clock       %9.1f %9.1f %9.1f %9.1f\n", name, x->p50_us, x->p99_us, x->p999_us, x->max_us);
-      std::printf("%-9s thread CPU time  %9.1f %9.1f %9.1f %9.1f\n", name, x->cpu_p50_us, x->cpu_p99_us,
-                  x->cpu_p999_us, x->cpu_max_us);
+      std::printf("%-9s thread CPU time  %9.1f %9.1f %9.1f %9.1f\n", name, x->cpu_p50_us, x->cpu_p99_us, x->cpu_p999_us,
+                  x->cpu_max_us);
     }
     for (const haptics::Report* x : {&cold, &r}) {
       std::printf("%s: %ld missed deadlines", x == &cold ? "cold" : "coherent", x->misses);
       if (o.realtime)
-        std::printf(", %ld ticks started over 50 us late by the OS (latest %.1f us)", x->late_starts, x->max_late_start_us);
+        std::printf(", %ld ticks started over 50 us late by the OS (latest %.1f us)", x->late_starts,
+                    x->max_late_start_us);
       std::printf(", %ld ticks whose own CPU time overran the period\n", x->overruns);
     }
     std::printf("allocations after warm-up %ld and %ld, exceptions %ld and %ld, ticks in contact %ld\n",
@@ -84,8 +88,8 @@ int cmd_haptics(int argc, char** argv) {
     }
     std::fprintf(f, "tick,cold_wall_us,cold_cpu_us,coherent_wall_us,coherent_cpu_us,contact\n");
     for (size_t k = 0; k < r.latency_us.size(); ++k)
-      std::fprintf(f, "%zu,%.3f,%.3f,%.3f,%.3f,%d\n", k, cold.latency_us[k], cold.cpu_us[k], r.latency_us[k], r.cpu_us[k],
-                   int(r.depth[k] > 0));
+      std::fprintf(f, "%zu,%.3f,%.3f,%.3f,%.3f,%d\n", k, cold.latency_us[k], cold.cpu_us[k], r.latency_us[k],
+                   r.cpu_us[k], int(r.depth[k] > 0));
     std::fclose(f);
   }
   if (!png.empty() && !haptics::plot(r, png, error)) {

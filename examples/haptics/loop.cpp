@@ -59,7 +59,8 @@ bool make_tool(const std::string& what, Tool& tool, std::string& name, std::stri
   if (tool.mesh.triangles.empty()) {  // a convex tool's surface: its hull's faces, fanned
     tool.mesh.vertices = tool.hull.polytope().vertices;
     for (const auto& f : tool.hull.polytope().faces)
-      for (size_t k = 1; k + 1 < f.loop.size(); ++k) tool.mesh.triangles.push_back({f.loop[0], f.loop[k], f.loop[k + 1]});
+      for (size_t k = 1; k + 1 < f.loop.size(); ++k)
+        tool.mesh.triangles.push_back({f.loop[0], f.loop[k], f.loop[k + 1]});
   }
   if (int(tool.hull.polytope().vertices.size()) > kMaxToolVertices)
     return error = "tool: its hull has more than " + std::to_string(kMaxToolVertices) + " vertices", false;
@@ -72,15 +73,18 @@ bool make_tool(const std::string& what, Tool& tool, std::string& name, std::stri
 // Nothing of the scene is higher than where the tool presses, so the tool never runs into a
 // wall side-on (a penalty depth cannot be continuous there).
 struct Path {
-  Vector3d top;      // the scene's highest vertex
-  double lift = 0;   // the tool's reach below its centre (touching clearance)
+  Vector3d top;     // the scene's highest vertex
+  double lift = 0;  // the tool's reach below its centre (touching clearance)
   Vector3d at(double t) const {
     const double u = std::fmod(t, 4.0);
     const auto ramp = [](double x) { return 0.5 - 0.5 * std::cos(M_PI * std::clamp(x, 0.0, 1.0)); };
     double clearance = -0.002, slide = 0;
-    if (u < 1) clearance = 0.03 - 0.032 * ramp(u);                          // approach, touch, press
-    else if (u < 3) slide = 0.008 * std::sin(M_PI * (u - 1));               // slide there and back
-    else clearance = -0.002 + 0.032 * ramp(u - 3);                          // leave
+    if (u < 1)
+      clearance = 0.03 - 0.032 * ramp(u);  // approach, touch, press
+    else if (u < 3)
+      slide = 0.008 * std::sin(M_PI * (u - 1));  // slide there and back
+    else
+      clearance = -0.002 + 0.032 * ramp(u - 3);  // leave
     return top + Vector3d(slide, lift + clearance, 0);
   }
 };
@@ -119,7 +123,8 @@ bool set_up(const Options& options, Setup& s, Report& report, std::string& error
   if (s.tool.mesh.triangles.size() <= 64) tool_options.max_depth = 0;
   if (Status st = build_octree(s.scene.vertices, s.scene.triangles, s.scene_tree); st != Status::Ok)
     return error = "scene: " + std::string(to_string(st)), false;
-  if (Status st = build_octree(s.tool.mesh.vertices, s.tool.mesh.triangles, s.tool_tree, tool_options); st != Status::Ok)
+  if (Status st = build_octree(s.tool.mesh.vertices, s.tool.mesh.triangles, s.tool_tree, tool_options);
+      st != Status::Ok)
     return error = "tool: " + std::string(to_string(st)), false;
   make_workspace(s.scene_tree, s.tool_tree, s.ws);
   s.path.top = s.scene.vertices[s.scene.triangles[0][0]];
@@ -169,7 +174,8 @@ void tick(const Options& options, Setup& s, ProximityCache& cache, const Eigen::
   if (!touching) {
     c = MeshContact{};
   } else {
-    const double push = kStiffness * c.penetration_depth - kDamping * std::min(0.0, velocity.dot(c.penetration_direction));
+    const double push =
+        kStiffness * c.penetration_depth - kDamping * std::min(0.0, velocity.dot(c.penetration_direction));
     const Vector3d f = std::max(0.0, push) * c.penetration_direction;
     force = f.norm(), along = f.dot(c.penetration_direction), up = f.y();
     ++report.contacts;
@@ -197,8 +203,8 @@ bool run(const Options& options, long (*allocations)(), Report& report, std::str
   Setup s;
   if (!set_up(options, s, report, error)) return false;
   const long n = long(std::llround(options.seconds * options.rate));
-  for (auto* v : {&report.time, &report.distance, &report.depth, &report.force, &report.latency_us,
-                  &report.cpu_us, &report.force_dot_normal, &report.force_up})
+  for (auto* v : {&report.time, &report.distance, &report.depth, &report.force, &report.latency_us, &report.cpu_us,
+                  &report.force_dot_normal, &report.force_up})
     v->assign(size_t(n), 0.0);
   const double dt = 1 / options.rate;
   using clock = std::chrono::steady_clock;
@@ -252,17 +258,20 @@ bool plot(const Report& r, const std::string& png, std::string& error) {
   FILE* f = std::fopen(data.c_str(), "w");
   if (!f) return error = png + ": cannot write " + data, false;
   for (size_t k = 0; k < r.time.size(); ++k)
-    std::fprintf(f, "%.6f %.9g %.9g %.9g %.3f\n", r.time[k], 1000 * r.distance[k], 1000 * r.depth[k], r.force[k], r.latency_us[k]);
+    std::fprintf(f, "%.6f %.9g %.9g %.9g %.3f\n", r.time[k], 1000 * r.distance[k], 1000 * r.depth[k], r.force[k],
+                 r.latency_us[k]);
   std::fclose(f);
   FILE* g = popen("gnuplot 2>&1", "w");
   if (!g) return error = "gnuplot not found (Debian package gnuplot-nox)", false;
-  std::fprintf(g,
-               "set terminal pngcairo size 1200,900 noenhanced\nset output '%s'\nset multiplot layout 2,1 title '%s on %s'\n"
-               "set xlabel 'time [s]'\nset ylabel 'distance, depth [mm]'\nset y2label 'force [N]'\nset y2tics\nset ytics nomirror\n"
-               "plot [0:8] '%s' u 1:2 w l t 'distance', '' u 1:3 w l t 'depth', '' u 1:4 axes x1y2 w l t 'force'\n"
-               "unset y2label\nunset y2tics\nset xlabel 'tick latency [us]'\nset ylabel 'ticks'\nset logscale y\nbinwidth=1\n"
-               "plot '%s' u (binwidth*floor($5/binwidth)):(1.0) smooth freq w boxes t 'latency'\nunset multiplot\n",
-               png.c_str(), r.tool_name.c_str(), r.scene_source.c_str(), data.c_str(), data.c_str());
+  std::fprintf(
+      g,
+      "set terminal pngcairo size 1200,900 noenhanced\nset output '%s'\nset multiplot layout 2,1 title '%s on %s'\n"
+      "set xlabel 'time [s]'\nset ylabel 'distance, depth [mm]'\nset y2label 'force [N]'\nset y2tics\nset ytics "
+      "nomirror\n"
+      "plot [0:8] '%s' u 1:2 w l t 'distance', '' u 1:3 w l t 'depth', '' u 1:4 axes x1y2 w l t 'force'\n"
+      "unset y2label\nunset y2tics\nset xlabel 'tick latency [us]'\nset ylabel 'ticks'\nset logscale y\nbinwidth=1\n"
+      "plot '%s' u (binwidth*floor($5/binwidth)):(1.0) smooth freq w boxes t 'latency'\nunset multiplot\n",
+      png.c_str(), r.tool_name.c_str(), r.scene_source.c_str(), data.c_str(), data.c_str());
   const int status = pclose(g);
   std::remove(data.c_str());
   if (status != 0) return error = "gnuplot failed (is gnuplot-nox installed?)", false;

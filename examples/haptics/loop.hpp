@@ -26,18 +26,18 @@ struct Report {
   /// The same percentiles of the tick's own CPU time (CLOCK_THREAD_CPUTIME_ID): what the tick
   /// computed, without the time the OS gave to others while it ran.
   double cpu_p50_us = 0, cpu_p99_us = 0, cpu_p999_us = 0, cpu_max_us = 0;
-  long misses = 0;        ///< ticks that ended after their deadline (realtime only)
-  long late_starts = 0;   ///< ticks the OS started over 50 us after their time (realtime only)
-  long overruns = 0;      ///< ticks whose own CPU time exceeded the period (ours, not the OS's)
-  double max_late_start_us = 0;  ///< worst start after the tick's time (realtime: OS jitter)
-  long allocations = 0;   ///< heap allocations inside the loop after warm-up (-1: not counted)
-  long exceptions = 0;    ///< exceptions caught around ticks
-  long contacts = 0;      ///< ticks with the tool touching or pressing into the scene
+  long misses = 0;                 ///< ticks that ended after their deadline (realtime only)
+  long late_starts = 0;            ///< ticks the OS started over 50 us after their time (realtime only)
+  long overruns = 0;               ///< ticks whose own CPU time exceeded the period (ours, not the OS's)
+  double max_late_start_us = 0;    ///< worst start after the tick's time (realtime: OS jitter)
+  long allocations = 0;            ///< heap allocations inside the loop after warm-up (-1: not counted)
+  long exceptions = 0;             ///< exceptions caught around ticks
+  long contacts = 0;               ///< ticks with the tool touching or pressing into the scene
   bool realtime_priority = false;  ///< a paced run got SCHED_FIFO
   std::vector<double> time, distance, depth, force, latency_us;  ///< per tick
-  std::vector<double> cpu_us;            ///< per tick: its thread CPU time
-  std::vector<double> force_dot_normal;  ///< force . push-out direction (>= 0)
-  std::vector<double> force_up;          ///< force . +y (the press is straight down along -y)
+  std::vector<double> cpu_us;                                    ///< per tick: its thread CPU time
+  std::vector<double> force_dot_normal;                          ///< force . push-out direction (>= 0)
+  std::vector<double> force_up;                                  ///< force . +y (the press is straight down along -y)
 };
 
 /// Heap allocations of this executable so far, counted by alloc_count.cpp (which replaces

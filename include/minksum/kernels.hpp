@@ -60,7 +60,7 @@ struct alignas(64) BoxBatch {
   alignas(64) T c[3][kRow<N>];     ///< centre, component d of lane k at c[d][k]
   alignas(64) T u[3][3][kRow<N>];  ///< axis a (column a of the rotation), component d at u[a][d][k]
   alignas(64) T h[3][kRow<N>];     ///< half extents
-  int count = 0;             ///< lanes in use; the rest are padded with valid boxes
+  int count = 0;                   ///< lanes in use; the rest are padded with valid boxes
   /// Stores box b in lane k (0 <= k < N).
   void set(int k, const Box& b) {
     for (int d = 0; d < 3; ++d) {
@@ -86,7 +86,7 @@ template <class T, int N>
 struct alignas(64) TriangleBatch {
   static_assert(N % kLaneMultiple == 0, "capacity must be a multiple of 16");
   alignas(64) T v[3][3][kRow<N>];  ///< vertices
-  int count = 0;             ///< lanes in use
+  int count = 0;                   ///< lanes in use
   /// Stores triangle t in lane k.
   void set(int k, const Triangle& t) {
     const Eigen::Vector3d* p[3] = {&t.a, &t.b, &t.c};
@@ -108,8 +108,8 @@ struct alignas(64) TriangleBatch {
 /// whose normal and offsets are written as 0.
 template <class T, int N>
 struct alignas(64) BoxBoxPlanes {
-  alignas(64) T n[15][3][kRow<N>];   ///< axis p, component d of lane k at n[p][d][k]
-  alignas(64) T offset[30][kRow<N>];  ///< plane offsets
+  alignas(64) T n[15][3][kRow<N>];          ///< axis p, component d of lane k at n[p][d][k]
+  alignas(64) T offset[30][kRow<N>];        ///< plane offsets
   alignas(64) CodeOf<T> code[15][kRow<N>];  ///< support corner codes of the + plane of each axis
   alignas(64) CodeOf<T> valid[kRow<N>];     ///< bit p: axis p is valid
 };
@@ -121,8 +121,8 @@ struct alignas(64) BoxBoxPlanes {
 /// bit 30: the triangle is degenerate (the whole lane is invalid).
 template <class T, int N>
 struct alignas(64) BoxTrianglePlanes {
-  alignas(64) T n[13][3][kRow<N>];    ///< axis p, component d of lane k
-  alignas(64) T offset[26][kRow<N>];   ///< plane offsets
+  alignas(64) T n[13][3][kRow<N>];          ///< axis p, component d of lane k
+  alignas(64) T offset[26][kRow<N>];        ///< plane offsets
   alignas(64) CodeOf<T> code[26][kRow<N>];  ///< per plane: box corner | triangle vertex << 3
   alignas(64) CodeOf<T> valid[kRow<N>];     ///< bit p: axis p valid; bit 30: degenerate triangle
 };
@@ -138,10 +138,10 @@ struct BoxLanes {
 /// Output arrays of a plane kernel (row stride kRow<N>).
 template <class T>
 struct PlaneLanes {
-  T* n;               ///< n[(p * 3 + d) * N + k]
-  T* offset;          ///< offset[p * N + k]
-  CodeOf<T>* code;    ///< code[p * N + k]
-  CodeOf<T>* valid;   ///< valid[k]
+  T* n;              ///< n[(p * 3 + d) * N + k]
+  T* offset;         ///< offset[p * N + k]
+  CodeOf<T>* code;   ///< code[p * N + k]
+  CodeOf<T>* valid;  ///< valid[k]
 };
 /// Extra output arrays of the box-box sum kernel (row stride kRow<N>); all null for planes only.
 template <class T>
@@ -170,30 +170,24 @@ PlaneLanes<T> lanes(P& p) {
 }
 // Type-erased entry points behind the templates below (stride: the row length); they
 // dispatch on the active ISA.
-void box_box(BoxLanes<float> a, BoxLanes<float> b, int count, int stride, bool difference,
-             PlaneLanes<float> out, SumLanes<float> sum = {});
-void box_box(BoxLanes<double> a, BoxLanes<double> b, int count, int stride, bool difference,
-             PlaneLanes<double> out, SumLanes<double> sum = {});
-void box_triangle(BoxLanes<float> box, const float* tri, int count, int stride, bool difference,
-                  PlaneLanes<float> out);
-void box_triangle(BoxLanes<double> box, const double* tri, int count, int stride,
-                  bool difference, PlaneLanes<double> out);
-void box_box_proximity(BoxLanes<float> a, BoxLanes<float> b, int count, int stride,
-                       ProximityLanes<float> out);
-void box_box_proximity(BoxLanes<double> a, BoxLanes<double> b, int count, int stride,
-                       ProximityLanes<double> out);
-void box_box_separation(BoxLanes<float> a, BoxLanes<float> b, int count, int stride, float* bound,
-                        std::int32_t* hit);
-void box_box_separation(BoxLanes<double> a, BoxLanes<double> b, int count, int stride,
-                        double* bound, std::int64_t* hit);
-void box_triangle_overlap(BoxLanes<float> box, const float* tri, int count, int stride,
-                          std::int32_t* hit);
-void box_triangle_overlap(BoxLanes<double> box, const double* tri, int count, int stride,
-                          std::int64_t* hit);
-void triangle_distance(const float* s, const float* t, int count, int stride, float* distance,
-                       float* point_s, float* point_t);
-void triangle_distance(const double* s, const double* t, int count, int stride, double* distance,
-                       double* point_s, double* point_t);
+void box_box(BoxLanes<float> a, BoxLanes<float> b, int count, int stride, bool difference, PlaneLanes<float> out,
+             SumLanes<float> sum = {});
+void box_box(BoxLanes<double> a, BoxLanes<double> b, int count, int stride, bool difference, PlaneLanes<double> out,
+             SumLanes<double> sum = {});
+void box_triangle(BoxLanes<float> box, const float* tri, int count, int stride, bool difference, PlaneLanes<float> out);
+void box_triangle(BoxLanes<double> box, const double* tri, int count, int stride, bool difference,
+                  PlaneLanes<double> out);
+void box_box_proximity(BoxLanes<float> a, BoxLanes<float> b, int count, int stride, ProximityLanes<float> out);
+void box_box_proximity(BoxLanes<double> a, BoxLanes<double> b, int count, int stride, ProximityLanes<double> out);
+void box_box_separation(BoxLanes<float> a, BoxLanes<float> b, int count, int stride, float* bound, std::int32_t* hit);
+void box_box_separation(BoxLanes<double> a, BoxLanes<double> b, int count, int stride, double* bound,
+                        std::int64_t* hit);
+void box_triangle_overlap(BoxLanes<float> box, const float* tri, int count, int stride, std::int32_t* hit);
+void box_triangle_overlap(BoxLanes<double> box, const double* tri, int count, int stride, std::int64_t* hit);
+void triangle_distance(const float* s, const float* t, int count, int stride, float* distance, float* point_s,
+                       float* point_t);
+void triangle_distance(const double* s, const double* t, int count, int stride, double* distance, double* point_s,
+                       double* point_t);
 /// Packs a box pair for the single-pair kernels: c_A, c_B, the axes of A then of B (each
 /// column-major), h_A, h_B.
 void pack_box_pair(const Box& a, const Box& b, double (&in)[30]);
@@ -202,10 +196,8 @@ void pack_box_pair(const Box& a, const Box& b, double (&in)[30]);
 /// The 30 planes of A[k] (+) B[k] (or A[k] (-) B[k]) for every lane k < a.count; a and b
 /// must have the same count and be padded (pad()). No allocation, no exception, no lock.
 template <class T, int N>
-void box_box_planes(const BoxBatch<T, N>& a, const BoxBatch<T, N>& b, bool difference,
-                    BoxBoxPlanes<T, N>& out) {
-  detail::box_box(detail::lanes(a), detail::lanes(b), a.count, kRow<N>, difference,
-                  detail::lanes<T, N>(out));
+void box_box_planes(const BoxBatch<T, N>& a, const BoxBatch<T, N>& b, bool difference, BoxBoxPlanes<T, N>& out) {
+  detail::box_box(detail::lanes(a), detail::lanes(b), a.count, kRow<N>, difference, detail::lanes<T, N>(out));
 }
 
 /// The whole polytope A (+) B of each of N box pairs, index-tracked: the 30 facet planes with
@@ -230,17 +222,15 @@ struct alignas(64) BoxBoxSum {
 /// BoxBoxSum). No allocation, no exception, no lock.
 template <class T, int N>
 void box_box_sum(const BoxBatch<T, N>& a, const BoxBatch<T, N>& b, BoxBoxSum<T, N>& out) {
-  detail::box_box(detail::lanes(a), detail::lanes(b), a.count, kRow<N>, false,
-                  detail::lanes<T, N>(out.planes),
+  detail::box_box(detail::lanes(a), detail::lanes(b), a.count, kRow<N>, false, detail::lanes<T, N>(out.planes),
                   {&out.loop[0][0], &out.corner_a[0][0][0], &out.corner_b[0][0][0], out.general});
 }
 
 /// The planes of box[k] (+) tri[k] (or box[k] (-) tri[k]) for every lane k < box.count.
 template <class T, int N>
-void box_triangle_planes(const BoxBatch<T, N>& box, const TriangleBatch<T, N>& tri,
-                         bool difference, BoxTrianglePlanes<T, N>& out) {
-  detail::box_triangle(detail::lanes(box), &tri.v[0][0][0], box.count, kRow<N>, difference,
-                       detail::lanes<T, N>(out));
+void box_triangle_planes(const BoxBatch<T, N>& box, const TriangleBatch<T, N>& tri, bool difference,
+                         BoxTrianglePlanes<T, N>& out) {
+  detail::box_triangle(detail::lanes(box), &tri.v[0][0][0], box.count, kRow<N>, difference, detail::lanes<T, N>(out));
 }
 
 /// Proximity of N box pairs, one per lane (see box_box_proximity).
@@ -257,11 +247,9 @@ struct alignas(64) BoxBoxProximity {
 /// a[k], b[k] (k < a.count; pad() the batches), on the zonotope A (-) B: the facet the
 /// separating axis test picks, proven optimal per lane, else all 15 facets. No allocation.
 template <class T, int N>
-void box_box_proximity(const BoxBatch<T, N>& a, const BoxBatch<T, N>& b,
-                       BoxBoxProximity<T, N>& out) {
+void box_box_proximity(const BoxBatch<T, N>& a, const BoxBatch<T, N>& b, BoxBoxProximity<T, N>& out) {
   detail::box_box_proximity(detail::lanes(a), detail::lanes(b), a.count, kRow<N>,
-                            {out.distance, out.depth, &out.direction[0][0], &out.point_a[0][0],
-                             &out.point_b[0][0]});
+                            {out.distance, out.depth, &out.direction[0][0], &out.point_a[0][0], &out.point_b[0][0]});
 }
 
 /// The separating axis test of N box pairs, fused (no planes written).
@@ -274,10 +262,8 @@ struct alignas(64) BoxBoxSeparation {
 /// Collision and a distance lower bound of every pair (the largest separation over the 15
 /// axes), for traversal: the cheapest box-box query. No allocation.
 template <class T, int N>
-void box_box_separation(const BoxBatch<T, N>& a, const BoxBatch<T, N>& b,
-                        BoxBoxSeparation<T, N>& out) {
-  detail::box_box_separation(detail::lanes(a), detail::lanes(b), a.count, kRow<N>, out.bound,
-                             out.hit);
+void box_box_separation(const BoxBatch<T, N>& a, const BoxBatch<T, N>& b, BoxBoxSeparation<T, N>& out) {
+  detail::box_box_separation(detail::lanes(a), detail::lanes(b), a.count, kRow<N>, out.bound, out.hit);
 }
 
 /// Box-triangle overlap flags of N pairs.
@@ -289,16 +275,15 @@ struct alignas(64) BoxTriangleOverlap {
 /// Box-triangle overlap of every pair by the separating axis test on the 13 axes, fused.
 /// No allocation.
 template <class T, int N>
-void box_triangle_overlap(const BoxBatch<T, N>& box, const TriangleBatch<T, N>& tri,
-                          BoxTriangleOverlap<T, N>& out) {
+void box_triangle_overlap(const BoxBatch<T, N>& box, const TriangleBatch<T, N>& tri, BoxTriangleOverlap<T, N>& out) {
   detail::box_triangle_overlap(detail::lanes(box), &tri.v[0][0][0], box.count, kRow<N>, out.hit);
 }
 
 /// Exact distance between two triangles given by their corners, with the closest points;
 /// 0 when they intersect (degenerate triangles allowed). The distance kernel of mesh_distance;
 /// triangle_distance(TriangleBatch...) below is its batched form.
-double triangle_distance(const Eigen::Vector3d (&s)[3], const Eigen::Vector3d (&t)[3],
-                         Eigen::Vector3d& ps, Eigen::Vector3d& pt);
+double triangle_distance(const Eigen::Vector3d (&s)[3], const Eigen::Vector3d (&t)[3], Eigen::Vector3d& ps,
+                         Eigen::Vector3d& pt);
 
 /// Exact distances of N triangle pairs, one per lane.
 template <class T, int N>
@@ -314,27 +299,26 @@ struct alignas(64) TriangleDistances {
 /// A pair spanning beyond 1e+-60 (float: 1e+-6) of its corner takes the scalar path; NaN or
 /// Inf coordinates give NaN. No allocation.
 template <class T, int N>
-void triangle_distance(const TriangleBatch<T, N>& s, const TriangleBatch<T, N>& t,
-                       TriangleDistances<T, N>& out) {
-  detail::triangle_distance(&s.v[0][0][0], &t.v[0][0][0], s.count, kRow<N>, out.distance,
-                            &out.point_s[0][0], &out.point_t[0][0]);
+void triangle_distance(const TriangleBatch<T, N>& s, const TriangleBatch<T, N>& t, TriangleDistances<T, N>& out) {
+  detail::triangle_distance(&s.v[0][0][0], &t.v[0][0][0], s.count, kRow<N>, out.distance, &out.point_s[0][0],
+                            &out.point_t[0][0]);
 }
 
 /// One plane of a kernel result, for callers with one pair.
 struct KernelPlane {
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();  ///< unit normal (zero when invalid)
-  double offset = 0;       ///< n . x <= offset
-  int i = -1, j = -1;      ///< support pair: box corner code, and B's corner or triangle vertex
-  bool valid = false;      ///< false for an axis of parallel edges (or a degenerate triangle)
+  double offset = 0;                                 ///< n . x <= offset
+  int i = -1, j = -1;  ///< support pair: box corner code, and B's corner or triangle vertex
+  bool valid = false;  ///< false for an axis of parallel edges (or a degenerate triangle)
 };
 
 /// The planes of one box pair in double (the single-pair API): axis q < 15 (numbered as in
 /// BoxBoxPlanes) in lane q.
 struct alignas(64) BoxBoxPair {
-  alignas(64) double n[3][16];        ///< axis q: (n[0][q], n[1][q], n[2][q]); zero if invalid
-  alignas(64) double offset[2][16];   ///< offset[0][q]: plane +n_q; offset[1][q]: plane -n_q
-  alignas(64) std::int64_t code[16];  ///< corner codes of plane +n_q (plane -n_q: 63 - code)
-  alignas(64) std::int64_t valid[16]; ///< 1 if axis q is valid
+  alignas(64) double n[3][16];         ///< axis q: (n[0][q], n[1][q], n[2][q]); zero if invalid
+  alignas(64) double offset[2][16];    ///< offset[0][q]: plane +n_q; offset[1][q]: plane -n_q
+  alignas(64) std::int64_t code[16];   ///< corner codes of plane +n_q (plane -n_q: 63 - code)
+  alignas(64) std::int64_t valid[16];  ///< 1 if axis q is valid
   /// Plane p < 30: p < 15 is +n_p, p >= 15 is -n_(p-15).
   KernelPlane plane(int p) const;
 };
@@ -344,15 +328,14 @@ struct alignas(64) BoxBoxPair {
 void box_box_planes(const Box& a, const Box& b, bool difference, BoxBoxPair& out);
 
 /// The 26 planes of one box-triangle pair in double, through the same kernels.
-void box_triangle_planes(const Box& box, const Triangle& tri, bool difference,
-                         KernelPlane (&out)[26]);
+void box_triangle_planes(const Box& box, const Triangle& tri, bool difference, KernelPlane (&out)[26]);
 
 /// Support push: for each of k directions (dx, dy, dz), the maximum of d . v over the n
 /// vertices (x, y, z) and the index of the first vertex that attains it. n >= 1.
-void support_push(const float* x, const float* y, const float* z, int n, const float* dx,
-                  const float* dy, const float* dz, int k, float* max_out, int* arg_out);
+void support_push(const float* x, const float* y, const float* z, int n, const float* dx, const float* dy,
+                  const float* dz, int k, float* max_out, int* arg_out);
 /// The same in double.
-void support_push(const double* x, const double* y, const double* z, int n, const double* dx,
-                  const double* dy, const double* dz, int k, double* max_out, int* arg_out);
+void support_push(const double* x, const double* y, const double* z, int n, const double* dx, const double* dy,
+                  const double* dz, int k, double* max_out, int* arg_out);
 
 }  // namespace minksum

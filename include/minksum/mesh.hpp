@@ -18,8 +18,8 @@ namespace minksum {
 /// to one child (a dense patch), the cube narrows in on them without a level. Leaves follow the
 /// local density; there is no global depth.
 struct OctreeOptions {
-  int max_depth = -1;   ///< levels below the root, at most (-1: 20; at most 24)
-  int leaf_size = 64;   ///< a node with more triangles than this is split
+  int max_depth = -1;  ///< levels below the root, at most (-1: 20; at most 24)
+  int leaf_size = 64;  ///< a node with more triangles than this is split
 };
 
 /// An octree of cubes over one triangle mesh, in flat arrays (built once, read-only after).
@@ -30,41 +30,40 @@ struct Octree {
   /// two bounds of the node's triangles: their box (bounding box, axis-aligned in the mesh's
   /// frame) and their slab (between two planes of the mean normal).
   struct Node {
-    Eigen::Vector3d center = Eigen::Vector3d::Zero();  ///< cube centre (mesh frame)
-    double half = 0;         ///< half side length
+    Eigen::Vector3d center = Eigen::Vector3d::Zero();      ///< cube centre (mesh frame)
+    double half = 0;                                       ///< half side length
     Eigen::Vector3d box_center = Eigen::Vector3d::Zero();  ///< tight box centre
     Eigen::Vector3d box_half = Eigen::Vector3d::Zero();    ///< tight box half extents
     Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();     ///< slab normal (unit)
-    double slab_lo = 0, slab_hi = 0;  ///< normal . x of the triangles lies in [slab_lo, slab_hi]
-    int first_child = -1;    ///< index of the first child, -1 for a leaf
-    int child_count = 0;     ///< number of children
-    int first = 0;           ///< leaf: first entry in `items`
-    int count = 0;           ///< leaf: number of triangles listed
-    int corner_first = 0;    ///< leaf: first of its triangles' distinct corners in `corners`
-    int corner_count = 0;    ///< leaf: number of distinct corners
+    double slab_lo = 0, slab_hi = 0;                       ///< normal . x of the triangles lies in [slab_lo, slab_hi]
+    int first_child = -1;                                  ///< index of the first child, -1 for a leaf
+    int child_count = 0;                                   ///< number of children
+    int first = 0;                                         ///< leaf: first entry in `items`
+    int count = 0;                                         ///< leaf: number of triangles listed
+    int corner_first = 0;  ///< leaf: first of its triangles' distinct corners in `corners`
+    int corner_count = 0;  ///< leaf: number of distinct corners
   };
-  std::vector<Eigen::Vector3d> vertices;         ///< the mesh's vertices (a copy)
-  std::vector<std::array<int, 3>> triangles;     ///< the mesh's triangles (a copy)
-  std::vector<Eigen::Vector4d> spheres;          ///< per triangle: bounding sphere centre, radius
-  std::vector<Eigen::Vector3d> normals;          ///< per triangle: unit normal (zero if degenerate)
-  std::vector<Node> nodes;                       ///< nodes[0] is the root
-  std::vector<int> items;                        ///< triangle indices of the leaves
-  std::vector<Eigen::Vector3d> corners;          ///< per leaf: its triangles' distinct corners
-  std::vector<Eigen::Vector3d> item_corners;     ///< per entry of `items`: its triangle's 3 corners
-  int depth = 0;                                 ///< deepest level reached
-  int leaves = 0;                                ///< number of leaves
-  int max_leaf = 0;                              ///< most triangles in one leaf
-  bool points = false;                           ///< built from a point cloud (every triangle a point)
-  size_t bytes() const;                          ///< memory held by the arrays
+  std::vector<Eigen::Vector3d> vertices;      ///< the mesh's vertices (a copy)
+  std::vector<std::array<int, 3>> triangles;  ///< the mesh's triangles (a copy)
+  std::vector<Eigen::Vector4d> spheres;       ///< per triangle: bounding sphere centre, radius
+  std::vector<Eigen::Vector3d> normals;       ///< per triangle: unit normal (zero if degenerate)
+  std::vector<Node> nodes;                    ///< nodes[0] is the root
+  std::vector<int> items;                     ///< triangle indices of the leaves
+  std::vector<Eigen::Vector3d> corners;       ///< per leaf: its triangles' distinct corners
+  std::vector<Eigen::Vector3d> item_corners;  ///< per entry of `items`: its triangle's 3 corners
+  int depth = 0;                              ///< deepest level reached
+  int leaves = 0;                             ///< number of leaves
+  int max_leaf = 0;                           ///< most triangles in one leaf
+  bool points = false;                        ///< built from a point cloud (every triangle a point)
+  size_t bytes() const;                       ///< memory held by the arrays
 };
 
 /// Builds the octree of a mesh. Unused vertices, boundary and non-manifold edges and
 /// degenerate triangles are accepted; NaN/Inf coordinates (NonFinite), indices out of range
 /// (InvalidMesh) and meshes without triangles (TooFewPoints) are rejected. A triangle with
 /// exactly the corners of an earlier one is not listed in the leaves (it cannot be nearer).
-Status build_octree(const std::vector<Eigen::Vector3d>& vertices,
-                    const std::vector<std::array<int, 3>>& triangles, Octree& out,
-                    const OctreeOptions& options = {});
+Status build_octree(const std::vector<Eigen::Vector3d>& vertices, const std::vector<std::array<int, 3>>& triangles,
+                    Octree& out, const OctreeOptions& options = {});
 
 /// Builds the octree of a point cloud (points without faces, as from a scanner, the paper's
 /// Section 5.1 closing remark): point k becomes the zero-area triangle (k, k, k), so
@@ -106,22 +105,22 @@ class MeshWorkspace {
 
 /// What one mesh-mesh distance query did (for benchmarks and tuning; no answer depends on it).
 struct MeshStats {
-  double first_bound = 0;     ///< U of the first leaf pair reached (its boxes' max distance)
-  long node_pairs = 0;        ///< node pairs whose bound was evaluated
-  long leaf_pairs = 0;        ///< leaf pairs opened (their triangles tested)
-  long triangle_pairs = 0;    ///< exact triangle-triangle distances computed
-  int candidates_a = 0, candidates_b = 0;  ///< distinct triangles that reached that stage
+  double first_bound = 0;                             ///< U of the first leaf pair reached (its boxes' max distance)
+  long node_pairs = 0;                                ///< node pairs whose bound was evaluated
+  long leaf_pairs = 0;                                ///< leaf pairs opened (their triangles tested)
+  long triangle_pairs = 0;                            ///< exact triangle-triangle distances computed
+  int candidates_a = 0, candidates_b = 0;             ///< distinct triangles that reached that stage
   double culled_percent_a = 0, culled_percent_b = 0;  ///< 100 * (1 - candidates / triangles)
 };
 
 /// The answer of one mesh-mesh distance query, and apart from it the query's statistics.
 struct MeshDistance {
-  double distance = 0;        ///< exact minimum distance (0 when the meshes intersect)
+  double distance = 0;                                ///< exact minimum distance (0 when the meshes intersect)
   Eigen::Vector3d point_a = Eigen::Vector3d::Zero();  ///< closest point on A (world frame)
   Eigen::Vector3d point_b = Eigen::Vector3d::Zero();  ///< closest point on B (world frame)
-  int triangle_a = -1, triangle_b = -1;  ///< the triangles holding them
-  bool intersecting = false;  ///< the meshes share a point
-  MeshStats stats;            ///< what the search did
+  int triangle_a = -1, triangle_b = -1;               ///< the triangles holding them
+  bool intersecting = false;                          ///< the meshes share a point
+  MeshStats stats;                                    ///< what the search did
 };
 
 /// Exact minimum distance between mesh A and mesh B, each placed in the world by its pose (as
@@ -144,13 +143,13 @@ Status mesh_distance(const Octree& a, const Eigen::Isometry3d& pose_a, const Oct
 /// How a convex tool touches a mesh (haptic rendering): the parts of the mesh's triangles
 /// inside the tool, and how far the tool must move to push them all out.
 struct MeshContact {
-  bool intersecting = false;   ///< some triangle has a part inside the tool
+  bool intersecting = false;     ///< some triangle has a part inside the tool
   double penetration_depth = 0;  ///< how far the tool must move along the direction to clear them
   Eigen::Vector3d penetration_direction = Eigen::Vector3d::Zero();  ///< unit push-out direction (as Proximity's)
-  Eigen::Vector3d point = Eigen::Vector3d::Zero();      ///< the part's corner that needs it most
-  int triangle = -1;           ///< the triangle of that corner
-  int tested = 0;              ///< triangles that were clipped
-  bool overflow = false;       ///< over kMaxContactTriangles overlapped: the first ones count
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();                  ///< the part's corner that needs it most
+  int triangle = -1;                                                ///< the triangle of that corner
+  int tested = 0;                                                   ///< triangles that were clipped
+  bool overflow = false;  ///< over kMaxContactTriangles overlapped: the first ones count
 };
 
 /// Most hull vertices a tool may have in mesh_contact (its fixed scratch space).
@@ -159,13 +158,12 @@ constexpr int kMaxToolVertices = 256;
 constexpr int kMaxContactTriangles = 2048;
 
 /// Contact of a convex tool (a shape prepared once in its own frame) with mesh A, each placed
-/// in the world by its pose (the point and direction come back in the world frame). Each triangle whose box meets the tool's
-/// box is clipped by the tool's face planes; the parts left are inside the tool. Their summed area vector (triangle winding:
-/// counter-clockwise = outward) gives the push-out direction u, which turns continuously as
-/// the tool slides over a tessellated surface; the depth is the largest distance, over the
-/// parts' corners p, that p travels along -u inside the tool. No allocation. InvalidMesh if the
-/// tool is flat or has more than kMaxToolVertices vertices; the workspace is any made by
-/// make_workspace (its contact buffers are sized there); TooFewPoints for an empty tool,
+/// in the world by its pose (the point and direction come back in the world frame). Each triangle whose box meets the
+/// tool's box is clipped by the tool's face planes; the parts left are inside the tool. Their summed area vector
+/// (triangle winding: counter-clockwise = outward) gives the push-out direction u, which turns continuously as the tool
+/// slides over a tessellated surface; the depth is the largest distance, over the parts' corners p, that p travels
+/// along -u inside the tool. No allocation. InvalidMesh if the tool is flat or has more than kMaxToolVertices vertices;
+/// the workspace is any made by make_workspace (its contact buffers are sized there); TooFewPoints for an empty tool,
 /// InvalidPose for a pose that is not rigid.
 Status mesh_contact(const Octree& a, const Eigen::Isometry3d& pose_a, const ConvexShape& tool,
                     const Eigen::Isometry3d& pose_tool, MeshWorkspace& ws, MeshContact& out);

@@ -45,15 +45,15 @@ struct Triangle {
 
 /// One polygonal face: a vertex loop counter-clockwise seen from outside, and its plane.
 struct Face {
-  std::vector<int> loop;    ///< vertex indices, counter-clockwise seen from outside
+  std::vector<int> loop;                             ///< vertex indices, counter-clockwise seen from outside
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();  ///< outward unit normal
-  double offset = 0;        ///< plane: normal . x = offset
+  double offset = 0;                                 ///< plane: normal . x = offset
 };
 
 /// One undirected edge with its two adjacent faces; `left` walks v0 -> v1 in its loop.
 struct Edge {
-  int v0 = -1, v1 = -1;      ///< endpoint vertex indices
-  int left = -1, right = -1; ///< face whose loop has v0 -> v1, and face whose loop has v1 -> v0
+  int v0 = -1, v1 = -1;       ///< endpoint vertex indices
+  int left = -1, right = -1;  ///< face whose loop has v0 -> v1, and face whose loop has v1 -> v0
 };
 
 /// Convex polytope: vertices, polygonal faces (coplanar triangles merged) and unique edges.
@@ -72,8 +72,8 @@ Status polytope_from_points(const std::vector<Eigen::Vector3d>& points, ConvexPo
 
 /// A convex polytope from an explicit mesh (faces as vertex loops, any orientation).
 /// Validated: closed 2-manifold, planar convex faces, every vertex below every face plane.
-Status polytope_from_mesh(const std::vector<Eigen::Vector3d>& vertices,
-                          const std::vector<std::vector<int>>& faces, ConvexPolytope& out);
+Status polytope_from_mesh(const std::vector<Eigen::Vector3d>& vertices, const std::vector<std::vector<int>>& faces,
+                          ConvexPolytope& out);
 
 /// Ok for a valid box: finite, coordinates within kMaxCoordinate, half extents above 1e-13 of
 /// its largest coordinate (else its corners coincide in double), rotation a proper rotation

@@ -12,10 +12,10 @@ struct Proximity {
   double distance = 0;        ///< length of the shortest segment between A and B; 0 if intersecting
   Eigen::Vector3d point_a = Eigen::Vector3d::Zero();  ///< its end on A (separated), or A's deepest point
   Eigen::Vector3d point_b = Eigen::Vector3d::Zero();  ///< its end on B (separated), or B's deepest point
-  double max_distance = 0;    ///< the farthest pair of points (the paper's Fig. 8, red)
+  double max_distance = 0;                            ///< the farthest pair of points (the paper's Fig. 8, red)
   Eigen::Vector3d far_a = Eigen::Vector3d::Zero();    ///< that pair's point on A
   Eigen::Vector3d far_b = Eigen::Vector3d::Zero();    ///< that pair's point on B
-  double penetration_depth = 0;  ///< minimum translation distance when intersecting, else 0
+  double penetration_depth = 0;                       ///< minimum translation distance when intersecting, else 0
   /// Unit direction: translating B by penetration_depth * direction makes them touch (zero when
   /// separated).
   Eigen::Vector3d penetration_direction = Eigen::Vector3d::Zero();
@@ -42,13 +42,13 @@ constexpr bool has(Want want, Want part) { return (unsigned(want) & unsigned(par
 /// time (its indices are checked against the shapes). One cache per pair; not shared between
 /// threads.
 struct ProximityCache {
-  unsigned kind = 0;          ///< the kind of query that filled it (0: none, cold)
-  unsigned active = 0;        ///< box pairs: the active set of the last answer
-  int a[3] = {0, 0, 0};       ///< the last answer's features on A (vertices, or a mesh triangle)
-  int b[3] = {0, 0, 0};       ///< and on B
-  long warm = 0;              ///< answers proven from the cache (statistics)
-  long cold = 0;              ///< answers computed cold (statistics)
-  long searched = 0;          ///< answers that needed the exhaustive search (statistics)
+  unsigned kind = 0;     ///< the kind of query that filled it (0: none, cold)
+  unsigned active = 0;   ///< box pairs: the active set of the last answer
+  int a[3] = {0, 0, 0};  ///< the last answer's features on A (vertices, or a mesh triangle)
+  int b[3] = {0, 0, 0};  ///< and on B
+  long warm = 0;         ///< answers proven from the cache (statistics)
+  long cold = 0;         ///< answers computed cold (statistics)
+  long searched = 0;     ///< answers that needed the exhaustive search (statistics)
 };
 
 /// True if p lies in the closed polytope m; stops at the first plane that separates p.

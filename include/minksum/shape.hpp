@@ -12,7 +12,7 @@ namespace minksum {
 namespace detail {
 struct ShapeData;
 struct ShapeAccess;
-}
+}  // namespace detail
 
 /// An immutable convex shape in its body frame: the polytope and, built once, what the sums
 /// and queries need (structure-of-arrays normals, edge directions and vertices; the Gauss map's
@@ -36,8 +36,8 @@ class ConvexShape {
 Status shape_from_points(const std::vector<Eigen::Vector3d>& points, ConvexShape& out);
 
 /// A shape from an explicit convex mesh (polytope_from_mesh's checks).
-Status shape_from_mesh(const std::vector<Eigen::Vector3d>& vertices,
-                       const std::vector<std::vector<int>>& faces, ConvexShape& out);
+Status shape_from_mesh(const std::vector<Eigen::Vector3d>& vertices, const std::vector<std::vector<int>>& faces,
+                       ConvexShape& out);
 
 /// A box (its corners in box_corner order), in the box's own frame as given.
 Status shape_from_box(const Box& box, ConvexShape& out);

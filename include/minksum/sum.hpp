@@ -19,39 +19,39 @@ enum class Method {
 
 /// A vertex of the sum: the pair (i in A, j in B) and its coordinates a_i + b_j (or a_i - b_j).
 struct SumVertex {
-  int i = -1, j = -1;     ///< support index pair (the paper's index tracking)
+  int i = -1, j = -1;                               ///< support index pair (the paper's index tracking)
   Eigen::Vector3d point = Eigen::Vector3d::Zero();  ///< coordinates
 };
 
 /// A facet plane n . x <= offset, with one support pair (i, j) lying on it.
 struct SumPlane {
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();  ///< outward unit normal
-  double offset = 0;       ///< n . x = offset on the facet
-  int i = -1, j = -1;      ///< a vertex pair of this facet (its loop's first vertex)
+  double offset = 0;                                 ///< n . x = offset on the facet
+  int i = -1, j = -1;                                ///< a vertex pair of this facet (its loop's first vertex)
 };
 
 /// One facet's vertex loop: indices into MinkowskiSum::vertices, counter-clockwise from outside.
 struct Loop {
-  const int* first = nullptr;  ///< its first index
-  int count = 0;               ///< its length
-  const int* begin() const { return first; }         ///< range-for support
-  const int* end() const { return first + count; }   ///< range-for support
-  int size() const { return count; }                 ///< its length
-  int operator[](int k) const { return first[k]; }   ///< index k of the loop
+  const int* first = nullptr;                       ///< its first index
+  int count = 0;                                    ///< its length
+  const int* begin() const { return first; }        ///< range-for support
+  const int* end() const { return first + count; }  ///< range-for support
+  int size() const { return count; }                ///< its length
+  int operator[](int k) const { return first[k]; }  ///< index k of the loop
 };
 
 /// The Minkowski sum as an H-representation with index tracking and full topology, in flat
 /// arrays (a result that is reused keeps its capacity: a loop of sums allocates only while
 /// the output grows).
 struct MinkowskiSum {
-  std::vector<SumPlane> planes;           ///< one per facet
-  std::vector<int> loop_start;            ///< F + 1 offsets: facet k's loop is loop_vertex[loop_start[k], loop_start[k + 1])
-  std::vector<int> loop_vertex;           ///< the facets' loops back to back (indices into `vertices`)
-  std::vector<SumVertex> vertices;        ///< sorted by (i, j)
-  int V = 0, E = 0, F = 0;                ///< counts of vertices, edges and facets
-  bool euler_ok = false;                  ///< V - E + F == 2 and every edge has two facets
-  bool corrected = false;                 ///< the Section 3 hull corrector rebuilt the result
-  Method method = Method::Fast;           ///< the path that produced it
+  std::vector<SumPlane> planes;     ///< one per facet
+  std::vector<int> loop_start;      ///< F + 1 offsets: facet k's loop is loop_vertex[loop_start[k], loop_start[k + 1])
+  std::vector<int> loop_vertex;     ///< the facets' loops back to back (indices into `vertices`)
+  std::vector<SumVertex> vertices;  ///< sorted by (i, j)
+  int V = 0, E = 0, F = 0;          ///< counts of vertices, edges and facets
+  bool euler_ok = false;            ///< V - E + F == 2 and every edge has two facets
+  bool corrected = false;           ///< the Section 3 hull corrector rebuilt the result
+  Method method = Method::Fast;     ///< the path that produced it
   /// Facet k's vertex loop, starting at its smallest index (the plane's pair).
   Loop facet(int k) const { return {loop_vertex.data() + loop_start[k], loop_start[k + 1] - loop_start[k]}; }
 };
@@ -71,8 +71,7 @@ Status minkowski_difference(const ConvexShape& a, const Eigen::Isometry3d& pose_
 /// A (+) B of two polytopes (the convenience entry: Method::Fast prepares both, as a
 /// ConvexShape would be, on every call). Facets of coplanar support features are merged into
 /// one polygon.
-Status minkowski_sum(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out,
-                     Method method = Method::Fast);
+Status minkowski_sum(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out, Method method = Method::Fast);
 
 /// A (+) B of two boxes through the box-box kernel's whole-polytope path (box_box_sum, active
 /// ISA, one lane): its 30 planes and vertex loops (vertex i, j: box_corner codes); boxes out
@@ -95,23 +94,21 @@ struct TopologyTable {
 };
 
 /// The table of a general sum or difference `m` of the operands a and b.
-TopologyTable topology_table(const MinkowskiSum& m, const ConvexPolytope& a,
-                             const ConvexPolytope& b, bool difference);
+TopologyTable topology_table(const MinkowskiSum& m, const ConvexPolytope& a, const ConvexPolytope& b, bool difference);
 
 /// The table of one box-box lane: boxes are taken relative to their centres, so that tA and tB
 /// are the copies' centres; invalid axes are left out.
 template <class T, int N>
-TopologyTable topology_table(const BoxBoxPlanes<T, N>& planes, int lane, const Box& a, const Box& b,
-                             bool difference);
+TopologyTable topology_table(const BoxBoxPlanes<T, N>& planes, int lane, const Box& a, const Box& b, bool difference);
 
 /// The table of one box-triangle lane (box relative to its centre, triangle as given).
 template <class T, int N>
-TopologyTable topology_table(const BoxTrianglePlanes<T, N>& planes, int lane, const Box& box,
-                             const Triangle& tri, bool difference);
+TopologyTable topology_table(const BoxTrianglePlanes<T, N>& planes, int lane, const Box& box, const Triangle& tri,
+                             bool difference);
 
 /// Offsets of the copy with scales sA, sB > 0 and translations tA, tB: offset_k =
 /// sA pa_k + sB pb_k + n_k . (tA + sign_b tB) (offsets: capacity >= facets). No allocation.
-void instantiate(const TopologyTable& t, double sA, const Eigen::Vector3d& tA, double sB,
-                 const Eigen::Vector3d& tB, double* offsets);
+void instantiate(const TopologyTable& t, double sA, const Eigen::Vector3d& tA, double sB, const Eigen::Vector3d& tB,
+                 double* offsets);
 
 }  // namespace minksum

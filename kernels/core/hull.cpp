@@ -10,8 +10,7 @@ extern "C" {
 
 namespace minksum::detail {
 
-void order_ccw(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& normal,
-               std::vector<int>& ids) {
+void order_ccw(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& normal, std::vector<int>& ids) {
   Eigen::Vector3d c = Eigen::Vector3d::Zero();
   for (int k : ids) c += points[k];
   c /= double(ids.size());
@@ -44,8 +43,7 @@ std::vector<int> planar_hull(const std::vector<Eigen::Vector3d>& points, const s
   for (int pass = 0; pass < 2; ++pass) {  // lower chain, then upper chain
     const size_t start = h.size();
     for (const auto& p : q) {
-      while (h.size() >= start + 2 && turn(h[h.size() - 2].first, h.back().first, p.first) <= eps)
-        h.pop_back();
+      while (h.size() >= start + 2 && turn(h[h.size() - 2].first, h.back().first, p.first) <= eps) h.pop_back();
       h.push_back(p);
     }
     h.pop_back();  // each chain's last point starts the other chain
@@ -71,8 +69,7 @@ bool qhull_facets(const std::vector<Eigen::Vector3d>& points, std::vector<HullFa
   qh_zero(qh, devnull);
   // Plain "qhull" in 3-d merges coplanar facets by default ('C-0', 'Qx'), which is what we want.
   char flags[] = "qhull";
-  const int exitcode = qh_new_qhull(qh, 3, int(points.size()), coords.data(), False, flags,
-                                    nullptr, devnull);
+  const int exitcode = qh_new_qhull(qh, 3, int(points.size()), coords.data(), False, flags, nullptr, devnull);
   if (!exitcode) {
     facetT* facet;
     vertexT *vertex, **vertexp;

@@ -23,7 +23,6 @@ std::vector<int> planar_hull(const std::vector<Eigen::Vector3d>& points, const s
                              const Eigen::Vector3d& normal, double eps);
 
 /// Orders the points `ids` of a planar convex polygon counter-clockwise around `normal`.
-void order_ccw(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& normal,
-               std::vector<int>& ids);
+void order_ccw(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& normal, std::vector<int>& ids);
 
 }  // namespace minksum::detail

@@ -197,8 +197,8 @@ Vector3d canonical_direction(const Vector3d& v, bool exact) {
   if (!(top > 0)) return Vector3d::Zero();
   Vector3d w = v;
   // (Components far below the largest one, subnormal ones among them, are flushed below anyway.)
-  const double least = std::min({v.x() != 0 ? std::abs(v.x()) : top, v.y() != 0 ? std::abs(v.y()) : top,
-                                 v.z() != 0 ? std::abs(v.z()) : top});
+  const double least = std::min(
+      {v.x() != 0 ? std::abs(v.x()) : top, v.y() != 0 ? std::abs(v.y()) : top, v.z() != 0 ? std::abs(v.z()) : top});
   if (exact && least > 0x1p-900 && top < 0x1p900) {
     // Integers m_k with v_k = m_k 2^low: low is the exponent of the lowest set bit of any
     // component (a double is its 53-bit significand times 2^(e - 53)); within 63 bits of range

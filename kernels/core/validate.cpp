@@ -12,17 +12,28 @@ using Eigen::Vector3d;
 
 const char* to_string(Status s) {
   switch (s) {
-    case Status::Ok: return "ok";
-    case Status::NonFinite: return "a coordinate is NaN or Inf";
-    case Status::OutOfRange: return "a coordinate's magnitude exceeds 1e100";
-    case Status::TooFewPoints: return "fewer than 3 distinct points";
-    case Status::Collinear: return "all points are collinear (a segment is not a polytope)";
-    case Status::InvalidMesh: return "invalid mesh (bad index, short or degenerate face, open or non-manifold)";
-    case Status::NotConvex: return "the mesh is not convex";
-    case Status::InvalidBox: return "invalid box (non-positive half extent or non-orthonormal rotation)";
-    case Status::DegenerateResult: return "the sum of two coplanar flat polytopes is flat, not a solid";
-    case Status::HullFailed: return "the convex hull (Qhull) failed";
-    case Status::InvalidPose: return "the pose is not a finite rigid motion (a proper rotation and a translation)";
+    case Status::Ok:
+      return "ok";
+    case Status::NonFinite:
+      return "a coordinate is NaN or Inf";
+    case Status::OutOfRange:
+      return "a coordinate's magnitude exceeds 1e100";
+    case Status::TooFewPoints:
+      return "fewer than 3 distinct points";
+    case Status::Collinear:
+      return "all points are collinear (a segment is not a polytope)";
+    case Status::InvalidMesh:
+      return "invalid mesh (bad index, short or degenerate face, open or non-manifold)";
+    case Status::NotConvex:
+      return "the mesh is not convex";
+    case Status::InvalidBox:
+      return "invalid box (non-positive half extent or non-orthonormal rotation)";
+    case Status::DegenerateResult:
+      return "the sum of two coplanar flat polytopes is flat, not a solid";
+    case Status::HullFailed:
+      return "the convex hull (Qhull) failed";
+    case Status::InvalidPose:
+      return "the pose is not a finite rigid motion (a proper rotation and a translation)";
   }
   return "unknown status";
 }
@@ -65,8 +76,8 @@ Status check_box(const Box& box) {
   const double worst = std::max(std::max(std::abs(dot(0, 0) - 1), std::abs(dot(3, 3) - 1)),
                                 std::max(std::max(std::abs(dot(6, 6) - 1), std::abs(dot(0, 3))),
                                          std::max(std::abs(dot(0, 6)), std::abs(dot(3, 6)))));
-  const double det = (r[1] * r[5] - r[2] * r[4]) * r[6] + (r[2] * r[3] - r[0] * r[5]) * r[7] +
-                     (r[0] * r[4] - r[1] * r[3]) * r[8];
+  const double det =
+      (r[1] * r[5] - r[2] * r[4]) * r[6] + (r[2] * r[3] - r[0] * r[5]) * r[7] + (r[0] * r[4] - r[1] * r[3]) * r[8];
   if (!(worst <= 1e-9) || det < 0) return Status::InvalidBox;
   return Status::Ok;
 }

@@ -16,8 +16,8 @@ namespace {
 
 // Closest points of segments p0-p1 and q0-q1 (Ericson, "Real-Time Collision Detection", 2005,
 // section 5.1.9), degenerate segments included; returns the squared distance.
-double segment_segment(const Vector3d& p0, const Vector3d& p1, const Vector3d& q0,
-                       const Vector3d& q1, Vector3d& cp, Vector3d& cq) {
+double segment_segment(const Vector3d& p0, const Vector3d& p1, const Vector3d& q0, const Vector3d& q1, Vector3d& cp,
+                       Vector3d& cq) {
   const Vector3d d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
   const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
   double s = 0, t = 0;
@@ -39,8 +39,10 @@ double segment_segment(const Vector3d& p0, const Vector3d& p1, const Vector3d& q
       const double denom = x.squaredNorm();
       s = denom > 0 ? std::clamp(x.dot(d2.cross(r)) / denom, 0.0, 1.0) : 0.0;
       t = (b * s + f) / e;
-      if (t < 0) t = 0, s = std::clamp(-c / a, 0.0, 1.0);
-      else if (t > 1) t = 1, s = std::clamp((b - c) / a, 0.0, 1.0);
+      if (t < 0)
+        t = 0, s = std::clamp(-c / a, 0.0, 1.0);
+      else if (t > 1)
+        t = 1, s = std::clamp((b - c) / a, 0.0, 1.0);
     }
   }
   cp = p0 + s * d1, cq = q0 + t * d2;
@@ -60,8 +62,7 @@ bool onto_face(const Vector3d& p, const Vector3d (&v)[3], const Vector3d& n, dou
 
 // Where the segment p-q crosses the interior of triangle t (normal n, not degenerate), if it
 // does with its endpoints strictly on opposite sides of the plane.
-bool pierces(const Vector3d& p, const Vector3d& q, const Vector3d (&t)[3], const Vector3d& n,
-             Vector3d& x) {
+bool pierces(const Vector3d& p, const Vector3d& q, const Vector3d (&t)[3], const Vector3d& n, Vector3d& x) {
   const double dp = n.dot(p - t[0]), dq = n.dot(q - t[0]);
   if (!((dp > 0 && dq < 0) || (dp < 0 && dq > 0))) return false;
   x = p + dp / (dp - dq) * (q - p);
@@ -83,28 +84,29 @@ void apex_first(Vector3d (&v)[3]) {
 
 }  // namespace
 
-double triangle_distance(const Vector3d (&s_in)[3], const Vector3d (&t_in)[3], Vector3d& ps,
-                         Vector3d& pt) {
+double triangle_distance(const Vector3d (&s_in)[3], const Vector3d (&t_in)[3], Vector3d& ps, Vector3d& pt) {
   // Work relative to one corner (coordinates far from the origin keep their precision), scaled
   // by a power of two to about 1 (exact): the segment test multiplies four coordinates, which
   // would overflow beyond 1e77 (an infinite distance at 1e86) or underflow.
   const Vector3d o = s_in[0];
   double size = 0;
-  for (const Vector3d* v : {&s_in[1], &s_in[2], &t_in[0], &t_in[1], &t_in[2]}) size = std::max(size, (*v - o).cwiseAbs().maxCoeff());
+  for (const Vector3d* v : {&s_in[1], &s_in[2], &t_in[0], &t_in[1], &t_in[2]})
+    size = std::max(size, (*v - o).cwiseAbs().maxCoeff());
   const double shrink = detail::scale_to_one(size);
   Vector3d s[3] = {Vector3d::Zero(), shrink * (s_in[1] - o), shrink * (s_in[2] - o)};
   Vector3d t[3] = {shrink * (t_in[0] - o), shrink * (t_in[1] - o), shrink * (t_in[2] - o)};
   apex_first(s), apex_first(t);
   const Vector3d ns = (s[1] - s[0]).cross(s[2] - s[0]), nt = (t[1] - t[0]).cross(t[2] - t[0]);
   // Degenerate (zero-area) triangles have no face region; their edges cover them.
-  const auto flat = [](const Vector3d& n, const Vector3d (&v)[3]) {
-    const double scale = std::max({(v[1] - v[0]).squaredNorm(), (v[2] - v[0]).squaredNorm(), (v[2] - v[1]).squaredNorm()});
+  const auto flat = [](const Vector3d& n, const Vector3d(&v)[3]) {
+    const double scale =
+        std::max({(v[1] - v[0]).squaredNorm(), (v[2] - v[0]).squaredNorm(), (v[2] - v[1]).squaredNorm()});
     return !(n.squaredNorm() > 1e-24 * scale * scale);
   };
   const bool s_flat = flat(ns, s), t_flat = flat(nt, t);
   // Intersecting, not coplanar: an edge of one crosses the other's interior. Impossible if
   // either triangle lies strictly on one side of the other's plane (the common case).
-  const auto one_side = [](const Vector3d& n, const Vector3d& p, const Vector3d (&q)[3]) {
+  const auto one_side = [](const Vector3d& n, const Vector3d& p, const Vector3d(&q)[3]) {
     const double d0 = n.dot(q[0] - p), d1 = n.dot(q[1] - p), d2 = n.dot(q[2] - p);
     return (d0 > 0 && d1 > 0 && d2 > 0) || (d0 < 0 && d1 < 0 && d2 < 0);
   };
@@ -142,8 +144,7 @@ double triangle_distance(const Vector3d (&s_in)[3], const Vector3d (&t_in)[3], V
 
 Vector3d box_corner(const Box& box, int code) {
   Vector3d p = box.center;
-  for (int a = 0; a < 3; ++a)
-    p += ((code >> a & 1) ? 1.0 : -1.0) * box.half_extents[a] * box.rotation.col(a);
+  for (int a = 0; a < 3; ++a) p += ((code >> a & 1) ? 1.0 : -1.0) * box.half_extents[a] * box.rotation.col(a);
   return p;
 }
 

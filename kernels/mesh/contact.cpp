@@ -9,8 +9,8 @@
 
 namespace minksum {
 
-using Eigen::Vector3d;
 using detail::MeshScratch;
+using Eigen::Vector3d;
 
 namespace {
 

@@ -17,8 +17,8 @@
 
 namespace minksum {
 
-using Eigen::Vector3d;
 using detail::MeshScratch;
+using Eigen::Vector3d;
 
 namespace {
 
@@ -66,7 +66,8 @@ class NodeBounds {
     const Eigen::Matrix3d& R = R_;
     const Vector3d delta = R * nb.box_center + t_ - na.box_center;
     const Vector3d ga = (delta.cwiseAbs() - na.box_half - absR_ * nb.box_half).cwiseMax(0.0);
-    const Vector3d gb = ((R.transpose() * delta).cwiseAbs() - nb.box_half - absR_.transpose() * na.box_half).cwiseMax(0.0);
+    const Vector3d gb =
+        ((R.transpose() * delta).cwiseAbs() - nb.box_half - absR_.transpose() * na.box_half).cwiseMax(0.0);
     // Slab of A against B's box: B's box spans normal . (centre) +- |R^T normal| . half.
     const Vector3d nab = R.transpose() * na.normal;
     const double cb = na.normal.dot(R * nb.box_center + t_), rb = nab.cwiseAbs().dot(nb.box_half);
@@ -152,7 +153,13 @@ class PairQueue {
 class Search {
  public:
   Search(const Octree& a, const Octree& b, const Eigen::Isometry3d& pose, MeshScratch& ws, MeshDistance& out)
-      : a_(a), b_(b), R_(pose.linear()), t_(pose.translation()), ws_(ws), out_(out), bounds_(a, b, pose),
+      : a_(a),
+        b_(b),
+        R_(pose.linear()),
+        t_(pose.translation()),
+        ws_(ws),
+        out_(out),
+        bounds_(a, b, pose),
         clouds_(a.points && b.points) {}
 
   /// Starts from the triangle pair (seed_a, seed_b) if both index triangles.
@@ -364,7 +371,9 @@ void Search::triangle_pairs(const Node& na, const Line& line, int near, int pass
         ++out_.stats.triangle_pairs;
         if (ws_.seen_a[ta] != ws_.stamp) ws_.seen_a[ta] = ws_.stamp, ++out_.stats.candidates_a;
         if (ws_.seen_b[tb] != ws_.stamp) ws_.seen_b[tb] = ws_.stamp, ++out_.stats.candidates_b;
-        if (d < best_) best_ = d, out_.point_a = sa[0], out_.point_b = ws_.near_corners[3 * y], out_.triangle_a = ta, out_.triangle_b = tb;
+        if (d < best_)
+          best_ = d, out_.point_a = sa[0], out_.point_b = ws_.near_corners[3 * y], out_.triangle_a = ta,
+          out_.triangle_b = tb;
         continue;
       }
       const Vector3d sb[3] = {ws_.near_corners[3 * y], ws_.near_corners[3 * y + 1], ws_.near_corners[3 * y + 2]};
@@ -425,7 +434,7 @@ Status search(const Octree& a, const Octree& b, const Eigen::Isometry3d& pose, M
       ws.pass_a.size() < size_t(a.max_leaf) || ws.near_normal.size() < size_t(b.max_leaf) ||
       ws.near_corners.size() < size_t(3 * b.max_leaf) || ws.stack.size() <= detail::depth_reserve(a, b))
     return Status::InvalidMesh;  // a workspace made for other octrees
-  if (++ws.stamp == 0) {  // stamps wrapped: forget every old mark
+  if (++ws.stamp == 0) {         // stamps wrapped: forget every old mark
     std::fill(ws.center_stamp.begin(), ws.center_stamp.end(), 0u);
     std::fill(ws.seen_a.begin(), ws.seen_a.end(), 0u);
     std::fill(ws.seen_b.begin(), ws.seen_b.end(), 0u);

@@ -16,28 +16,27 @@ constexpr int kDepthCap = 20;
 struct MeshScratch {
   /// A node pair still to visit, with its squared distance bound.
   struct Entry {
-    int a = 0, b = 0;    ///< node of A, node of B
-    double bound2 = 0;   ///< lower bound of their squared distance
+    int a = 0, b = 0;   ///< node of A, node of B
+    double bound2 = 0;  ///< lower bound of their squared distance
   };
   /// Node pairs still to visit: a heap of what it holds beyond 8 (depth_a + depth_b) + 16
   /// (make_workspace's heap_pairs), then that reserve for the depth-first fallback.
   std::vector<Entry> stack;
-  std::vector<Eigen::Vector3d> moved_center; ///< B's sphere centres in A's frame, on demand
-  std::vector<unsigned> center_stamp;        ///< query stamp per triangle of B
-  std::vector<unsigned> seen_a, seen_b;      ///< query stamp per candidate triangle
-  std::vector<int> near_b;                   ///< triangles of B's leaf near A's leaf
+  std::vector<Eigen::Vector3d> moved_center;           ///< B's sphere centres in A's frame, on demand
+  std::vector<unsigned> center_stamp;                  ///< query stamp per triangle of B
+  std::vector<unsigned> seen_a, seen_b;                ///< query stamp per candidate triangle
+  std::vector<int> near_b;                             ///< triangles of B's leaf near A's leaf
   std::vector<double> near_x, near_y, near_z, near_r;  ///< their spheres (A's frame)
-  std::vector<double> near_lo;               ///< their lowest corners along the leaves' line
-  std::vector<double> proj_a, proj_b;        ///< per leaf triangle: A's highest, B's lowest corner there
-  std::vector<int> pass_a;                   ///< A's leaf triangles near B's leaf, nearest first
-  std::vector<Eigen::Vector3d> near_corners; ///< their corners (A's frame), three each
-  std::vector<Eigen::Vector3d> near_normal;  ///< their unit normals (A's frame)
-  std::vector<int> hits;                     ///< those near one triangle of A
-  std::vector<Eigen::Vector3d> parts;        ///< mesh_contact: corners of the parts inside
-  std::vector<int> part_start;               ///< mesh_contact: where each part's corners start
-  unsigned stamp = 0;                        ///< current query
+  std::vector<double> near_lo;                         ///< their lowest corners along the leaves' line
+  std::vector<double> proj_a, proj_b;                  ///< per leaf triangle: A's highest, B's lowest corner there
+  std::vector<int> pass_a;                             ///< A's leaf triangles near B's leaf, nearest first
+  std::vector<Eigen::Vector3d> near_corners;           ///< their corners (A's frame), three each
+  std::vector<Eigen::Vector3d> near_normal;            ///< their unit normals (A's frame)
+  std::vector<int> hits;                               ///< those near one triangle of A
+  std::vector<Eigen::Vector3d> parts;                  ///< mesh_contact: corners of the parts inside
+  std::vector<int> part_start;                         ///< mesh_contact: where each part's corners start
+  unsigned stamp = 0;                                  ///< current query
 };
-
 
 // The node pairs of the search wait in a heap (kMeshHeapPairs by default), nearest bound first; past
 // that it goes on depth first, where each split pops one pair and pushes at most 8: the stack

@@ -11,9 +11,9 @@
 
 namespace minksum {
 
-using Eigen::Vector3d;
 using detail::kDepthCap;
 using detail::unit_normal;
+using Eigen::Vector3d;
 
 namespace {
 
@@ -122,7 +122,8 @@ bool part(Octree& out, size_t i, const std::vector<int>& list, std::vector<int> 
       const Vector3d m = out.spheres[size_t(t)].head<3>();
       sub[(m.x() > c.x()) | (m.y() > c.y()) << 1 | (m.z() > c.z()) << 2].push_back(t);
     }
-    const auto full = std::find_if(std::begin(sub), std::end(sub), [&](const auto& x) { return x.size() == list.size(); });
+    const auto full =
+        std::find_if(std::begin(sub), std::end(sub), [&](const auto& x) { return x.size() == list.size(); });
     if (full == std::end(sub)) return true;
     if (tries == 60) return false;
     const int octant = int(full - std::begin(sub));
@@ -133,9 +134,8 @@ bool part(Octree& out, size_t i, const std::vector<int>& list, std::vector<int> 
 
 }  // namespace
 
-Status build_octree(const std::vector<Vector3d>& vertices,
-                    const std::vector<std::array<int, 3>>& triangles, Octree& out,
-                    const OctreeOptions& options) {
+Status build_octree(const std::vector<Vector3d>& vertices, const std::vector<std::array<int, 3>>& triangles,
+                    Octree& out, const OctreeOptions& options) {
   out = Octree{};
   if (triangles.empty()) return Status::TooFewPoints;
   if (options.max_depth < -1 || options.max_depth > 24 || options.leaf_size < 1) return Status::InvalidMesh;

@@ -8,9 +8,9 @@
 
 namespace minksum {
 
-using Eigen::Vector3d;
-using detail::MeshScratch;
 using detail::depth_reserve;
+using detail::MeshScratch;
+using Eigen::Vector3d;
 
 MeshWorkspace::MeshWorkspace() = default;
 MeshWorkspace::MeshWorkspace(const MeshWorkspace& other)
@@ -32,7 +32,8 @@ void make_workspace(const Octree& a, const Octree& b, MeshWorkspace& workspace, 
   ws.seen_a.assign(a.triangles.size(), 0);
   ws.seen_b.assign(b.triangles.size(), 0);
   for (auto* v : {&ws.near_b, &ws.hits}) v->assign(size_t(b.max_leaf), 0);
-  for (auto* v : {&ws.near_x, &ws.near_y, &ws.near_z, &ws.near_r, &ws.near_lo, &ws.proj_b}) v->assign(size_t(b.max_leaf), 0.0);
+  for (auto* v : {&ws.near_x, &ws.near_y, &ws.near_z, &ws.near_r, &ws.near_lo, &ws.proj_b})
+    v->assign(size_t(b.max_leaf), 0.0);
   ws.proj_a.assign(size_t(a.max_leaf), 0.0);
   ws.pass_a.assign(size_t(a.max_leaf), 0);
   ws.near_corners.assign(size_t(3 * b.max_leaf), Vector3d::Zero());

@@ -4,7 +4,6 @@
 // vertices, and then sum_k w_k a_(i_k) lies on A and sum_k w_k b_(j_k) on B.
 #include <minksum/query.hpp>
 
-
 #include <minksum/kernels.hpp>
 
 #include "core/scale.hpp"
@@ -39,7 +38,6 @@ using Eigen::Vector3d;
 
 namespace {
 
-
 // A point of M as weights over (i, j) pairs: its preimages on A and B.
 struct Witness {
   double dist2 = std::numeric_limits<double>::infinity();
@@ -55,8 +53,7 @@ Witness closest_on_facet(const MinkowskiSum& m, const Loop& loop, const Vector3d
   const double d = n.dot(P(0));
   const Vector3d q = d * n;  // the origin projected onto the facet's plane
   bool inside = true;
-  for (size_t k = 0; k < size && inside; ++k)
-    inside = (P(k + 1) - P(k)).cross(q - P(k)).dot(n) >= 0;
+  for (size_t k = 0; k < size && inside; ++k) inside = (P(k + 1) - P(k)).cross(q - P(k)).dot(n) >= 0;
   Witness best;
   if (inside) {  // the facet's own region: barycentric weights in the fan triangle holding q
     for (size_t k = 1; k + 1 < size; ++k) {
@@ -84,8 +81,8 @@ Witness closest_on_facet(const MinkowskiSum& m, const Loop& loop, const Vector3d
   return best;
 }
 
-void witness_points(const MinkowskiSum& m, const ConvexPolytope& a, const ConvexPolytope& b,
-                    const Witness& w, Vector3d& pa, Vector3d& pb) {
+void witness_points(const MinkowskiSum& m, const ConvexPolytope& a, const ConvexPolytope& b, const Witness& w,
+                    Vector3d& pa, Vector3d& pb) {
   pa.setZero(), pb.setZero();
   for (int k = 0; k < 3; ++k) {
     pa += w.w[k] * a.vertices[m.vertices[w.pair[k]].i];
@@ -93,8 +90,7 @@ void witness_points(const MinkowskiSum& m, const ConvexPolytope& a, const Convex
   }
 }
 
-void farthest(const MinkowskiSum& m, const ConvexPolytope& a, const ConvexPolytope& b,
-              Proximity& out) {
+void farthest(const MinkowskiSum& m, const ConvexPolytope& a, const ConvexPolytope& b, Proximity& out) {
   // The farthest point of a polytope from the origin is one of its vertices.
   int far = 0;
   for (int k = 1; k < m.V; ++k)
@@ -134,8 +130,7 @@ Status proximity(const MinkowskiSum& m, const ConvexPolytope& a, const ConvexPol
     out.penetration_depth = std::max(0.0, m.planes[nearest].offset);
     out.penetration_direction = m.planes[nearest].normal;
     // Deepest points: the origin's projection onto that facet, pulled back to A and B.
-    witness_points(m, a, b, closest_on_facet(m, m.facet(nearest), m.planes[nearest].normal),
-                   out.point_a, out.point_b);
+    witness_points(m, a, b, closest_on_facet(m, m.facet(nearest), m.planes[nearest].normal), out.point_a, out.point_b);
     return Status::Ok;
   }
   // Outside: the closest point of M lies on a facet whose plane separates the origin.
@@ -252,7 +247,8 @@ Status box_query(const Box& a, const Box& b, Proximity& out, Want want, unsigned
   // centre, scaled by a power of two (exact), with half extents below 2^-100 (1e-30) of the
   // pair's size raised to that (the answer moves by less), and the answer is scaled back.
   const Vector3d o = a.center;
-  const double big = std::max({(b.center - o).cwiseAbs().maxCoeff(), a.half_extents.maxCoeff(), b.half_extents.maxCoeff()});
+  const double big =
+      std::max({(b.center - o).cwiseAbs().maxCoeff(), a.half_extents.maxCoeff(), b.half_extents.maxCoeff()});
   const double speck = big * 0x1p-100;  // exact (big is normal here or the test fails anyway)
   if (big > 1e-60 && big < 1e60 && a.half_extents.minCoeff() >= speck && b.half_extents.minCoeff() >= speck) {
     warm = box_box_proximity(a, b, out, want, active);
@@ -524,8 +520,8 @@ bool behind(const S& s, int f, const T& other, const Vector3d& shift, double mar
 // along which A and B + shift touch (the plane n . x = max n . A supports both), only the
 // vertices and faces of A within margin of that plane, and of B + shift, can hold the points.
 template <class A, class B>
-double surface_distance(const A& a, const B& b, const Vector3d& shift, double margin,
-                        Vector3d& pa, Vector3d& pb, const Vector3d* contact = nullptr) {
+double surface_distance(const A& a, const B& b, const Vector3d& shift, double margin, Vector3d& pa, Vector3d& pb,
+                        const Vector3d* contact = nullptr) {
   double top = -std::numeric_limits<double>::infinity(), bottom = -top;
   if (contact) {
     for (int i = 0; i < a.size(); ++i) top = std::max(top, contact->dot(a.vertex(i)));
@@ -584,7 +580,8 @@ double surface_distance(const A& a, const B& b, const Vector3d& shift, double ma
         const Vector3d s[3] = {a.loop_vertex(f, 0), a.loop_vertex(f, i), a.loop_vertex(f, i + 1)};
         if (!near_a(s[0]) && !near_a(s[1]) && !near_a(s[2])) continue;
         for (int j = 1; j + 1 < b.loop_size(g); ++j) {
-          const Vector3d t[3] = {b.loop_vertex(g, 0) + shift, b.loop_vertex(g, j) + shift, b.loop_vertex(g, j + 1) + shift};
+          const Vector3d t[3] = {b.loop_vertex(g, 0) + shift, b.loop_vertex(g, j) + shift,
+                                 b.loop_vertex(g, j + 1) + shift};
           if (!near_b(t[0]) && !near_b(t[1]) && !near_b(t[2])) continue;
           if (batch.add(s, t)) flush();
         }
@@ -632,7 +629,7 @@ bool nearest_on_simplex(const Vector3d* w, int n, double (&lambda)[4]) {
     return lambda[0] = 1 - t, lambda[1] = t, true;
   }
   // Triangle (i, j, k) of w: Ericson's ClosestPtPointTriangle with the query point at the origin.
-  const auto triangle = [&](int i, int j, int k, double (&l)[4]) {
+  const auto triangle = [&](int i, int j, int k, double(&l)[4]) {
     for (double& x : l) x = 0;
     const Vector3d &a = w[i], ab = w[j] - a, ac = w[k] - a;
     const double d1 = -ab.dot(a), d2 = -ac.dot(a);
@@ -660,7 +657,7 @@ bool nearest_on_simplex(const Vector3d* w, int n, double (&lambda)[4]) {
     const double v = vb / denom, t = vc / denom;
     l[i] = 1 - v - t, l[j] = v, l[k] = t;
   };
-  const auto dist2 = [&](const double (&l)[4]) {
+  const auto dist2 = [&](const double(&l)[4]) {
     Vector3d p = Vector3d::Zero();
     for (int k = 0; k < n; ++k) p += l[k] * w[k];
     return p.squaredNorm();
@@ -695,14 +692,15 @@ bool nearest_on_simplex(const Vector3d* w, int n, double (&lambda)[4]) {
 // by `scale`, a power of two near 1 / the coordinates' magnitude, so that their products
 // neither overflow nor underflow.
 template <class A, class B>
-int gjk_features(const A& a, const B& b, double scale, const int* start_a, const int* start_b, int start,
-                 int (&fa)[4], int (&fb)[4]) {
+int gjk_features(const A& a, const B& b, double scale, const int* start_a, const int* start_b, int start, int (&fa)[4],
+                 int (&fb)[4]) {
   Vector3d w[4];
   int ia[4], ib[4], n = 0;
   for (int j = 0; j < start; ++j) {
     bool repeat = false;
     for (int m = 0; m < n; ++m) repeat |= ia[m] == start_a[j] && ib[m] == start_b[j];
-    if (!repeat) w[n] = scale * (a.vertex(start_a[j]) - b.vertex(start_b[j])), ia[n] = start_a[j], ib[n] = start_b[j], ++n;
+    if (!repeat)
+      w[n] = scale * (a.vertex(start_a[j]) - b.vertex(start_b[j])), ia[n] = start_a[j], ib[n] = start_b[j], ++n;
   }
   double vv = std::numeric_limits<double>::infinity();
   int best_a[3] = {}, best_b[3] = {}, best_n = 0;  // the nearest simplex so far (ties can stall)
@@ -761,8 +759,10 @@ int top_of(const S& s, const Vector3d& n, double wide, double& value, bool& sing
   double first = -std::numeric_limits<double>::infinity(), second = first;
   for (int k = 0; k < s.size(); ++k) {
     const double x = n.dot(s.vertex(k));
-    if (x > first) second = first, first = x, best = k;
-    else second = std::max(second, x);
+    if (x > first)
+      second = first, first = x, best = k;
+    else
+      second = std::max(second, x);
   }
   value = first, single = second < first - wide;
   return best;
@@ -775,8 +775,10 @@ int top_of(const S& s, const Vector3d& n, double wide, double& value, bool& sing
   double first = -std::numeric_limits<double>::infinity(), second = first;
   for (int k = 0; k < s.size(); ++k) {
     const double x = nb.dot(s.p.vertices[k]);
-    if (x > first) second = first, first = x, best = k;
-    else second = std::max(second, x);
+    if (x > first)
+      second = first, first = x, best = k;
+    else
+      second = std::max(second, x);
   }
   value = first + n.dot(s.t), single = second < first - wide;
   return best;
@@ -1001,7 +1003,8 @@ bool patch_point(const Patch& P, const Patch& Q, double tol, Eigen::Vector2d& x)
   if (large.size >= 3 && holds(large, c, tol)) return x = c, true;
   Patch overlap = small;
   if (large.size >= 3) {
-    for (int k = 0; k < large.size && overlap.size > 0; ++k) clip(overlap, large.p[k], large.p[(k + 1) % large.size], tol);
+    for (int k = 0; k < large.size && overlap.size > 0; ++k)
+      clip(overlap, large.p[k], large.p[(k + 1) % large.size], tol);
   } else {  // two segments: on one line (clipped to each other below), or across at a point
     const Eigen::Vector2d e = large.p[1] - large.p[0], f = small.p[1] - small.p[0];
     const double len = e.norm();
@@ -1055,8 +1058,9 @@ bool contact_witnesses(const A& a, const B& b, const Contact& c, double tau, Vec
 // features (s on A, t on B) least contradict first (a guess: GJK's features near touching
 // may lie anywhere on the contact's planes).
 template <class A, class B>
-bool certified_touching(const A& a, const B& b, const Vector3d& p, const Vector3d& q, const Vector3d* s, const Vector3d* t,
-                        int count, double touching, double tau, double margin, Proximity& out, Contact& c) {
+bool certified_touching(const A& a, const B& b, const Vector3d& p, const Vector3d& q, const Vector3d* s,
+                        const Vector3d* t, int count, double touching, double tau, double margin, Proximity& out,
+                        Contact& c) {
   // (GJK slows down near touching: its points may be a few 1e-9 of the size apart there. They
   // only locate the candidate planes; the planes and the level sets are the proof.)
   const double near = std::max(margin, 4 * length(p - q));
@@ -1118,7 +1122,7 @@ bool certified_touching(const A& a, const B& b, const Vector3d& p, const Vector3
 // caller searches exhaustively.
 template <class A, class B>
 MINKSUM_FLATTEN bool certified_depth(const A& a, const B& b, const int (&ta)[4], const int (&tb)[4], double slack,
-                             double touching, Proximity& out, Features* facet = nullptr) {
+                                     double touching, Proximity& out, Features* facet = nullptr) {
   constexpr int kPoints = 64, kFaces = 128;
   struct Face {
     int v[3];
@@ -1244,7 +1248,6 @@ void farthest_pair(const A& a, const B& b, double k, Proximity& out) {
   out.max_distance = length(out.far_a - out.far_b);
 }
 
-
 // The tolerances of one query, from the largest coordinate of its shapes (reach; a bound for a
 // posed shape, so that the cold and the coherent query use the same): `slack`, what a
 // certificate may leave between its bounds (the supports' rounding); `touching`, the distance
@@ -1293,9 +1296,10 @@ void box_patch(const Box& a, const Box& b, Proximity& out) {
   Vector3d axis = n;
   for (const Box* x : {&a, &b})
     for (int k = 0; k < 3; ++k)
-      if (const double d = n.dot(x->rotation.col(k)); std::abs(d) > align) align = std::abs(d), axis = (d < 0 ? -1.0 : 1.0) * x->rotation.col(k);
-  const double reach = std::max({a.center.cwiseAbs().maxCoeff() + a.half_extents.sum(),
-                                 b.center.cwiseAbs().maxCoeff() + b.half_extents.sum()});
+      if (const double d = n.dot(x->rotation.col(k)); std::abs(d) > align)
+        align = std::abs(d), axis = (d < 0 ? -1.0 : 1.0) * x->rotation.col(k);
+  const double reach = std::max(
+      {a.center.cwiseAbs().maxCoeff() + a.half_extents.sum(), b.center.cwiseAbs().maxCoeff() + b.half_extents.sum()});
   const double eps = std::numeric_limits<double>::epsilon();
   const double tau = 256 * eps * reach, gap = out.intersecting ? -out.penetration_depth : out.distance;
   for (int snapped = 1; snapped >= 0; --snapped) {
@@ -1310,8 +1314,10 @@ void box_patch(const Box& a, const Box& b, Proximity& out) {
       int free[3], nfree = 0;
       for (int k = 0; k < 3; ++k) {
         const double d = sign * m.dot(x.rotation.col(k));
-        if (2 * x.half_extents[k] * std::abs(d) <= tau) free[nfree++] = k;
-        else base += (d > 0 ? 1.0 : -1.0) * x.half_extents[k] * x.rotation.col(k);
+        if (2 * x.half_extents[k] * std::abs(d) <= tau)
+          free[nfree++] = k;
+        else
+          base += (d > 0 ? 1.0 : -1.0) * x.half_extents[k] * x.rotation.col(k);
       }
       height = m.dot(base);
       const auto put = [&](const Vector3d& p) { P.p[P.size++] = Eigen::Vector2d(u.dot(p), w.dot(p)); };
@@ -1320,7 +1326,8 @@ void box_patch(const Box& a, const Box& b, Proximity& out) {
       if (nfree == 0) put(base);
       if (nfree == 1) put(base - edge(0)), put(base + edge(0));
       if (nfree == 2) {
-        put(base - edge(0) - edge(1)), put(base + edge(0) - edge(1)), put(base + edge(0) + edge(1)), put(base - edge(0) + edge(1));
+        put(base - edge(0) - edge(1)), put(base + edge(0) - edge(1)), put(base + edge(0) + edge(1)),
+            put(base - edge(0) + edge(1));
         if (area2(P) < 0) std::reverse(P.p, P.p + 4);
       }
       return nfree < 3;
@@ -1435,7 +1442,8 @@ bool certified(const A& a, const B& b, int found, const int (&fa)[4], const int 
       c = heights(a, b, out.penetration_direction, t.tau);
       ok = true;
     }
-  } else if (certified_depth(a, b, fa, fb, t.slack, t.touching, out, f) || depth_from_faces(a, b, 4, fa, fb, t, out, f)) {
+  } else if (certified_depth(a, b, fa, fb, t.slack, t.touching, out, f) ||
+             depth_from_faces(a, b, 4, fa, fb, t, out, f)) {
     c = heights(a, b, out.penetration_direction, t.tau);
     ok = true;
   } else {
@@ -1566,8 +1574,7 @@ void exact_proximity(const A& a, const B& b, Proximity& out, Want want, Features
 // support point on the other side of the origin make a tetrahedron around it, from which the
 // expanding polytope's certificate usually holds at once (the facet is still M's nearest).
 template <class A, class B>
-bool warm_depth(const A& a, const B& b, const ProximityCache& cache, const Tolerances& t, Proximity& out,
-                Features& f) {
+bool warm_depth(const A& a, const B& b, const ProximityCache& cache, const Tolerances& t, Proximity& out, Features& f) {
   Vector3d w[3];
   for (int j = 0; j < 3; ++j) w[j] = a.vertex(cache.a[j]) - b.vertex(cache.b[j]);
   Vector3d n = (w[1] - w[0]).cross(w[2] - w[0]);
@@ -1583,15 +1590,15 @@ bool warm_depth(const A& a, const B& b, const ProximityCache& cache, const Toler
 // (Flattened: see MINKSUM_FLATTEN.)
 template <class A, class B>
 MINKSUM_FLATTEN bool warm_proximity(const A& a, const B& b, const ProximityCache& cache, Proximity& out, Want want,
-                                     Features& f) {
+                                    Features& f) {
   if (cache.kind != kCacheConvex || !has(want, Want::Contact)) return false;
   for (int j = 0; j < 3; ++j)
     if (cache.a[j] < 0 || cache.a[j] >= a.size() || cache.b[j] < 0 || cache.b[j] >= b.size()) return false;
   const Tolerances t = tolerances(a, b);
   if (!(t.reach > 0 && t.reach <= kMaxCoordinate)) return false;
   out = Proximity{};
-  bool ok = (cache.active & kFaceNormal) &&
-            face_probe(a, b, int(cache.active >> 3), (cache.active & 4) != 0, t, out, f);
+  bool ok =
+      (cache.active & kFaceNormal) && face_probe(a, b, int(cache.active >> 3), (cache.active & 4) != 0, t, out, f);
   ok = ok || (cache.active == kDepthFacet && warm_depth(a, b, cache, t, out, f));
   if (!ok) {
     int fa[4], fb[4];
@@ -1622,7 +1629,9 @@ void cached_proximity(const A& a, const B& b, ProximityCache& cache, Proximity& 
   ++(warm ? cache.warm : cache.cold);
   cache.searched += out.searched;
   cache.kind = f.valid ? kCacheConvex : 0u;
-  cache.active = f.depth ? kDepthFacet : f.face >= 0 ? kFaceNormal | unsigned(f.face_of_b) << 2 | unsigned(f.face) << 3 : 0u;
+  cache.active = f.depth       ? kDepthFacet
+                 : f.face >= 0 ? kFaceNormal | unsigned(f.face_of_b) << 2 | unsigned(f.face) << 3
+                               : 0u;
   std::copy(f.a, f.a + 3, cache.a), std::copy(f.b, f.b + 3, cache.b);
 }
 
@@ -1690,7 +1699,8 @@ Status proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const Co
   if (a.empty() || b.empty()) return Status::TooFewPoints;
   for (const auto* pose : {&pose_a, &pose_b})
     if (const Status s = check_pose(*pose); s != Status::Ok) return s;
-  if (!own_form(a, pose_a, b, pose_b, nullptr, out, want)) exact_proximity(posed(a, pose_a), posed(b, pose_b), out, want);
+  if (!own_form(a, pose_a, b, pose_b, nullptr, out, want))
+    exact_proximity(posed(a, pose_a), posed(b, pose_b), out, want);
   return Status::Ok;
 }
 
@@ -1700,7 +1710,8 @@ Status proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const Co
   if (a.empty() || b.empty()) return Status::TooFewPoints;
   for (const auto* pose : {&pose_a, &pose_b})
     if (const Status s = check_pose(*pose); s != Status::Ok) return s;
-  if (!own_form(a, pose_a, b, pose_b, &cache, out, want)) cached_proximity(posed(a, pose_a), posed(b, pose_b), cache, out, want);
+  if (!own_form(a, pose_a, b, pose_b, &cache, out, want))
+    cached_proximity(posed(a, pose_a), posed(b, pose_b), cache, out, want);
   return Status::Ok;
 }
 

@@ -13,10 +13,9 @@
 
 namespace minksum {
 
-using Eigen::Vector3d;
 using detail::kFlatTol;
 using detail::kLineTol;
-
+using Eigen::Vector3d;
 
 namespace {
 
@@ -32,22 +31,22 @@ bool edges_from_loops(ConvexPolytope& p) {
     start.push_back(int(vertex.size()));
   }
   twin.resize(vertex.size());
-  if (!detail::pair_edges(start.data(), int(p.faces.size()), vertex.data(), int(p.vertices.size()), twin.data(), scratch))
+  if (!detail::pair_edges(start.data(), int(p.faces.size()), vertex.data(), int(p.vertices.size()), twin.data(),
+                          scratch))
     return false;
   p.edges.clear();
   for (size_t k = 0; k < vertex.size(); ++k) {
     const int v0 = vertex[k], v1 = vertex[size_t(twin[k])];  // the twin starts where this edge ends
     if (v0 < v1) p.edges.push_back(Edge{v0, v1, face[k], face[size_t(twin[k])]});
   }
-  std::sort(p.edges.begin(), p.edges.end(), [](const Edge& x, const Edge& y) {
-    return x.v0 != y.v0 ? x.v0 < y.v0 : x.v1 < y.v1;
-  });
+  std::sort(p.edges.begin(), p.edges.end(),
+            [](const Edge& x, const Edge& y) { return x.v0 != y.v0 ? x.v0 < y.v0 : x.v1 < y.v1; });
   return true;
 }
 
 // Flat polytope from a counter-clockwise (about n) loop of the points `pts`.
-Status make_flat(const std::vector<Vector3d>& pts, const std::vector<int>& loop_ids,
-                 const Vector3d& n, ConvexPolytope& out) {
+Status make_flat(const std::vector<Vector3d>& pts, const std::vector<int>& loop_ids, const Vector3d& n,
+                 ConvexPolytope& out) {
   out = ConvexPolytope{};
   out.flat = true;
   std::vector<int> top;
@@ -72,8 +71,7 @@ Status polytope_from_points(const std::vector<Vector3d>& points, ConvexPolytope&
   std::vector<int> order(points.size());
   for (int k = 0; k < int(points.size()); ++k) order[k] = k;
   auto lex = [&](int a, int b) {
-    return std::lexicographical_compare(points[a].data(), points[a].data() + 3, points[b].data(),
-                                        points[b].data() + 3);
+    return std::lexicographical_compare(points[a].data(), points[a].data() + 3, points[b].data(), points[b].data() + 3);
   };
   std::stable_sort(order.begin(), order.end(), lex);
   std::vector<int> unique_ids;
@@ -132,8 +130,8 @@ Status polytope_from_points(const std::vector<Vector3d>& points, ConvexPolytope&
   return edges_from_loops(out) ? Status::Ok : Status::HullFailed;
 }
 
-Status polytope_from_mesh(const std::vector<Vector3d>& vertices,
-                          const std::vector<std::vector<int>>& faces, ConvexPolytope& out) {
+Status polytope_from_mesh(const std::vector<Vector3d>& vertices, const std::vector<std::vector<int>>& faces,
+                          ConvexPolytope& out) {
   out = ConvexPolytope{};
   if (const Status s = check_coordinates(vertices); s != Status::Ok) return s;
   if (vertices.size() < 4 || faces.size() < 4) return Status::InvalidMesh;
@@ -154,8 +152,7 @@ Status polytope_from_mesh(const std::vector<Vector3d>& vertices,
     }
     // Newell's method gives a robust normal for any planar polygon.
     Vector3d n = Vector3d::Zero();
-    for (size_t k = 0; k < loop.size(); ++k)
-      n += vertices[loop[k]].cross(vertices[loop[(k + 1) % loop.size()]]);
+    for (size_t k = 0; k < loop.size(); ++k) n += vertices[loop[k]].cross(vertices[loop[(k + 1) % loop.size()]]);
     if (n.norm() <= 1e-12 * D * D) return Status::InvalidMesh;
     n.normalize();
     Face f{loop, n, n.dot(vertices[loop[0]])};
@@ -184,7 +181,6 @@ Status polytope_from_mesh(const std::vector<Vector3d>& vertices,
   // Valid and convex: the canonical structure (coplanar faces merged) comes from the hull.
   return polytope_from_points(vertices, out);
 }
-
 
 Status polytope_from_box(const Box& box, ConvexPolytope& out) {
   if (const Status s = check_box(box); s != Status::Ok) {
@@ -224,7 +220,6 @@ Status polytope_from_box(const Box& box, ConvexPolytope& out) {
     }
   return Status::Ok;
 }
-
 
 Status polytope_from_triangle(const Triangle& t, ConvexPolytope& out) {
   out = ConvexPolytope{};

@@ -60,7 +60,8 @@ Status prepare_flat(const ConvexPolytope& p, ShapeData& s, double extent, Topolo
       !std::equal(top.begin(), top.end(), p.faces[1].loop.rbegin(), p.faces[1].loop.rend()))
     return Status::InvalidMesh;
   for (int v : top)
-    if (v < 0 || v >= V || std::abs(n.dot(p.vertices[v] - p.vertices[top[0]])) > 1e-9 * extent) return Status::InvalidMesh;
+    if (v < 0 || v >= V || std::abs(n.dot(p.vertices[v] - p.vertices[top[0]])) > 1e-9 * extent)
+      return Status::InvalidMesh;
   s.faces = K + 2, s.arcs = 3 * K, s.cells = 2 * K;
   s.gauss.resize(size_t(s.faces));
   const auto set_normal = [&s](int f, const Vector3d& m) { s.gauss[f] = m; };
@@ -164,7 +165,8 @@ Status build_layout(const Topology& t, int cells, bool reversed, MapLayout& m, s
   }
   m.loop_start = t.loop_start;
   const size_t L = t.loop_cell.size();
-  m.loop_cell.resize(L), m.loop_arc.resize(L), m.loop_face.resize(L), m.loop_slot.resize(L), m.loop_least.resize(size_t(F));
+  m.loop_cell.resize(L), m.loop_arc.resize(L), m.loop_face.resize(L), m.loop_slot.resize(L),
+      m.loop_least.resize(size_t(F));
   for (int f = 0; f < F; ++f) {
     const int first = t.loop_start[f], n = t.loop_start[f + 1] - first;
     for (int k = 0; k < n; ++k) m.loop_cell[first + k] = t.loop_cell[first + (reversed ? n - 1 - k : k)];
@@ -209,7 +211,8 @@ Status build_layout(const Topology& t, int cells, bool reversed, MapLayout& m, s
   }
   for (int& s : m.loop_slot) s = order[s];
   m.arc_slot.resize(size_t(S));
-  for (int e = 0; e < E; ++e) at_u[e] = m.arc_slot[2 * e] = order[at_u[e]], at_v[e] = m.arc_slot[2 * e + 1] = order[at_v[e]];
+  for (int e = 0; e < E; ++e)
+    at_u[e] = m.arc_slot[2 * e] = order[at_u[e]], at_v[e] = m.arc_slot[2 * e + 1] = order[at_v[e]];
   for (int e = 0; e < E; ++e) order[at_u[e]] = at_v[e], order[at_v[e]] = at_u[e];
   for (int f = 0; f < F; ++f)
     for (int k = m.loop_start[f]; k < m.loop_start[f + 1]; ++k) {
@@ -358,6 +361,5 @@ Status shape_from_triangle(const Triangle& t, ConvexShape& out) {
 Status shape_from_polytope(const ConvexPolytope& p, ConvexShape& out) {
   return adopt(Status::Ok, ConvexPolytope(p), out);
 }
-
 
 }  // namespace minksum

@@ -27,16 +27,16 @@ struct MapLayout {
     int arc, next, face;
   };
   std::vector<Arc> arc;
-  std::vector<int> cell_start;   // per cell (cells + 1): its slots in cell_slot
-  std::vector<Slot> cell_slot;   // counter-clockwise around each cell
-  std::vector<int> slot_twin;    // per slot: the same arc's slot in the cell across
-  std::vector<int> arc_slot;     // per arc e: its slot in cell u (2e) and in cell v (2e + 1)
-  std::vector<int> loop_start;   // per face (faces + 1): its loop
-  std::vector<int> loop_cell;    // the face's cells, counter-clockwise
-  std::vector<int> loop_arc;     // arc k of a loop joins its cells k and k + 1
-  std::vector<int> loop_face;    // the face across arc k
-  std::vector<int> loop_slot;    // the slot of arc k in cell k (the face follows it there)
-  std::vector<int> loop_least;   // per face: where in its loop its smallest vertex is
+  std::vector<int> cell_start;  // per cell (cells + 1): its slots in cell_slot
+  std::vector<Slot> cell_slot;  // counter-clockwise around each cell
+  std::vector<int> slot_twin;   // per slot: the same arc's slot in the cell across
+  std::vector<int> arc_slot;    // per arc e: its slot in cell u (2e) and in cell v (2e + 1)
+  std::vector<int> loop_start;  // per face (faces + 1): its loop
+  std::vector<int> loop_cell;   // the face's cells, counter-clockwise
+  std::vector<int> loop_arc;    // arc k of a loop joins its cells k and k + 1
+  std::vector<int> loop_face;   // the face across arc k
+  std::vector<int> loop_slot;   // the slot of arc k in cell k (the face follows it there)
+  std::vector<int> loop_least;  // per face: where in its loop its smallest vertex is
 };
 
 /// A prepared convex polytope. A flat polygon of K vertices is the limit of a thin prism: K + 2
@@ -47,8 +47,8 @@ struct ShapeData {
   /// What a builder made: a box or a triangle keeps its own form, so that queries take the
   /// box-box and box-triangle paths (and their caches) on it.
   enum class Kind : std::uint8_t { General, Box, Triangle } kind = Kind::General;
-  Box box;            // shape_from_box's box (body frame)
-  Triangle triangle;  // shape_from_triangle's triangle (body frame)
+  Box box;                                       // shape_from_box's box (body frame)
+  Triangle triangle;                             // shape_from_triangle's triangle (body frame)
   ConvexPolytope polytope;                       // a built shape's own polytope (body frame)
   const ConvexPolytope* polytope_ref = nullptr;  // the polytope prepared: &polytope, or the caller's
   int faces = 0, arcs = 0, cells = 0;
@@ -56,19 +56,19 @@ struct ShapeData {
   /// made canonical (canonical_direction), so that exactly parallel faces of any two shapes
   /// have the same vector; rounded once where it is not representable.
   std::vector<Eigen::Vector3d> gauss;
-  std::vector<std::uint8_t> gauss_nonzero;       // per face: bit k set iff component k of its Gauss normal is not 0
-  std::vector<double> nx, ny, nz;                // unit face normals (the sums' planes)
-  MapLayout map[2];                              // [0] the shape's own, [1] that of -B
-  std::vector<Eigen::Vector3d> pole[2];          // per arc, in each layout: G_L x G_R (for -B: -G_R x -G_L)
+  std::vector<std::uint8_t> gauss_nonzero;  // per face: bit k set iff component k of its Gauss normal is not 0
+  std::vector<double> nx, ny, nz;           // unit face normals (the sums' planes)
+  MapLayout map[2];                         // [0] the shape's own, [1] that of -B
+  std::vector<Eigen::Vector3d> pole[2];     // per arc, in each layout: G_L x G_R (for -B: -G_R x -G_L)
   /// Per arc: bit k set iff component k of its pole is 0 for want of a term (each product of
   /// that 2 x 2 minor has a zero factor): with gauss_nonzero, a sign that is 0 without
   /// arithmetic (axis-aligned and prism normals).
   std::vector<std::uint8_t> pole_zero;
-  std::vector<int> cell_vertex;                  // per cell: its polytope vertex
-  std::vector<int> vertex_cell;                  // per vertex: a cell of it (a prism's top copy)
-  std::vector<double> px, py, pz;                // polytope vertices
-  std::vector<double> ex, ey, ez;                // per arc: its edge p_v - p_u (a prism's zero-length ones: 0)
-  double size = 0;                               // largest |coordinate|: the scale of the rounding
+  std::vector<int> cell_vertex;    // per cell: its polytope vertex
+  std::vector<int> vertex_cell;    // per vertex: a cell of it (a prism's top copy)
+  std::vector<double> px, py, pz;  // polytope vertices
+  std::vector<double> ex, ey, ez;  // per arc: its edge p_v - p_u (a prism's zero-length ones: 0)
+  double size = 0;                 // largest |coordinate|: the scale of the rounding
   /// The largest sine of the angle between an edge and its arc's pole: rounding (about
   /// 1e-16 / |G_L x G_R|), or faces planar only to a tolerance (Qhull's merged facets, a
   /// flat polygon's points within 1e-10 of its plane).
@@ -79,7 +79,7 @@ struct ShapeData {
   double support_error = 0;
   /// The largest of those angles (pole_error_bound) over the arcs.
   double pole_error = 0;
-  std::vector<Eigen::Vector3d> dir;              // prepare's: per arc p_v - p_u (a prism's zero-length arcs: -normal x width)
+  std::vector<Eigen::Vector3d> dir;  // prepare's: per arc p_v - p_u (a prism's zero-length arcs: -normal x width)
 };
 
 /// The angle (a bound) between the pole G_L x G_R rounded in double and the exact cross product

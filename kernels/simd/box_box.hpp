@@ -9,8 +9,8 @@ namespace minksum::detail {
 template <class T, class Arch>
 struct BoxBoxKernels : Lanes<T, Arch> {
   using L = Lanes<T, Arch>;
-  using typename L::S, typename L::B, typename L::V3;
   using L::dot, L::cross, L::scaled, L::load3, L::store3, L::inv_len_or_zero, L::box_support, L::with_row_stride;
+  using typename L::S, typename L::B, typename L::V3;
 
   // Box-box: 15 axes, 30 planes (see BoxBoxPlanes), worked in A's frame, where A's axes are
   // e_0, e_1, e_2 and B's are the columns of C = U_A^T U_B (the OBB separating-axis formulation
@@ -20,14 +20,14 @@ struct BoxBoxKernels : Lanes<T, Arch> {
   // stay consistent (no rounding error divided by |u_i x v_j| for nearly parallel edges), and all
   // of it is linear in the unnormalised axis, so the dot products run while 1/|axis| is
   // computed. The normal is taken back to the world frame as U_A times the A-frame axis.
-  static void box_box(BoxLanes<T> a, BoxLanes<T> b, int count, int N, bool difference,
-                      PlaneLanes<T> out, SumLanes<T> sum) {
+  static void box_box(BoxLanes<T> a, BoxLanes<T> b, int count, int N, bool difference, PlaneLanes<T> out,
+                      SumLanes<T> sum) {
     with_row_stride(N, [&](auto R) { box_box_rows<R.value>(a, b, count, N, difference, out, sum); });
   }
   // R: the row stride N fixed at compile time, or 0 (any N).
   template <int R>
-  static void box_box_rows(BoxLanes<T> a, BoxLanes<T> b, int count, int any_N, bool difference,
-                           PlaneLanes<T> out, SumLanes<T> sum) {
+  static void box_box_rows(BoxLanes<T> a, BoxLanes<T> b, int count, int any_N, bool difference, PlaneLanes<T> out,
+                           SumLanes<T> sum) {
     const int N = R ? R : any_N;
     const B sign(difference ? T(-1) : T(1)), zero(0), one(1);
     const bool whole = sum.loop && !difference;  // the whole polytope too (sums only)
@@ -70,12 +70,11 @@ struct BoxBoxKernels : Lanes<T, Arch> {
       };
 #pragma GCC unroll 3
       for (int p = 0; p < 3; ++p) {
-        emit(p, ua(p), ha(p) + S::fma(hb(0), A[p][0], S::fma(hb(1), A[p][1], hb(2) * A[p][2])), cA[p],
-             B(T(1 << p)), bit(C[p][0] > zero, 3) + bit(C[p][1] > zero, 4) + bit(C[p][2] > zero, 5));
+        emit(p, ua(p), ha(p) + S::fma(hb(0), A[p][0], S::fma(hb(1), A[p][1], hb(2) * A[p][2])), cA[p], B(T(1 << p)),
+             bit(C[p][0] > zero, 3) + bit(C[p][1] > zero, 4) + bit(C[p][2] > zero, 5));
         const V3 v = ub(p);
-        emit(3 + p, v, hb(p) + S::fma(ha(0), A[0][p], S::fma(ha(1), A[1][p], ha(2) * A[2][p])),
-             dot(v, c), bit(C[0][p] > zero, 0) + bit(C[1][p] > zero, 1) + bit(C[2][p] > zero, 2),
-             B(T(8 << p)));
+        emit(3 + p, v, hb(p) + S::fma(ha(0), A[0][p], S::fma(ha(1), A[1][p], ha(2) * A[2][p])), dot(v, c),
+             bit(C[0][p] > zero, 0) + bit(C[1][p] > zero, 1) + bit(C[2][p] > zero, 2), B(T(8 << p)));
       }
 #pragma GCC unroll 3
       for (int i = 0; i < 3; ++i) {
@@ -147,8 +146,7 @@ struct BoxBoxKernels : Lanes<T, Arch> {
     // Level by level, each into a new array (GCC 12 -O3 miscompiled an in-place version for
     // scalar floats).
     const auto step = [&](const V3& x, int a, bool plus) {
-      return plus ? V3{x.x + g[a].x, x.y + g[a].y, x.z + g[a].z}
-                  : V3{x.x - g[a].x, x.y - g[a].y, x.z - g[a].z};
+      return plus ? V3{x.x + g[a].x, x.y + g[a].y, x.z + g[a].z} : V3{x.x - g[a].x, x.y - g[a].y, x.z - g[a].z};
     };
     const V3 x[2] = {step(c, 0, false), step(c, 0, true)};
     V3 y[4];
@@ -160,8 +158,7 @@ struct BoxBoxKernels : Lanes<T, Arch> {
   // built from the same helpers as box_box. in = c_A, c_B (3 each), the axes u_A0..2, u_B0..2
   // (3 each), h_A, h_B (3 each). Out, per axis lane q: n[d * 16 + q], off[q] (plane +n),
   // off[16 + q] (plane -n), code[q] as in BoxBoxPlanes, valid[q] in {0, 1}.
-  static void box_box_axes(const T* in, bool difference, T* n, T* off, CodeOf<T>* code,
-                           CodeOf<T>* valid) {
+  static void box_box_axes(const T* in, bool difference, T* n, T* off, CodeOf<T>* code, CodeOf<T>* valid) {
     const T* u = in + 6;  // axis k of the six at u[3k..3k+2]
     // Per lane: the face axis itself (kFace), or the two edge directions whose cross is the axis
     // (kE of A, kF of B); kFixA/kFixB: the codes a face axis fixes (own bit set, the rest are
@@ -170,10 +167,8 @@ struct BoxBoxKernels : Lanes<T, Arch> {
     static constexpr int kE[16] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 2, 2, 2, 0};
     static constexpr int kF[16] = {4, 4, 4, 4, 4, 4, 3, 4, 5, 3, 4, 5, 3, 4, 5, 4};
     alignas(64) static constexpr T kIsFace[16] = {1, 1, 1, 1, 1, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
-    alignas(64) static constexpr T kFixA[16] = {1, 2, 4, -1, -1, -1, -1, -1,
-                                                -1, -1, -1, -1, -1, -1, -1, -1};
-    alignas(64) static constexpr T kFixB[16] = {-1, -1, -1, 1, 2, 4, -1, -1,
-                                                -1, -1, -1, -1, -1, -1, -1, -1};
+    alignas(64) static constexpr T kFixA[16] = {1, 2, 4, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1};
+    alignas(64) static constexpr T kFixB[16] = {-1, -1, -1, 1, 2, 4, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1};
     alignas(64) T face[3][16], e[3][16], f[3][16];
 #pragma GCC unroll 16
     for (int q = 0; q < 16; ++q)
@@ -197,8 +192,7 @@ struct BoxBoxKernels : Lanes<T, Arch> {
       // so the dot products run while 1/|v| is still being computed, and are scaled after.
       const V3 x = cross(load3(&e[0][0], 16, q), load3(&f[0][0], 16, q));
       const V3 fc = load3(&face[0][0], 16, q);
-      const V3 v{S::select(face_lane, fc.x, x.x), S::select(face_lane, fc.y, x.y),
-                 S::select(face_lane, fc.z, x.z)};
+      const V3 v{S::select(face_lane, fc.x, x.x), S::select(face_lane, fc.y, x.y), S::select(face_lane, fc.z, x.z)};
       B ok(T(0));
       const B inv = S::select(face_lane, one, inv_len_or_zero(x, one, ok, T(1)));
       B sa, codea, sb, codeb;

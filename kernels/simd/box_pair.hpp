@@ -27,8 +27,8 @@ struct BoxPair {
 
 template <class T>
 struct SatResult {
-  T separation;     // largest separation over the axes (negative: the smallest overlap)
-  T normal[3];      // its unit normal, outward from M on the origin's side
+  T separation;        // largest separation over the axes (negative: the smallest overlap)
+  T normal[3];         // its unit normal, outward from M on the origin's side
   unsigned free_mask;  // the two generators spanning that facet
 };
 
@@ -105,7 +105,8 @@ struct BoxPairQuery {
       if (d > bd) bd = d, w = i;
     }
     for (int i = 0; i < 3; ++i) {
-      const T d = std::abs(p.uc[3 + i]) - (p.h[3 + i] + p.h[0] * absC[0][i] + p.h[1] * absC[1][i] + p.h[2] * absC[2][i]);
+      const T d =
+          std::abs(p.uc[3 + i]) - (p.h[3 + i] + p.h[0] * absC[0][i] + p.h[1] * absC[1][i] + p.h[2] * absC[2][i]);
       if (d > bd) bd = d, w = 3 + i;
     }
     T bkey = bd * std::abs(bd);
@@ -115,8 +116,8 @@ struct BoxPairQuery {
       for (int j = 0; j < 3; ++j) {
         const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
         const T len2 = p.C[i1][j] * p.C[i1][j] + p.C[i2][j] * p.C[i2][j];
-        const T r = p.h[i1] * absC[i2][j] + p.h[i2] * absC[i1][j] + p.h[3 + j1] * absC[i][j2] +
-                    p.h[3 + j2] * absC[i][j1];
+        const T r =
+            p.h[i1] * absC[i2][j] + p.h[i2] * absC[i1][j] + p.h[3 + j1] * absC[i][j2] + p.h[3 + j2] * absC[i][j1];
         const T d = std::abs(p.uc[i2] * p.C[i1][j] - p.uc[i1] * p.C[i2][j]) - r;
         const T key = d * std::abs(d);
         // (A sliver axis, closer to parallel than kSliverThreshold, is skipped: see
@@ -160,16 +161,16 @@ struct BoxPairQuery {
     for (int k = 0; k < 6; ++k) noise += p.h[k];
     noise *= 64 * std::numeric_limits<T>::epsilon();
     // c - q + the generators outside `skip` at their parameters.
-    const auto residual = [&](unsigned skip, T (&r)[3]) {
+    const auto residual = [&](unsigned skip, T(&r)[3]) {
       T w[6];
       for (int k = 0; k < 6; ++k) w[k] = (skip >> k & 1) ? T(0) : t[k];
       for (int d = 0; d < 3; ++d)
-        r[d] = base[d] + w[0] * p.g[0][d] + w[1] * p.g[1][d] + w[2] * p.g[2][d] +
-               w[3] * p.g[3][d] + w[4] * p.g[4][d] + w[5] * p.g[5][d];
+        r[d] = base[d] + w[0] * p.g[0][d] + w[1] * p.g[1][d] + w[2] * p.g[2][d] + w[3] * p.g[3][d] + w[4] * p.g[4][d] +
+               w[5] * p.g[5][d];
     };
     unsigned blocked = 0;  // generators found dependent on the free ones (no KKT progress)
     int newest = -1;       // the generator freed last: the one to drop if the system is singular
-    const auto drop = [&](const int (&f)[3], int m) {
+    const auto drop = [&](const int(&f)[3], int m) {
       const int k = (newest >= 0 && (free_mask >> newest & 1)) ? newest : f[m - 1];
       free_mask &= ~(1u << k), blocked |= 1u << k;
     };
@@ -193,9 +194,8 @@ struct BoxPairQuery {
         } else if (m == 2) {
           const T* g1 = p.g[f[1]];
           const T G00 = dot3(g0, g0), G11 = dot3(g1, g1), G01 = dot3(g0, g1);
-          const T x[3] = {g0[1] * g1[2] - g0[2] * g1[1], g0[2] * g1[0] - g0[0] * g1[2],
-                          g0[0] * g1[1] - g0[1] * g1[0]};
-          const T det = dot3(x, x);  // G00 G11 - G01^2 without the cancellation
+          const T x[3] = {g0[1] * g1[2] - g0[2] * g1[1], g0[2] * g1[0] - g0[0] * g1[2], g0[0] * g1[1] - g0[1] * g1[0]};
+          const T det = dot3(x, x);              // G00 G11 - G01^2 without the cancellation
           if (!(det > eps * eps * G00 * G11)) {  // parallel: one of them is enough
             drop(f, m);
             continue;
@@ -206,7 +206,7 @@ struct BoxPairQuery {
           const T* g1 = p.g[f[1]];
           const T* g2 = p.g[f[2]];
           // Three independent generators reach r = 0: solve G_F z = -r0 (Cramer's rule).
-          const auto cross = [](const T* a, const T* b, T (&x)[3]) {
+          const auto cross = [](const T* a, const T* b, T(&x)[3]) {
             x[0] = a[1] * b[2] - a[2] * b[1], x[1] = a[2] * b[0] - a[0] * b[2], x[2] = a[0] * b[1] - a[1] * b[0];
           };
           T x12[3], x20[3], x01[3];
@@ -260,8 +260,8 @@ struct BoxPairQuery {
   /// (kActiveSet) and proves optimal for separated boxes (out.warm; then p holds only what
   /// that path reads), else cold. `active` returns the answer's active set (0 when the boxes
   /// overlap: the next query starts cold).
-  MINKSUM_SCALAR_CODE static void box_pair(const BoxLanes<double>& a, const BoxLanes<double>& b, bool answer, unsigned& active,
-                                           BoxPair<T>& p, PairAnswer<T>& out) {
+  MINKSUM_SCALAR_CODE static void box_pair(const BoxLanes<double>& a, const BoxLanes<double>& b, bool answer,
+                                           unsigned& active, BoxPair<T>& p, PairAnswer<T>& out) {
     out.warm = false;
     if (answer && (active & kActiveSet)) {
       load_generators(a, b, p);
@@ -284,8 +284,8 @@ struct BoxPairQuery {
   MINKSUM_SCALAR_CODE static void write_points(const BoxPair<T>& p, const T (&t)[6], T (&m)[3], PairAnswer<T>& out) {
     for (int d = 0; d < 3; ++d) {
       out.point_a[d] = p.ca[d] + t[0] * p.g[0][d] + t[1] * p.g[1][d] + t[2] * p.g[2][d];
-      m[d] = p.c[d] + t[0] * p.g[0][d] + t[1] * p.g[1][d] + t[2] * p.g[2][d] + t[3] * p.g[3][d] +
-             t[4] * p.g[4][d] + t[5] * p.g[5][d];
+      m[d] = p.c[d] + t[0] * p.g[0][d] + t[1] * p.g[1][d] + t[2] * p.g[2][d] + t[3] * p.g[3][d] + t[4] * p.g[4][d] +
+             t[5] * p.g[5][d];
       out.point_b[d] = out.point_a[d] - m[d];
     }
   }

@@ -9,8 +9,8 @@ namespace minksum::detail {
 template <class T, class Arch>
 struct BoxProximityKernels : Lanes<T, Arch> {
   using L = Lanes<T, Arch>;
-  using typename L::S, typename L::B, typename L::V3;
   using L::dot, L::cross, L::scaled, L::load3, L::store3, L::pick, L::axpy, L::pick3;
+  using typename L::S, typename L::B, typename L::V3;
 
   // Box-box proximity on the zonotope M = A (-) B = c + sum_k t_k g_k, t in [-1, 1]^6, with
   // c = c_A - c_B and generators g = (h_Ak u_Ak, -h_Bk u_Bk). Each pair (i, j) of generators
@@ -54,7 +54,7 @@ struct BoxProximityKernels : Lanes<T, Arch> {
 
   template <class Role>
   [[gnu::always_inline]] static FacetEval facet(const Role& role, const V3& c, const V3& ca, const V3 (&g)[6],
-                         const B (&g2)[6], const V3& gi, const V3& gj) {
+                                                const B (&g2)[6], const V3& gi, const V3& gj) {
     const B zero(T(0)), one(T(1)), inf(std::numeric_limits<T>::infinity());
     auto sgn = [&](const B& v) { return S::select(v < zero, -one, one); };
     auto clamp1 = [&](const B& v) { return S::max(-one, S::select(v > one, one, v)); };
@@ -110,8 +110,7 @@ struct BoxProximityKernels : Lanes<T, Arch> {
     f.dist2 = S::select(valid, S::select(second, d2, d1), inf);
     // The point on A: c_A plus A's generators at their parameters.
     f.pa = ca;
-    for (int q = 0; q < 3; ++q)
-      f.pa = axpy(pick(role.is_i(q), ab, pick(role.is_j(q), bb, extreme[q])), g[q], f.pa);
+    for (int q = 0; q < 3; ++q) f.pa = axpy(pick(role.is_i(q), ab, pick(role.is_j(q), bb, extreme[q])), g[q], f.pa);
     const V3 miss = axpy(-f.overlap, f.n_out, f.P);
     f.err = S::select(valid, dot(miss, miss), inf);
     return f;
@@ -141,8 +140,7 @@ struct BoxProximityKernels : Lanes<T, Arch> {
     }
   };
 
-  static void generators(const V3 (&ua)[3], const B (&ha)[3], const V3 (&ub)[3], const B (&hb)[3],
-                         V3 (&g)[6]) {
+  static void generators(const V3 (&ua)[3], const B (&ha)[3], const V3 (&ub)[3], const B (&hb)[3], V3 (&g)[6]) {
     for (int i = 0; i < 3; ++i) g[i] = scaled(ua[i], ha[i]), g[3 + i] = scaled(ub[i], B(T(0)) - hb[i]);
   }
 
@@ -177,9 +175,8 @@ struct BoxProximityKernels : Lanes<T, Arch> {
     }
   };
 
-  static void store_proximity(ProximityLanes<T> out, int N, int k, const B& separated,
-                              const B& distance, const B& depth, const V3& dir, const V3& pa,
-                              const V3& p) {
+  static void store_proximity(ProximityLanes<T> out, int N, int k, const B& separated, const B& distance,
+                              const B& depth, const V3& dir, const V3& pa, const V3& p) {
     S::store(out.distance + k, distance);
     S::store(out.depth + k, depth);
     store3(out.direction, N, k, scaled(dir, B(T(1)) - separated));
@@ -188,8 +185,7 @@ struct BoxProximityKernels : Lanes<T, Arch> {
   }
 
   // All 15 facet pairs of one register of lanes (k .. k + S::size).
-  static void proximity_all_facets(BoxLanes<T> a, BoxLanes<T> b, int N, int k,
-                                   ProximityLanes<T> out) {
+  static void proximity_all_facets(BoxLanes<T> a, BoxLanes<T> b, int N, int k, ProximityLanes<T> out) {
     const B zero(T(0)), one(T(1));
     const PairRegister r(a, b, N, k);
     Fold fold;
@@ -200,10 +196,9 @@ struct BoxProximityKernels : Lanes<T, Arch> {
     // touching boxes in float). Every facet part is in M, so when separated the
     // nearest of all of them is the nearest point of M.
     const auto separated = fold.least < zero;
-    store_proximity(out, N, k, S::select(separated, one, zero),
-                    S::select(separated, S::sqrt(fold.best2), zero),
-                    S::select(separated, zero, fold.depth), fold.dir,
-                    pick3(separated, fold.best_pa, fold.deep_pa), pick3(separated, fold.best_p, fold.deep_p));
+    store_proximity(out, N, k, S::select(separated, one, zero), S::select(separated, S::sqrt(fold.best2), zero),
+                    S::select(separated, zero, fold.depth), fold.dir, pick3(separated, fold.best_pa, fold.deep_pa),
+                    pick3(separated, fold.best_p, fold.deep_p));
   }
 
   // The fast path for one register: the separating axis test picks each lane's facet (the axis
@@ -233,8 +228,10 @@ struct BoxProximityKernels : Lanes<T, Arch> {
     };
 #pragma GCC unroll 3
     for (int i = 0; i < 3; ++i) {  // face axis i of A is spanned by pair 2 - i, of B by 5 - i
-      keep(S::abs(cA[i]) - (r.ha[i] + S::fma(r.hb[0], absC[i][0], S::fma(r.hb[1], absC[i][1], r.hb[2] * absC[i][2]))), 2 - i);
-      keep(S::abs(cB[i]) - (r.hb[i] + S::fma(r.ha[0], absC[0][i], S::fma(r.ha[1], absC[1][i], r.ha[2] * absC[2][i]))), 5 - i);
+      keep(S::abs(cA[i]) - (r.ha[i] + S::fma(r.hb[0], absC[i][0], S::fma(r.hb[1], absC[i][1], r.hb[2] * absC[i][2]))),
+           2 - i);
+      keep(S::abs(cB[i]) - (r.hb[i] + S::fma(r.ha[0], absC[0][i], S::fma(r.ha[1], absC[1][i], r.ha[2] * absC[2][i]))),
+           5 - i);
     }
     const B sliver2(kSliverThreshold<T> * kSliverThreshold<T>);
 #pragma GCC unroll 3
@@ -246,8 +243,8 @@ struct BoxProximityKernels : Lanes<T, Arch> {
         // L = u_Ai x u_Bj: |L|^2 = C_i1j^2 + C_i2j^2, L . c = cA_i1 C_i2j - cA_i2 C_i1j, and
         // the radius from the rows and columns of |C| (right-handed frames).
         const B len2 = S::fma(C[i1][j], C[i1][j], C[i2][j] * C[i2][j]);
-        const B rad = S::fma(r.ha[i1], absC[i2][j], S::fma(r.ha[i2], absC[i1][j],
-                             S::fma(r.hb[j1], absC[i][j2], r.hb[j2] * absC[i][j1])));
+        const B rad = S::fma(r.ha[i1], absC[i2][j],
+                             S::fma(r.ha[i2], absC[i1][j], S::fma(r.hb[j1], absC[i][j2], r.hb[j2] * absC[i][j1])));
         const B lc = cA[i1] * C[i2][j] - cA[i2] * C[i1][j];
         const auto ok = len2 > sliver2;
         keep(S::select(ok, (S::abs(lc) - rad) * S::rsqrt(S::select(ok, len2, one)), -inf), 6 + 3 * i + j);
@@ -270,8 +267,8 @@ struct BoxProximityKernels : Lanes<T, Arch> {
     for (int q = 0; q < 6; ++q) low = low - S::abs(dot(f.P, r.g[q]));
     const auto separated = best > zero && f.dist2 < inf;
     const B dist = S::sqrt(S::select(separated, f.dist2, zero));
-    const auto proven = (separated && low >= f.dist2 - dist * tol) ||
-                        (best <= zero && f.overlap < inf && f.err <= tol * tol);
+    const auto proven =
+        (separated && low >= f.dist2 - dist * tol) || (best <= zero && f.overlap < inf && f.err <= tol * tol);
     const B nan(std::numeric_limits<T>::quiet_NaN());
     store_proximity(out, N, k, S::select(separated, one, zero), S::select(proven, dist, nan),
                     S::select(separated, zero, f.overlap), f.n_out, f.pa, f.P);
@@ -279,8 +276,7 @@ struct BoxProximityKernels : Lanes<T, Arch> {
 
   // One pair per lane: the fast path, then the lanes it could not prove through all facets,
   // gathered S::size at a time into local lanes.
-  static void box_box_proximity(BoxLanes<T> a, BoxLanes<T> b, int count, int N,
-                                ProximityLanes<T> out) {
+  static void box_box_proximity(BoxLanes<T> a, BoxLanes<T> b, int count, int N, ProximityLanes<T> out) {
     for (int k = 0; k < count; k += S::size) proximity_fast(a, b, N, k, out);
     constexpr int L = S::size;
     alignas(64) T in[2][15 * L], res[11 * L];
@@ -317,8 +313,7 @@ struct BoxProximityKernels : Lanes<T, Arch> {
   // A (-) B, and a lower bound of the distance (the largest separation over the 15 axes), for
   // octree traversal and broad phases. Edge axes use the unnormalised cross product and scale
   // the separation once.
-  static void box_box_separation(BoxLanes<T> a, BoxLanes<T> b, int count, int N, T* bound,
-                                 CodeOf<T>* hit) {
+  static void box_box_separation(BoxLanes<T> a, BoxLanes<T> b, int count, int N, T* bound, CodeOf<T>* hit) {
     const B zero(T(0)), one(T(1));
     for (int k = 0; k < count; k += S::size) {
       V3 ua[3], ub[3];
@@ -332,8 +327,7 @@ struct BoxProximityKernels : Lanes<T, Arch> {
       B sep(-std::numeric_limits<T>::infinity());
       auto radius = [&](const V3& n) {
         B r(T(0));
-        for (int q = 0; q < 3; ++q)
-          r = S::fma(ha[q], S::abs(dot(n, ua[q])), S::fma(hb[q], S::abs(dot(n, ub[q])), r));
+        for (int q = 0; q < 3; ++q) r = S::fma(ha[q], S::abs(dot(n, ua[q])), S::fma(hb[q], S::abs(dot(n, ub[q])), r));
         return r;
       };
       for (int p = 0; p < 3; ++p) {

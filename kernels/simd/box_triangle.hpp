@@ -9,13 +9,12 @@ namespace minksum::detail {
 template <class T, class Arch>
 struct BoxTriangleKernels : Lanes<T, Arch> {
   using L = Lanes<T, Arch>;
-  using typename L::S, typename L::B, typename L::V3;
   using L::dot, L::cross, L::scaled, L::load3, L::store3, L::unit_or_zero, L::box_support;
+  using typename L::S, typename L::B, typename L::V3;
 
   // Box-triangle overlap by the separating axis test on the 13 axes (box axes, triangle
   // normal, box axes x triangle edges), fused: one flag per pair (Akenine-Moller's test).
-  static void box_triangle_overlap(BoxLanes<T> box, const T* tri, int count, int N,
-                                   CodeOf<T>* hit) {
+  static void box_triangle_overlap(BoxLanes<T> box, const T* tri, int count, int N, CodeOf<T>* hit) {
     const B zero(T(0)), one(T(1));
     for (int k = 0; k < count; k += S::size) {
       V3 u[3], v[3];
@@ -51,8 +50,7 @@ struct BoxTriangleKernels : Lanes<T, Arch> {
   }
 
   // Box-triangle: 13 axes, 26 planes (see BoxTrianglePlanes).
-  static void box_triangle(BoxLanes<T> box, const T* tri, int count, int N, bool difference,
-                           PlaneLanes<T> out) {
+  static void box_triangle(BoxLanes<T> box, const T* tri, int count, int N, bool difference, PlaneLanes<T> out) {
     for (int k = 0; k < count; k += S::size) {
       V3 u[3], v[3];
       B h[3];

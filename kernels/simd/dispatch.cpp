@@ -14,10 +14,14 @@ namespace minksum {
 
 const char* to_string(Isa isa) {
   switch (isa) {
-    case Isa::Scalar: return "scalar";
-    case Isa::Sse4_2: return "sse4_2";
-    case Isa::Avx2: return "avx2";
-    case Isa::Avx512: return "avx512";
+    case Isa::Scalar:
+      return "scalar";
+    case Isa::Sse4_2:
+      return "sse4_2";
+    case Isa::Avx2:
+      return "avx2";
+    case Isa::Avx512:
+      return "avx512";
   }
   return "unknown";
 }
@@ -25,10 +29,14 @@ const char* to_string(Isa isa) {
 bool isa_supported(Isa isa) {
   const auto cpu = xsimd::available_architectures();
   switch (isa) {
-    case Isa::Scalar: return true;
-    case Isa::Sse4_2: return cpu.sse4_2;
-    case Isa::Avx2: return cpu.avx2 && cpu.fma3_avx2;
-    case Isa::Avx512: return cpu.avx512f && cpu.avx512cd && cpu.avx512dq && cpu.avx512bw;
+    case Isa::Scalar:
+      return true;
+    case Isa::Sse4_2:
+      return cpu.sse4_2;
+    case Isa::Avx2:
+      return cpu.avx2 && cpu.fma3_avx2;
+    case Isa::Avx512:
+      return cpu.avx512f && cpu.avx512cd && cpu.avx512dq && cpu.avx512bw;
   }
   return false;
 }
@@ -37,10 +45,14 @@ namespace {
 
 const detail::KernelTable& table_of(Isa isa) {
   switch (isa) {
-    case Isa::Sse4_2: return detail::kTableSse4_2;
-    case Isa::Avx2: return detail::kTableAvx2;
-    case Isa::Avx512: return detail::kTableAvx512;
-    default: return detail::kTableScalar;
+    case Isa::Sse4_2:
+      return detail::kTableSse4_2;
+    case Isa::Avx2:
+      return detail::kTableAvx2;
+    case Isa::Avx512:
+      return detail::kTableAvx512;
+    default:
+      return detail::kTableScalar;
   }
 }
 
@@ -76,46 +88,41 @@ bool force_isa(Isa isa) {
 
 namespace detail {
 
-void box_box(BoxLanes<float> a, BoxLanes<float> b, int count, int stride, bool difference,
-             PlaneLanes<float> out, SumLanes<float> sum) {
+void box_box(BoxLanes<float> a, BoxLanes<float> b, int count, int stride, bool difference, PlaneLanes<float> out,
+             SumLanes<float> sum) {
   dispatch().box_box_f(a, b, count, stride, difference, out, sum);
 }
-void box_box(BoxLanes<double> a, BoxLanes<double> b, int count, int stride, bool difference,
-             PlaneLanes<double> out, SumLanes<double> sum) {
+void box_box(BoxLanes<double> a, BoxLanes<double> b, int count, int stride, bool difference, PlaneLanes<double> out,
+             SumLanes<double> sum) {
   dispatch().box_box_d(a, b, count, stride, difference, out, sum);
 }
 void box_triangle(BoxLanes<float> box, const float* tri, int count, int stride, bool difference,
                   PlaneLanes<float> out) {
   dispatch().box_tri_f(box, tri, count, stride, difference, out);
 }
-void box_triangle(BoxLanes<double> box, const double* tri, int count, int stride,
-                  bool difference, PlaneLanes<double> out) {
+void box_triangle(BoxLanes<double> box, const double* tri, int count, int stride, bool difference,
+                  PlaneLanes<double> out) {
   dispatch().box_tri_d(box, tri, count, stride, difference, out);
 }
 
-void box_box_proximity(BoxLanes<float> a, BoxLanes<float> b, int count, int stride,
-                       ProximityLanes<float> out) {
+void box_box_proximity(BoxLanes<float> a, BoxLanes<float> b, int count, int stride, ProximityLanes<float> out) {
   dispatch().box_box_proximity_f(a, b, count, stride, out);
 }
-void box_box_proximity(BoxLanes<double> a, BoxLanes<double> b, int count, int stride,
-                       ProximityLanes<double> out) {
+void box_box_proximity(BoxLanes<double> a, BoxLanes<double> b, int count, int stride, ProximityLanes<double> out) {
   dispatch().box_box_proximity_d(a, b, count, stride, out);
 }
 
-void box_box_separation(BoxLanes<float> a, BoxLanes<float> b, int count, int stride, float* bound,
-                        std::int32_t* hit) {
+void box_box_separation(BoxLanes<float> a, BoxLanes<float> b, int count, int stride, float* bound, std::int32_t* hit) {
   dispatch().box_box_separation_f(a, b, count, stride, bound, hit);
 }
-void box_box_separation(BoxLanes<double> a, BoxLanes<double> b, int count, int stride,
-                        double* bound, std::int64_t* hit) {
+void box_box_separation(BoxLanes<double> a, BoxLanes<double> b, int count, int stride, double* bound,
+                        std::int64_t* hit) {
   dispatch().box_box_separation_d(a, b, count, stride, bound, hit);
 }
-void box_triangle_overlap(BoxLanes<float> box, const float* tri, int count, int stride,
-                          std::int32_t* hit) {
+void box_triangle_overlap(BoxLanes<float> box, const float* tri, int count, int stride, std::int32_t* hit) {
   dispatch().box_triangle_overlap_f(box, tri, count, stride, hit);
 }
-void box_triangle_overlap(BoxLanes<double> box, const double* tri, int count, int stride,
-                          std::int64_t* hit) {
+void box_triangle_overlap(BoxLanes<double> box, const double* tri, int count, int stride, std::int64_t* hit) {
   dispatch().box_triangle_overlap_d(box, tri, count, stride, hit);
 }
 
@@ -139,12 +146,12 @@ void triangle_lanes(const T* s, const T* t, int count, int stride, T* distance, 
 
 }  // namespace
 
-void triangle_distance(const float* s, const float* t, int count, int stride, float* distance,
-                       float* point_s, float* point_t) {
+void triangle_distance(const float* s, const float* t, int count, int stride, float* distance, float* point_s,
+                       float* point_t) {
   triangle_lanes(s, t, count, stride, distance, point_s, point_t, dispatch().tri_tri_f);
 }
-void triangle_distance(const double* s, const double* t, int count, int stride, double* distance,
-                       double* point_s, double* point_t) {
+void triangle_distance(const double* s, const double* t, int count, int stride, double* distance, double* point_s,
+                       double* point_t) {
   triangle_lanes(s, t, count, stride, distance, point_s, point_t, dispatch().tri_tri_d);
 }
 
@@ -173,13 +180,13 @@ void box_pair_proximity(const Box& a, const Box& b, bool answer, unsigned& activ
 
 }  // namespace detail
 
-void support_push(const float* x, const float* y, const float* z, int n, const float* dx,
-                  const float* dy, const float* dz, int k, float* max_out, int* arg_out) {
+void support_push(const float* x, const float* y, const float* z, int n, const float* dx, const float* dy,
+                  const float* dz, int k, float* max_out, int* arg_out) {
   dispatch().support_f(x, y, z, n, dx, dy, dz, k, max_out, arg_out);
 }
 
-void support_push(const double* x, const double* y, const double* z, int n, const double* dx,
-                  const double* dy, const double* dz, int k, double* max_out, int* arg_out) {
+void support_push(const double* x, const double* y, const double* z, int n, const double* dx, const double* dy,
+                  const double* dz, int k, double* max_out, int* arg_out) {
   dispatch().support_d(x, y, z, n, dx, dy, dz, k, max_out, arg_out);
 }
 
@@ -187,8 +194,8 @@ namespace {
 
 // Converts a single-lane box-triangle result: plane p and p + 13 share axis p; each plane has
 // its own code; bit 30 of valid marks a degenerate triangle.
-void read_triangle_planes(const double* n, const double* offset, const std::int64_t* code,
-                          std::int64_t valid, KernelPlane (&out)[26]) {
+void read_triangle_planes(const double* n, const double* offset, const std::int64_t* code, std::int64_t valid,
+                          KernelPlane (&out)[26]) {
   for (int p = 0; p < 26; ++p) {
     const int axis = p % 13;
     KernelPlane& k = out[p];
@@ -205,8 +212,7 @@ void read_triangle_planes(const double* n, const double* offset, const std::int6
 void box_box_planes(const Box& a, const Box& b, bool difference, BoxBoxPair& out) {
   double in[30];
   detail::pack_box_pair(a, b, in);
-  dispatch().box_box_single_d(in, difference, &out.n[0][0], &out.offset[0][0], out.code,
-                                    out.valid);
+  dispatch().box_box_single_d(in, difference, &out.n[0][0], &out.offset[0][0], out.code, out.valid);
 }
 
 KernelPlane BoxBoxPair::plane(int p) const {
@@ -221,8 +227,7 @@ KernelPlane BoxBoxPair::plane(int p) const {
   return k;
 }
 
-void box_triangle_planes(const Box& box, const Triangle& tri, bool difference,
-                         KernelPlane (&out)[26]) {
+void box_triangle_planes(const Box& box, const Triangle& tri, bool difference, KernelPlane (&out)[26]) {
   double v[9], n[39], offset[26];
   const Eigen::Vector3d* p[3] = {&tri.a, &tri.b, &tri.c};
   for (int i = 0; i < 3; ++i)

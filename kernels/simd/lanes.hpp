@@ -81,19 +81,26 @@ struct Lanes {
   template <class F>
   static void with_row_stride(int N, F f) {
     switch (N) {
-      case 16: return f(std::integral_constant<int, 16>{});
-      case 32: return f(std::integral_constant<int, 32>{});
-      case 64: return f(std::integral_constant<int, 64>{});
-      case 128: return f(std::integral_constant<int, 128>{});
-      case 256: return f(std::integral_constant<int, 256>{});
-      default: return f(std::integral_constant<int, 0>{});
+      case 16:
+        return f(std::integral_constant<int, 16>{});
+      case 32:
+        return f(std::integral_constant<int, 32>{});
+      case 64:
+        return f(std::integral_constant<int, 64>{});
+      case 128:
+        return f(std::integral_constant<int, 128>{});
+      case 256:
+        return f(std::integral_constant<int, 256>{});
+      default:
+        return f(std::integral_constant<int, 0>{});
     }
   }
 
-
   static B pick(bool m, const B& a, const B& b) { return m ? a : b; }
   template <class M, class = std::enable_if_t<!std::is_same_v<M, bool>>>
-  static B pick(const M& m, const B& a, const B& b) { return S::select(m, a, b); }
+  static B pick(const M& m, const B& a, const B& b) {
+    return S::select(m, a, b);
+  }
   static V3 axpy(const B& s, const V3& x, const V3& y) {
     return V3{S::fma(s, x.x, y.x), S::fma(s, x.y, y.y), S::fma(s, x.z, y.z)};
   }

@@ -55,13 +55,15 @@ struct Simd {
     return y;
   }
   template <class M>
-  static B select(const M& m, const B& a, const B& b) { return xsimd::select(m, a, b); }
-  template <class M>
-  static bool any(const M& m) { return xsimd::any(m); }
-  /// Stores small non-negative integers held exactly in T as integer codes.
-  static void store_code(CodeOf<T>* p, const B& v) {
-    xsimd::batch_cast<CodeOf<T>>(v).store_aligned(p);
+  static B select(const M& m, const B& a, const B& b) {
+    return xsimd::select(m, a, b);
   }
+  template <class M>
+  static bool any(const M& m) {
+    return xsimd::any(m);
+  }
+  /// Stores small non-negative integers held exactly in T as integer codes.
+  static void store_code(CodeOf<T>* p, const B& v) { xsimd::batch_cast<CodeOf<T>>(v).store_aligned(p); }
   /// The lanes of a mask (of T, or of 64-bit integers) as bits, lane l in bit l (xsimd 8 has
   /// no such call).
   template <class M>
@@ -115,10 +117,10 @@ struct KernelTable {
   void (*box_box_d)(BoxLanes<double>, BoxLanes<double>, int, int, bool, PlaneLanes<double>, SumLanes<double>);
   void (*box_tri_f)(BoxLanes<float>, const float*, int, int, bool, PlaneLanes<float>);
   void (*box_tri_d)(BoxLanes<double>, const double*, int, int, bool, PlaneLanes<double>);
-  void (*support_f)(const float*, const float*, const float*, int, const float*, const float*,
-                    const float*, int, float*, int*);
-  void (*support_d)(const double*, const double*, const double*, int, const double*,
-                    const double*, const double*, int, double*, int*);
+  void (*support_f)(const float*, const float*, const float*, int, const float*, const float*, const float*, int,
+                    float*, int*);
+  void (*support_d)(const double*, const double*, const double*, int, const double*, const double*, const double*, int,
+                    double*, int*);
   void (*box_box_single_d)(const double*, bool, double*, double*, std::int64_t*, std::int64_t*);
   void (*box_box_proximity_f)(BoxLanes<float>, BoxLanes<float>, int, int, ProximityLanes<float>);
   void (*box_box_proximity_d)(BoxLanes<double>, BoxLanes<double>, int, int, ProximityLanes<double>);
@@ -126,7 +128,8 @@ struct KernelTable {
   void (*box_box_separation_d)(BoxLanes<double>, BoxLanes<double>, int, int, double*, std::int64_t*);
   void (*box_triangle_overlap_f)(BoxLanes<float>, const float*, int, int, std::int32_t*);
   void (*box_triangle_overlap_d)(BoxLanes<double>, const double*, int, int, std::int64_t*);
-  void (*box_pair_d)(const BoxLanes<double>&, const BoxLanes<double>&, bool, unsigned&, BoxPair<double>&, PairAnswer<double>&);
+  void (*box_pair_d)(const BoxLanes<double>&, const BoxLanes<double>&, bool, unsigned&, BoxPair<double>&,
+                     PairAnswer<double>&);
   void (*tri_tri_f)(const float*, const float*, int, int, float*, float*, float*);
   void (*tri_tri_d)(const double*, const double*, int, int, double*, double*, double*);
 };

@@ -9,12 +9,12 @@ namespace minksum::detail {
 template <class T, class Arch>
 struct SupportKernels : Lanes<T, Arch> {
   using L = Lanes<T, Arch>;
-  using typename L::S, typename L::B, typename L::V3;
   using L::load_u;
+  using typename L::S, typename L::B, typename L::V3;
 
   // Support push: per direction, max of d . v over vertices and the first index attaining it.
-  static void support(const T* x, const T* y, const T* z, int n, const T* dx, const T* dy,
-                      const T* dz, int K, T* max_out, int* arg_out) {
+  static void support(const T* x, const T* y, const T* z, int n, const T* dx, const T* dy, const T* dz, int K,
+                      T* max_out, int* arg_out) {
     const int full = n - n % S::size;
     alignas(64) T lane_idx[S::size];
     for (int l = 0; l < S::size; ++l) lane_idx[l] = T(l);

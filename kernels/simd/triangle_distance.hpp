@@ -9,8 +9,8 @@ namespace minksum::detail {
 template <class T, class Arch>
 struct TriangleDistanceKernels : Lanes<T, Arch> {
   using L = Lanes<T, Arch>;
-  using typename L::S, typename L::B, typename L::V3;
   using L::dot, L::cross, L::load3, L::store3, L::axpy, L::pick3;
+  using typename L::S, typename L::B, typename L::V3;
 
   // Exact triangle-triangle distance, one pair per lane, without branches: the least of the 9
   // edge-edge distances (closest points of segments, Ericson, "Real-Time Collision Detection",
@@ -49,7 +49,7 @@ struct TriangleDistanceKernels : Lanes<T, Arch> {
     B s = S::select(tn < zero, s_lo, S::select(tn > one, s_hi, s0));
     B t = clamp01(tn);
     s = S::select(e == zero, s_lo, s), t = S::select(e == zero, zero, t);  // q is a point
-    s = S::select(a == zero, zero, s);                                       // p is a point
+    s = S::select(a == zero, zero, s);                                     // p is a point
     const V3 cp = axpy(s, d1, p0), cq = axpy(t, d2, q0);
     const V3 gap = sub(cp, cq);
     best.take(dot(gap, gap), cp, cq);
@@ -72,7 +72,10 @@ struct TriangleDistanceKernels : Lanes<T, Arch> {
       const B h = dot(n, sub(o[k], v[0]));
       const V3 proj = axpy(zero - h / safe(n2), n, o[k]);
       const B e2 = S::select(solid && inside(v, n, proj), h * h / safe(n2), inf);
-      if (swap) best.take(e2, proj, o[k]); else best.take(e2, o[k], proj);
+      if (swap)
+        best.take(e2, proj, o[k]);
+      else
+        best.take(e2, o[k], proj);
       // The edge o[k] -> o[k + 1] crossing v's plane strictly inside v.
       const V3& nxt = o[(k + 1) % 3];
       const B hn = dot(n, sub(nxt, v[0]));
@@ -111,7 +114,7 @@ struct TriangleDistanceKernels : Lanes<T, Arch> {
         for (int j = 0; j < 3; ++j) segment_pair(a[i], a[(i + 1) % 3], b[j], b[(j + 1) % 3], best);
       // Flat (zero-area) triangles have no face region; their edges cover them (as the scalar
       // path: |n|^2 against 1e-24 of the longest edge's to the fourth).
-      const auto normal = [&](const V3 (&v)[3], B& n2, decltype(B(T(0)) < B(T(0)))& solid) {
+      const auto normal = [&](const V3(&v)[3], B& n2, decltype(B(T(0)) < B(T(0)))& solid) {
         const V3 n = cross(sub(v[1], v[0]), sub(v[2], v[0]));
         n2 = dot(n, n);
         const V3 e0 = sub(v[1], v[0]), e1 = sub(v[2], v[0]), e2 = sub(v[2], v[1]);

@@ -51,8 +51,9 @@ void assemble(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, st
     for (const auto& p : f.loop) out.loop_vertex.push_back(pairs.code(p.first, p.second));
     out.loop_start.push_back(int(out.loop_vertex.size()));
   }
-  pairs.finish(out.loop_vertex.data(), out.loop_vertex.size(),
-               [&](int, int i, int j) { out.vertices.push_back(SumVertex{i, j, a[size_t(i)] + b[size_t(j)]}); });
+  pairs.finish(out.loop_vertex.data(), out.loop_vertex.size(), [&](int, int i, int j) {
+    out.vertices.push_back(SumVertex{i, j, a[size_t(i)] + b[size_t(j)]});
+  });
   for (size_t f = 0; f < facets.size(); ++f) {
     const auto& first = facets[f].loop[0];
     SumPlane plane{facets[f].normal.normalized(), -std::numeric_limits<double>::infinity(), first.first, first.second};

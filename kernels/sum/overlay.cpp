@@ -190,7 +190,7 @@ bool walk(const Placed& A, const Placed& B, int ea, int from, const Loc& start, 
   const auto past = [&](int slot) { return beyond(B, m.cell_slot[slot].arc, A, to); };
   enum { InCell, AtFace, Along } kind;
   int id = start.id, entry = -1, head = -1;  // entry: a slot of the cell whose corner lies right
-  if (ahead) {  // from a face normal of B, the way the caller placed the arc's direction
+  if (ahead) {                               // from a face normal of B, the way the caller placed the arc's direction
     kind = ahead->along ? Along : InCell, id = ahead->id, entry = ahead->entry, head = ahead->head;
   } else if (start.kind == Loc::Cell) {
     kind = InCell;
@@ -677,7 +677,7 @@ bool Overlay::merged_facet(const Placed& A, const Loc& fa, const Placed& B, cons
   // when both are faces), else A's.
   const bool a_ref = fb.kind != Loc::Face;
   const Placed &R = a_ref ? A : B, &O = a_ref ? B : A;
-  std::vector<Ray> &ref = rays[0], &other = rays[1];
+  std::vector<Ray>&ref = rays[0], &other = rays[1];
   rays_of(R, a_ref ? fa : fb, ref);
   rays_of(O, a_ref ? fb : fa, other);
   const int nr = int(ref.size()), no = int(other.size());
@@ -722,7 +722,9 @@ bool Overlay::number_and_write(const Placed& A, const Placed& B, MinkowskiSum& o
   out.loop_start.assign(facet_start.begin(), facet_start.begin() + F + 1);
   out.loop_vertex.assign(codes.begin(), codes.begin() + S);
   int* loop = out.loop_vertex.data();
-  pairs.finish(loop, size_t(S), [&](int, int i, int j) { out.vertices.push_back(SumVertex{i, j, A.point(i) + B.point(j)}); });
+  pairs.finish(loop, size_t(S), [&](int, int i, int j) {
+    out.vertices.push_back(SumVertex{i, j, A.point(i) + B.point(j)});
+  });
   // Offsets: the support function at the loop's first pair (the smallest, so that a plane's
   // pair does not depend on the path), h_A(n) + h_B(n) (the paper's support planes), or, for
   // merged facets and slivers, the largest over the loop (no vertex cut off).

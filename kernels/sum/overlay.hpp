@@ -22,15 +22,15 @@ namespace minksum::detail {
 struct Placed {
   const ShapeData* s = nullptr;
   const MapLayout* m = nullptr;
-  bool negate = false;                       ///< this is -B
-  const Eigen::Vector3d* g;                  ///< Gauss normals in the overlay frame (the predicates' input)
-  const Eigen::Vector3d* c;                  ///< per arc: its pole G_L x G_R in the overlay frame
-  const std::uint8_t* g_nonzero;             ///< per face: ShapeData::gauss_nonzero of g
-  const std::uint8_t* c_zero;                ///< per arc: ShapeData::pole_zero of c
-  const double *px, *py, *pz;                ///< vertices in the world frame
-  Eigen::Matrix3d world;                     ///< body -> world rotation (negated for -B)
-  Eigen::Matrix3d frame;                     ///< body -> overlay frame rotation (negated for -B)
-  bool turned = false;                       ///< world is not the identity
+  bool negate = false;            ///< this is -B
+  const Eigen::Vector3d* g;       ///< Gauss normals in the overlay frame (the predicates' input)
+  const Eigen::Vector3d* c;       ///< per arc: its pole G_L x G_R in the overlay frame
+  const std::uint8_t* g_nonzero;  ///< per face: ShapeData::gauss_nonzero of g
+  const std::uint8_t* c_zero;     ///< per arc: ShapeData::pole_zero of c
+  const double *px, *py, *pz;     ///< vertices in the world frame
+  Eigen::Matrix3d world;          ///< body -> world rotation (negated for -B)
+  Eigen::Matrix3d frame;          ///< body -> overlay frame rotation (negated for -B)
+  bool turned = false;            ///< world is not the identity
   int L(int e) const { return m->arc[e].L; }
   int R(int e) const { return m->arc[e].R; }
   const Eigen::Vector3d& gauss(int f) const { return g[f]; }
@@ -113,11 +113,11 @@ class Overlay {
   struct Turn {
     Eigen::Vector3d c, bound;
   };
-  std::vector<Turn> turns;  // place_rays': per ray of the reference, n x r and its permanent
+  std::vector<Turn> turns;       // place_rays': per ray of the reference, n x r and its permanent
   std::vector<int> face_sector;  // per loop position of A: its ray's sector about B's coincident face (place_rays)
-  bool merged = false;       // some facet merges features (a tie): checked as a closed manifold
-  bool dedupe_all = false;   // a flat operand's zero-length arcs repeat vertices
-  bool map_normals = false;  // crossing normals from the poles, every offset the loop's largest
+  bool merged = false;           // some facet merges features (a tie): checked as a closed manifold
+  bool dedupe_all = false;       // a flat operand's zero-length arcs repeat vertices
+  bool map_normals = false;      // crossing normals from the poles, every offset the loop's largest
   // The facets as written: their normals, loops of pair codes (facet k's at facet_start[k] ..
   // facet_start[k + 1]), and whether each one's offset is the largest over its loop.
   std::vector<Eigen::Vector3d> normal;

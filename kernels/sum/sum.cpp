@@ -26,21 +26,23 @@ std::vector<Vector3d> points(const Placed& x) {
 
 }  // namespace
 
-
 // The overlay of two prepared shapes placed by their poses (B negated for a difference), or
 // the corrector when a step of it fails.
 Status sum_placed(const ShapeData& a, const Eigen::Isometry3d& pose_a, const ShapeData& b,
                   const Eigen::Isometry3d& pose_b, bool difference, MinkowskiSum& out) {
   // Two coplanar flat operands have a flat sum; the result type describes solids only.
   if (a.polytope_ref->flat && b.polytope_ref->flat &&
-      (pose_a.linear() * a.polytope_ref->faces[0].normal).cross(pose_b.linear() * b.polytope_ref->faces[0].normal).norm() <= 1e-12)
+      (pose_a.linear() * a.polytope_ref->faces[0].normal)
+              .cross(pose_b.linear() * b.polytope_ref->faces[0].normal)
+              .norm() <= 1e-12)
     return out = MinkowskiSum{}, Status::DegenerateResult;
   thread_local PlacedBuffers buffer_a, buffer_b;
   thread_local Overlay scratch;
   Placed A, B;
   // The overlay in A's body frame: B turned by R_A^T R_B, exactly the identity under one rotation.
-  const Eigen::Matrix3d relative = pose_a.linear() == pose_b.linear() ? Eigen::Matrix3d::Identity()
-                                                                       : Eigen::Matrix3d(pose_a.linear().transpose() * pose_b.linear());
+  const Eigen::Matrix3d relative = pose_a.linear() == pose_b.linear()
+                                       ? Eigen::Matrix3d::Identity()
+                                       : Eigen::Matrix3d(pose_a.linear().transpose() * pose_b.linear());
   place(a, pose_a, Eigen::Matrix3d::Identity(), false, buffer_a, A);
   place(b, pose_b, relative, difference, buffer_b, B);
   // A map whose rounding can misplace a normal by more than 1e-10 of the size in support
@@ -58,9 +60,7 @@ Status sum_placed(const ShapeData& a, const Eigen::Isometry3d& pose_a, const Sha
 
 namespace {
 
-bool usable(const ConvexPolytope& p) {
-  return p.vertices.size() >= 3 && p.faces.size() >= 2 && !p.edges.empty();
-}
+bool usable(const ConvexPolytope& p) { return p.vertices.size() >= 3 && p.faces.size() >= 2 && !p.edges.empty(); }
 
 // -B: vertices and normals negated; loops reversed so they stay counter-clockwise from outside.
 ConvexPolytope negated(const ConvexPolytope& p) {
@@ -134,13 +134,11 @@ Status sum_shapes(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const C
 
 }  // namespace
 
-Status minkowski_sum(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out,
-                     Method method) {
+Status minkowski_sum(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out, Method method) {
   return sum_dispatch(a, b, false, out, method);
 }
 
-Status minkowski_difference(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out,
-                            Method method) {
+Status minkowski_difference(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out, Method method) {
   return sum_dispatch(a, b, true, out, method);
 }
 
@@ -203,7 +201,8 @@ Status minkowski_sum(const Box& a, const Box& b, MinkowskiSum& out) {
       loop[m] = number[8 * (code & 7) + (code >> 3)];
     }
     SumPlane& plane = out.planes[p];
-    plane.normal = (p < 15 ? 1.0 : -1.0) * Vector3d(sum.planes.n[q][0][0], sum.planes.n[q][1][0], sum.planes.n[q][2][0]);
+    plane.normal =
+        (p < 15 ? 1.0 : -1.0) * Vector3d(sum.planes.n[q][0][0], sum.planes.n[q][1][0], sum.planes.n[q][2][0]);
     plane.offset = sum.planes.offset[p][0];
     plane.i = out.vertices[loop[0]].i, plane.j = out.vertices[loop[0]].j;
   }

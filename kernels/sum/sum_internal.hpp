@@ -25,8 +25,7 @@ void assemble(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Ve
 
 /// The paper's Section 3 corrector: rebuilds the sum of the point sets a and b (B already
 /// negated for a difference) from the hull of all pairwise sums.
-Status hull_corrector(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
-                      MinkowskiSum& out);
+Status hull_corrector(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b, MinkowskiSum& out);
 
 /// The reference path (the paper as written) on A (+) B.
 void sum_reference(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSum& out);

@@ -5,8 +5,8 @@ namespace minksum {
 
 namespace {
 
-void add_facet(TopologyTable& t, const Eigen::Vector3d& n, const Eigen::Vector3d& a,
-               const Eigen::Vector3d& b, int i, int j) {
+void add_facet(TopologyTable& t, const Eigen::Vector3d& n, const Eigen::Vector3d& a, const Eigen::Vector3d& b, int i,
+               int j) {
   t.nx.push_back(n.x()), t.ny.push_back(n.y()), t.nz.push_back(n.z());
   t.pa.push_back(n.dot(a)), t.pb.push_back(t.sign_b * n.dot(b));
   t.i.push_back(i), t.j.push_back(j);
@@ -23,8 +23,7 @@ Eigen::Vector3d corner(const Box& b, int code) { return box_corner(b, code) - b.
 
 }  // namespace
 
-TopologyTable topology_table(const MinkowskiSum& m, const ConvexPolytope& a,
-                             const ConvexPolytope& b, bool difference) {
+TopologyTable topology_table(const MinkowskiSum& m, const ConvexPolytope& a, const ConvexPolytope& b, bool difference) {
   TopologyTable t;
   t.sign_b = difference ? -1 : 1;
   for (const auto& p : m.planes) add_facet(t, p.normal, a.vertices[p.i], b.vertices[p.j], p.i, p.j);
@@ -32,8 +31,7 @@ TopologyTable topology_table(const MinkowskiSum& m, const ConvexPolytope& a,
 }
 
 template <class T, int N>
-TopologyTable topology_table(const BoxBoxPlanes<T, N>& planes, int lane, const Box& a,
-                             const Box& b, bool difference) {
+TopologyTable topology_table(const BoxBoxPlanes<T, N>& planes, int lane, const Box& a, const Box& b, bool difference) {
   TopologyTable t;
   t.sign_b = difference ? -1 : 1;
   for (int p = 0; p < 30; ++p) {
@@ -47,8 +45,8 @@ TopologyTable topology_table(const BoxBoxPlanes<T, N>& planes, int lane, const B
 }
 
 template <class T, int N>
-TopologyTable topology_table(const BoxTrianglePlanes<T, N>& planes, int lane, const Box& box,
-                             const Triangle& tri, bool difference) {
+TopologyTable topology_table(const BoxTrianglePlanes<T, N>& planes, int lane, const Box& box, const Triangle& tri,
+                             bool difference) {
   TopologyTable t;
   t.sign_b = difference ? -1 : 1;
   if (planes.valid[lane] >> 30 & 1) return t;
@@ -63,8 +61,8 @@ TopologyTable topology_table(const BoxTrianglePlanes<T, N>& planes, int lane, co
   return t;
 }
 
-void instantiate(const TopologyTable& t, double sA, const Eigen::Vector3d& tA, double sB,
-                 const Eigen::Vector3d& tB, double* offsets) {
+void instantiate(const TopologyTable& t, double sA, const Eigen::Vector3d& tA, double sB, const Eigen::Vector3d& tB,
+                 double* offsets) {
   const Eigen::Vector3d c = tA + t.sign_b * tB;
   const size_t n = t.nx.size();
   const double *nx = t.nx.data(), *ny = t.ny.data(), *nz = t.nz.data();
@@ -74,11 +72,9 @@ void instantiate(const TopologyTable& t, double sA, const Eigen::Vector3d& tA, d
 }
 
 // The batch capacities the library instantiates its table factories for.
-#define MINKSUM_TABLES(T, N)                                                                     \
-  template TopologyTable topology_table(const BoxBoxPlanes<T, N>&, int, const Box&, const Box&, \
-                                        bool);                                                   \
-  template TopologyTable topology_table(const BoxTrianglePlanes<T, N>&, int, const Box&,        \
-                                        const Triangle&, bool);
+#define MINKSUM_TABLES(T, N)                                                                           \
+  template TopologyTable topology_table(const BoxBoxPlanes<T, N>&, int, const Box&, const Box&, bool); \
+  template TopologyTable topology_table(const BoxTrianglePlanes<T, N>&, int, const Box&, const Triangle&, bool);
 MINKSUM_TABLES(float, 16)
 MINKSUM_TABLES(double, 16)
 MINKSUM_TABLES(float, 64)

@@ -39,7 +39,9 @@ struct Bytes {
   std::abort();
 }
 
-inline bool finite(const Eigen::Vector3d& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
+inline bool finite(const Eigen::Vector3d& v) {
+  return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z());
+}
 
 /// The checks on any proximity answer: finite, consistent (distance >= 0, witnesses that
 /// realise it, intersecting at distance 0).

@@ -45,7 +45,8 @@ double size(const Box& b) { return b.center.lpNorm<1>() + b.half_extents.sum(); 
 void twin(const char* what, int p, bool valid, const KernelPlane& ref, double cross_len, double offset, double top,
           double scale) {
   if (std::abs(cross_len - kTau) >= 0.01 * kTau && valid != ref.valid) {
-    std::fprintf(stderr, "%s plane %d: valid %d, reference %d (cross length %.9g)\n", what, p, int(valid), int(ref.valid), cross_len);
+    std::fprintf(stderr, "%s plane %d: valid %d, reference %d (cross length %.9g)\n", what, p, int(valid),
+                 int(ref.valid), cross_len);
     fuzz::fail("a kernel plane's validity differs from its reference twin");
   }
   if (valid && !(std::abs(offset - top) <= 8 * kFloatEps * scale)) {
@@ -64,7 +65,8 @@ void check_box_box(const BoxBoxPlanes<float, N>& out, int k, const Box& box_a, c
   const double s = difference ? -1 : 1;
   for (int p = 0; p < 30; ++p) {
     const int axis = p % 15;
-    const Eigen::Vector3d n = (p < 15 ? 1.0 : -1.0) * Eigen::Vector3d(out.n[axis][0][k], out.n[axis][1][k], out.n[axis][2][k]);
+    const Eigen::Vector3d n =
+        (p < 15 ? 1.0 : -1.0) * Eigen::Vector3d(out.n[axis][0][k], out.n[axis][1][k], out.n[axis][2][k]);
     const double cross_len = axis < 6 ? 1 : a.rotation.col((axis - 6) / 3).cross(b.rotation.col((axis - 6) % 3)).norm();
     int code;
     const double top = detail::box_support_brute(a, n, &code) + detail::box_support_brute(b, s * n, &code);
@@ -75,7 +77,8 @@ void check_box_box(const BoxBoxPlanes<float, N>& out, int k, const Box& box_a, c
 
 // Lane k of box_triangle_planes(A, T, difference) against box_triangle_reference.
 template <int N>
-void check_box_triangle(const BoxTrianglePlanes<float, N>& out, int k, const Box& box, const Triangle& tri, bool difference) {
+void check_box_triangle(const BoxTrianglePlanes<float, N>& out, int k, const Box& box, const Triangle& tri,
+                        bool difference) {
   const Box a = rounded(box);
   const Triangle t = rounded(tri);
   KernelPlane ref[26];
@@ -86,7 +89,8 @@ void check_box_triangle(const BoxTrianglePlanes<float, N>& out, int k, const Box
   const double s = difference ? -1 : 1;
   for (int p = 0; p < 26; ++p) {
     const int axis = p % 13;
-    const Eigen::Vector3d n = (p < 13 ? 1.0 : -1.0) * Eigen::Vector3d(out.n[axis][0][k], out.n[axis][1][k], out.n[axis][2][k]);
+    const Eigen::Vector3d n =
+        (p < 13 ? 1.0 : -1.0) * Eigen::Vector3d(out.n[axis][0][k], out.n[axis][1][k], out.n[axis][2][k]);
     double cross_len = axis < 3 ? 1 : tri_len;
     if (axis >= 4) {
       const Eigen::Vector3d& edge = e[(axis - 4) % 3];
@@ -117,7 +121,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       x.center = Eigen::Vector3d(in.number(), in.number(), in.number());
       x.half_extents = Eigen::Vector3d(in.number(), in.number(), in.number()).cwiseAbs();
       Eigen::Quaterniond q(in.number(), in.number(), in.number(), in.number());
-      x.rotation = q.norm() > 1e-3 && std::isfinite(q.norm()) ? q.normalized().toRotationMatrix() : Eigen::Matrix3d::Identity();
+      x.rotation =
+          q.norm() > 1e-3 && std::isfinite(q.norm()) ? q.normalized().toRotationMatrix() : Eigen::Matrix3d::Identity();
     }
     Triangle t;
     for (Eigen::Vector3d* v : {&t.a, &t.b, &t.c}) *v = Eigen::Vector3d(in.number(), in.number(), in.number());
@@ -126,7 +131,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     for (const Box& x : b)
       valid[k] = valid[k] && check_box(x) == Status::Ok && x.center.cwiseAbs().maxCoeff() < 1e6 &&
                  x.half_extents.minCoeff() > 1e-3 && x.half_extents.maxCoeff() < 1e6;
-    tri_valid[k] = valid[k] && t.a.cwiseAbs().maxCoeff() < 1e6 && t.b.cwiseAbs().maxCoeff() < 1e6 && t.c.cwiseAbs().maxCoeff() < 1e6;
+    tri_valid[k] = valid[k] && t.a.cwiseAbs().maxCoeff() < 1e6 && t.b.cwiseAbs().maxCoeff() < 1e6 &&
+                   t.c.cwiseAbs().maxCoeff() < 1e6;
     A->set(k, b[0]), B->set(k, b[1]), T->set(k, t);
     boxes[k][0] = b[0], boxes[k][1] = b[1];
     // A second triangle, from the next numbers (or the box's corners when they run out).
@@ -152,7 +158,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     triangle_distance(*S2, *T2, *dist);
     bool summed = false;
     for (int k = 0; k < count; ++k) {
-      const Eigen::Vector3d s3[3] = {tris[k][0].a, tris[k][0].b, tris[k][0].c}, t3[3] = {tris[k][1].a, tris[k][1].b, tris[k][1].c};
+      const Eigen::Vector3d s3[3] = {tris[k][0].a, tris[k][0].b, tris[k][0].c},
+                            t3[3] = {tris[k][1].a, tris[k][1].b, tris[k][1].c};
       double span = 0;
       bool finite = true;
       for (const auto* x : {&s3[1], &s3[2], &t3[0], &t3[1], &t3[2]}) {
@@ -163,7 +170,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         Eigen::Vector3d pa, pb;
         const double want = triangle_distance(s3, t3, pa, pb);
         if (!(std::abs(dist->distance[k] - want) <= 1e-9 * span + 1e-300)) {
-          std::fprintf(stderr, "isa %s lane %d: %.17g vs %.17g (span %g)\n", to_string(isa), k, dist->distance[k], want, span);
+          std::fprintf(stderr, "isa %s lane %d: %.17g vs %.17g (span %g)\n", to_string(isa), k, dist->distance[k], want,
+                       span);
           for (const auto* x : {&s3[0], &s3[1], &s3[2], &t3[0], &t3[1], &t3[2]})
             std::fprintf(stderr, "  %.17g %.17g %.17g\n", x->x(), x->y(), x->z());
           fuzz::fail("the batched triangle distance differs from the scalar path");
@@ -174,23 +182,30 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         if (!std::isfinite(planes->offset[p][k])) fuzz::fail("non-finite plane offset for valid boxes");
       check_box_box(*planes, k, boxes[k][0], boxes[k][1], true);
       if (tri_valid[k]) check_box_triangle(*tri, k, boxes[k][0], tris[k][0], false);
-      if (!std::isfinite(prox->distance[k]) || !std::isfinite(prox->depth[k])) fuzz::fail("non-finite proximity for valid boxes");
+      if (!std::isfinite(prox->distance[k]) || !std::isfinite(prox->depth[k]))
+        fuzz::fail("non-finite proximity for valid boxes");
       const float scale = 1 + 4 * float(A->h[0][k] + B->h[0][k] + A->h[1][k] + B->h[1][k] + A->h[2][k] + B->h[2][k]) +
-                          std::abs(A->c[0][k]) + std::abs(B->c[0][k]) + std::abs(A->c[1][k]) + std::abs(B->c[1][k]) + std::abs(A->c[2][k]) + std::abs(B->c[2][k]);
-      if (have_first && std::abs(prox->distance[k] - first->distance[k]) > 1e-3f * (scale + std::abs(first->distance[k])))
+                          std::abs(A->c[0][k]) + std::abs(B->c[0][k]) + std::abs(A->c[1][k]) + std::abs(B->c[1][k]) +
+                          std::abs(A->c[2][k]) + std::abs(B->c[2][k]);
+      if (have_first &&
+          std::abs(prox->distance[k] - first->distance[k]) > 1e-3f * (scale + std::abs(first->distance[k])))
         fuzz::fail("ISAs disagree on a distance");
       // The batched answer (one facet with a certificate, or all 15) against the exact
       // single-pair query in double (separating axis test and an active-set walk).
       Proximity exact;
-      if (proximity(boxes[k][0], boxes[k][1], exact) != Status::Ok) fuzz::fail("the exact query rejects a valid box pair");
-      if (std::abs(prox->distance[k] - exact.distance) > 1e-4f * scale || std::abs(prox->depth[k] - exact.penetration_depth) > 1e-4f * scale) {
-        std::fprintf(stderr, "isa %s lane %d: distance %.9g vs %.17g, depth %.9g vs %.17g (scale %g)\n", to_string(isa), k,
-                     prox->distance[k], exact.distance, prox->depth[k], exact.penetration_depth, scale);
+      if (proximity(boxes[k][0], boxes[k][1], exact) != Status::Ok)
+        fuzz::fail("the exact query rejects a valid box pair");
+      if (std::abs(prox->distance[k] - exact.distance) > 1e-4f * scale ||
+          std::abs(prox->depth[k] - exact.penetration_depth) > 1e-4f * scale) {
+        std::fprintf(stderr, "isa %s lane %d: distance %.9g vs %.17g, depth %.9g vs %.17g (scale %g)\n", to_string(isa),
+                     k, prox->distance[k], exact.distance, prox->depth[k], exact.penetration_depth, scale);
         for (const Box& x : boxes[k])
-          std::fprintf(stderr, "  box c %.17g %.17g %.17g h %.17g %.17g %.17g\n  R %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n",
-                       x.center.x(), x.center.y(), x.center.z(), x.half_extents.x(), x.half_extents.y(), x.half_extents.z(),
-                       x.rotation(0, 0), x.rotation(0, 1), x.rotation(0, 2), x.rotation(1, 0), x.rotation(1, 1), x.rotation(1, 2),
-                       x.rotation(2, 0), x.rotation(2, 1), x.rotation(2, 2));
+          std::fprintf(stderr,
+                       "  box c %.17g %.17g %.17g h %.17g %.17g %.17g\n  R %.17g %.17g %.17g %.17g %.17g %.17g %.17g "
+                       "%.17g %.17g\n",
+                       x.center.x(), x.center.y(), x.center.z(), x.half_extents.x(), x.half_extents.y(),
+                       x.half_extents.z(), x.rotation(0, 0), x.rotation(0, 1), x.rotation(0, 2), x.rotation(1, 0),
+                       x.rotation(1, 1), x.rotation(1, 2), x.rotation(2, 0), x.rotation(2, 1), x.rotation(2, 2));
         fuzz::fail("the batched proximity differs from the exact query");
       }
       // The first valid pair through minkowski_sum(Box, Box) (the double kernel on one lane, or
@@ -207,7 +222,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         for (const SumPlane& plane : sum.planes) {
           double top = -std::numeric_limits<double>::infinity();
           for (const auto& x : corners) top = std::max(top, plane.normal.dot(x));
-          if (std::abs(top - plane.offset) > 1e-12 * double(scale)) fuzz::fail("minkowski_sum(Box, Box): a plane off the support");
+          if (std::abs(top - plane.offset) > 1e-12 * double(scale))
+            fuzz::fail("minkowski_sum(Box, Box): a plane off the support");
         }
       }
       // The whole sum: every loop vertex on its facet's plane, every pairwise corner sum inside
@@ -218,12 +234,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         const float sgn = p < 15 ? 1.f : -1.f;
         const auto along = [&](int i, int j) {
           float v = 0;
-          for (int d = 0; d < 3; ++d) v += sgn * whole->planes.n[q][d][k] * (whole->corner_a[i][d][k] + whole->corner_b[j][d][k]);
+          for (int d = 0; d < 3; ++d)
+            v += sgn * whole->planes.n[q][d][k] * (whole->corner_a[i][d][k] + whole->corner_b[j][d][k]);
           return v;
         };
         for (int m = 0; m < 4; ++m) {
           const int v = int(whole->loop[p][k] >> (6 * m) & 63);
-          if (std::abs(along(v & 7, v >> 3) - whole->planes.offset[p][k]) > 1e-4f * scale) fuzz::fail("a sum vertex off its facet's plane");
+          if (std::abs(along(v & 7, v >> 3) - whole->planes.offset[p][k]) > 1e-4f * scale)
+            fuzz::fail("a sum vertex off its facet's plane");
         }
         for (int i = 0; i < 8; ++i)
           for (int j = 0; j < 8; ++j)

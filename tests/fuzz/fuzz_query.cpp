@@ -4,8 +4,8 @@
 // triangles, test::exact_triangle_distance, and corner containment for a verdict of
 // intersecting). Kinds
 // 3 to 5 drive the coherent entry points (box pairs, box-triangle, prepared shapes) along a
-// sequence of poses from the input (first byte 128, 129, 130), small steps and jumps, with one cache: the same status and
-// verdict as the cold query at every step, and the same distance and depth to rounding.
+// sequence of poses from the input (first byte 128, 129, 130), small steps and jumps, with one cache: the same status
+// and verdict as the cold query at every step, and the same distance and depth to rounding.
 #include "fuzz_common.hpp"
 #include "exact_distance.hpp"
 
@@ -23,8 +23,10 @@ Box box(fuzz::Bytes& in) {
   b.center = Eigen::Vector3d(in.number(), in.number(), in.number());
   b.half_extents = Eigen::Vector3d(in.number(), in.number(), in.number());
   Eigen::Quaterniond q(in.number(), in.number(), in.number(), in.number());
-  if (q.norm() > 0 && std::isfinite(q.norm())) b.rotation = q.normalized().toRotationMatrix();
-  else b.rotation = Eigen::Matrix3d::Constant(in.number());  // invalid on purpose
+  if (q.norm() > 0 && std::isfinite(q.norm()))
+    b.rotation = q.normalized().toRotationMatrix();
+  else
+    b.rotation = Eigen::Matrix3d::Constant(in.number());  // invalid on purpose
   return b;
 }
 
@@ -42,7 +44,8 @@ int surface(const Box& b, Eigen::Vector3d (*out)[3]) {
       const int u = 1 << (axis + 1) % 3, v = 1 << (axis + 2) % 3, base = side << axis;
       const int quad[4] = {base, base | u, base | u | v, base | v};
       for (int t = 0; t < 2; ++t) {
-        out[n][0] = box_corner(b, quad[0]), out[n][1] = box_corner(b, quad[1 + t]), out[n][2] = box_corner(b, quad[2 + t]);
+        out[n][0] = box_corner(b, quad[0]), out[n][1] = box_corner(b, quad[1 + t]),
+        out[n][2] = box_corner(b, quad[2 + t]);
         ++n;
       }
     }
@@ -114,15 +117,19 @@ void same(Status cold_status, const Proximity& cold, Status warm_status, const P
   if (cold_status != Status::Ok) return;
   fuzz::check(warm);
   if (cold.intersecting != warm.intersecting) {
-    std::fprintf(stderr, "cold: intersecting %d distance %.17g depth %.17g; coherent: intersecting %d distance %.17g depth %.17g\n",
-                 int(cold.intersecting), cold.distance, cold.penetration_depth, int(warm.intersecting), warm.distance,
-                 warm.penetration_depth);
+    std::fprintf(
+        stderr,
+        "cold: intersecting %d distance %.17g depth %.17g; coherent: intersecting %d distance %.17g depth %.17g\n",
+        int(cold.intersecting), cold.distance, cold.penetration_depth, int(warm.intersecting), warm.distance,
+        warm.penetration_depth);
     fuzz::fail("the coherent query's verdict differs from the cold one");
   }
   const double scale = 1 + cold.max_distance + cold.point_a.cwiseAbs().maxCoeff() + cold.point_b.cwiseAbs().maxCoeff();
-  const double gap = std::max({cold.distance, cold.penetration_depth, std::sqrt(std::numeric_limits<double>::epsilon()) * reach});
+  const double gap =
+      std::max({cold.distance, cold.penetration_depth, std::sqrt(std::numeric_limits<double>::epsilon()) * reach});
   const double tol = 1e-9 * scale + 1024 * std::numeric_limits<double>::epsilon() * reach * std::max(1.0, reach / gap);
-  if (std::abs(cold.distance - warm.distance) > tol || std::abs(cold.penetration_depth - warm.penetration_depth) > tol) {
+  if (std::abs(cold.distance - warm.distance) > tol ||
+      std::abs(cold.penetration_depth - warm.penetration_depth) > tol) {
     std::fprintf(stderr, "cold: intersecting %d distance %.17g depth %.17g; coherent: distance %.17g depth %.17g\n",
                  int(cold.intersecting), cold.distance, cold.penetration_depth, warm.distance, warm.penetration_depth);
     fuzz::fail("the coherent query's distance or depth differs from the cold one");

@@ -31,15 +31,18 @@ void check_planes(const MinkowskiSum& m, const std::vector<Eigen::Vector3d>& a, 
   const int na = int(a.size()), nb = int(b.size());
   for (const auto& v : m.vertices) {
     if (v.i < 0 || v.i >= na || v.j < 0 || v.j >= nb) fuzz::fail("a vertex's pair (i, j) out of range");
-    if ((v.point - (a[v.i] + sign * b[v.j])).cwiseAbs().maxCoeff() > tol) fuzz::fail("a vertex is not the sum of its pair");
+    if ((v.point - (a[v.i] + sign * b[v.j])).cwiseAbs().maxCoeff() > tol)
+      fuzz::fail("a vertex is not the sum of its pair");
   }
-  if (int(m.planes.size()) != m.F || int(m.loop_start.size()) != m.F + 1) fuzz::fail("F, planes and loop offsets disagree");
+  if (int(m.planes.size()) != m.F || int(m.loop_start.size()) != m.F + 1)
+    fuzz::fail("F, planes and loop offsets disagree");
   for (int k = 0; k < m.F; ++k) {
     const SumPlane& pl = m.planes[k];
     if (m.facet(k).size() < 3) fuzz::fail("a facet with fewer than 3 vertices");
     for (int v : m.facet(k)) {
       if (v < 0 || v >= int(m.vertices.size())) fuzz::fail("a loop index out of range");
-      if (std::abs(pl.normal.dot(m.vertices[v].point) - pl.offset) > tol) fuzz::fail("a facet's vertex is off its plane");
+      if (std::abs(pl.normal.dot(m.vertices[v].point) - pl.offset) > tol)
+        fuzz::fail("a facet's vertex is off its plane");
     }
   }
   for (const auto& p : a)

@@ -84,9 +84,8 @@ struct Faces {
     for (size_t f = 0; f + 1 < start.size(); ++f) {
       for (size_t k = start[f]; k < start[f + 1]; ++k)
         if (index[k] < 0 || size_t(index[k]) >= n)
-          return r.fail(line[f], "face " + std::to_string(f) + ": vertex index " +
-                                     std::to_string(index[k]) + " is out of range [0, " +
-                                     std::to_string(n) + ")");
+          return r.fail(line[f], "face " + std::to_string(f) + ": vertex index " + std::to_string(index[k]) +
+                                     " is out of range [0, " + std::to_string(n) + ")");
       if (triangles)
         for (size_t k = start[f] + 1; k + 1 < start[f + 1]; ++k)
           triangles->push_back({int(index[start[f]]), int(index[k]), int(index[k + 1])});
@@ -103,8 +102,7 @@ bool read_plain(std::istream& in, Reader r, std::vector<Vector3d>& pts, Faces&) 
   std::string line;
   while (lines.next(line)) {
     double v[3];
-    if (!parse_numbers(line, 3, v, false))
-      return r.fail(lines.number, "expected three finite numbers \"x y z\"");
+    if (!parse_numbers(line, 3, v, false)) return r.fail(lines.number, "expected three finite numbers \"x y z\"");
     pts.emplace_back(v[0], v[1], v[2]);
   }
   return true;
@@ -124,8 +122,7 @@ bool read_obj(std::istream& in, Reader r, std::vector<Vector3d>& pts, Faces& fac
       double v[3];
       std::string rest;
       std::getline(ss, rest);
-      if (!parse_numbers(rest, 3, v, true))
-        return r.fail(lines.number, "a vertex needs three finite coordinates");
+      if (!parse_numbers(rest, 3, v, true)) return r.fail(lines.number, "a vertex needs three finite coordinates");
       pts.emplace_back(v[0], v[1], v[2]);
     } else if (tag == "f") {
       polygon.clear();
@@ -161,8 +158,7 @@ bool read_off(std::istream& in, Reader r, std::vector<Vector3d>& pts, Faces& fac
   for (long k = 0; k < nv; ++k) {
     double v[3];
     if (!lines.next(line)) return r.fail(lines.number, "file ends before all vertices are read");
-    if (!parse_numbers(line, 3, v, true))
-      return r.fail(lines.number, "a vertex needs three finite coordinates");
+    if (!parse_numbers(line, 3, v, true)) return r.fail(lines.number, "a vertex needs three finite coordinates");
     pts.emplace_back(v[0], v[1], v[2]);
   }
   std::vector<long> polygon;
@@ -382,9 +378,8 @@ bool read_ply(std::istream& in, Reader r, std::vector<Vector3d>& pts, Faces& fac
 
 }  // namespace
 
-bool read_polygons(std::istream& in, const std::string& name, std::string format,
-                   std::vector<Vector3d>& points, std::vector<std::array<int, 3>>* triangles,
-                   std::string& error) {
+bool read_polygons(std::istream& in, const std::string& name, std::string format, std::vector<Vector3d>& points,
+                   std::vector<std::array<int, 3>>* triangles, std::string& error) {
   points.clear();
   if (triangles) triangles->clear();
   Reader r{name, error};
@@ -430,8 +425,7 @@ bool write_mesh(const std::string& path, const MinkowskiSum& sum, std::string& e
         << "\nproperty double x\nproperty double y\nproperty double z\nelement face " << F
         << "\nproperty list uchar int vertex_indices\nend_header\n";
   for (const auto& v : sum.vertices)
-    out << (ext == "obj" ? "v " : "") << v.point.x() << ' ' << v.point.y() << ' ' << v.point.z()
-        << '\n';
+    out << (ext == "obj" ? "v " : "") << v.point.x() << ' ' << v.point.y() << ' ' << v.point.z() << '\n';
   for (int k = 0; k < sum.F; ++k) {
     const Loop f = sum.facet(k);
     out << (ext == "obj" ? "f" : std::to_string(f.size()));

@@ -12,16 +12,14 @@ namespace minksum::tools {
 
 /// Reads the vertices of an OFF, OBJ, PLY or plain "x y z" text file (by its extension, else
 /// by its content), checking its faces too: read_polygons on the file.
-bool read_points(const std::string& path, std::vector<Eigen::Vector3d>& points,
-                 std::string& error);
+bool read_points(const std::string& path, std::vector<Eigen::Vector3d>& points, std::string& error);
 
 /// Reads the vertices and faces of an OFF, OBJ or PLY file (`format` "off", "obj" or "ply";
 /// anything else: told by the content, plain "x y z" text if neither OFF nor PLY). Every
 /// count, number and index is checked; polygons are fanned into `triangles` (points and lines
 /// dropped; nullptr: check the faces only). On failure returns false and sets `error` to
 /// "name:line: what is wrong".
-bool read_polygons(std::istream& in, const std::string& name, std::string format,
-                   std::vector<Eigen::Vector3d>& points,
+bool read_polygons(std::istream& in, const std::string& name, std::string format, std::vector<Eigen::Vector3d>& points,
                    std::vector<std::array<int, 3>>* triangles, std::string& error);
 
 /// Writes a sum as an OFF, OBJ or PLY mesh, chosen by the file extension.

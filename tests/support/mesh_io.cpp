@@ -1,4 +1,5 @@
-// Mesh input (STL through assimp, the others through the strict reader of io.cpp); the libcgal-demo fallback reads one member of a .tar.gz with zlib.
+// Mesh input (STL through assimp, the others through the strict reader of io.cpp); the libcgal-demo fallback reads one
+// member of a .tar.gz with zlib.
 #include "support/mesh_io.hpp"
 
 #include "support/io.hpp"
@@ -45,8 +46,8 @@ bool from_scene(const aiScene* scene, Mesh& mesh, std::string& error) {
           return false;
         }
       for (unsigned k = 1; k + 1 < face.mNumIndices; ++k)
-        mesh.triangles.push_back({base + int(face.mIndices[0]), base + int(face.mIndices[k]),
-                                  base + int(face.mIndices[k + 1])});
+        mesh.triangles.push_back(
+            {base + int(face.mIndices[0]), base + int(face.mIndices[k]), base + int(face.mIndices[k + 1])});
     }
   }
   if (mesh.triangles.empty()) {
@@ -176,11 +177,13 @@ Mesh torus() {
   for (int i = 0; i < nu; ++i)
     for (int j = 0; j < nv; ++j) {
       const double u = 2 * M_PI * i / nu, v = 2 * M_PI * j / nv;
-      m.vertices.emplace_back((1 + 0.35 * std::cos(v)) * std::cos(u), (1 + 0.35 * std::cos(v)) * std::sin(u), 0.35 * std::sin(v));
+      m.vertices.emplace_back((1 + 0.35 * std::cos(v)) * std::cos(u), (1 + 0.35 * std::cos(v)) * std::sin(u),
+                              0.35 * std::sin(v));
     }
   for (int i = 0; i < nu; ++i)
     for (int j = 0; j < nv; ++j) {
-      const int a = i * nv + j, b = (i + 1) % nu * nv + j, c = (i + 1) % nu * nv + (j + 1) % nv, d = i * nv + (j + 1) % nv;
+      const int a = i * nv + j, b = (i + 1) % nu * nv + j, c = (i + 1) % nu * nv + (j + 1) % nv,
+                d = i * nv + (j + 1) % nv;
       m.triangles.push_back({a, b, c});
       m.triangles.push_back({a, c, d});
     }
@@ -220,9 +223,10 @@ std::vector<Eigen::Isometry3d> banded_poses(const Octree& a, const Octree& b, do
       return d.distance;
     };
     // Target distance, or (contact) the depth to move in from first touching.
-    const double target = size * (band == 0 ? 0.002 + 0.048 * unit(rng) : band == 1 ? 0.001 + 0.049 * unit(rng)
-                                                                            : 0.05 + 0.45 * unit(rng));
-    if (distance(0) > 0) continue;  // nested, not crossing: another direction
+    const double target = size * (band == 0   ? 0.002 + 0.048 * unit(rng)
+                                  : band == 1 ? 0.001 + 0.049 * unit(rng)
+                                              : 0.05 + 0.45 * unit(rng));
+    if (distance(0) > 0) continue;       // nested, not crossing: another direction
     double lo = 0, hi = reach + target;  // distance(lo) <= goal < distance(hi)
     const double goal = band == 0 ? 0 : target;
     for (int k = 0; k < 60 && hi - lo > 1e-13 * size; ++k) {
@@ -242,7 +246,8 @@ Mesh sphere_mesh(double radius, int rings) {
   for (int i = 1; i < n; ++i)
     for (int j = 0; j < around; ++j) {
       const double th = M_PI * i / n, ph = 2 * M_PI * j / around;
-      m.vertices.emplace_back(radius * std::sin(th) * std::cos(ph), radius * std::sin(th) * std::sin(ph), radius * std::cos(th));
+      m.vertices.emplace_back(radius * std::sin(th) * std::cos(ph), radius * std::sin(th) * std::sin(ph),
+                              radius * std::cos(th));
     }
   m.vertices.emplace_back(0, 0, -radius);
   const int south = int(m.vertices.size()) - 1;
@@ -265,7 +270,8 @@ Status build_tree(const Mesh& mesh, Octree& out) {
 std::vector<Eigen::Vector3d> sample_surface(const Mesh& mesh, int count, unsigned seed) {
   std::vector<double> area(mesh.triangles.size());
   const auto corner = [&](size_t t, int k) { return mesh.vertices[size_t(mesh.triangles[t][size_t(k)])]; };
-  for (size_t t = 0; t < area.size(); ++t) area[t] = (corner(t, 1) - corner(t, 0)).cross(corner(t, 2) - corner(t, 0)).norm();
+  for (size_t t = 0; t < area.size(); ++t)
+    area[t] = (corner(t, 1) - corner(t, 0)).cross(corner(t, 2) - corner(t, 0)).norm();
   std::mt19937 rng(seed);
   std::discrete_distribution<size_t> pick(area.begin(), area.end());
   std::uniform_real_distribution<double> unit(0, 1);
@@ -287,7 +293,8 @@ MeshDistance brute_cloud_distance(const Mesh& a, const Mesh& b, const Eigen::Iso
     const Eigen::Vector3d q = pose.linear() * b.vertices[j] + pose.translation();
     for (size_t i = 0; i < a.vertices.size(); ++i)
       if (const double d = (a.vertices[i] - q).norm(); d < out.distance)
-        out.distance = d, out.point_a = a.vertices[i], out.point_b = q, out.triangle_a = int(i), out.triangle_b = int(j);
+        out.distance = d, out.point_a = a.vertices[i], out.point_b = q, out.triangle_a = int(i),
+        out.triangle_b = int(j);
   }
   out.intersecting = out.distance == 0;
   out.stats.triangle_pairs = long(a.vertices.size() * b.vertices.size());
@@ -327,7 +334,8 @@ MeshDistance brute_distance(const Mesh& a_in, const Mesh& b_in, const Eigen::Iso
   for (size_t i = 0; i < a.triangles.size() && out.distance > 0; ++i) {
     const Vector3d s[3] = {a.vertices[a.triangles[i][0]], a.vertices[a.triangles[i][1]], a.vertices[a.triangles[i][2]]};
     for (size_t j = 0; j < b.triangles.size(); ++j) {
-      const double dx = bx[j] - ca[i].x(), dy = by[j] - ca[i].y(), dz = bz[j] - ca[i].z(), reach = out.distance + ra[i] + rb[j];
+      const double dx = bx[j] - ca[i].x(), dy = by[j] - ca[i].y(), dz = bz[j] - ca[i].z(),
+                   reach = out.distance + ra[i] + rb[j];
       if (dx * dx + dy * dy + dz * dz > reach * reach) continue;
       const Vector3d t[3] = {moved[b.triangles[j][0]], moved[b.triangles[j][1]], moved[b.triangles[j][2]]};
       Vector3d p, q;

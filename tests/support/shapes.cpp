@@ -62,10 +62,13 @@ std::vector<Eigen::Isometry3d> trajectory(unsigned seed, int ticks, double near,
   for (int k = 0; k < ticks; ++k) {
     const double r = mid + amp * std::sin(wr * k + pr), lon = wt * k + pt, lat = 0.6 * std::sin(wl * k + pl);
     const Vector3d axis(std::cos(spin * k), std::sin(spin * k), std::sin(0.7 * spin * k + pl));
-    R = Eigen::Quaterniond(R * axis_angle(axis, turn * (0.75 + 0.25 * std::sin(3 * spin * k)))).normalized().toRotationMatrix();
+    R = Eigen::Quaterniond(R * axis_angle(axis, turn * (0.75 + 0.25 * std::sin(3 * spin * k))))
+            .normalized()
+            .toRotationMatrix();
     out[size_t(k)].setIdentity();
     out[size_t(k)].linear() = R;
-    out[size_t(k)].translation() = r * Vector3d(std::cos(lon) * std::cos(lat), std::sin(lon) * std::cos(lat), std::sin(lat));
+    out[size_t(k)].translation() =
+        r * Vector3d(std::cos(lon) * std::cos(lat), std::sin(lon) * std::cos(lat), std::sin(lat));
   }
   return out;
 }
@@ -81,9 +84,9 @@ std::vector<Vector3d> rotated(const std::vector<Vector3d>& pts, const Eigen::Mat
 std::vector<Table1Pair> table1_pairs() {
   const auto R = table1_rotation();
   const auto cube = cube_points(), ico = icosahedron_points(), dod = dodecahedron_points();
-  return {{"cube_rotcube", cube, rotated(cube, R)},   {"cube_icosa", cube, rotated(ico, R)},
-          {"icosa_icosa", ico, rotated(ico, R)},      {"cube_dodeca", cube, rotated(dod, R)},
-          {"dodeca_dodeca", dod, rotated(dod, R)},    {"icosa_dodeca", ico, rotated(dod, R)}};
+  return {{"cube_rotcube", cube, rotated(cube, R)}, {"cube_icosa", cube, rotated(ico, R)},
+          {"icosa_icosa", ico, rotated(ico, R)},    {"cube_dodeca", cube, rotated(dod, R)},
+          {"dodeca_dodeca", dod, rotated(dod, R)},  {"icosa_dodeca", ico, rotated(dod, R)}};
 }
 
 std::vector<Vector3d> exact_icosahedron_points() {
@@ -107,9 +110,9 @@ std::vector<Vector3d> exact_dodecahedron_points() {
 std::vector<Vector3d> exact_rotated(const std::vector<Vector3d>& pts) {
   const double w = 4, x = 1, y = 2, z = 3;
   Eigen::Matrix3d M;
-  M << w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y),
-      2 * (x * y + w * z), w * w - x * x + y * y - z * z, 2 * (y * z - w * x),
-      2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z;
+  M << w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y), 2 * (x * y + w * z),
+      w * w - x * x + y * y - z * z, 2 * (y * z - w * x), 2 * (x * z - w * y), 2 * (y * z + w * x),
+      w * w - x * x - y * y + z * z;
   std::vector<Vector3d> out;
   for (const auto& p : pts) out.push_back(M * p);
   return out;
@@ -123,9 +126,9 @@ std::vector<Vector3d> scaled(std::vector<Vector3d> pts, double s) {
 std::vector<Table1Pair> exact_table1_pairs() {
   const auto cube = scaled(cube_points(), 30 * 7), ico = scaled(exact_icosahedron_points(), 30);
   const auto dod = scaled(exact_dodecahedron_points(), 30);
-  return {{"cube_rotcube", cube, exact_rotated(cube)},   {"cube_icosa", cube, exact_rotated(ico)},
-          {"icosa_icosa", ico, exact_rotated(ico)},      {"cube_dodeca", cube, exact_rotated(dod)},
-          {"dodeca_dodeca", dod, exact_rotated(dod)},    {"icosa_dodeca", ico, exact_rotated(dod)}};
+  return {{"cube_rotcube", cube, exact_rotated(cube)}, {"cube_icosa", cube, exact_rotated(ico)},
+          {"icosa_icosa", ico, exact_rotated(ico)},    {"cube_dodeca", cube, exact_rotated(dod)},
+          {"dodeca_dodeca", dod, exact_rotated(dod)},  {"icosa_dodeca", ico, exact_rotated(dod)}};
 }
 
 std::vector<Vector3d> sphere_points(int n, unsigned seed) {
@@ -184,7 +187,8 @@ DegeneratePair degenerate_pair(int family, std::mt19937_64& rng) {
   std::uniform_int_distribution<int> small(1, 8), size(10, 40);
   const auto extents = [&] { return Vector3d(small(rng), small(rng), small(rng)); };
   switch (family) {
-    case 0: return {"aligned_boxes", int_box(extents()), int_box(extents())};
+    case 0:
+      return {"aligned_boxes", int_box(extents()), int_box(extents())};
     case 1: {  // B turned about z by (a, b, c), a^2 + b^2 = c^2: both scaled by c, exact
       static const int kTriples[5][3] = {{3, 4, 5}, {5, 12, 13}, {8, 15, 17}, {7, 24, 25}, {20, 21, 29}};
       const int* t = kTriples[rng() % 5];
@@ -193,11 +197,16 @@ DegeneratePair degenerate_pair(int family, std::mt19937_64& rng) {
       for (const auto& q : int_box(extents())) B.emplace_back(a * q.x() - b * q.y(), b * q.x() + a * q.y(), c * q.z());
       return {"boxes_shared_axis", scaled(int_box(extents()), c), B};
     }
-    case 2: case 3: case 4: case 5: {
+    case 2:
+    case 3:
+    case 4:
+    case 5: {
       const int n = 8 << (family - 2);
-      return {"prisms_" + std::to_string(n), int_prism(n, 10000, size(rng), 1, 0), int_prism(n, 10000, size(rng), 1 + int(rng() % 3), 0)};
+      return {"prisms_" + std::to_string(n), int_prism(n, 10000, size(rng), 1, 0),
+              int_prism(n, 10000, size(rng), 1 + int(rng() % 3), 0)};
     }
-    case 6: return {"box_prism", int_box(1000 * extents()), int_prism(16, 10000, size(rng), 1, 0.5)};
+    case 6:
+      return {"box_prism", int_box(1000 * extents()), int_prism(16, 10000, size(rng), 1, 0.5)};
     case 7: {
       const auto p = int_points(rng, size(rng), small(rng));
       return {"identical", p, p};
@@ -268,7 +277,8 @@ std::vector<FacePair> face_pairs() {
     out.push_back(p);
   };
   boxes("boxes", box_of(Vector3d(1, 0.8, 0.5)), box_of(Vector3d(0.4, 0.3, 0.25)));
-  for (int n : {8, 16, 32, 64}) out.push_back({"prisms" + std::to_string(n), prism(n, 1, -0.5, 0.5), prism(n, 0.6, -0.3, 0.3)});
+  for (int n : {8, 16, 32, 64})
+    out.push_back({"prisms" + std::to_string(n), prism(n, 1, -0.5, 0.5), prism(n, 0.6, -0.3, 0.3)});
   FacePair box_on_prism{"box_on_prism", prism(32, 1, -0.5, 0.5), {}, false, true};
   box_on_prism.box_b = box_of(Vector3d(0.3, 0.2, 0.15)), box_on_prism.b = corners(box_on_prism.box_b);
   out.push_back(box_on_prism);
@@ -277,7 +287,8 @@ std::vector<FacePair> face_pairs() {
   for (Vector3d& v : flat.b) v = 0.4 * v, v.z() = std::max(v.z(), -0.2);
   flat.box_a = box_of(Vector3d(1, 1, 0.5)), flat.a = corners(flat.box_a);
   out.push_back(flat);
-  boxes("edge_on_face", box_of(Vector3d(1, 1, 0.5)), box_of(Vector3d(0.4, 0.3, 0.25), axis_angle(Vector3d::UnitX(), M_PI / 4)));
+  boxes("edge_on_face", box_of(Vector3d(1, 1, 0.5)),
+        box_of(Vector3d(0.4, 0.3, 0.25), axis_angle(Vector3d::UnitX(), M_PI / 4)));
   return out;
 }
 

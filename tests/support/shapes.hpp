@@ -25,8 +25,8 @@ Eigen::Matrix3d table1_rotation();
 
 /// One row of the paper's Table 1: operand names and point sets (B already rotated).
 struct Table1Pair {
-  std::string name;                       ///< e.g. "cube_rotcube"
-  std::vector<Eigen::Vector3d> a, b;      ///< vertex sets
+  std::string name;                   ///< e.g. "cube_rotcube"
+  std::vector<Eigen::Vector3d> a, b;  ///< vertex sets
 };
 
 /// The six pairs of Table 1, in the paper's order.
@@ -93,8 +93,7 @@ DegeneratePair degenerate_pair(int family, std::mt19937_64& rng);
 std::vector<DegeneratePair> degenerate_pairs();
 
 /// Applies R to every point.
-std::vector<Eigen::Vector3d> rotated(const std::vector<Eigen::Vector3d>& pts,
-                                     const Eigen::Matrix3d& R);
+std::vector<Eigen::Vector3d> rotated(const std::vector<Eigen::Vector3d>& pts, const Eigen::Matrix3d& R);
 
 /// n points uniformly on the unit sphere, from a seeded generator.
 std::vector<Eigen::Vector3d> sphere_points(int n, unsigned seed);
@@ -113,7 +112,6 @@ Triangle random_triangle(std::mt19937_64& rng, double spread);
 /// contact about every 2,000 ticks.
 std::vector<Eigen::Isometry3d> trajectory(unsigned seed, int ticks, double near, double far, double step);
 
-
 /// A pair that meets face to face (or edge to face): A at rest, B lowered onto A's top face
 /// (A's largest z) along z, each in its body frame; a box is built by shape_from_box, as a
 /// user writes it. Sizes are near 1.
@@ -121,7 +119,7 @@ struct FacePair {
   std::string name;
   std::vector<Eigen::Vector3d> a, b;  ///< the points of each (a box's: its corners)
   bool a_is_box = false, b_is_box = false;
-  Box box_a, box_b;                   ///< the boxes, where one is
+  Box box_a, box_b;  ///< the boxes, where one is
 };
 
 /// The families: boxes, n-gon prisms (n = 8, 16, 32, 64), a box on a prism's cap, a
