@@ -8,7 +8,7 @@
 #include <random>
 #include <tuple>
 
-#include "simd/box_pair.hpp"
+#include "simd/box_pair_data.hpp"
 #include "checks.hpp"
 #include "ties.hpp"
 #include "support/shapes.hpp"

@@ -8,7 +8,7 @@
 
 #include "core/scale.hpp"
 #include "geometry/closest.hpp"
-#include "simd/box_pair.hpp"
+#include "simd/box_pair_data.hpp"
 #include "query/cache_kinds.hpp"
 #include "shape/shape_data.hpp"
 #include "query/triangle_pairs.hpp"

@@ -5,25 +5,14 @@
 // too little work for SIMD lanes; the batched kernels cover many pairs.
 #pragma once
 
-#include <minksum/kernels.hpp>
-#include <minksum/model.hpp>
+#include "simd/box_pair_data.hpp"
+#include "simd/separating_axes.hpp"
+#include "simd/simd.hpp"
 
 #include <cmath>
 #include <limits>
 
 namespace minksum::detail {
-
-/// M = A (-) B of one box pair: c = c_A - c_B, generators g_k = h_Ak u_Ak (k < 3) and
-/// -h_Bk u_Bk (k >= 3), and C = U_A^T U_B.
-template <class T>
-struct BoxPair {
-  T c[3], ca[3];
-  T u[6][3];  // unit axes of A then of B
-  T h[6];     // half extents of A then of B
-  T g[6][3];  // generators
-  T C[3][3];  // C[i][j] = u_Ai . u_Bj
-  T uc[6];    // u_k . c
-};
 
 template <class T>
 struct SatResult {
@@ -31,20 +20,6 @@ struct SatResult {
   T normal[3];         // its unit normal, outward from M on the origin's side
   unsigned free_mask;  // the two generators spanning that facet
 };
-
-/// Everything the box-box query computes, as plain numbers.
-template <class T>
-struct PairAnswer {
-  bool intersecting;
-  T distance, depth;
-  T direction[3], point_a[3], point_b[3];
-  bool converged;  // false: the active set ran out of iterations (distance is an upper bound)
-  bool warm;       // the answer came from the given active set, proven optimal (KKT)
-};
-
-/// An active set of the box-pair query as the coherence cache keeps it: bit 31 set, the free
-/// generators in bits 0-5, the signs of the fixed parameters (1: +1) in bits 8-13.
-constexpr unsigned kActiveSet = 1u << 31;
 
 // Scalar code on small arrays: GCC's straight-line (SLP) vectoriser packs neighbouring
 // elements into vector loads of data that was just stored element by element, and such loads
@@ -81,50 +56,27 @@ struct BoxPairQuery {
       for (int j = 0; j < 3; ++j) p.C[i][j] = dot3(u[i], u[3 + j]);
   }
 
-  // The separating axis test over the 15 axes (Gottschalk, Lin & Manocha, "OBBTree", SIGGRAPH
-  // 1996): the axis with the largest separation |n . c| - sum_k |n . g_k| (negative: overlap).
-  // Edge crosses closer to parallel than kSliverThreshold are skipped (see box_box_proximity).
+  // The separating axis test over the 15 axes (SeparatingAxes): the axis with the largest
+  // separation (negative: the smallest overlap). Edge crosses closer to parallel than
+  // kSliverThreshold are skipped (see box_box_proximity).
   MINKSUM_SCALAR_CODE static SatResult<T> separating_axis(const BoxPair<T>& p) {
-    // Separation of axis k = num[k] / sqrt(len2[k]); edge crosses in A's frame, where u_Ai = e_i,
-    // u_Bj = column j of C and c = (u_A . c): L = e_i x C_j, L . c = c_i2 C_i1j - c_i1 C_i2j,
-    // |L|^2 = C_i1j^2 + C_i2j^2, and for right-handed frames L . u_A(i+1) = -C_i2j,
-    // L . u_A(i+2) = C_i1j, L . u_B(j+1) = C_ij2, L . u_B(j+2) = -C_ij1.
-    // Each separation is formed and compared where it is computed: arrays of them read back as
-    // vectors stall on store forwarding.
-    T absC[3][3];
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) absC[i][j] = std::abs(p.C[i][j]);
-    // An edge axis's separation is d / sqrt(len2) with d = |L . c| - r. Without a square root or
-    // a division per axis, axes are compared by the signed square d |d| / len2 (monotone in the
-    // separation), cross-multiplied: axis (d, len2) beats the best (bd, bl) iff
-    // d |d| bl > bd |bd| len2. The winner's separation is formed once at the end.
-    T bd = -std::numeric_limits<T>::infinity(), bl = 1;
+    // Axes are compared without a square root or a division per axis, by the signed square
+    // d |d| / len2 of the separation d / sqrt(len2) (monotone in it), cross-multiplied: axis
+    // (d, len2) beats the best (bd, bl) iff d |d| bl > bd |bd| len2. The winner's separation is
+    // formed once at the end. Each is compared where it is computed: arrays of them read back
+    // as vectors stall on store forwarding.
+    T bd = -std::numeric_limits<T>::infinity(), bkey = bd, bl = 1;
     int w = 0;
-    for (int i = 0; i < 3; ++i) {
-      const T d = std::abs(p.uc[i]) - (p.h[i] + p.h[3] * absC[i][0] + p.h[4] * absC[i][1] + p.h[5] * absC[i][2]);
-      if (d > bd) bd = d, w = i;
-    }
-    for (int i = 0; i < 3; ++i) {
-      const T d =
-          std::abs(p.uc[3 + i]) - (p.h[3 + i] + p.h[0] * absC[0][i] + p.h[1] * absC[1][i] + p.h[2] * absC[2][i]);
-      if (d > bd) bd = d, w = 3 + i;
-    }
-    T bkey = bd * std::abs(bd);
     const T sliver2 = kSliverThreshold<T> * kSliverThreshold<T>;
-    for (int i = 0; i < 3; ++i) {
-      const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
-      for (int j = 0; j < 3; ++j) {
-        const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
-        const T len2 = p.C[i1][j] * p.C[i1][j] + p.C[i2][j] * p.C[i2][j];
-        const T r =
-            p.h[i1] * absC[i2][j] + p.h[i2] * absC[i1][j] + p.h[3 + j1] * absC[i][j2] + p.h[3 + j2] * absC[i][j1];
-        const T d = std::abs(p.uc[i2] * p.C[i1][j] - p.uc[i1] * p.C[i2][j]) - r;
-        const T key = d * std::abs(d);
-        // (A sliver axis, closer to parallel than kSliverThreshold, is skipped: see
-        // box_box_proximity.)
-        if (len2 > sliver2 && key * bl > bkey * len2) bd = d, bkey = key, bl = len2, w = 6 + 3 * i + j;
-      }
-    }
+    SeparatingAxes<Simd<T, ScalarArch>, Arch>::visit(
+        p.C, p.uc, p.uc + 3, p.h, p.h + 3,
+        [&](int axis, T d) {
+          if (d > bd) bd = d, bkey = d * std::abs(d), w = axis;  // (bl is 1 until an edge wins)
+        },
+        [&](int axis, T d, T len2) {
+          const T key = d * std::abs(d);
+          if (len2 > sliver2 && key * bl > bkey * len2) bd = d, bkey = key, bl = len2, w = axis;
+        });
     SatResult<T> out;
     T n[3];
     if (w < 6) {
@@ -350,10 +302,5 @@ struct BoxPairQuery {
     active = !out.intersecting && out.converged ? encode(t, free_mask) : 0u;
   }
 };
-
-/// The box-pair query of the active ISA: loads the pair and, if `answer`, answers, starting
-/// from the active set `active` (see BoxPairQuery::box_pair; 0: cold).
-void box_pair_proximity(const Box& a, const Box& b, bool answer, unsigned& active, BoxPair<double>& pair,
-                        PairAnswer<double>& out);
 
 }  // namespace minksum::detail

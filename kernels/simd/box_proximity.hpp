@@ -2,6 +2,7 @@
 #pragma once
 
 #include "simd/lanes.hpp"
+#include "simd/separating_axes.hpp"
 
 namespace minksum::detail {
 
@@ -175,6 +176,18 @@ struct BoxProximityKernels : Lanes<T, Arch> {
     }
   };
 
+  // The pair in A's frame, as SeparatingAxes takes it: C = U_A^T U_B, cA = U_A^T c, cB = U_B^T c.
+  using Axes = SeparatingAxes<S, Arch>;
+  struct InAFrame {
+    B C[3][3], cA[3], cB[3];
+    InAFrame(const V3 (&ua)[3], const V3 (&ub)[3], const V3& c) {
+      for (int i = 0; i < 3; ++i) {
+        cA[i] = dot(ua[i], c), cB[i] = dot(ub[i], c);
+        for (int j = 0; j < 3; ++j) C[i][j] = dot(ua[i], ub[j]);
+      }
+    }
+  };
+
   static void store_proximity(ProximityLanes<T> out, int N, int k, const B& separated, const B& distance,
                               const B& depth, const V3& dir, const V3& pa, const V3& p) {
     S::store(out.distance + k, distance);
@@ -213,43 +226,22 @@ struct BoxProximityKernels : Lanes<T, Arch> {
     constexpr int kJ[15] = {1, 2, 2, 4, 5, 5, 3, 4, 5, 3, 4, 5, 3, 4, 5};
     const B zero(T(0)), one(T(1)), inf(std::numeric_limits<T>::infinity());
     const PairRegister r(a, b, N, k);
-    // The separation of each axis from C = U_A^T U_B and c in A's frame (OBBTree's form, as
-    // in box_box_separation but with the C shortcuts: it only chooses the facet).
-    B C[3][3], absC[3][3], cA[3], cB[3];
-    for (int i = 0; i < 3; ++i) {
-      cA[i] = dot(r.ua[i], r.c), cB[i] = dot(r.ub[i], r.c);
-      for (int j = 0; j < 3; ++j) C[i][j] = dot(r.ua[i], r.ub[j]), absC[i][j] = S::abs(C[i][j]);
-    }
+    // The separating axis test chooses the facet: the axis of largest separation.
+    const InAFrame af(r.ua, r.ub, r.c);
     B best(-inf), best_i(zero), best_j(zero);  // the best axis and its generator pair
     const auto keep = [&](const B& sep, int p) {
       const auto better = sep > best;
       best = S::select(better, sep, best);
       best_i = S::select(better, B(T(kI[p])), best_i), best_j = S::select(better, B(T(kJ[p])), best_j);
     };
-#pragma GCC unroll 3
-    for (int i = 0; i < 3; ++i) {  // face axis i of A is spanned by pair 2 - i, of B by 5 - i
-      keep(S::abs(cA[i]) - (r.ha[i] + S::fma(r.hb[0], absC[i][0], S::fma(r.hb[1], absC[i][1], r.hb[2] * absC[i][2]))),
-           2 - i);
-      keep(S::abs(cB[i]) - (r.hb[i] + S::fma(r.ha[0], absC[0][i], S::fma(r.ha[1], absC[1][i], r.ha[2] * absC[2][i]))),
-           5 - i);
-    }
+    // Face axis i of A is spanned by generator pair 2 - i, of B by 5 - i; edge axis p by pair p.
     const B sliver2(kSliverThreshold<T> * kSliverThreshold<T>);
-#pragma GCC unroll 3
-    for (int i = 0; i < 3; ++i) {
-      const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
-#pragma GCC unroll 3
-      for (int j = 0; j < 3; ++j) {
-        const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
-        // L = u_Ai x u_Bj: |L|^2 = C_i1j^2 + C_i2j^2, L . c = cA_i1 C_i2j - cA_i2 C_i1j, and
-        // the radius from the rows and columns of |C| (right-handed frames).
-        const B len2 = S::fma(C[i1][j], C[i1][j], C[i2][j] * C[i2][j]);
-        const B rad = S::fma(r.ha[i1], absC[i2][j],
-                             S::fma(r.ha[i2], absC[i1][j], S::fma(r.hb[j1], absC[i][j2], r.hb[j2] * absC[i][j1])));
-        const B lc = cA[i1] * C[i2][j] - cA[i2] * C[i1][j];
-        const auto ok = len2 > sliver2;
-        keep(S::select(ok, (S::abs(lc) - rad) * S::rsqrt(S::select(ok, len2, one)), -inf), 6 + 3 * i + j);
-      }
-    }
+    Axes::visit(
+        af.C, af.cA, af.cB, r.ha, r.hb, [&](int p, const B& d) { keep(d, p < 3 ? 2 - p : 8 - p); },
+        [&](int p, const B& d, const B& len2) {
+          const auto ok = len2 > sliver2;
+          keep(S::select(ok, d * S::rsqrt(S::select(ok, len2, one)), -inf), p);
+        });
     LanePair role;
     V3 gi{zero, zero, zero}, gj = gi;
 #pragma GCC unroll 6
@@ -309,12 +301,13 @@ struct BoxProximityKernels : Lanes<T, Arch> {
     if (n > 0) redo();
   }
 
-  // The separating axis test fused into one pass, no planes written: is the origin inside
-  // A (-) B, and a lower bound of the distance (the largest separation over the 15 axes), for
-  // octree traversal and broad phases. Edge axes use the unnormalised cross product and scale
-  // the separation once.
+  // The separating axis test (SeparatingAxes) fused into one pass, no planes written: is the
+  // origin inside A (-) B, and a lower bound of the distance (the largest separation over the
+  // 15 axes), for octree traversal and broad phases. Edge crosses closer to parallel than
+  // kParallelThreshold are skipped.
   static void box_box_separation(BoxLanes<T> a, BoxLanes<T> b, int count, int N, T* bound, CodeOf<T>* hit) {
     const B zero(T(0)), one(T(1));
+    const B parallel2(kParallelThreshold<T> * kParallelThreshold<T>);
     for (int k = 0; k < count; k += S::size) {
       V3 ua[3], ub[3];
       B ha[3], hb[3];
@@ -323,25 +316,14 @@ struct BoxProximityKernels : Lanes<T, Arch> {
         ha[i] = S::load(a.h + i * N + k), hb[i] = S::load(b.h + i * N + k);
       }
       const V3 ca = load3(a.c, N, k), cb = load3(b.c, N, k);
-      const V3 c{ca.x - cb.x, ca.y - cb.y, ca.z - cb.z};
+      const InAFrame f(ua, ub, V3{ca.x - cb.x, ca.y - cb.y, ca.z - cb.z});
       B sep(-std::numeric_limits<T>::infinity());
-      auto radius = [&](const V3& n) {
-        B r(T(0));
-        for (int q = 0; q < 3; ++q) r = S::fma(ha[q], S::abs(dot(n, ua[q])), S::fma(hb[q], S::abs(dot(n, ub[q])), r));
-        return r;
-      };
-      for (int p = 0; p < 3; ++p) {
-        sep = S::max(sep, S::abs(dot(ua[p], c)) - radius(ua[p]));
-        sep = S::max(sep, S::abs(dot(ub[p], c)) - radius(ub[p]));
-      }
-#pragma GCC unroll 9
-      for (int e = 0; e < 9; ++e) {
-        const V3 x = cross(ua[e / 3], ub[e % 3]);
-        const B x2 = dot(x, x);
-        const auto valid = x2 > B(kParallelThreshold<T> * kParallelThreshold<T>);
-        const B inv = S::rsqrt(S::select(valid, x2, one));
-        sep = S::max(sep, S::select(valid, (S::abs(dot(x, c)) - radius(x)) * inv, sep));
-      }
+      Axes::visit(
+          f.C, f.cA, f.cB, ha, hb, [&](int, const B& d) { sep = S::max(sep, d); },
+          [&](int, const B& d, const B& len2) {
+            const auto valid = len2 > parallel2;
+            sep = S::max(sep, S::select(valid, d * S::rsqrt(S::select(valid, len2, one)), sep));
+          });
       S::store(bound + k, S::max(sep, zero));
       S::store_code(hit + k, S::select(sep > zero, zero, one));
     }

@@ -7,7 +7,7 @@
 #include <cstring>
 #include <xsimd/config/xsimd_cpuid.hpp>
 
-#include "simd/box_pair.hpp"
+#include "simd/box_pair_data.hpp"
 #include "simd/simd.hpp"
 
 namespace minksum {
