@@ -8,6 +8,7 @@
 
 #include "core/scale.hpp"
 #include "geometry/closest.hpp"
+#include "geometry/rigid.hpp"
 #include "simd/box_pair_data.hpp"
 #include "query/cache_kinds.hpp"
 #include "shape/shape_data.hpp"
@@ -427,24 +428,18 @@ struct PolytopeShape {
 // (x' = R x + t; normals and directions turned by R): nothing is stored per pose.
 struct PosedShape {
   const ConvexPolytope& p;
-  const Eigen::Matrix3d R;
-  const Vector3d t;
+  const detail::Rigid pose;
   const bool solid = !p.flat;
   int size() const { return int(p.vertices.size()); }
-  Vector3d vertex(int k) const {  // (written out: Eigen's product is not always inlined here)
-    const Vector3d& x = p.vertices[k];
-    return Vector3d(R(0, 0) * x[0] + R(0, 1) * x[1] + R(0, 2) * x[2] + t[0],
-                    R(1, 0) * x[0] + R(1, 1) * x[1] + R(1, 2) * x[2] + t[1],
-                    R(2, 0) * x[0] + R(2, 1) * x[1] + R(2, 2) * x[2] + t[2]);
-  }
+  Vector3d vertex(int k) const { return pose.point(p.vertices[k]); }
   int faces() const { return p.flat ? 1 : int(p.faces.size()); }
   int loop_size(int f) const { return int(p.faces[f].loop.size()); }
   Vector3d loop_vertex(int f, int k) const { return vertex(p.faces[f].loop[k]); }
-  Vector3d face_normal(int f) const { return R * p.faces[f].normal; }
-  double face_offset(int f) const { return p.faces[f].offset + face_normal(f).dot(t); }
+  Vector3d face_normal(int f) const { return pose.turn(p.faces[f].normal); }
+  double face_offset(int f) const { return p.faces[f].offset + face_normal(f).dot(pose.t); }
   int edges() const { return int(p.edges.size()); }
   Vector3d edge_direction(int k) const {
-    return R * (p.vertices[p.edges[k].v1] - p.vertices[p.edges[k].v0]).stableNormalized();
+    return pose.turn((p.vertices[p.edges[k].v1] - p.vertices[p.edges[k].v0]).stableNormalized());
   }
   bool arc(int k, Vector3d& n0, Vector3d& n1, Vector3d& on) const {
     if (p.flat) return false;
@@ -453,13 +448,12 @@ struct PosedShape {
     return true;
   }
   // At least the largest |coordinate|, without a pass over the vertices.
-  double reach() const { return t.cwiseAbs().maxCoeff() + radius; }
+  double reach() const { return pose.t.cwiseAbs().maxCoeff() + radius; }
   const double radius = 0;  // at least the largest |x| in the body frame
-  // The body frame, where a pass over vertices or faces reads the polytope as stored: a
-  // direction d turned into it (d . x' = to_body(d) . x + shift(d)), a point moved into it.
-  Vector3d to_body(const Vector3d& d) const { return R.transpose() * d; }
-  Vector3d body_point(const Vector3d& x) const { return R.transpose() * (x - t); }
-  double shift(const Vector3d& d) const { return d.dot(t); }
+  // The body frame, where a pass over vertices or faces reads the polytope as stored.
+  Vector3d to_body(const Vector3d& d) const { return pose.to_body(d); }
+  Vector3d body_point(const Vector3d& x) const { return pose.body_point(x); }
+  double shift(const Vector3d& d) const { return pose.shift(d); }
   const Vector3d& body_vertex(int k) const { return p.vertices[k]; }
   const Vector3d& body_loop_vertex(int f, int k) const { return p.vertices[p.faces[f].loop[k]]; }
   const Vector3d& body_normal(int f) const { return p.faces[f].normal; }
@@ -469,12 +463,12 @@ struct PosedShape {
 // The support of a posed shape with the direction turned into the body frame (one product
 // per vertex instead of a pose per vertex).
 [[gnu::flatten]] int highest(const PosedShape& s, const Vector3d& n, double& value) {
-  const Vector3d nb = s.R.transpose() * n;
+  const Vector3d nb = s.to_body(n);
   int best = 0;
   value = -std::numeric_limits<double>::infinity();
   for (int k = 0; k < s.size(); ++k)
     if (const double x = nb.dot(s.p.vertices[k]); x > value) value = x, best = k;
-  value += n.dot(s.t);
+  value += s.shift(n);
   return best;
 }
 
@@ -770,7 +764,7 @@ int top_of(const S& s, const Vector3d& n, double wide, double& value, bool& sing
 
 // The same for a posed shape, with n turned into the body frame once.
 [[gnu::flatten]] int top_of(const PosedShape& s, const Vector3d& n, double wide, double& value, bool& single) {
-  const Vector3d nb = s.R.transpose() * n;
+  const Vector3d nb = s.to_body(n);
   int best = 0;
   double first = -std::numeric_limits<double>::infinity(), second = first;
   for (int k = 0; k < s.size(); ++k) {
@@ -780,7 +774,7 @@ int top_of(const S& s, const Vector3d& n, double wide, double& value, bool& sing
     else
       second = std::max(second, x);
   }
-  value = first + n.dot(s.t), single = second < first - wide;
+  value = first + s.shift(n), single = second < first - wide;
   return best;
 }
 
@@ -1638,7 +1632,7 @@ void cached_proximity(const A& a, const B& b, ProximityCache& cache, Proximity& 
 // A prepared shape placed by a pose.
 PosedShape posed(const ConvexShape& s, const Eigen::Isometry3d& pose) {
   const detail::ShapeData* d = detail::ShapeAccess::data(s);
-  return PosedShape{s.polytope(), pose.linear(), pose.translation(), !s.polytope().flat, std::sqrt(3.0) * d->size};
+  return PosedShape{s.polytope(), {pose.linear(), pose.translation()}, !s.polytope().flat, std::sqrt(3.0) * d->size};
 }
 
 // Shapes built from boxes and triangles answer in their own form, placed by their poses: the

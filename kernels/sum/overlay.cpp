@@ -335,9 +335,7 @@ void place(const ShapeData& s, const Eigen::Isometry3d& pose, const Eigen::Matri
            PlacedBuffers& buf, Placed& out) {
   const double sign = negate ? -1.0 : 1.0;
   out.s = &s, out.m = &s.map[negate], out.negate = negate;
-  out.world = sign * pose.linear(), out.frame = sign * frame;
-  out.turned = out.world != Eigen::Matrix3d::Identity();
-  const Vector3d t = sign * pose.translation();
+  out.world = Rigid(sign * pose.linear(), sign * pose.translation()), out.frame = sign * frame;
   if (frame == Eigen::Matrix3d::Identity()) {  // the prepared normals and poles (-B's negated)
     if (negate) {
       buf.g.resize(s.gauss.size());
@@ -364,18 +362,12 @@ void place(const ShapeData& s, const Eigen::Isometry3d& pose, const Eigen::Matri
     }
     out.g = buf.g.data(), out.g_nonzero = buf.g_nonzero.data(), out.c = buf.c.data(), out.c_zero = buf.c_zero.data();
   }
-  if (!out.turned && t == Vector3d::Zero()) {
+  if (!out.world.turned && out.world.t == Vector3d::Zero()) {
     out.px = s.px.data(), out.py = s.py.data(), out.pz = s.pz.data();
   } else {
-    // x' = M x + t, by component over the arrays (vectorised).
-    const Eigen::Matrix3d& M = out.world;
     const size_t n = s.px.size();
-    for (int r = 0; r < 3; ++r) {
-      buf.p[r].resize(n);
-      const double m0 = M(r, 0), m1 = M(r, 1), m2 = M(r, 2), c = t[r];
-      double* p = buf.p[r].data();
-      for (size_t k = 0; k < n; ++k) p[k] = m0 * s.px[k] + m1 * s.py[k] + m2 * s.pz[k] + c;
-    }
+    for (auto& p : buf.p) p.resize(n);
+    out.world.place(s.px.data(), s.py.data(), s.pz.data(), n, {buf.p[0].data(), buf.p[1].data(), buf.p[2].data()});
     out.px = buf.p[0].data(), out.py = buf.p[1].data(), out.pz = buf.p[2].data();
   }
 }
@@ -651,7 +643,7 @@ void Overlay::crossing_facets(const Placed& A, const Placed& B) {
     Vector3d& n = normal[x.facet];
     if (c2 > edges * edges * da.squaredNorm() * db.squaredNorm()) {
       n = c * ((x.up ? -1 : 1) / std::sqrt(c2));
-      if (map_normals && A.turned) n = A.world * n;
+      if (map_normals) n = A.world.turn(n);
       if (certain || on_arcs(A, x.ea, B, x.eb, n)) continue;
     }
     loose[x.facet] = true;
@@ -659,7 +651,7 @@ void Overlay::crossing_facets(const Placed& A, const Placed& B) {
     const double cp2 = cp.squaredNorm(), circles = std::max(1e-4, 4 * poles);
     if (cp2 > circles * circles * pa.squaredNorm() * pb.squaredNorm()) {
       n = cp * ((x.up ? -1 : 1) / std::sqrt(cp2));
-      if (A.turned) n = A.world * n;
+      n = A.world.turn(n);
       if (certain || on_arcs(A, x.ea, B, x.eb, n)) continue;
     }
     n = near_parallel_normal(A.unit(A.L(x.ea)), A.unit(A.R(x.ea)), B.unit(B.L(x.eb)), B.unit(B.R(x.eb)));

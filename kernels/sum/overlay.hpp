@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "geometry/rigid.hpp"
 #include "shape/shape_data.hpp"
 #include "sum/pair_numbering.hpp"
 
@@ -28,26 +29,19 @@ struct Placed {
   const std::uint8_t* g_nonzero;  ///< per face: ShapeData::gauss_nonzero of g
   const std::uint8_t* c_zero;     ///< per arc: ShapeData::pole_zero of c
   const double *px, *py, *pz;     ///< vertices in the world frame
-  Eigen::Matrix3d world;          ///< body -> world rotation (negated for -B)
+  Rigid world;                    ///< body -> world pose (negated for -B)
   Eigen::Matrix3d frame;          ///< body -> overlay frame rotation (negated for -B)
-  bool turned = false;            ///< world is not the identity
   int L(int e) const { return m->arc[e].L; }
   int R(int e) const { return m->arc[e].R; }
   const Eigen::Vector3d& gauss(int f) const { return g[f]; }
   const Eigen::Vector3d& pole(int e) const { return c[e]; }
   Eigen::Vector3d point(int v) const { return {px[v], py[v], pz[v]}; }
   /// Face f's unit normal in the world frame.
-  Eigen::Vector3d unit(int f) const {
-    const Eigen::Vector3d n(s->nx[f], s->ny[f], s->nz[f]);
-    return turned ? Eigen::Vector3d(world * n) : n;
-  }
+  Eigen::Vector3d unit(int f) const { return world.turn(Eigen::Vector3d(s->nx[f], s->ny[f], s->nz[f])); }
   /// Arc e's edge p_v - p_u in the world frame (zero for a prism's zero-length edges), turned
   /// from the body frame: a translation far larger than the shape would leave only rounding in
   /// the placed points.
-  Eigen::Vector3d edge(int e) const {
-    const Eigen::Vector3d d(s->ex[e], s->ey[e], s->ez[e]);
-    return turned ? Eigen::Vector3d(world * d) : d;
-  }
+  Eigen::Vector3d edge(int e) const { return world.turn(Eigen::Vector3d(s->ex[e], s->ey[e], s->ez[e])); }
 };
 
 /// Copies of one operand's arrays turned or moved (per thread, reused).
