@@ -109,7 +109,7 @@ TEST_P(Coherence, BoxPairsAlongTrajectories) {
   EXPECT_GT(contacts, ticks / 10);          // the paths do pass through contact
   EXPECT_GT(warm, (ticks - contacts) / 2);  // and the cache answers most separated ticks
   // A tie-heavy walk (tests/ties): lattice boxes, B stepping 1/8 along an axis each tick (back
-  // towards A when it strays) and taking a quarter turn now and then, through exact face, edge
+  // towards the origin past 3) and taking a quarter turn now and then, through exact face, edge
   // and corner contact, where the verdict must be the cold one exactly.
   const Box la = test::ties::lattice_box(rng, 1, 1), lbody = test::ties::lattice_box(rng, 1, 1);
   Isometry3d pose = Isometry3d::Identity();

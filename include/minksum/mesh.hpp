@@ -96,7 +96,7 @@ class MeshWorkspace {
   MeshWorkspace& operator=(MeshWorkspace&& other) noexcept;  ///< takes the scratch
   ~MeshWorkspace();                                          ///< frees the scratch
   /// The scratch (null when empty), for the library's queries.
-  detail::MeshScratch* scratch() const { return scratch_.get(); }
+  detail::MeshScratch* scratch() { return scratch_.get(); }
 
  private:
   friend void make_workspace(const Octree& a, const Octree& b, MeshWorkspace& ws, int heap_pairs);

@@ -1,3 +1,4 @@
+// The Qhull bridge: the hull of a point set with coplanar facets merged (see hull.hpp).
 #include "core/hull.hpp"
 
 #include <algorithm>

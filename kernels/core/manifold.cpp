@@ -1,3 +1,4 @@
+// The closed-manifold check shared by the sum and the polytope builders (see manifold.hpp).
 #include "core/manifold.hpp"
 
 #include <cstddef>

@@ -1,3 +1,5 @@
+// Filtered exact predicates: a floating-point filter first, the expansions (expansion.hpp) when
+// it cannot decide (see predicates.hpp).
 #include "core/predicates.hpp"
 
 #include <algorithm>
