@@ -62,8 +62,19 @@ struct Simd {
   static bool any(const M& m) {
     return xsimd::any(m);
   }
-  /// Stores small non-negative integers held exactly in T as integer codes.
-  static void store_code(CodeOf<T>* p, const B& v) { xsimd::batch_cast<CodeOf<T>>(v).store_aligned(p); }
+  /// Stores integers held exactly in T (|v| < 2^51) as integer codes. Below AVX-512 there is no
+  /// packed double -> int64 conversion, and xsimd converts lane by lane through memory (measured:
+  /// 44 % of the double box-box sum kernel on AVX2). Instead, v + 1.5 * 2^52 is exact and holds
+  /// v in its low mantissa bits, two's complement: its bits minus those of 1.5 * 2^52 are v.
+  static void store_code(CodeOf<T>* p, const B& v) {
+    if constexpr (std::is_same_v<T, double> && !std::is_same_v<Arch, xsimd::avx512bw>) {
+      using I = xsimd::batch<std::int64_t, Arch>;
+      const I bits = xsimd::bitwise_cast<I>(v + B(0x1.8p52));
+      (bits - I(std::int64_t(0x4338000000000000))).store_aligned(p);
+    } else {
+      xsimd::batch_cast<CodeOf<T>>(v).store_aligned(p);
+    }
+  }
   /// The lanes of a mask (of T, or of 64-bit integers) as bits, lane l in bit l (xsimd 8 has
   /// no such call).
   template <class M>
