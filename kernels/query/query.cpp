@@ -1427,33 +1427,35 @@ bool certified(const A& a, const B& b, int found, const int (&fa)[4], const int 
   for (int j = 0; j < found; ++j) s[j] = a.vertex(fa[j]), u[j] = b.vertex(fb[j]);
   Contact c;
   Vector3d p, q;
-  bool ok = false;
+  bool ok = false, touching = false;  // (touching: certified_touching has set the patch's witnesses)
+  const auto depth = [&](bool proven) {
+    if (proven) c = heights(a, b, out.penetration_direction, t.tau);
+    return proven;
+  };
   if (found == 3) {
     double d;
     ok = certified_distance(a, b, s, u, t.slack, t.touching, t.tau, p, q, d, out, c) ||
-         certified_touching(a, b, p, q, s, u, 3, t.touching, t.tau, t.margin, out, c);
-    if (!ok && d <= t.touching + t.slack && depth_from_faces(a, b, 3, fa, fb, t, out, f)) {
-      c = heights(a, b, out.penetration_direction, t.tau);
-      ok = true;
-    }
-  } else if (certified_depth(a, b, fa, fb, t.slack, t.touching, out, f) ||
-             depth_from_faces(a, b, 4, fa, fb, t, out, f)) {
-    c = heights(a, b, out.penetration_direction, t.tau);
-    ok = true;
+         (touching = certified_touching(a, b, p, q, s, u, 3, t.touching, t.tau, t.margin, out, c)) ||
+         (d <= t.touching + t.slack && depth(depth_from_faces(a, b, 3, fa, fb, t, out, f)));
   } else {
+    // Deeper than `touching`, the tetrahedron proves the depth; else, where the origin lies
+    // in it, touching is tried before the tetrahedron's faces (at touching those cannot prove
+    // a depth: every face of the expanding polytope must be farther than `touching`).
     Vector3d w[4];
     double l[4];
     for (int j = 0; j < 4; ++j) w[j] = t.k * (s[j] - u[j]);
-    if (origin_weights(w, l)) {
+    ok = depth(certified_depth(a, b, fa, fb, t.slack, t.touching, out, f));
+    if (!ok && origin_weights(w, l)) {
       p = l[0] * s[0] + l[1] * s[1] + l[2] * s[2] + l[3] * s[3];
       q = l[0] * u[0] + l[1] * u[1] + l[2] * u[2] + l[3] * u[3];
-      ok = certified_touching(a, b, p, q, s, u, 4, t.touching, t.tau, t.margin, out, c);
+      ok = touching = certified_touching(a, b, p, q, s, u, 4, t.touching, t.tau, t.margin, out, c);
     }
+    ok = ok || depth(depth_from_faces(a, b, 4, fa, fb, t, out, f));
   }
   if (!ok) return false;
   // (Apart, the witnesses' distance, bottom - top, is within the slack of d; the answer is
   // the one they realise: at coordinates of 1e86 the slack is 1e-4 of a distance of 1e74.)
-  if (contact_witnesses(a, b, c, t.tau, out.point_a, out.point_b) && !out.intersecting)
+  if ((!touching || c.a_single || c.b_single) && contact_witnesses(a, b, c, t.tau, out.point_a, out.point_b) && !out.intersecting)
     out.distance = length(out.point_b - out.point_a);
   if (f && !f->depth) {
     std::copy(fa, fa + 3, f->a), std::copy(fb, fb + 3, f->b);
