@@ -871,9 +871,12 @@ struct Patch {
 
 double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
 
+// The vertex after k around x (a compare, not a division: the patch loops run per query).
+int after(const Patch& x, int k) { return k + 1 == x.size ? 0 : k + 1; }
+
 double area2(const Patch& x) {
   double s = 0;
-  for (int k = 0; k < x.size; ++k) s += cross2(x.p[k], x.p[(k + 1) % x.size]);
+  for (int k = 0; k < x.size; ++k) s += cross2(x.p[k], x.p[after(x, k)]);
   return s;
 }
 
@@ -882,6 +885,12 @@ double area2(const Patch& x) {
 // coincident points, whose zero-length edges would hold every point.)
 void settle(Patch& x, double tol) {
   if (x.size < 2) return;
+  if (x.size >= 3) {  // a polygon kept as it is, without the two sweeps: one pass for its box
+    // (The sweeps' extent is at least |p1 - p0| and at most the box's diagonal.)
+    Eigen::Vector2d lo = x.p[0], hi = lo;
+    for (int k = 1; k < x.size; ++k) lo = lo.cwiseMin(x.p[k]), hi = hi.cwiseMax(x.p[k]);
+    if ((x.p[1] - x.p[0]).norm() > tol && std::abs(area2(x)) > tol * (hi - lo).norm()) return;
+  }
   const auto farthest = [&](const Eigen::Vector2d& from) {
     int best = 0;
     for (int k = 1; k < x.size; ++k)
@@ -944,7 +953,7 @@ void clip(Patch& x, const Eigen::Vector2d& a, const Eigen::Vector2d& b, double t
   const Eigen::Vector2d e = b - a;
   const double scale = tol * e.norm();
   for (int k = 0; k < in.size; ++k) {
-    const Eigen::Vector2d &p = in.p[k], &r = in.p[(k + 1) % in.size];
+    const Eigen::Vector2d &p = in.p[k], &r = in.p[after(in, k)];
     const double hp = cross2(e, p - a), hr = cross2(e, r - a);
     if (hp >= -scale && x.size < kPatch) x.p[x.size++] = p;
     if (((hp >= -scale) != (hr >= -scale)) && x.size < kPatch) x.p[x.size++] = p + (hp / (hp - hr)) * (r - p);
@@ -954,7 +963,7 @@ void clip(Patch& x, const Eigen::Vector2d& a, const Eigen::Vector2d& b, double t
 // Whether c lies in the convex polygon x (counter-clockwise, 3 or more vertices; within tol).
 bool holds(const Patch& x, const Eigen::Vector2d& c, double tol) {
   for (int k = 0; k < x.size; ++k) {
-    const Eigen::Vector2d e = x.p[(k + 1) % x.size] - x.p[k];
+    const Eigen::Vector2d e = x.p[after(x, k)] - x.p[k];
     if (cross2(e, c - x.p[k]) < -tol * e.norm()) return false;
   }
   return true;
@@ -968,7 +977,7 @@ Eigen::Vector2d nearest_in(const Patch& x, const Eigen::Vector2d& c, double tol)
   if (x.size >= 3 && area2(x) > tol * extent && holds(x, c, tol)) return c;
   Eigen::Vector2d best = x.p[0];
   for (int k = 0; k < x.size; ++k) {
-    const Eigen::Vector2d &p = x.p[k], e = x.p[(k + 1) % x.size] - p;
+    const Eigen::Vector2d &p = x.p[k], e = x.p[after(x, k)] - p;
     const double len2 = e.squaredNorm();
     const Eigen::Vector2d y = p + (len2 > 0 ? std::clamp((c - p).dot(e) / len2, 0.0, 1.0) : 0.0) * e;
     if ((y - c).squaredNorm() < (best - c).squaredNorm()) best = y;
@@ -998,7 +1007,7 @@ bool patch_point(const Patch& P, const Patch& Q, double tol, Eigen::Vector2d& x)
   Patch overlap = small;
   if (large.size >= 3) {
     for (int k = 0; k < large.size && overlap.size > 0; ++k)
-      clip(overlap, large.p[k], large.p[(k + 1) % large.size], tol);
+      clip(overlap, large.p[k], large.p[after(large, k)], tol);
   } else {  // two segments: on one line (clipped to each other below), or across at a point
     const Eigen::Vector2d e = large.p[1] - large.p[0], f = small.p[1] - small.p[0];
     const double len = e.norm();
