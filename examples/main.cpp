@@ -85,13 +85,16 @@ const char* kHelp =
     "      or plain text \"x y z\" per line), B placed by a rigid pose (unit quaternion, then\n"
     "      translation; default: as read); --diff computes A (-) B = A (+) (-B). The fast\n"
     "      method prepares both as shapes and applies the pose inside the sum.\n"
-    "  query A B [--pose-b \"qw qx qy qz tx ty tz\" | --poses FILE [--coherent]] [--json]\n"
-    "  query --box \"cx cy cz hx hy hz qw qx qy qz\" --box \"...\" [--json]\n"
+    "  query A B [--pose-b \"qw qx qy qz tx ty tz\" | --poses FILE [--coherent]] [--patch MARGIN]\n"
+    "          [--json]\n"
+    "  query --box \"cx cy cz hx hy hz qw qx qy qz\" --box \"...\" [--patch MARGIN] [--json]\n"
     "      Collision, exact distance with closest points, maximum distance and penetration\n"
     "      depth and direction of two convex objects (vertex files, or boxes given inline:\n"
     "      centre, half extents, unit quaternion). --poses reads one pose of B per line and\n"
     "      prints one JSON line each; --coherent starts each query from the last answer (the\n"
-    "      same answers, to 1e-12 relative).\n"
+    "      same answers, to 1e-12 relative). --patch adds the contact patch where the objects\n"
+    "      overlap, touch or lie within MARGIN (>= 0): its normal, depth, the supporting\n"
+    "      feature of each and the patch's corners.\n"
     "  distance [MESH_A MESH_B] [--pose \"qw qx qy qz tx ty tz\"] [--poses FILE [--coherent]]\n"
     "           [--json] [--brute]\n"
     "      Exact minimum distance between two triangle meshes (PLY, OBJ, OFF, STL) through\n"
@@ -150,32 +153,72 @@ bool parse_box(const std::string& text, Box& box, std::string& error) {
   return true;
 }
 
-// One query's answer, as one JSON line or a sentence.
-void print_answer(const Proximity& p, bool json) {
-  auto vec = [](const Eigen::Vector3d& v) {
-    char buf[100];
-    std::snprintf(buf, sizeof buf, "[%.17g, %.17g, %.17g]", v.x(), v.y(), v.z());
-    return std::string(buf);
-  };
+std::string vec(const Eigen::Vector3d& v) {
+  char buf[100];
+  std::snprintf(buf, sizeof buf, "[%.17g, %.17g, %.17g]", v.x(), v.y(), v.z());
+  return buf;
+}
+
+// A patch feature as JSON ({"face": 3}, {"edge": [2, 5]}, {"vertex": 7}, null) or words.
+std::string feature(const ContactPatch::Feature& f, bool json) {
+  using Kind = ContactPatch::Feature::Kind;
+  const std::string i0 = std::to_string(f.index[0]), i1 = std::to_string(f.index[1]);
+  switch (f.kind) {
+    case Kind::Face:
+      return json ? "{\"face\": " + i0 + "}" : "face " + i0;
+    case Kind::Edge:
+      return json ? "{\"edge\": [" + i0 + ", " + i1 + "]}" : "edge " + i0 + "-" + i1;
+    case Kind::Vertex:
+      return json ? "{\"vertex\": " + i0 + "}" : "vertex " + i0;
+    case Kind::None:
+      break;
+  }
+  return json ? "null" : "vertices of nearly coplanar faces";
+}
+
+// The contact patch: a JSON member (`, "patch": {...}`) or lines of text.
+std::string patch_text(const ContactPatch& c, bool json) {
+  std::string points;
+  for (int k = 0; k < c.size; ++k) points += (json ? (k ? ", " : "") : "\n  ") + vec(c.points[k]);
+  char head[300];
+  if (json) {
+    std::snprintf(head, sizeof head, ", \"patch\": {\"normal\": %s, \"depth\": %.17g, ", vec(c.normal).c_str(),
+                  c.depth);
+    return head + ("\"feature_a\": " + feature(c.feature_a, true) + ", \"feature_b\": " + feature(c.feature_b, true) +
+                   ", \"points\": [" + points + "]}");
+  }
+  if (c.size == 0) return "patch: none (farther apart than the margin)\n";
+  std::snprintf(head, sizeof head, "patch: %d point%s along %s, depth %.17g, A's %s on B's %s:", c.size,
+                c.size == 1 ? "" : "s", vec(c.normal).c_str(), c.depth, feature(c.feature_a, false).c_str(),
+                feature(c.feature_b, false).c_str());
+  return head + points + "\n";
+}
+
+// One query's answer, as one JSON line or a sentence; with its contact patch if given.
+void print_answer(const Proximity& p, bool json, const ContactPatch* patch = nullptr) {
   if (json) {
     std::printf(
         "{\"intersecting\": %s, \"distance\": %.17g, \"closest_points\": [%s, %s], "
         "\"max_distance\": %.17g, \"penetration_depth\": %.17g, "
-        "\"penetration_direction\": %s}\n",
+        "\"penetration_direction\": %s%s}\n",
         p.intersecting ? "true" : "false", p.distance, vec(p.point_a).c_str(), vec(p.point_b).c_str(), p.max_distance,
-        p.penetration_depth, vec(p.penetration_direction).c_str());
-  } else if (p.intersecting) {
+        p.penetration_depth, vec(p.penetration_direction).c_str(), patch ? patch_text(*patch, true).c_str() : "");
+    return;
+  }
+  if (p.intersecting) {
     std::printf("intersecting: penetration depth %.17g along %s; max distance %.17g\n", p.penetration_depth,
                 vec(p.penetration_direction).c_str(), p.max_distance);
   } else {
     std::printf("separated: distance %.17g between %s and %s; max distance %.17g\n", p.distance, vec(p.point_a).c_str(),
                 vec(p.point_b).c_str(), p.max_distance);
   }
+  if (patch) std::printf("%s", patch_text(*patch, false).c_str());
 }
 
 int cmd_query(int argc, char** argv) {
   std::vector<std::string> files, boxes;
-  bool json = false, posed = false, coherent = false;
+  bool json = false, posed = false, coherent = false, with_patch = false;
+  double margin = 0;
   Eigen::Isometry3d pose_b = Eigen::Isometry3d::Identity();
   std::vector<Eigen::Isometry3d> poses;
   std::string error;
@@ -195,6 +238,11 @@ int cmd_query(int argc, char** argv) {
     } else if (a == "--box") {
       if (k + 1 >= argc) return usage_error("--box needs a value");
       boxes.push_back(argv[++k]);
+    } else if (a == "--patch") {
+      std::vector<double> v;
+      if (k + 1 >= argc) return usage_error("--patch needs a value");
+      if (!cli::parse_numbers(argv[++k], "--patch", "margin", 1, v, error)) return usage_error(error);
+      with_patch = true, margin = v[0];
     } else if (a.rfind("--", 0) == 0) {
       return usage_error("unknown option '" + a + "'");
     } else {
@@ -205,28 +253,34 @@ int cmd_query(int argc, char** argv) {
   if (coherent && poses.empty()) return usage_error("--coherent needs --poses");
   Proximity p;
   Status s;
+  ConvexShape A, B;  // (the patch's operands: the files' shapes, or the boxes')
+  static ContactPatch patch;
+  const Eigen::Isometry3d identity = Eigen::Isometry3d::Identity();
   if (boxes.size() == 2 && files.empty()) {
     Box a, b;
     if (!parse_box(boxes[0], a, error) || !parse_box(boxes[1], b, error)) return usage_error(error);
     if (posed || !poses.empty()) return usage_error("--pose-b and --poses are for vertex files");
     s = proximity(a, b, p);
+    if (s == Status::Ok && with_patch && (s = shape_from_box(a, A)) == Status::Ok &&
+        (s = shape_from_box(b, B)) == Status::Ok)
+      s = contact_patch(A, identity, B, identity, margin, patch);
   } else if (files.size() == 2 && boxes.empty()) {
-    ConvexShape A, B;
     if (!load(files[0], A) || !load(files[1], B)) return 2;
     if (!poses.empty()) {  // one JSON line per pose; consecutive poses share one cache
       ProximityCache cache;
       for (const Eigen::Isometry3d& pose : poses) {
-        s = coherent ? proximity(A, Eigen::Isometry3d::Identity(), B, pose, cache, p)
-                     : proximity(A, Eigen::Isometry3d::Identity(), B, pose, p);
+        s = coherent ? proximity(A, identity, B, pose, cache, p) : proximity(A, identity, B, pose, p);
+        if (s == Status::Ok && with_patch) s = contact_patch(A, identity, B, pose, margin, patch);
         if (s != Status::Ok) {
           std::fprintf(stderr, "minksum: pose: %s\n", to_string(s));
           return 2;
         }
-        print_answer(p, true);
+        print_answer(p, true, with_patch ? &patch : nullptr);
       }
       return 0;
     }
-    s = proximity(A, Eigen::Isometry3d::Identity(), B, pose_b, p);
+    s = proximity(A, identity, B, pose_b, p);
+    if (s == Status::Ok && with_patch) s = contact_patch(A, identity, B, pose_b, margin, patch);
   } else {
     return usage_error("query needs two vertex files or two --box");
   }
@@ -234,7 +288,7 @@ int cmd_query(int argc, char** argv) {
     std::fprintf(stderr, "minksum: %s\n", to_string(s));
     return 2;
   }
-  print_answer(p, json);
+  print_answer(p, json, with_patch ? &patch : nullptr);
   return 0;
 }
 

@@ -264,6 +264,35 @@ TEST(Cli, QueryJsonAgreesWithTheLibrary) {
   EXPECT_NE(o.out.find("\"penetration_direction\": [1, 0, 0]"), std::string::npos) << o.out;
 }
 
+// --patch: the contact patch in the JSON line. B's bottom face, 0.4 above A's top, over x in
+// [0, 1], y in [-0.5, 0.5], lies within A's top face: the patch is that square on A's plane.
+TEST(Cli, QueryPrintsTheContactPatch) {
+  const std::string boxes = "query --box \"0 0 0 1 1 1 1 0 0 0\" --box \"0.5 0 1.9 0.5 0.5 0.5 1 0 0 0\"";
+  const CliRun r = run(boxes + " --patch 0.5 --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::size_t at = r.out.find("\"points\": [");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"feature_a\": {\"face\": "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"normal\": [0, 0, 1]"), std::string::npos) << r.out;
+  const std::string list = r.out.substr(at, r.out.find("]]", at) + 2 - at);
+  const std::regex point(R"(\[([-0-9.e]+), ([-0-9.e]+), ([-0-9.e]+)\])");
+  std::vector<Vector3d> got;
+  for (auto it = std::sregex_iterator(list.begin(), list.end(), point); it != std::sregex_iterator(); ++it)
+    got.push_back(Vector3d(std::stod((*it)[1]), std::stod((*it)[2]), std::stod((*it)[3])));
+  ASSERT_EQ(got.size(), 4u) << r.out;
+  for (const Vector3d& corner :
+       {Vector3d(0, -0.5, 1), Vector3d(1, -0.5, 1), Vector3d(1, 0.5, 1), Vector3d(0, 0.5, 1)}) {
+    double nearest = HUGE_VAL;
+    for (const auto& x : got) nearest = std::min(nearest, (x - corner).norm());
+    EXPECT_LT(nearest, 1e-12) << r.out;
+  }
+  const CliRun beyond = run(boxes + " --patch 0.3 --json");  // 0.4 apart: no patch
+  ASSERT_EQ(beyond.code, 0) << beyond.err;
+  EXPECT_NE(beyond.out.find("\"points\": []"), std::string::npos) << beyond.out;
+  expect_rejected(boxes + " --patch -0.1", "margin");
+  expect_rejected(boxes + " --patch", "needs a value");
+}
+
 TEST(Cli, QueryRejectsBadInput) {
   expect_rejected("query --box \"0 0 0 1 1 1 1 0 0 0\" --box \"1 2 3\"", "10 numbers");
   expect_rejected("query --box \"0 0 0 1 1 1 1 0 0 0\" --box \"0 0 nan 1 1 1 1 0 0 0\"", "NaN");

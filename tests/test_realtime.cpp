@@ -284,7 +284,8 @@ TEST(RealTime, CoherentQueriesDoNotAllocate) {
 
 // Face to face (tools::face_pairs: boxes, prisms, a box on a prism, a flat face on a box, an
 // edge along a face), apart, touching and pressed, flat and rocking, cold and coherent: the
-// patch witnesses, the touching certificate and the face probe work in fixed buffers.
+// patch witnesses, the touching certificate, the face probe and the contact patch work in fixed
+// buffers.
 TEST(RealTime, FaceToFaceQueriesDoNotAllocate) {
   SKIP_UNLESS_COUNTING();
   const Eigen::Isometry3d pose_a(Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 3).normalized()));
@@ -296,11 +297,13 @@ TEST(RealTime, FaceToFaceQueriesDoNotAllocate) {
       for (bool rocking : {false, true}) {
         ProximityCache cache;
         Proximity p;
+        ContactPatch patch;
         EXPECT_EQ(allocations([&] {
                     for (int k = 0; k < 64; ++k) {
                       const Eigen::Isometry3d pose_b = pose_a * tools::face_pose(pair, k, 64, gap, rocking);
                       proximity(A, pose_a, B, pose_b, p, Want::Contact);
                       proximity(A, pose_a, B, pose_b, cache, p, Want::Contact);
+                      contact_patch(A, pose_a, B, pose_b, 2e-3, patch);
                     }
                   }),
                   0)

@@ -20,6 +20,8 @@ enum class Status {
   HullFailed,        ///< Qhull reported an error on input that passed validation
   OutOfRange,        ///< a coordinate's magnitude exceeds kMaxCoordinate
   InvalidPose,       ///< a pose that is not a finite rigid motion (scale, shear, reflection, NaN)
+  InvalidArgument,   ///< a number outside its documented range (a negative or NaN margin)
+  CapacityExceeded,  ///< a result larger than its fixed capacity (a contact patch's 128 points)
 };
 
 /// Largest coordinate magnitude accepted: products of three stay finite in double, so the

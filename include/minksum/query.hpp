@@ -85,6 +85,37 @@ Status proximity(const Box& a, const Triangle& b, ProximityCache& cache, Proximi
 /// The proximity of two triangles (coplanar triangles included).
 Status proximity(const Triangle& a, const Triangle& b, Proximity& out, Want want = Want::All);
 
+/// Where two convex shapes touch, or would within a margin: the overlap, seen along the contact
+/// normal, of A's supporting set (its points highest along the normal) and B's (lowest). Both
+/// sets lie in planes orthogonal to the normal, so every point of the patch has the one depth.
+struct ContactPatch {
+  static constexpr int kCapacity = 128;  ///< the most points a patch holds
+  /// The supporting feature of one shape: a face (index into its polytope's faces), an edge (its
+  /// two vertices), a vertex, or None (vertices of nearly coplanar faces, within rounding).
+  struct Feature {
+    enum class Kind : unsigned char { None, Vertex, Edge, Face } kind = Kind::None;  ///< what it is
+    int index[2] = {-1, -1};  ///< the face; the edge's two vertices; the vertex
+  };
+  int size = 0;  ///< points in `points` (0: farther apart than the margin)
+  /// Unit normal of both supporting planes, from A towards B (the penetration direction, or the
+  /// direction of the closest points when apart).
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  /// How far B's plane lies below A's along the normal: the penetration depth (0 touching), or
+  /// minus the distance when apart.
+  double depth = 0;
+  Eigen::Vector3d points[kCapacity];  ///< the patch on A's supporting plane, counter-clockwise about the normal
+  Feature feature_a;                  ///< A's supporting feature
+  Feature feature_b;                  ///< B's supporting feature
+};
+
+/// The contact patch of two posed shapes that overlap, touch or lie within `margin` of each
+/// other (size 0 farther apart), exact to rounding: A's and B's supporting sets along the exact
+/// query's normal, clipped to each other in O(n_A + n_B) (a face, an edge or a vertex of each).
+/// A point (size 1), a segment (2) or a convex polygon. TooFewPoints for an empty shape,
+/// InvalidPose for a pose that is not rigid, InvalidArgument for a margin < 0 or NaN,
+/// CapacityExceeded where the two supporting sets have more than kCapacity points together.
+Status contact_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
+                     const Eigen::Isometry3d& pose_b, double margin, ContactPatch& out);
 /// How far B must move along the unit direction u for A and B to stop overlapping (0 if they
 /// are separated, or already would be after any move along u).
 double penetration_along(const MinkowskiSum& m, const Eigen::Vector3d& u);

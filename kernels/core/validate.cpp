@@ -34,6 +34,10 @@ const char* to_string(Status s) {
       return "the convex hull (Qhull) failed";
     case Status::InvalidPose:
       return "the pose is not a finite rigid motion (a proper rotation and a translation)";
+    case Status::InvalidArgument:
+      return "a number is outside its documented range (a negative or NaN margin)";
+    case Status::CapacityExceeded:
+      return "the result exceeds its fixed capacity";
   }
   return "unknown status";
 }

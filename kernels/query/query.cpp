@@ -610,6 +610,7 @@ struct Features {
   bool valid = false, depth = false;
   int face = -1;
   bool face_of_b = false;
+  Vector3d normal = Vector3d::Zero();  // the proof's unit normal, A towards B (0: the search answered)
 };
 
 // The point of the simplex w[0..n) (n <= 4) nearest the origin, as barycentric weights (zero
@@ -907,12 +908,19 @@ void settle(Patch& x, double tol) {
   }
 }
 
+// Which feature of a shape a level set is: a face, or one or two vertices (a vertex, an edge).
+struct LevelFeature {
+  int face = -1;
+  int vertex[2] = {-1, -1};
+};
+
 // The vertices of s on its level plane (sign +1: A's top, -1: B's bottom) seen along n in the
 // basis (u, w): a face's loop when every vertex of the face nearest n is within tau of the
 // level, else the one or two vertices within tau (an edge). False for more (GJK's witnesses).
+// The feature goes to `which` when asked.
 template <class S>
 bool level_set(const S& s, const Vector3d& n, double level, double sign, double tau, const Vector3d& u,
-               const Vector3d& w, Patch& out) {
+               const Vector3d& w, Patch& out, LevelFeature* which = nullptr) {
   // (In the body frame: a posed shape's faces and vertices are read as stored.)
   const Vector3d nb = s.to_body(n), ub = s.to_body(u), wb = s.to_body(w);
   const double lb = level - s.shift(n), su = s.shift(u), sw = s.shift(w);
@@ -933,6 +941,7 @@ bool level_set(const S& s, const Vector3d& n, double level, double sign, double 
       for (int k = 0; k < s.loop_size(face); ++k) put(s.body_loop_vertex(face, k));
       if (area2(out) < 0) std::reverse(out.p, out.p + out.size);
       settle(out, tau);
+      if (which) *which = LevelFeature{face, {-1, -1}};
       return true;
     }
   }
@@ -940,6 +949,7 @@ bool level_set(const S& s, const Vector3d& n, double level, double sign, double 
   for (int k = 0; k < s.size(); ++k)
     if (on(s.body_vertex(k))) {
       if (out.size == 2) return false;
+      if (which) which->face = -1, which->vertex[out.size] = k;
       put(s.body_vertex(k));
     }
   settle(out, tau);
@@ -991,6 +1001,34 @@ bool meets(const Eigen::Vector2d& x, const Patch& y, double tol) {
   return (nearest_in(y, x, tol) - x).norm() <= tol;
 }
 
+// The overlap of the sets small and large (points, segments or convex polygons of 2 or more
+// points each; within tol), into `overlap`: empty where they do not meet. Segments across
+// each other meet at a point (an edge across an edge: a penetration along their cross product
+// ends with them crossing).
+void overlap_of(const Patch& small, const Patch& large, double tol, Patch& overlap) {
+  overlap = small;
+  if (large.size >= 3) {
+    for (int k = 0; k < large.size && overlap.size > 0; ++k) clip(overlap, large.p[k], large.p[after(large, k)], tol);
+    return;
+  }
+  // Two segments: on one line (clipped to each other), or across at a point.
+  const Eigen::Vector2d e = large.p[1] - large.p[0], f = small.p[1] - small.p[0];
+  const double len = e.norm();
+  bool collinear = true;
+  for (int k = 0; k < 2; ++k) collinear = collinear && std::abs(cross2(e, small.p[k] - large.p[0])) <= tol * len;
+  if (!collinear) {
+    // (small.p[0] + s f lies on large's line at s = e x (large.p[0] - small.p[0]) / e x f.)
+    const double across = cross2(e, f);
+    overlap.size = 0;
+    if (!(across != 0)) return;  // parallel lines apart
+    const Eigen::Vector2d x = small.p[0] + std::clamp(cross2(e, large.p[0] - small.p[0]) / across, 0.0, 1.0) * f;
+    if (meets(x, large, tol)) overlap.p[0] = x, overlap.size = 1;
+    return;
+  }
+  clip(overlap, large.p[0] + Eigen::Vector2d(-e.y(), e.x()), large.p[0], tol);  // beyond large.p[0]
+  clip(overlap, large.p[1], large.p[1] + Eigen::Vector2d(-e.y(), e.x()), tol);  // before large.p[1]
+}
+
 // The witness on A's and B's level sets P and Q (see Patch); false where they do not meet.
 bool patch_point(const Patch& P, const Patch& Q, double tol, Eigen::Vector2d& x) {
   if (P.size == 1 || Q.size == 1) {
@@ -1004,28 +1042,10 @@ bool patch_point(const Patch& P, const Patch& Q, double tol, Eigen::Vector2d& x)
   for (int k = 0; k < small.size; ++k) c += small.p[k];
   c /= small.size;
   if (large.size >= 3 && holds(large, c, tol)) return x = c, true;
-  Patch overlap = small;
-  if (large.size >= 3) {
-    for (int k = 0; k < large.size && overlap.size > 0; ++k)
-      clip(overlap, large.p[k], large.p[after(large, k)], tol);
-  } else {  // two segments: on one line (clipped to each other below), or across at a point
-    const Eigen::Vector2d e = large.p[1] - large.p[0], f = small.p[1] - small.p[0];
-    const double len = e.norm();
-    bool collinear = true;
-    for (int k = 0; k < 2; ++k) collinear = collinear && std::abs(cross2(e, small.p[k] - large.p[0])) <= tol * len;
-    if (!collinear) {
-      // (An edge across an edge: a penetration along their cross product ends with them
-      // crossing. small.p[0] + s f lies on large's line at s = e x (large.p[0] - small.p[0]) / e x f.)
-      const double across = cross2(e, f);
-      if (!(across != 0)) return false;  // parallel lines apart
-      x = small.p[0] + std::clamp(cross2(e, large.p[0] - small.p[0]) / across, 0.0, 1.0) * f;
-      return meets(x, large, tol);
-    }
-    clip(overlap, large.p[0] + Eigen::Vector2d(-e.y(), e.x()), large.p[0], tol);  // beyond large.p[0]
-    clip(overlap, large.p[1], large.p[1] + Eigen::Vector2d(-e.y(), e.x()), tol);  // before large.p[1]
-  }
+  Patch overlap;
+  overlap_of(small, large, tol, overlap);
   if (overlap.size == 0) return false;
-  x = nearest_in(overlap, c, tol);
+  x = overlap.size == 1 ? overlap.p[0] : nearest_in(overlap, c, tol);
   return true;
 }
 
@@ -1464,8 +1484,10 @@ bool certified(const A& a, const B& b, int found, const int (&fa)[4], const int 
   if (!ok) return false;
   // (Apart, the witnesses' distance, bottom - top, is within the slack of d; the answer is
   // the one they realise: at coordinates of 1e86 the slack is 1e-4 of a distance of 1e74.)
-  if ((!touching || c.a_single || c.b_single) && contact_witnesses(a, b, c, t.tau, out.point_a, out.point_b) && !out.intersecting)
+  if ((!touching || c.a_single || c.b_single) && contact_witnesses(a, b, c, t.tau, out.point_a, out.point_b) &&
+      !out.intersecting)
     out.distance = length(out.point_b - out.point_a);
+  if (f) f->normal = c.n;
   if (f && !f->depth) {
     std::copy(fa, fa + 3, f->a), std::copy(fb, fb + 3, f->b);
     f->valid = true;
@@ -1689,6 +1711,97 @@ bool own_form(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const Conve
   return false;
 }
 
+// The vertices of s within tau of its level (sign as in level_set) as a convex polygon seen
+// along n, counter-clockwise: the supporting set where it is no face, edge or vertex (faces
+// planar only to a tolerance). Andrew's monotone chain (Andrew, "Another efficient algorithm
+// for convex hulls in two dimensions", 1979). False for kPatch vertices or more.
+template <class S>
+bool level_hull(const S& s, const Vector3d& n, double level, double sign, double tau, const Vector3d& u,
+                const Vector3d& w, Patch& out) {
+  Eigen::Vector2d q[kPatch];
+  int m = 0;
+  for (int k = 0; k < s.size(); ++k) {
+    const Vector3d x = s.vertex(k);
+    if (!(sign * (n.dot(x) - level) >= -tau)) continue;
+    if (m == kPatch - 1) return false;
+    q[m++] = Eigen::Vector2d(u.dot(x), w.dot(x));
+  }
+  std::sort(q, q + m, [](const Eigen::Vector2d& x, const Eigen::Vector2d& y) {
+    return x.x() < y.x() || (x.x() == y.x() && x.y() < y.y());
+  });
+  // The lower hull left to right, then the upper right to left (m + 1 points at most).
+  out.size = 0;
+  const auto push = [&](const Eigen::Vector2d& x, int floor) {
+    while (out.size >= floor + 2 && cross2(out.p[out.size - 1] - out.p[out.size - 2], x - out.p[out.size - 2]) <= 0)
+      --out.size;
+    out.p[out.size++] = x;
+  };
+  for (int k = 0; k < m; ++k) push(q[k], 0);
+  const int lower = out.size - 1;
+  for (int k = m - 2; k >= 0; --k) push(q[k], lower);
+  if (out.size > 1) --out.size;  // the first point again
+  settle(out, tau);
+  return out.size > 0;
+}
+
+// A level set's feature as the public kind.
+ContactPatch::Feature feature_of(const LevelFeature& f) {
+  using Kind = ContactPatch::Feature::Kind;
+  if (f.face >= 0) return {Kind::Face, {f.face, -1}};
+  if (f.vertex[1] >= 0) return {Kind::Edge, {f.vertex[0], f.vertex[1]}};
+  if (f.vertex[0] >= 0) return {Kind::Vertex, {f.vertex[0], -1}};
+  return {};
+}
+
+// The contact patch of an exact answer p (see contact_patch): along its normal n, A's top set
+// and B's bottom set (level_set, or level_hull where neither a face nor an edge is) seen along
+// n, and their overlap, clipped in O(n_A + n_B) (Sutherland and Hodgman, "Reentrant polygon
+// clipping", 1974), lifted onto A's supporting plane.
+template <class A, class B>
+Status patch_of(const A& a, const B& b, const Proximity& p, const Features& f, double margin, ContactPatch& out) {
+  const Tolerances t = tolerances(a, b);
+  // The normal of the planes that proved the answer: the witnesses' difference is turned by
+  // rounding / distance (1e-7 rad at 1e-9 apart). Where the search answered: overlapping, its
+  // unit direction; apart, the witnesses' (the distance is more than `touching`).
+  const Vector3d n = f.normal.squaredNorm() > 0 ? f.normal
+                     : p.intersecting           ? p.penetration_direction
+                                                : Vector3d((p.point_b - p.point_a).normalized());
+  out.normal = n;
+  out.depth = p.intersecting ? p.penetration_depth : -p.distance;
+  if (!p.intersecting && !(p.distance <= margin)) return Status::Ok;
+  const Contact c = heights(a, b, n, t.tau);
+  const Vector3d u = n.unitOrthogonal(), w = n.cross(u);
+  Patch P, Q, O;
+  LevelFeature fa, fb;
+  if (!level_set(a, n, c.top, 1.0, t.tau, u, w, P, &fa) && !level_hull(a, n, c.top, 1.0, t.tau, u, w, P))
+    return Status::CapacityExceeded;
+  if (!level_set(b, n, c.bottom, -1.0, t.tau, u, w, Q, &fb) && !level_hull(b, n, c.bottom, -1.0, t.tau, u, w, Q))
+    return Status::CapacityExceeded;
+  if (P.size + Q.size > kPatch) return Status::CapacityExceeded;  // (the overlap has at most that many)
+  out.feature_a = feature_of(fa), out.feature_b = feature_of(fb);
+  if (P.size == 1 || Q.size == 1) {
+    const Patch& point = P.size == 1 ? P : Q;
+    O.size = 0;
+    if (meets(point.p[0], P.size == 1 ? Q : P, t.tau)) O = point;
+  } else if (Q.size >= 3) {
+    overlap_of(P, Q, t.tau, O);  // A's set clipped by B's: counter-clockwise as A's was
+  } else {
+    overlap_of(Q, P, t.tau, O);  // a segment of B's across A's set
+  }
+  // Where rounding has the sets miss by more than tau (they met in the certificate), the
+  // answer's witness: a one-point patch.
+  if (O.size == 0) O.p[0] = Eigen::Vector2d(u.dot(p.point_a), w.dot(p.point_a)), O.size = 1;
+  int kept = 0;  // without repeated points (a vertex on a clipping line comes out twice)
+  for (int k = 0; k < O.size; ++k)
+    if (kept == 0 || (O.p[k] - O.p[kept - 1]).norm() > t.tau) O.p[kept++] = O.p[k];
+  while (kept > 1 && (O.p[kept - 1] - O.p[0]).norm() <= t.tau) --kept;
+  O.size = kept;
+  settle(O, t.tau);
+  out.size = O.size;
+  for (int k = 0; k < O.size; ++k) out.points[k] = O.p[k].x() * u + O.p[k].y() * w + c.top * n;
+  return Status::Ok;
+}
+
 }  // namespace
 
 Status proximity(const ConvexPolytope& a, const ConvexPolytope& b, Proximity& out, Want want) {
@@ -1742,6 +1855,22 @@ Status proximity(const Triangle& a, const Triangle& b, Proximity& out, Want want
     if (const Status s = check_triangle(*t); s != Status::Ok) return s;
   exact_proximity(shape_of(a), shape_of(b), out, want);
   return Status::Ok;
+}
+
+Status contact_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
+                     const Eigen::Isometry3d& pose_b, double margin, ContactPatch& out) {
+  out.size = 0, out.normal.setZero(), out.depth = 0, out.feature_a = out.feature_b = {};
+  if (a.empty() || b.empty()) return Status::TooFewPoints;
+  for (const auto* pose : {&pose_a, &pose_b})
+    if (const Status s = check_pose(*pose); s != Status::Ok) return s;
+  if (!(margin >= 0)) return Status::InvalidArgument;
+  const PosedShape pa = posed(a, pose_a), pb = posed(b, pose_b);
+  Proximity p;
+  Features f;
+  exact_proximity(pa, pb, p, Want::Contact, &f);
+  const Status s = patch_of(pa, pb, p, f, margin, out);
+  if (s != Status::Ok) out.size = 0, out.feature_a = out.feature_b = {};
+  return s;
 }
 
 }  // namespace minksum

@@ -5,7 +5,8 @@
 // intersecting). Kinds
 // 3 to 5 drive the coherent entry points (box pairs, box-triangle, prepared shapes) along a
 // sequence of poses from the input (first byte 128, 129, 130), small steps and jumps, with one cache: the same status
-// and verdict as the cold query at every step, and the same distance and depth to rounding.
+// and verdict as the cold query at every step, and the same distance and depth to rounding;
+// kind 5 also checks the contact patch at every step.
 #include "fuzz_common.hpp"
 #include "exact_distance.hpp"
 
@@ -136,7 +137,36 @@ void same(Status cold_status, const Proximity& cold, Status warm_status, const P
   }
 }
 
-// Kinds 3-5: up to 12 motions of B, each answered cold and through one cache.
+// Kind 5's contact patch at each step: the query's status (InvalidArgument for a margin < 0
+// or NaN), the cold query's depth (minus its distance apart) exactly, finite points on A's
+// supporting plane along a unit normal, and points exactly where the shapes lie within the
+// margin.
+void patch(const ConvexShape& A, const ConvexShape& B, const Eigen::Isometry3d& pose, Status sc, const Proximity& cold,
+           double margin, double reach) {
+  ContactPatch p;
+  const Status s = contact_patch(A, Eigen::Isometry3d::Identity(), B, pose, margin, p);
+  const Status expected = sc != Status::Ok ? sc : !(margin >= 0) ? Status::InvalidArgument : Status::Ok;
+  if (s != expected) fuzz::fail("the patch's status differs from the query's");
+  if (s != Status::Ok) {
+    if (p.size != 0) fuzz::fail("a patch that failed has points");
+    return;
+  }
+  if (p.size < 0 || p.size > ContactPatch::kCapacity) fuzz::fail("a patch's size is outside its capacity");
+  if (p.depth != (cold.intersecting ? cold.penetration_depth : -cold.distance))
+    fuzz::fail("the patch's depth differs from the query's");
+  if ((p.size > 0) != (cold.intersecting || cold.distance <= margin))
+    fuzz::fail("a patch where the shapes are beyond the margin, or none within it");
+  if (p.size == 0) return;
+  if (!p.normal.allFinite() || std::abs(p.normal.norm() - 1) > 1e-9) fuzz::fail("the patch's normal is not unit");
+  double top = -std::numeric_limits<double>::infinity();
+  for (const auto& v : A.polytope().vertices) top = std::max(top, p.normal.dot(v));
+  for (int k = 0; k < p.size; ++k)
+    if (!p.points[k].allFinite() || std::abs(p.normal.dot(p.points[k]) - top) > 1e-9 * (1 + reach))
+      fuzz::fail("a patch point off A's supporting plane");
+}
+
+// Kinds 3-5: up to 12 motions of B, each answered cold and through one cache (kind 5: and its
+// contact patch).
 void sequence(fuzz::Bytes& in, int kind) {
   const Box a = box(in), body = box(in);
   const Triangle tri = triangle(in);
@@ -148,6 +178,7 @@ void sequence(fuzz::Bytes& in, int kind) {
     for (int k = 0; k < nb; ++k) pb.emplace_back(in.number(), in.number(), in.number());
     if (shape_from_points(pa, A) != Status::Ok || shape_from_points(pb, B) != Status::Ok) return;
   }
+  const double margin = kind == 5 ? in.number() : 0;
   ProximityCache cache;
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   const auto largest = [](std::initializer_list<Eigen::Vector3d> v) {
@@ -177,6 +208,7 @@ void sequence(fuzz::Bytes& in, int kind) {
     }
     if (!std::isfinite(reach)) reach = 0;
     same(sc, cold, sw, warm, reach);
+    if (kind == 5) patch(A, B, pose, sc, cold, margin, reach);
   }
 }
 
