@@ -4,6 +4,7 @@
 #include <BulletCollision/CollisionShapes/btConvexHullShape.h>
 #include <BulletCollision/NarrowPhaseCollision/btGjkEpaPenetrationDepthSolver.h>
 #include <BulletCollision/NarrowPhaseCollision/btGjkPairDetector.h>
+#include <BulletCollision/NarrowPhaseCollision/btPolyhedralContactClipping.h>
 #include <BulletCollision/NarrowPhaseCollision/btPointCollector.h>
 #include <BulletCollision/NarrowPhaseCollision/btVoronoiSimplexSolver.h>
 #include <LinearMath/btConvexHullComputer.h>
@@ -72,6 +73,47 @@ double BulletPair::distance(const Eigen::Isometry3d& a, const Eigen::Isometry3d&
     out->point_b = Eigen::Vector3d(p.x(), p.y(), p.z()), out->normal = Eigen::Vector3d(n.x(), n.y(), n.z());
   }
   return result.m_distance;
+}
+
+struct BulletClip::Impl : btDiscreteCollisionDetectorInterface::Result {
+  std::unique_ptr<btConvexHullShape> a, b;
+  btVertexArray scratch1, scratch2;  // clipHullAgainstHull's buffers, kept between calls
+  btAlignedObjectArray<btVector3> points;
+  btAlignedObjectArray<btScalar> depths;
+  void setShapeIdentifiersA(int, int) override {}
+  void setShapeIdentifiersB(int, int) override {}
+  void addContactPoint(const btVector3&, const btVector3& p, btScalar depth) override {
+    points.push_back(p), depths.push_back(depth);
+  }
+};
+
+BulletClip::BulletClip(const ConvexPolytope& a, const ConvexPolytope& b) : impl_(std::make_unique<Impl>()) {
+  for (auto [shape, p] : {std::pair{&impl_->a, &a}, std::pair{&impl_->b, &b}}) {
+    *shape = std::make_unique<btConvexHullShape>();
+    for (const auto& v : p->vertices) (*shape)->addPoint(bt(v), false);
+    (*shape)->recalcLocalAabb();
+    (*shape)->setMargin(0);
+    (*shape)->initializePolyhedralFeatures();
+  }
+}
+
+BulletClip::~BulletClip() = default;
+
+int BulletClip::clip(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double margin, Eigen::Vector3d& normal) {
+  Impl& x = *impl_;
+  x.points.resize(0), x.depths.resize(0);
+  const btConvexPolyhedron &pa = *x.a->getConvexPolyhedron(), &pb = *x.b->getConvexPolyhedron();
+  const btTransform ta = bt(a), tb = bt(b);
+  btVector3 sep(0, 0, 1);
+  btPolyhedralContactClipping::findSeparatingAxis(pa, pb, ta, tb, sep, x);
+  btPolyhedralContactClipping::clipHullAgainstHull(sep, pa, pb, ta, tb, -1e30, margin, x.scratch1, x.scratch2, x);
+  normal = Eigen::Vector3d(sep.x(), sep.y(), sep.z());
+  return x.points.size();
+}
+
+void BulletClip::point(int k, Eigen::Vector3d& p, double& depth) const {
+  const btVector3& q = impl_->points[k];
+  p = Eigen::Vector3d(q.x(), q.y(), q.z()), depth = impl_->depths[k];
 }
 
 }  // namespace minksum::peers

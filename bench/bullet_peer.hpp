@@ -39,4 +39,25 @@ class BulletPair {
   std::unique_ptr<Impl> impl_;
 };
 
+/// Bullet's contact manifold of two convex polyhedra (btConvexHullShape with its polyhedral
+/// features, faces merged by btConvexHullComputer): btPolyhedralContactClipping's
+/// findSeparatingAxis (the SAT over face normals and edge pairs), then clipHullAgainstHull
+/// (B's face most opposed to the axis clipped by A's side planes, O(n_A n_B)), as its
+/// btConvexConvexAlgorithm does for polyhedral shapes.
+class BulletClip {
+ public:
+  /// The two polytopes, prepared once.
+  BulletClip(const ConvexPolytope& a, const ConvexPolytope& b);
+  ~BulletClip();
+  /// The contact points at the poses, deeper than -margin: their count (the last call's
+  /// points and depths are kept), the separating normal from A towards B into `normal`.
+  int clip(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double margin, Eigen::Vector3d& normal);
+  /// Point k of the last call (on B, world frame) and its depth (negative: penetrating).
+  void point(int k, Eigen::Vector3d& p, double& depth) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 }  // namespace minksum::peers

@@ -86,6 +86,10 @@ def face_to_face(p, r):
     return p[0] == "FaceToFace" and [p[1], p[2], p[3], us(r) * 1e3, r.get("searched_share", ""), r.get("warm_share", "")]
 
 
+def contact_patch(p, r):
+    return p[0] == "ContactPatch" and [p[1], p[2], p[3], us(r) * 1e3, r.get("points", "")]
+
+
 def trajectory(p, r):
     return p[0] == "Trajectory" and [p[1], p[2], us(r) * 1e3, r.get("contact_share", ""), r.get("warm_share", ""), r.get("searched_share", ""),
                                       r.get("median_us", ""), r.get("max_us", "")]
@@ -103,6 +107,7 @@ TABLES = {
     "mesh": (["benchmark", "median_us", "max_us", "min_culled_pct", "mean_us"], mesh),
     "trajectory": (["pair", "method", "ns_per_query", "contact_share", "warm_share", "searched_share", "median_us", "max_us"], trajectory),
     "face_to_face": (["family", "gap", "method", "ns_per_query", "searched_share", "warm_share"], face_to_face),
+    "contact_patch": (["pair", "gap", "method", "ns_per_patch", "points"], contact_patch),
     "mesh_bands": (["set", "pair", "method", "median_us", "max_us"] + [f"{b}_{k}" for b in BANDS for k in ("median_us", "max_us")]
                    + ["median_culled_pct", "bytes_per_triangle"], mesh_bands),
     "point_build": (["cloud", "method", "build_ms", "bytes_per_point"], point_build),
@@ -169,6 +174,29 @@ def face_markdown(directory):
         f.write("\n".join(out) + "\n")
 
 
+def patch_markdown(directory):
+    """The ContactPatch table: minksum and Bullet's clipping per pair and contact, their ratio
+    (target: bullet / minksum >= 5) and the mean points of each."""
+    t, order = {}, []
+    for r in csv.DictReader(open(f"{directory}/contact_patch.csv")):
+        key = (r["pair"], r["gap"])
+        if key not in t:
+            t[key] = {}
+            order.append(key)
+        t[key][r["method"]] = r
+    out = ["| pair | contact | minksum [ns] | bullet_clip [ns] | bullet / minksum | points: minksum, bullet |",
+           "|---|---|---|---|---|---|"]
+    for key in order:
+        m = t[key]
+        if len(m) < 2:
+            continue
+        a, b = float(m["minksum"]["ns_per_patch"]), float(m["bullet_clip"]["ns_per_patch"])
+        out.append(f"| {key[0]} | {key[1]} | {a:.0f} | {b:.0f} | {b / a:.2f}x |"
+                   f" {float(m['minksum']['points']):.2f}, {float(m['bullet_clip']['points']):.2f} |")
+    with open(f"{directory}/contact_patch.md", "w") as f:
+        f.write("\n".join(out) + "\n")
+
+
 def main(directory):
     runs = json.load(open(directory + "/bench.json"))["benchmarks"]
     for name, (header, row) in TABLES.items():
@@ -181,6 +209,7 @@ def main(directory):
                     out.writerow([num(v) for v in x])
     bands_markdown(directory)
     face_markdown(directory)
+    patch_markdown(directory)
 
 
 if __name__ == "__main__":
