@@ -148,17 +148,23 @@ def bands_markdown(directory):
         f.write("\n".join(out) + "\n")
 
 
-def face_markdown(directory):
-    """The FaceToFace table: one line per family and gap, the four methods side by side, the
-    targets' ratios (FCL / cold >= 2, FCL / coherent >= 10, Bullet / coherent >= 5) and the
-    exhaustive search's share."""
+def by_method(path, first, second):
+    """A CSV's rows by (first, second) column and then by method, with the keys in file order."""
     t, order = {}, []
-    for r in csv.DictReader(open(f"{directory}/face_to_face.csv")):
-        key = (r["family"], r["gap"])
+    for r in csv.DictReader(open(path)):
+        key = (r[first], r[second])
         if key not in t:
             t[key] = {}
             order.append(key)
         t[key][r["method"]] = r
+    return t, order
+
+
+def face_markdown(directory):
+    """The FaceToFace table: one line per family and gap, the four methods side by side, the
+    targets' ratios (FCL / cold >= 2, FCL / coherent >= 10, Bullet / coherent >= 5) and the
+    exhaustive search's share."""
+    t, order = by_method(f"{directory}/face_to_face.csv", "family", "gap")
     out = ["| family | gap | cold [ns] | coherent [ns] | fcl_gjk [ns] | bullet_gjk_warm [ns] | fcl / cold | fcl / coherent"
            " | bullet / coherent | searched (cold) | searched (coherent) |", "|---|---|---|---|---|---|---|---|---|---|---|"]
     for key in order:
@@ -177,13 +183,7 @@ def face_markdown(directory):
 def patch_markdown(directory):
     """The ContactPatch table: minksum and Bullet's clipping per pair and contact, their ratio
     (target: bullet / minksum >= 5) and the mean points of each."""
-    t, order = {}, []
-    for r in csv.DictReader(open(f"{directory}/contact_patch.csv")):
-        key = (r["pair"], r["gap"])
-        if key not in t:
-            t[key] = {}
-            order.append(key)
-        t[key][r["method"]] = r
+    t, order = by_method(f"{directory}/contact_patch.csv", "pair", "gap")
     out = ["| pair | contact | minksum [ns] | bullet_clip [ns] | bullet / minksum | points: minksum, bullet |",
            "|---|---|---|---|---|---|"]
     for key in order:
