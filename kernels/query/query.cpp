@@ -1773,9 +1773,11 @@ Status patch_of(const A& a, const B& b, const Proximity& p, const Features& f, d
   const Vector3d u = n.unitOrthogonal(), w = n.cross(u);
   Patch P, Q, O;
   LevelFeature fa, fb;
-  if (!level_set(a, n, c.top, 1.0, t.tau, u, w, P, &fa) && !level_hull(a, n, c.top, 1.0, t.tau, u, w, P))
+  // (Where level_set gives up, it has named two vertices already: the hull is no feature.)
+  if (!level_set(a, n, c.top, 1.0, t.tau, u, w, P, &fa) && (fa = {}, !level_hull(a, n, c.top, 1.0, t.tau, u, w, P)))
     return Status::CapacityExceeded;
-  if (!level_set(b, n, c.bottom, -1.0, t.tau, u, w, Q, &fb) && !level_hull(b, n, c.bottom, -1.0, t.tau, u, w, Q))
+  if (!level_set(b, n, c.bottom, -1.0, t.tau, u, w, Q, &fb) &&
+      (fb = {}, !level_hull(b, n, c.bottom, -1.0, t.tau, u, w, Q)))
     return Status::CapacityExceeded;
   if (P.size + Q.size > kPatch) return Status::CapacityExceeded;  // (the overlap has at most that many)
   out.feature_a = feature_of(fa), out.feature_b = feature_of(fb);
