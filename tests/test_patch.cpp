@@ -167,14 +167,13 @@ int check_patch(const ConvexShape& A, const Isometry3d& pa, const ConvexShape& B
     using Kind = ContactPatch::Feature::Kind;
     const auto holds = [&](int v) { return std::find(in.begin(), in.end(), v) != in.end(); };
     if (f.kind == Kind::Face) {
-      ASSERT_LT(f.index[0], int(s.face_loop.size())) << where;
-      EXPECT_GT(std::abs(s.face_normal[f.index[0]].dot(n)), 1 - 1e-9) << where;
+      ASSERT_TRUE(f.index[0] >= 0 && f.index[0] < int(s.face_loop.size())) << where;
+      EXPECT_GT(sign * s.face_normal[f.index[0]].dot(n), 1 - 1e-9) << where;
       for (int v : s.face_loop[f.index[0]]) EXPECT_TRUE(holds(v)) << where;
     } else if (f.kind == Kind::Edge || f.kind == Kind::Vertex) {
       EXPECT_TRUE(holds(f.index[0])) << where;
       if (f.kind == Kind::Edge) EXPECT_TRUE(holds(f.index[1])) << where;
     }
-    (void)sign;
   };
   feature(patch.feature_a, a, 1, in_a);
   feature(patch.feature_b, b, -1, in_b);
