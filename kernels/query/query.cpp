@@ -11,6 +11,7 @@
 #include "geometry/rigid.hpp"
 #include "simd/box_pair_data.hpp"
 #include "query/cache_kinds.hpp"
+#include "query/patch.hpp"
 #include "shape/shape_data.hpp"
 #include "query/triangle_pairs.hpp"
 
@@ -35,6 +36,14 @@
 
 namespace minksum {
 
+using detail::after;
+using detail::area2;
+using detail::cross2;
+using detail::kPatch;
+using detail::meets;
+using detail::Patch;
+using detail::patch_point;
+using detail::settle;
 using Eigen::Vector3d;
 
 namespace {
@@ -858,56 +867,6 @@ bool certified_distance(const A& a, const B& b, const Vector3d* s, const Vector3
   return true;
 }
 
-// The witnesses on a patch. Where the nearest (or deepest) sets are more than a point (a face
-// on a face, an edge on a face, parallel edges), the first pair GJK meets jumps from corner
-// to corner as the shapes slide. The witnesses are instead the point of the overlap of A's
-// top set and B's bottom set (seen along n) nearest the centre of the smaller one: that centre
-// itself while it lies inside the other (a tool resting on a face), and they move continuously.
-constexpr int kPatch = 128;  // the most vertices a patch keeps (a larger face: GJK's witnesses)
-
-struct Patch {
-  Eigen::Vector2d p[kPatch];
-  int size = 0;
-};
-
-double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
-
-// The vertex after k around x (a compare, not a division: the patch loops run per query).
-int after(const Patch& x, int k) { return k + 1 == x.size ? 0 : k + 1; }
-
-double area2(const Patch& x) {
-  double s = 0;
-  for (int k = 0; k < x.size; ++k) s += cross2(x.p[k], x.p[after(x, k)]);
-  return s;
-}
-
-// A patch narrower than tol made what it is at that tolerance: a segment between its two
-// farthest points, or a point. (At coordinates of 1e86 a face 50 wide rounds to a polygon of
-// coincident points, whose zero-length edges would hold every point.)
-void settle(Patch& x, double tol) {
-  if (x.size < 2) return;
-  if (x.size >= 3) {  // a polygon kept as it is, without the two sweeps: one pass for its box
-    // (The sweeps' extent is at least |p1 - p0| and at most the box's diagonal.)
-    Eigen::Vector2d lo = x.p[0], hi = lo;
-    for (int k = 1; k < x.size; ++k) lo = lo.cwiseMin(x.p[k]), hi = hi.cwiseMax(x.p[k]);
-    if ((x.p[1] - x.p[0]).norm() > tol && std::abs(area2(x)) > tol * (hi - lo).norm()) return;
-  }
-  const auto farthest = [&](const Eigen::Vector2d& from) {
-    int best = 0;
-    for (int k = 1; k < x.size; ++k)
-      if ((x.p[k] - from).squaredNorm() > (x.p[best] - from).squaredNorm()) best = k;
-    return best;
-  };
-  const int i = farthest(x.p[0]), j = farthest(x.p[i]);
-  const double extent = (x.p[j] - x.p[i]).norm();
-  if (!(extent > tol)) {
-    x.size = 1;
-  } else if (x.size >= 3 && !(std::abs(area2(x)) > tol * extent)) {
-    const Eigen::Vector2d a = x.p[i], b = x.p[j];
-    x.p[0] = a, x.p[1] = b, x.size = 2;
-  }
-}
-
 // Which feature of a shape a level set is: a face, or one or two vertices (a vertex, an edge).
 struct LevelFeature {
   int face = -1;
@@ -954,99 +913,6 @@ bool level_set(const S& s, const Vector3d& n, double level, double sign, double 
     }
   settle(out, tau);
   return out.size > 0;
-}
-
-// x clipped to the half-plane left of the directed line a -> b (within tol).
-void clip(Patch& x, const Eigen::Vector2d& a, const Eigen::Vector2d& b, double tol) {
-  Patch in = x;
-  x.size = 0;
-  const Eigen::Vector2d e = b - a;
-  const double scale = tol * e.norm();
-  for (int k = 0; k < in.size; ++k) {
-    const Eigen::Vector2d &p = in.p[k], &r = in.p[after(in, k)];
-    const double hp = cross2(e, p - a), hr = cross2(e, r - a);
-    if (hp >= -scale && x.size < kPatch) x.p[x.size++] = p;
-    if (((hp >= -scale) != (hr >= -scale)) && x.size < kPatch) x.p[x.size++] = p + (hp / (hp - hr)) * (r - p);
-  }
-}
-
-// Whether c lies in the convex polygon x (counter-clockwise, 3 or more vertices; within tol).
-bool holds(const Patch& x, const Eigen::Vector2d& c, double tol) {
-  for (int k = 0; k < x.size; ++k) {
-    const Eigen::Vector2d e = x.p[after(x, k)] - x.p[k];
-    if (cross2(e, c - x.p[k]) < -tol * e.norm()) return false;
-  }
-  return true;
-}
-
-// The point of the set x (a point, a segment or a convex polygon) nearest c.
-Eigen::Vector2d nearest_in(const Patch& x, const Eigen::Vector2d& c, double tol) {
-  // (A clipped segment has three or more points on a line: no inside.)
-  double extent = 0;
-  for (int k = 1; k < x.size; ++k) extent = std::max(extent, (x.p[k] - x.p[0]).norm());
-  if (x.size >= 3 && area2(x) > tol * extent && holds(x, c, tol)) return c;
-  Eigen::Vector2d best = x.p[0];
-  for (int k = 0; k < x.size; ++k) {
-    const Eigen::Vector2d &p = x.p[k], e = x.p[after(x, k)] - p;
-    const double len2 = e.squaredNorm();
-    const Eigen::Vector2d y = p + (len2 > 0 ? std::clamp((c - p).dot(e) / len2, 0.0, 1.0) : 0.0) * e;
-    if ((y - c).squaredNorm() < (best - c).squaredNorm()) best = y;
-  }
-  return best;
-}
-
-// Whether the point x lies in the set y (a point, a segment or a convex polygon; within tol).
-bool meets(const Eigen::Vector2d& x, const Patch& y, double tol) {
-  if (y.size >= 3) return holds(y, x, tol);
-  return (nearest_in(y, x, tol) - x).norm() <= tol;
-}
-
-// The overlap of the sets small and large (points, segments or convex polygons of 2 or more
-// points each; within tol), into `overlap`: empty where they do not meet. Segments across
-// each other meet at a point (an edge across an edge: a penetration along their cross product
-// ends with them crossing).
-void overlap_of(const Patch& small, const Patch& large, double tol, Patch& overlap) {
-  overlap = small;
-  if (large.size >= 3) {
-    for (int k = 0; k < large.size && overlap.size > 0; ++k) clip(overlap, large.p[k], large.p[after(large, k)], tol);
-    return;
-  }
-  // Two segments: on one line (clipped to each other), or across at a point.
-  const Eigen::Vector2d e = large.p[1] - large.p[0], f = small.p[1] - small.p[0];
-  const double len = e.norm();
-  bool collinear = true;
-  for (int k = 0; k < 2; ++k) collinear = collinear && std::abs(cross2(e, small.p[k] - large.p[0])) <= tol * len;
-  if (!collinear) {
-    // (small.p[0] + s f lies on large's line at s = e x (large.p[0] - small.p[0]) / e x f.)
-    const double across = cross2(e, f);
-    overlap.size = 0;
-    if (!(across != 0)) return;  // parallel lines apart
-    const Eigen::Vector2d x = small.p[0] + std::clamp(cross2(e, large.p[0] - small.p[0]) / across, 0.0, 1.0) * f;
-    if (meets(x, large, tol)) overlap.p[0] = x, overlap.size = 1;
-    return;
-  }
-  clip(overlap, large.p[0] + Eigen::Vector2d(-e.y(), e.x()), large.p[0], tol);  // beyond large.p[0]
-  clip(overlap, large.p[1], large.p[1] + Eigen::Vector2d(-e.y(), e.x()), tol);  // before large.p[1]
-}
-
-// The witness on A's and B's level sets P and Q (see Patch); false where they do not meet.
-bool patch_point(const Patch& P, const Patch& Q, double tol, Eigen::Vector2d& x) {
-  if (P.size == 1 || Q.size == 1) {
-    const bool p_point = P.size == 1;
-    x = (p_point ? P : Q).p[0];
-    return meets(x, p_point ? Q : P, tol);
-  }
-  const bool p_smaller = std::abs(area2(P)) <= std::abs(area2(Q));
-  const Patch &small = p_smaller ? P : Q, &large = p_smaller ? Q : P;
-  Eigen::Vector2d c = Eigen::Vector2d::Zero();
-  for (int k = 0; k < small.size; ++k) c += small.p[k];
-  c /= small.size;
-  if (large.size >= 3 && holds(large, c, tol)) return x = c, true;
-  Patch overlap;
-  overlap_of(small, large, tol, overlap);
-  if (overlap.size == 0) return false;
-  x = overlap.size == 1 ? overlap.p[0] : nearest_in(overlap, c, tol);
-  return true;
 }
 
 // The witnesses of a certified answer from its contact frame c (see Patch): each on its
@@ -1329,35 +1195,10 @@ void box_patch(const Box& a, const Box& b, Proximity& out) {
     if (snapped && !(align > 1 - 1e-12)) continue;
     const Vector3d m = snapped ? Vector3d(axis.normalized()) : n;
     const Vector3d u = m.unitOrthogonal(), w = m.cross(u);
-    // A box's set on its level along m (sign +1: the top), seen along m: its axes across m
-    // (within tau over the box) run free, the others sit at the side m points to: a face, an
-    // edge or a corner, counter-clockwise.
-    const auto level = [&](const Box& x, double sign, Patch& P, double& height) {
-      Vector3d base = x.center;
-      int free[3], nfree = 0;
-      for (int k = 0; k < 3; ++k) {
-        const double d = sign * m.dot(x.rotation.col(k));
-        if (2 * x.half_extents[k] * std::abs(d) <= tau)
-          free[nfree++] = k;
-        else
-          base += (d > 0 ? 1.0 : -1.0) * x.half_extents[k] * x.rotation.col(k);
-      }
-      height = m.dot(base);
-      const auto put = [&](const Vector3d& p) { P.p[P.size++] = Eigen::Vector2d(u.dot(p), w.dot(p)); };
-      const auto edge = [&](int j) { return Vector3d(x.half_extents[free[j]] * x.rotation.col(free[j])); };
-      P.size = 0;
-      if (nfree == 0) put(base);
-      if (nfree == 1) put(base - edge(0)), put(base + edge(0));
-      if (nfree == 2) {
-        put(base - edge(0) - edge(1)), put(base + edge(0) - edge(1)), put(base + edge(0) + edge(1)),
-            put(base - edge(0) + edge(1));
-        if (area2(P) < 0) std::reverse(P.p, P.p + 4);
-      }
-      return nfree < 3;
-    };
     Patch P, Q;
     double top, bottom;
-    if (!level(a, 1.0, P, top) || !level(b, -1.0, Q, bottom)) continue;
+    if (!detail::box_level(a, m, 1.0, tau, u, w, P, top) || !detail::box_level(b, m, -1.0, tau, u, w, Q, bottom))
+      continue;
     settle(P, tau), settle(Q, tau);
     if (P.size == 1 || Q.size == 1) return;  // a corner: the pair's witnesses are the only ones
     if (!(std::abs(bottom - top - gap) <= 64 * eps * reach)) continue;
@@ -1668,6 +1509,13 @@ PosedShape posed(const ConvexShape& s, const Eigen::Isometry3d& pose) {
   return PosedShape{s.polytope(), {pose.linear(), pose.translation()}, !s.polytope().flat, std::sqrt(3.0) * d->size};
 }
 
+// A box shape's box placed by a pose.
+Box placed_box(const detail::ShapeData& d, const Eigen::Isometry3d& pose) {
+  Box x = d.box;
+  x.center = pose * d.box.center, x.rotation = pose.linear() * d.box.rotation;
+  return x;
+}
+
 // Shapes built from boxes and triangles answer in their own form, placed by their poses: the
 // box-box, box-triangle and triangle-triangle paths (and their caches), B before A swapped
 // back (witnesses exchanged, direction negated). False if either is general (or a placed box
@@ -1677,17 +1525,12 @@ bool own_form(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const Conve
   using Kind = detail::ShapeData::Kind;
   const detail::ShapeData &da = *detail::ShapeAccess::data(a), &db = *detail::ShapeAccess::data(b);
   if (da.kind == Kind::General || db.kind == Kind::General) return false;
-  const auto box = [](const detail::ShapeData& d, const Eigen::Isometry3d& pose) {
-    Box x = d.box;
-    x.center = pose * d.box.center, x.rotation = pose.linear() * d.box.rotation;
-    return x;
-  };
   const auto triangle = [](const detail::ShapeData& d, const Eigen::Isometry3d& pose) {
     return Triangle{pose * d.triangle.a, pose * d.triangle.b, pose * d.triangle.c};
   };
   Status s = Status::Ok;
   if (da.kind == Kind::Box && db.kind == Kind::Box) {
-    const Box x = box(da, pose_a), y = box(db, pose_b);
+    const Box x = placed_box(da, pose_a), y = placed_box(db, pose_b);
     s = cache ? proximity(x, y, *cache, out, want) : proximity(x, y, out, want);
   } else if (da.kind == Kind::Triangle && db.kind == Kind::Triangle) {
     const Triangle x = triangle(da, pose_a), y = triangle(db, pose_b);
@@ -1698,7 +1541,7 @@ bool own_form(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const Conve
     }
   } else {
     const bool swap = da.kind == Kind::Triangle;
-    const Box x = swap ? box(db, pose_b) : box(da, pose_a);
+    const Box x = swap ? placed_box(db, pose_b) : placed_box(da, pose_a);
     const Triangle y = swap ? triangle(da, pose_a) : triangle(db, pose_b);
     s = cache ? proximity(x, y, *cache, out, want) : proximity(x, y, out, want);
     if (swap) {
@@ -1781,24 +1624,11 @@ Status patch_of(const A& a, const B& b, const Proximity& p, const Features& f, d
     return Status::CapacityExceeded;
   if (P.size + Q.size > kPatch) return Status::CapacityExceeded;  // (the overlap has at most that many)
   out.feature_a = feature_of(fa), out.feature_b = feature_of(fb);
-  if (P.size == 1 || Q.size == 1) {
-    const Patch& point = P.size == 1 ? P : Q;
-    O.size = 0;
-    if (meets(point.p[0], P.size == 1 ? Q : P, t.tau)) O = point;
-  } else if (Q.size >= 3) {
-    overlap_of(P, Q, t.tau, O);  // A's set clipped by B's: counter-clockwise as A's was
-  } else {
-    overlap_of(Q, P, t.tau, O);  // a segment of B's across A's set
-  }
+  detail::overlap_of_sets(P, Q, t.tau, O);
   // Where rounding has the sets miss by more than tau (they met in the certificate), the
   // answer's witness: a one-point patch.
   if (O.size == 0) O.p[0] = Eigen::Vector2d(u.dot(p.point_a), w.dot(p.point_a)), O.size = 1;
-  int kept = 0;  // without repeated points (a vertex on a clipping line comes out twice)
-  for (int k = 0; k < O.size; ++k)
-    if (kept == 0 || (O.p[k] - O.p[kept - 1]).norm() > t.tau) O.p[kept++] = O.p[k];
-  while (kept > 1 && (O.p[kept - 1] - O.p[0]).norm() <= t.tau) --kept;
-  O.size = kept;
-  settle(O, t.tau);
+  detail::tidy(O, t.tau);
   out.size = O.size;
   for (int k = 0; k < O.size; ++k) out.points[k] = O.p[k].x() * u + O.p[k].y() * w + c.top * n;
   return Status::Ok;
@@ -1866,6 +1696,23 @@ Status contact_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, cons
   for (const auto* pose : {&pose_a, &pose_b})
     if (const Status s = check_pose(*pose); s != Status::Ok) return s;
   if (!(margin >= 0)) return Status::InvalidArgument;
+  // Two boxes: their 15 axes, where those decide (a placed box may fail check_box by the
+  // rounding of its rotation: then the general path).
+  using Kind = detail::ShapeData::Kind;
+  const detail::ShapeData &da = *detail::ShapeAccess::data(a), &db = *detail::ShapeAccess::data(b);
+  if (da.kind == Kind::Box && db.kind == Kind::Box) {
+    const Box x = placed_box(da, pose_a), y = placed_box(db, pose_b);
+    const detail::BoxPatch decided = check_box(x) == Status::Ok && check_box(y) == Status::Ok
+                                         ? detail::box_pair_patch(x, y, margin, out)
+                                         : detail::BoxPatch::Undecided;
+    if (decided == detail::BoxPatch::Done) return Status::Ok;
+    out.size = 0, out.feature_a = out.feature_b = {};
+    Proximity p;  // farther apart than the margin: no patch, and the box pair's exact distance
+    if (decided == detail::BoxPatch::Apart && proximity(x, y, p, Want::Contact) == Status::Ok) {
+      out.depth = -p.distance, out.normal = (p.point_b - p.point_a).normalized();
+      return Status::Ok;
+    }
+  }
   const PosedShape pa = posed(a, pose_a), pb = posed(b, pose_b);
   Proximity p;
   Features f;

@@ -1,0 +1,276 @@
+// Contact patches in the plane across a contact normal (see patch.hpp).
+#include "query/patch.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace minksum::detail {
+
+using Eigen::Vector3d;
+
+namespace {
+
+// `in` clipped to the half-plane left of the directed line a -> b (within tol), into x.
+void clip(const Patch& in, const Eigen::Vector2d& a, const Eigen::Vector2d& b, double tol, Patch& x) {
+  x.size = 0;
+  if (in.size == 0) return;
+  const Eigen::Vector2d e = b - a;
+  const double scale = tol * e.norm();
+  double h[kPatch];  // each point's height over the line, once
+  for (int k = 0; k < in.size; ++k) h[k] = cross2(e, in.p[k] - a);
+  for (int k = 0; k < in.size; ++k) {
+    const int next = after(in, k);
+    const bool keep = h[k] >= -scale;
+    if (keep && x.size < kPatch) x.p[x.size++] = in.p[k];
+    if (keep != (h[next] >= -scale) && x.size < kPatch)
+      x.p[x.size++] = in.p[k] + (h[k] / (h[k] - h[next])) * (in.p[next] - in.p[k]);
+  }
+}
+
+// x's points into y (not the whole buffer: a patch holds 2 KiB).
+void assign(Patch& y, const Patch& x) {
+  y.size = x.size;
+  std::copy(x.p, x.p + x.size, y.p);
+}
+
+// Whether c lies in the convex polygon x (counter-clockwise, 3 or more vertices; within tol).
+bool holds(const Patch& x, const Eigen::Vector2d& c, double tol) {
+  for (int k = 0; k < x.size; ++k) {
+    const Eigen::Vector2d e = x.p[after(x, k)] - x.p[k];
+    if (cross2(e, c - x.p[k]) < -tol * e.norm()) return false;
+  }
+  return true;
+}
+
+// The point of the set x (a point, a segment or a convex polygon) nearest c.
+Eigen::Vector2d nearest_in(const Patch& x, const Eigen::Vector2d& c, double tol) {
+  // (A clipped segment has three or more points on a line: no inside.)
+  double extent = 0;
+  for (int k = 1; k < x.size; ++k) extent = std::max(extent, (x.p[k] - x.p[0]).norm());
+  if (x.size >= 3 && area2(x) > tol * extent && holds(x, c, tol)) return c;
+  Eigen::Vector2d best = x.p[0];
+  for (int k = 0; k < x.size; ++k) {
+    const Eigen::Vector2d &p = x.p[k], e = x.p[after(x, k)] - p;
+    const double len2 = e.squaredNorm();
+    const Eigen::Vector2d y = p + (len2 > 0 ? std::clamp((c - p).dot(e) / len2, 0.0, 1.0) : 0.0) * e;
+    if ((y - c).squaredNorm() < (best - c).squaredNorm()) best = y;
+  }
+  return best;
+}
+
+}  // namespace
+
+double area2(const Patch& x) {
+  double s = 0;
+  for (int k = 0; k < x.size; ++k) s += cross2(x.p[k], x.p[after(x, k)]);
+  return s;
+}
+
+// A patch narrower than tol made what it is at that tolerance: a segment between its two
+// farthest points, or a point. (At coordinates of 1e86 a face 50 wide rounds to a polygon of
+// coincident points, whose zero-length edges would hold every point.)
+void settle(Patch& x, double tol) {
+  if (x.size < 2) return;
+  if (x.size >= 3) {  // a polygon kept as it is, without the two sweeps: one pass for its box
+    // (The sweeps' extent is at least |p1 - p0| and at most the box's diagonal.)
+    Eigen::Vector2d lo = x.p[0], hi = lo;
+    for (int k = 1; k < x.size; ++k) lo = lo.cwiseMin(x.p[k]), hi = hi.cwiseMax(x.p[k]);
+    if ((x.p[1] - x.p[0]).norm() > tol && std::abs(area2(x)) > tol * (hi - lo).norm()) return;
+  }
+  const auto farthest = [&](const Eigen::Vector2d& from) {
+    int best = 0;
+    for (int k = 1; k < x.size; ++k)
+      if ((x.p[k] - from).squaredNorm() > (x.p[best] - from).squaredNorm()) best = k;
+    return best;
+  };
+  const int i = farthest(x.p[0]), j = farthest(x.p[i]);
+  const double extent = (x.p[j] - x.p[i]).norm();
+  if (!(extent > tol)) {
+    x.size = 1;
+  } else if (x.size >= 3 && !(std::abs(area2(x)) > tol * extent)) {
+    const Eigen::Vector2d a = x.p[i], b = x.p[j];
+    x.p[0] = a, x.p[1] = b, x.size = 2;
+  }
+}
+
+// Whether the point x lies in the set y (a point, a segment or a convex polygon; within tol).
+bool meets(const Eigen::Vector2d& x, const Patch& y, double tol) {
+  if (y.size >= 3) return holds(y, x, tol);
+  return (nearest_in(y, x, tol) - x).norm() <= tol;
+}
+
+// The overlap of the sets small and large (points, segments or convex polygons of 2 or more
+// points each; within tol), into `overlap`: empty where they do not meet. Segments across
+// each other meet at a point (an edge across an edge: a penetration along their cross product
+// ends with them crossing).
+void overlap_of(const Patch& small, const Patch& large, double tol, Patch& overlap) {
+  Patch spare;  // clipped back and forth between it and `overlap`
+  if (large.size >= 3) {
+    const Patch* from = &small;
+    for (int k = 0; k < large.size && from->size > 0; ++k) {
+      Patch& to = from == &overlap ? spare : overlap;
+      clip(*from, large.p[k], large.p[after(large, k)], tol, to);
+      from = &to;
+    }
+    if (from != &overlap) assign(overlap, *from);
+    return;
+  }
+  // Two segments: on one line (clipped to each other), or across at a point.
+  const Eigen::Vector2d e = large.p[1] - large.p[0], f = small.p[1] - small.p[0];
+  const double len = e.norm();
+  bool collinear = true;
+  for (int k = 0; k < 2; ++k) collinear = collinear && std::abs(cross2(e, small.p[k] - large.p[0])) <= tol * len;
+  if (!collinear) {
+    // (small.p[0] + s f lies on large's line at s = e x (large.p[0] - small.p[0]) / e x f.)
+    const double across = cross2(e, f);
+    overlap.size = 0;
+    if (!(across != 0)) return;  // parallel lines apart
+    const Eigen::Vector2d x = small.p[0] + std::clamp(cross2(e, large.p[0] - small.p[0]) / across, 0.0, 1.0) * f;
+    if (meets(x, large, tol)) overlap.p[0] = x, overlap.size = 1;
+    return;
+  }
+  const Eigen::Vector2d across(-e.y(), e.x());
+  clip(small, large.p[0] + across, large.p[0], tol, spare);    // beyond large.p[0]
+  clip(spare, large.p[1], large.p[1] + across, tol, overlap);  // before large.p[1]
+}
+
+void overlap_of_sets(const Patch& P, const Patch& Q, double tol, Patch& overlap) {
+  if (P.size == 1 || Q.size == 1) {
+    const Patch& point = P.size == 1 ? P : Q;
+    overlap.size = 0;
+    if (meets(point.p[0], P.size == 1 ? Q : P, tol)) assign(overlap, point);
+  } else if (Q.size >= 3) {
+    overlap_of(P, Q, tol, overlap);  // A's set clipped by B's: counter-clockwise as A's was
+  } else {
+    overlap_of(Q, P, tol, overlap);  // a segment of B's across A's set
+  }
+}
+
+void tidy(Patch& x, double tol) {
+  const double tol2 = tol * tol;
+  int kept = 0;
+  for (int k = 0; k < x.size; ++k)
+    if (kept == 0 || (x.p[k] - x.p[kept - 1]).squaredNorm() > tol2) x.p[kept++] = x.p[k];
+  while (kept > 1 && (x.p[kept - 1] - x.p[0]).squaredNorm() <= tol2) --kept;
+  x.size = kept;
+  settle(x, tol);
+}
+
+// The witness on A's and B's level sets P and Q (see Patch); false where they do not meet.
+bool patch_point(const Patch& P, const Patch& Q, double tol, Eigen::Vector2d& x) {
+  if (P.size == 1 || Q.size == 1) {
+    const bool p_point = P.size == 1;
+    x = (p_point ? P : Q).p[0];
+    return meets(x, p_point ? Q : P, tol);
+  }
+  const bool p_smaller = std::abs(area2(P)) <= std::abs(area2(Q));
+  const Patch &small = p_smaller ? P : Q, &large = p_smaller ? Q : P;
+  Eigen::Vector2d c = Eigen::Vector2d::Zero();
+  for (int k = 0; k < small.size; ++k) c += small.p[k];
+  c /= small.size;
+  if (large.size >= 3 && holds(large, c, tol)) return x = c, true;
+  Patch overlap;
+  overlap_of(small, large, tol, overlap);
+  if (overlap.size == 0) return false;
+  x = overlap.size == 1 ? overlap.p[0] : nearest_in(overlap, c, tol);
+  return true;
+}
+
+bool box_level(const Box& x, const Vector3d& m, double sign, double tau, const Vector3d& u, const Vector3d& w, Patch& P,
+               double& height, ContactPatch::Feature* feature) {
+  // The axes across m (within tau over the box) run free; the others sit at the side m points
+  // to: a face, an edge or a corner. Corner `code` has bit k set on axis k's + side.
+  Vector3d base = x.center;
+  int free[2], nfree = 0, code = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double d = sign * m.dot(x.rotation.col(k));
+    if (2 * x.half_extents[k] * std::abs(d) <= tau) {
+      if (nfree == 2) return false;
+      free[nfree++] = k;
+    } else {
+      base += (d > 0 ? 1.0 : -1.0) * x.half_extents[k] * x.rotation.col(k);
+      code |= (d > 0) << k;
+    }
+  }
+  height = m.dot(base);
+  const auto put = [&](const Vector3d& p) { P.p[P.size++] = Eigen::Vector2d(u.dot(p), w.dot(p)); };
+  const auto edge = [&](int j) { return Vector3d(x.half_extents[free[j]] * x.rotation.col(free[j])); };
+  using Kind = ContactPatch::Feature::Kind;
+  P.size = 0;
+  if (nfree == 0) {
+    put(base);
+    if (feature) *feature = {Kind::Vertex, {code, -1}};
+  } else if (nfree == 1) {
+    put(base - edge(0)), put(base + edge(0));
+    if (feature) *feature = {Kind::Edge, {code, code | 1 << free[0]}};
+  } else {
+    put(base - edge(0) - edge(1)), put(base + edge(0) - edge(1)), put(base + edge(0) + edge(1)),
+        put(base - edge(0) + edge(1));
+    if (area2(P) < 0) std::reverse(P.p, P.p + 4);
+    const int fixed = 3 - free[0] - free[1];  // polytope_from_box's face 2 a + (its + side)
+    if (feature) *feature = {Kind::Face, {2 * fixed + (code >> fixed & 1), -1}};
+  }
+  return true;
+}
+
+// The separating axis test on the 15 axes of a box pair (Gottschalk, Lin and Manocha, "OBBTree",
+// 1996): A (-) B is a zonotope whose facet normals are the boxes' axes and the cross products of
+// an axis of A with one of B. So the largest separation s over the 15 axes is minus the
+// penetration depth when s <= 0 (the origin's nearest facet), and a lower bound of the
+// distance when s > 0, equal to it exactly where the two supporting sets along that axis
+// overlap seen along it (then a point of A and one of B lie s apart along it). Axes within 1e-12
+// of parallel give no facet; those within 1e-6 give a normal too rounded to decide on: the
+// general path answers, as it does where the sets along the best axis miss.
+BoxPatch box_pair_patch(const Box& a, const Box& b, double margin, ContactPatch& out) {
+  const double reach = std::max(a.center.cwiseAbs().maxCoeff() + a.half_extents.sum(),
+                                b.center.cwiseAbs().maxCoeff() + b.half_extents.sum());
+  if (!(reach > 1e-60 && reach < 1e60)) return BoxPatch::Undecided;  // (products that under- or overflow)
+  const double tau = 256 * std::numeric_limits<double>::epsilon() * reach;
+  // In A's frame (Gottschalk's form): B's axes are R's columns, the centres t apart. The cross
+  // axis e_i x r_j has the length of r_j's components off e_i, and its radii read off R as
+  // for a proper rotation (r_j x r_(j+1) = r_(j+2)).
+  const Vector3d d = b.center - a.center;
+  const Eigen::Matrix3d R = a.rotation.transpose() * b.rotation, AR = R.cwiseAbs();
+  const Vector3d t = a.rotation.transpose() * d, tb = b.rotation.transpose() * d;
+  const Vector3d &ha = a.half_extents, &hb = b.half_extents;
+  double best = -std::numeric_limits<double>::infinity(), sign = 1;
+  int kind = 0, bi = 0, bj = 0;  // the best axis: A's axis bi (kind 0), B's bj (1), or their cross (2)
+  const auto consider = [&](double s, double r, int k, int i, int j) {
+    if (std::abs(s) - r > best) best = std::abs(s) - r, sign = s < 0 ? -1 : 1, kind = k, bi = i, bj = j;
+  };
+  for (int i = 0; i < 3; ++i) consider(t[i], ha[i] + hb.dot(AR.row(i)), 0, i, 0);
+  for (int j = 0; j < 3; ++j) consider(tb[j], hb[j] + ha.dot(AR.col(j)), 1, 0, j);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      const int i1 = (i + 1) % 3, i2 = (i + 2) % 3, j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+      // (Entries <= 1: no need of hypot.) Parallel axes give no facet.
+      const double len = std::sqrt(R(i1, j) * R(i1, j) + R(i2, j) * R(i2, j));
+      if (len < 1e-12) continue;
+      if (len < 1e-6) return BoxPatch::Undecided;
+      const double s = t[i2] * R(i1, j) - t[i1] * R(i2, j);
+      const double r = ha[i1] * AR(i2, j) + ha[i2] * AR(i1, j) + hb[j1] * AR(i, j2) + hb[j2] * AR(i, j1);
+      if (std::abs(s) - r > best * len) consider(s / len, r / len, 2, i, j);  // (divided only to win)
+    }
+  if (best > margin) return BoxPatch::Apart;
+  Vector3d m = kind == 0   ? Vector3d(a.rotation.col(bi))
+               : kind == 1 ? Vector3d(b.rotation.col(bj))
+                           : a.rotation.col(bi).cross(b.rotation.col(bj));
+  m = sign * m.normalized();
+  const Vector3d u = m.unitOrthogonal(), w = m.cross(u);
+  Patch P, Q, O;
+  double top, bottom;
+  ContactPatch::Feature fa, fb;
+  if (!box_level(a, m, 1.0, tau, u, w, P, top, &fa) || !box_level(b, m, -1.0, tau, u, w, Q, bottom, &fb))
+    return BoxPatch::Undecided;
+  settle(P, tau), settle(Q, tau);
+  overlap_of_sets(P, Q, tau, O);
+  if (O.size == 0) return BoxPatch::Undecided;  // the distance is not this axis's: an edge or a vertex of A (-) B
+  tidy(O, tau);
+  out.normal = m, out.depth = top - bottom, out.size = O.size;
+  out.feature_a = fa, out.feature_b = fb;
+  for (int k = 0; k < O.size; ++k) out.points[k] = O.p[k].x() * u + O.p[k].y() * w + top * m;
+  return BoxPatch::Done;
+}
+
+}  // namespace minksum::detail

@@ -1,0 +1,55 @@
+// Contact patches in the plane across a contact normal: convex sets of up to kPatch points seen
+// along the normal (a point, a segment or a counter-clockwise polygon), their overlap, the
+// witness on it, and a box's set on its level plane. Shared by the proximity queries (the
+// witnesses on a patch) and contact_patch; internal.
+#pragma once
+
+#include <minksum/query.hpp>
+
+namespace minksum::detail {
+
+// The witnesses on a patch. Where the nearest (or deepest) sets are more than a point (a face
+// on a face, an edge on a face, parallel edges), the first pair GJK meets jumps from corner
+// to corner as the shapes slide. The witnesses are instead the point of the overlap of A's
+// top set and B's bottom set (seen along n) nearest the centre of the smaller one: that centre
+// itself while it lies inside the other (a tool resting on a face), and they move continuously.
+constexpr int kPatch = 128;  // the most vertices a patch keeps (a larger face: GJK's witnesses)
+
+struct Patch {
+  Eigen::Vector2d p[kPatch];
+  int size = 0;
+};
+
+inline double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+// The vertex after k around x (a compare, not a division: the patch loops run per query).
+inline int after(const Patch& x, int k) { return k + 1 == x.size ? 0 : k + 1; }
+
+// Twice the signed area of x (positive counter-clockwise).
+double area2(const Patch& x);
+// A patch narrower than tol made what it is at that tolerance: a segment or a point.
+void settle(Patch& x, double tol);
+// Whether the point x lies in the set y (within tol).
+bool meets(const Eigen::Vector2d& x, const Patch& y, double tol);
+// The overlap of small and large (2 or more points each; within tol): empty where they miss.
+void overlap_of(const Patch& small, const Patch& large, double tol, Patch& overlap);
+// The overlap of A's set P and B's set Q, as A's set clipped (P's orientation kept).
+void overlap_of_sets(const Patch& P, const Patch& Q, double tol, Patch& overlap);
+// An overlap without repeated points (a vertex on a clipping line comes out twice), settled.
+void tidy(Patch& x, double tol);
+// The witness on A's and B's level sets P and Q (see Patch); false where they do not meet.
+bool patch_point(const Patch& P, const Patch& Q, double tol, Eigen::Vector2d& x);
+
+// A box's set on its level along the unit m (sign +1: its top, -1: its bottom) in the basis
+// (u, w), counter-clockwise, with the level's height along m and, if asked, its feature in the
+// numbering of polytope_from_box. False for a box narrower than tau in every axis.
+bool box_level(const Box& x, const Eigen::Vector3d& m, double sign, double tau, const Eigen::Vector3d& u,
+               const Eigen::Vector3d& w, Patch& P, double& height, ContactPatch::Feature* feature = nullptr);
+
+// What box_pair_patch decided: the patch is in `out`; the boxes lie farther apart than the
+// margin (the patch is empty, the distance unknown); or the axes do not decide it.
+enum class BoxPatch { Done, Apart, Undecided };
+// The contact patch of two valid boxes by their 15 separating axes (see patch.cpp).
+BoxPatch box_pair_patch(const Box& a, const Box& b, double margin, ContactPatch& out);
+
+}  // namespace minksum::detail
