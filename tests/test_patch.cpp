@@ -248,6 +248,64 @@ TEST(ContactPatch, GenericPairsAreOnePoint) {
   EXPECT_GT(points, pairs / 2);  // a vertex on a face, or an edge across an edge
 }
 
+// Box shapes take their own path (the 15 separating axes, see contact_patch); it must equal
+// brute force on every kind of contact, and hand over where the axes do not decide: boxes in
+// random poses (corners on faces, edges across edges, corners on corners apart within the
+// margin), aligned boxes on integer coordinates (coincident faces, edges and corners: exact
+// ties), and boxes turned by 1e-7 to 1e-4 rad from face on face (axes nearly parallel).
+TEST(ContactPatch, BoxPairsEqualBruteForce) {
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<double> unit(-1, 1), size(0.1, 1.0);
+  const auto rotation = [&] { return Eigen::Quaterniond::UnitRandom().toRotationMatrix(); };
+  const auto place = [&](const Box& box, ConvexShape& s) { ASSERT_EQ(shape_from_box(box, s), Status::Ok); };
+  int polygons = 0, segments = 0, points = 0;
+  const int rounds = test::scaled(300);
+  for (int k = 0; k < rounds; ++k) {
+    ConvexShape A, B;
+    // Random: B's centre placed at a random distance from A's along a random direction.
+    std::srand(unsigned(rng()));  // (Eigen's UnitRandom draws from rand())
+    place(Box{Vector3d(unit(rng), unit(rng), unit(rng)), rotation(), Vector3d(size(rng), size(rng), size(rng))}, A);
+    place(Box{Vector3d::Zero(), rotation(), Vector3d(size(rng), size(rng), size(rng))}, B);
+    const Isometry3d pa(Eigen::Translation3d(0.1, 0.2, -0.3) * Eigen::Quaterniond::UnitRandom());
+    const Isometry3d pb(Eigen::Translation3d(2.0 * Vector3d(unit(rng), unit(rng), unit(rng))) *
+                        Eigen::Quaterniond::UnitRandom());
+    const int n = check_patch(A, pa, B, pb, 0.5, "random boxes " + std::to_string(k));
+    polygons += n >= 3, segments += n == 2, points += n == 1;
+  }
+  std::uniform_int_distribution<int> half(1, 3), step(-4, 4), quarter(0, 3);
+  for (int k = 0; k < rounds; ++k) {
+    // Aligned on integers, B turned by quarter turns: every tie exact.
+    ConvexShape A, B;
+    place(Box{Vector3d(step(rng), step(rng), 0), Eigen::Matrix3d::Identity(), Vector3d(half(rng), half(rng), 1)}, A);
+    const Eigen::Matrix3d turn =
+        Eigen::AngleAxisd(M_PI / 2 * quarter(rng), Vector3d::UnitZ()).toRotationMatrix().unaryExpr([](double x) {
+          return std::round(x);
+        });
+    place(Box{Vector3d::Zero(), turn, Vector3d(half(rng), half(rng), half(rng))}, B);
+    const Isometry3d pb(Eigen::Translation3d(step(rng), step(rng), step(rng)));
+    const int n = check_patch(A, Isometry3d::Identity(), B, pb, 1.5, "integer boxes " + std::to_string(k));
+    polygons += n >= 3, segments += n == 2, points += n == 1;
+  }
+  for (int k = 0; k < rounds; ++k) {
+    // Face on face, B turned by 10^-e rad about a random axis (touching, pressed or apart).
+    ConvexShape A, B;
+    place(Box{Vector3d::Zero(), Eigen::Matrix3d::Identity(), Vector3d(1, 0.7, 0.5)}, A);
+    place(Box{Vector3d::Zero(), Eigen::Matrix3d::Identity(), Vector3d(0.4, 0.3, 0.2)}, B);
+    // (An axis that tilts every corner of B's face by 0.1 angle or more from the others:
+    // smaller height differences would sit between the brute force's 1e-10 and rounding.)
+    const double angle = std::pow(10.0, -4 - k % 4);
+    const auto either = [&](double lo, double hi) { return (unit(rng) < 0 ? -1 : 1) * (lo + (hi - lo) * size(rng)); };
+    const Vector3d axis = Vector3d(either(0.8, 1), either(0.2, 0.4), unit(rng)).normalized();
+    const Isometry3d pb(Eigen::Translation3d(0.3 * unit(rng), 0.3 * unit(rng), 0.7 + 1e-3 * (k % 3 - 1)) *
+                        Eigen::AngleAxisd(angle, axis));
+    const int n = check_patch(A, kPoseA, B, kPoseA * pb, 2e-3, "turned 1e-" + std::to_string(4 + k % 4));
+    polygons += n >= 3, segments += n == 2, points += n == 1;
+  }
+  EXPECT_GT(polygons, rounds / 4);
+  EXPECT_GT(segments, 0);
+  EXPECT_GT(points, rounds / 4);
+}
+
 TEST(ContactPatch, MarginAndBadInput) {
   ConvexShape A, B, empty;
   ASSERT_EQ(shape_from_box(Box{}, A), Status::Ok);
