@@ -23,10 +23,15 @@ using Eigen::Vector3d;
 constexpr int kPoses = 1024;
 constexpr double kMargin = 1e-6;  // a patch of shapes within this of each other
 
-void Patch(benchmark::State& state, const std::vector<Vector3d>& a, const std::vector<Vector3d>& b,
-           const std::vector<Isometry3d>& pose_b, bool bullet) {
+// A box pair's boxes are box shapes (shape_from_box), as a caller with boxes prepares them.
+Status shape_of(const std::vector<Vector3d>& points, const Box* box, ConvexShape& out) {
+  return box ? shape_from_box(*box, out) : shape_from_points(points, out);
+}
+
+void Patch(benchmark::State& state, const std::vector<Vector3d>& a, const Box* box_a, const std::vector<Vector3d>& b,
+           const Box* box_b, const std::vector<Isometry3d>& pose_b, bool bullet) {
   ConvexShape A, B;
-  if (shape_from_points(a, A) != Status::Ok || shape_from_points(b, B) != Status::Ok) {
+  if (shape_of(a, box_a, A) != Status::Ok || shape_of(b, box_b, B) != Status::Ok) {
     state.SkipWithError("shape");
     return;
   }
@@ -62,7 +67,8 @@ const int registered = [] {
           benchmark::RegisterBenchmark(("ContactPatch/" + pair.name + (rocking ? "_rocking/" : "/") + gap_name + "/" +
                                         (bullet ? "bullet_clip" : "minksum"))
                                            .c_str(),
-                                       Patch, pair.a, pair.b, std::cref(poses.back()), bullet);
+                                       Patch, pair.a, pair.a_is_box ? &pair.box_a : nullptr, pair.b,
+                                       pair.b_is_box ? &pair.box_b : nullptr, std::cref(poses.back()), bullet);
       }
   // Table 1's pairs overlapping: B moved about A's centre by up to a quarter of their size.
   static const std::vector<tools::Table1Pair> table1 = tools::table1_pairs();
@@ -76,7 +82,7 @@ const int registered = [] {
     for (bool bullet : {false, true})
       benchmark::RegisterBenchmark(
           ("ContactPatch/" + pair.name + "/overlap/" + (bullet ? "bullet_clip" : "minksum")).c_str(), Patch, pair.a,
-          pair.b, std::cref(poses.back()), bullet);
+          nullptr, pair.b, nullptr, std::cref(poses.back()), bullet);
   }
   return 0;
 }();
