@@ -116,6 +116,16 @@ struct ContactPatch {
 /// CapacityExceeded where the two supporting sets have more than kCapacity points together.
 Status contact_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
                      const Eigen::Isometry3d& pose_b, double margin, ContactPatch& out);
+/// The contact patch through the pair's cache (see ProximityCache): the exact query starts from
+/// the last answer's features and proves its answer as the cold one does, so the patch is the
+/// cold one's (to rounding, where several normals prove the same depth: either). Box pairs
+/// answer by their axes and leave the cache as it is.
+Status contact_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
+                     const Eigen::Isometry3d& pose_b, double margin, ProximityCache& cache, ContactPatch& out);
+/// Reduces a patch to at most 4 of its points, the quadrilateral of largest area among them
+/// (counter-clockwise as before), as contact solvers take it. Every point of a patch lies at
+/// the patch's depth, so the deepest point stays. Patches of 4 points or fewer are unchanged.
+void reduce_contact_patch(ContactPatch& patch);
 /// How far B must move along the unit direction u for A and B to stop overlapping (0 if they
 /// are separated, or already would be after any move along u).
 double penetration_along(const MinkowskiSum& m, const Eigen::Vector3d& u);

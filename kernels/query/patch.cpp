@@ -1,6 +1,8 @@
 // Contact patches in the plane across a contact normal (see patch.hpp).
 #include "query/patch.hpp"
 
+#include "simd/separating_axes.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -211,6 +213,8 @@ bool box_level(const Box& x, const Vector3d& m, double sign, double tau, const V
     const int fixed = 3 - free[0] - free[1];  // polytope_from_box's face 2 a + (its + side)
     if (feature) *feature = {Kind::Face, {2 * fixed + (code >> fixed & 1), -1}};
   }
+  // (Narrower than tau only where a free edge is: at coordinates of 1e86, or a speck of a box.)
+  if (nfree > 0 && std::min(x.half_extents[free[0]], x.half_extents[free[nfree - 1]]) * 2 <= tau) settle(P, tau);
   return true;
 }
 
@@ -227,43 +231,47 @@ BoxPatch box_pair_patch(const Box& a, const Box& b, double margin, ContactPatch&
                                 b.center.cwiseAbs().maxCoeff() + b.half_extents.sum());
   if (!(reach > 1e-60 && reach < 1e60)) return BoxPatch::Undecided;  // (products that under- or overflow)
   const double tau = 256 * std::numeric_limits<double>::epsilon() * reach;
-  // In A's frame (Gottschalk's form): B's axes are R's columns, the centres t apart. The cross
-  // axis e_i x r_j has the length of r_j's components off e_i, and its radii read off R as
-  // for a proper rotation (r_j x r_(j+1) = r_(j+2)).
-  const Vector3d d = b.center - a.center;
-  const Eigen::Matrix3d R = a.rotation.transpose() * b.rotation, AR = R.cwiseAbs();
-  const Vector3d t = a.rotation.transpose() * d, tb = b.rotation.transpose() * d;
-  const Vector3d &ha = a.half_extents, &hb = b.half_extents;
-  double best = -std::numeric_limits<double>::infinity(), sign = 1;
-  int kind = 0, bi = 0, bj = 0;  // the best axis: A's axis bi (kind 0), B's bj (1), or their cross (2)
-  const auto consider = [&](double s, double r, int k, int i, int j) {
-    if (std::abs(s) - r > best) best = std::abs(s) - r, sign = s < 0 ? -1 : 1, kind = k, bi = i, bj = j;
+  // The 15 axes as the box pair query visits them (SeparatingAxes), in A's frame.
+  struct Plain {  // one double: SeparatingAxes' value operations
+    using B = double;
+    static double abs(double x) { return std::abs(x); }
+    static double fma(double x, double y, double z) { return x * y + z; }  // (no libm call)
   };
-  for (int i = 0; i < 3; ++i) consider(t[i], ha[i] + hb.dot(AR.row(i)), 0, i, 0);
-  for (int j = 0; j < 3; ++j) consider(tb[j], hb[j] + ha.dot(AR.col(j)), 1, 0, j);
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) {
-      const int i1 = (i + 1) % 3, i2 = (i + 2) % 3, j1 = (j + 1) % 3, j2 = (j + 2) % 3;
-      // (Entries <= 1: no need of hypot.) Parallel axes give no facet.
-      const double len = std::sqrt(R(i1, j) * R(i1, j) + R(i2, j) * R(i2, j));
-      if (len < 1e-12) continue;
-      if (len < 1e-6) return BoxPatch::Undecided;
-      const double s = t[i2] * R(i1, j) - t[i1] * R(i2, j);
-      const double r = ha[i1] * AR(i2, j) + ha[i2] * AR(i1, j) + hb[j1] * AR(i, j2) + hb[j2] * AR(i, j1);
-      if (std::abs(s) - r > best * len) consider(s / len, r / len, 2, i, j);  // (divided only to win)
-    }
+  struct PatchArch {};
+  double C[3][3], cA[3], cB[3];
+  const Vector3d c = a.center - b.center;
+  for (int i = 0; i < 3; ++i) {
+    cA[i] = a.rotation.col(i).dot(c), cB[i] = b.rotation.col(i).dot(c);
+    for (int j = 0; j < 3; ++j) C[i][j] = a.rotation.col(i).dot(b.rotation.col(j));
+  }
+  double best = -std::numeric_limits<double>::infinity();
+  int axis = 0;
+  bool undecided = false;
+  SeparatingAxes<Plain, PatchArch>::visit(
+      C, cA, cB, a.half_extents.data(), b.half_extents.data(),
+      [&](int p, double d) {
+        if (d > best) best = d, axis = p;
+      },
+      [&](int p, double d, double len2) {
+        // Parallel axes (1e-12) give no facet; nearly parallel ones (1e-6), a normal too
+        // rounded to decide on. (A division only for an axis that wins.)
+        if (len2 < 1e-24) return;
+        undecided = undecided || len2 < 1e-12;
+        const double len = std::sqrt(len2);
+        if (d > best * len) best = d / len, axis = p;
+      });
+  if (undecided) return BoxPatch::Undecided;
   if (best > margin) return BoxPatch::Apart;
-  Vector3d m = kind == 0   ? Vector3d(a.rotation.col(bi))
-               : kind == 1 ? Vector3d(b.rotation.col(bj))
-                           : a.rotation.col(bi).cross(b.rotation.col(bj));
-  m = sign * m.normalized();
+  Vector3d m = axis < 3   ? Vector3d(a.rotation.col(axis))
+               : axis < 6 ? Vector3d(b.rotation.col(axis - 3))
+                          : a.rotation.col((axis - 6) / 3).cross(b.rotation.col((axis - 6) % 3)).normalized();
+  if (m.dot(c) > 0) m = -m;  // from A towards B
   const Vector3d u = m.unitOrthogonal(), w = m.cross(u);
   Patch P, Q, O;
   double top, bottom;
   ContactPatch::Feature fa, fb;
   if (!box_level(a, m, 1.0, tau, u, w, P, top, &fa) || !box_level(b, m, -1.0, tau, u, w, Q, bottom, &fb))
     return BoxPatch::Undecided;
-  settle(P, tau), settle(Q, tau);
   overlap_of_sets(P, Q, tau, O);
   if (O.size == 0) return BoxPatch::Undecided;  // the distance is not this axis's: an edge or a vertex of A (-) B
   tidy(O, tau);
@@ -273,4 +281,96 @@ BoxPatch box_pair_patch(const Box& a, const Box& b, double margin, ContactPatch&
   return BoxPatch::Done;
 }
 
+// The same for a box and a triangle (flat: its one face seen from either side), on their 13
+// axes: the box's 3, the triangle's normal and the 9 crosses of a box axis with an edge.
+BoxPatch box_triangle_patch(const Box& a, const Triangle& t, double margin, ContactPatch& out) {
+  const Vector3d v[3] = {t.a, t.b, t.c};
+  double reach = a.center.cwiseAbs().maxCoeff() + a.half_extents.sum();
+  for (const Vector3d& x : v) reach = std::max(reach, x.cwiseAbs().maxCoeff());
+  if (!(reach > 1e-60 && reach < 1e60)) return BoxPatch::Undecided;
+  const double tau = 256 * std::numeric_limits<double>::epsilon() * reach;
+  // Unit edges first (products of raw coordinates overflow); a sliver's normal is rounding.
+  const Vector3d e[3] = {(v[1] - v[0]).normalized(), (v[2] - v[1]).normalized(), (v[0] - v[2]).normalized()};
+  const Vector3d normal = e[0].cross(e[1]);
+  if (!(normal.norm() >= 1e-6)) return BoxPatch::Undecided;
+  double best = -std::numeric_limits<double>::infinity();
+  Vector3d m = Vector3d::UnitZ();
+  const auto consider = [&](const Vector3d& axis) {  // (unit) either way: B above A, or below
+    double r = 0, lo = axis.dot(v[0]), hi = lo;
+    for (int k = 0; k < 3; ++k) r += a.half_extents[k] * std::abs(axis.dot(a.rotation.col(k)));
+    for (int k = 1; k < 3; ++k) lo = std::min(lo, axis.dot(v[k])), hi = std::max(hi, axis.dot(v[k]));
+    const double c = axis.dot(a.center), above = lo - (c + r), below = (c - r) - hi;
+    if (std::max(above, below) > best) best = std::max(above, below), m = above >= below ? axis : Vector3d(-axis);
+  };
+  for (int k = 0; k < 3; ++k) consider(a.rotation.col(k));
+  consider(normal.normalized());
+  for (int i = 0; i < 3; ++i)
+    for (const Vector3d& edge : e) {
+      const Vector3d axis = a.rotation.col(i).cross(edge);
+      const double len = axis.norm();
+      if (len < 1e-12) continue;
+      if (len < 1e-6) return BoxPatch::Undecided;
+      consider(axis / len);
+    }
+  if (best > margin) return BoxPatch::Apart;
+  const Vector3d u = m.unitOrthogonal(), w = m.cross(u);
+  Patch P, Q, O;
+  double top;
+  ContactPatch::Feature fa, fb;
+  if (!box_level(a, m, 1.0, tau, u, w, P, top, &fa)) return BoxPatch::Undecided;
+  // The triangle's lowest set along m: a corner, an edge or the triangle, counter-clockwise.
+  const double h[3] = {m.dot(v[0]), m.dot(v[1]), m.dot(v[2])}, bottom = std::min({h[0], h[1], h[2]});
+  using Kind = ContactPatch::Feature::Kind;
+  Q.size = 0;
+  for (int k = 0; k < 3; ++k)
+    if (h[k] - bottom <= tau) {
+      if (Q.size < 2) fb.index[Q.size] = k;  // (all three: the face, below)
+      Q.p[Q.size++] = Eigen::Vector2d(u.dot(v[k]), w.dot(v[k]));
+    }
+  if (Q.size == 3 && area2(Q) < 0) std::reverse(Q.p, Q.p + 3);
+  fb.kind = Q.size == 3 ? Kind::Face : Q.size == 2 ? Kind::Edge : Kind::Vertex;
+  if (Q.size == 3) fb.index[0] = 0, fb.index[1] = -1;
+  settle(Q, tau);
+  overlap_of_sets(P, Q, tau, O);
+  if (O.size == 0) return BoxPatch::Undecided;
+  tidy(O, tau);
+  out.normal = m, out.depth = top - bottom, out.size = O.size;
+  out.feature_a = fa, out.feature_b = fb;
+  for (int k = 0; k < O.size; ++k) out.points[k] = O.p[k].x() * u + O.p[k].y() * w + top * m;
+  return BoxPatch::Done;
+}
+
 }  // namespace minksum::detail
+
+namespace minksum {
+
+// The largest quadrilateral in a convex polygon: for each first corner i and opposite corner k,
+// the best j between them and l after k, each found by advancing from the best for the
+// previous k (the area of (i, j, k) is unimodal along the chain from i to k, and its best j
+// moves forward with k: the rotating calipers' argument, Shamos 1978). O(n^2) for n points.
+void reduce_contact_patch(ContactPatch& patch) {
+  const int n = patch.size;
+  if (n <= 4) return;
+  const Eigen::Vector3d* p = patch.points;
+  const Eigen::Vector3d normal = patch.normal;
+  // (Indices unwrapped: i <= j < k < l < i + n.)
+  const auto area = [&](int i, int j, int k) {
+    const Eigen::Vector3d &a = p[i % n], &b = p[j % n], &c = p[k % n];
+    return (b - a).cross(c - a).dot(normal);
+  };
+  double best = -1;
+  int corner[4] = {0, 1, 2, 3};
+  for (int i = 0; i < n; ++i)
+    for (int k = i + 2, j = i + 1, l = i + 3; k <= i + n - 2; ++k) {
+      while (j + 1 < k && area(i, j + 1, k) >= area(i, j, k)) ++j;
+      l = std::max(l, k + 1);
+      while (l + 1 < i + n && area(i, k, l + 1) >= area(i, k, l)) ++l;
+      if (const double a = area(i, j, k) + area(i, k, l); a > best)
+        best = a, corner[0] = i, corner[1] = j % n, corner[2] = k % n, corner[3] = l % n;
+    }
+  const Eigen::Vector3d q[4] = {p[corner[0]], p[corner[1]], p[corner[2]], p[corner[3]]};
+  std::copy(q, q + 4, patch.points);
+  patch.size = 4;
+}
+
+}  // namespace minksum

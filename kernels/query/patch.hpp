@@ -41,7 +41,7 @@ void tidy(Patch& x, double tol);
 bool patch_point(const Patch& P, const Patch& Q, double tol, Eigen::Vector2d& x);
 
 // A box's set on its level along the unit m (sign +1: its top, -1: its bottom) in the basis
-// (u, w), counter-clockwise, with the level's height along m and, if asked, its feature in the
+// (u, w), counter-clockwise and settled, with the level's height along m and, if asked, its feature in the
 // numbering of polytope_from_box. False for a box narrower than tau in every axis.
 bool box_level(const Box& x, const Eigen::Vector3d& m, double sign, double tau, const Eigen::Vector3d& u,
                const Eigen::Vector3d& w, Patch& P, double& height, ContactPatch::Feature* feature = nullptr);
@@ -51,5 +51,7 @@ bool box_level(const Box& x, const Eigen::Vector3d& m, double sign, double tau, 
 enum class BoxPatch { Done, Apart, Undecided };
 // The contact patch of two valid boxes by their 15 separating axes (see patch.cpp).
 BoxPatch box_pair_patch(const Box& a, const Box& b, double margin, ContactPatch& out);
+// The contact patch of a valid box A and triangle B by their 13 separating axes (see patch.cpp).
+BoxPatch box_triangle_patch(const Box& a, const Triangle& b, double margin, ContactPatch& out);
 
 }  // namespace minksum::detail

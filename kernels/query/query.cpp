@@ -1199,7 +1199,6 @@ void box_patch(const Box& a, const Box& b, Proximity& out) {
     double top, bottom;
     if (!detail::box_level(a, m, 1.0, tau, u, w, P, top) || !detail::box_level(b, m, -1.0, tau, u, w, Q, bottom))
       continue;
-    settle(P, tau), settle(Q, tau);
     if (P.size == 1 || Q.size == 1) return;  // a corner: the pair's witnesses are the only ones
     if (!(std::abs(bottom - top - gap) <= 64 * eps * reach)) continue;
     Eigen::Vector2d x;
@@ -1244,7 +1243,7 @@ bool face_probe(const A& a, const B& b, int face, bool of_b, const Tolerances& t
   }
   out.point_a = pa, out.point_b = pb;
   for (int j = 0; j < 3; ++j) f.a[j] = c.ia, f.b[j] = c.ib;
-  f.valid = true, f.face = face, f.face_of_b = of_b;
+  f.valid = true, f.face = face, f.face_of_b = of_b, f.normal = n;
   return true;
 }
 
@@ -1484,9 +1483,11 @@ MINKSUM_FLATTEN bool warm_proximity(const A& a, const B& b, const ProximityCache
   return true;
 }
 
-// A query through the cache: warm if it proves, else cold; the cache keeps the features.
+// A query through the cache: warm if it proves, else cold; the cache keeps the features (and
+// `features` gets them, where asked).
 template <class A, class B>
-void cached_proximity(const A& a, const B& b, ProximityCache& cache, Proximity& out, Want want) {
+void cached_proximity(const A& a, const B& b, ProximityCache& cache, Proximity& out, Want want,
+                      Features* features = nullptr) {
   Features f;
   const bool warm = warm_proximity(a, b, cache, out, want, f);
   if (!warm) exact_proximity(a, b, out, want, &f);
@@ -1501,6 +1502,7 @@ void cached_proximity(const A& a, const B& b, ProximityCache& cache, Proximity& 
                  : f.face >= 0 ? kFaceNormal | unsigned(f.face_of_b) << 2 | unsigned(f.face) << 3
                                : 0u;
   std::copy(f.a, f.a + 3, cache.a), std::copy(f.b, f.b + 3, cache.b);
+  if (features) *features = f;
 }
 
 // A prepared shape placed by a pose.
@@ -1689,37 +1691,84 @@ Status proximity(const Triangle& a, const Triangle& b, Proximity& out, Want want
   return Status::Ok;
 }
 
-Status contact_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
-                     const Eigen::Isometry3d& pose_b, double margin, ContactPatch& out) {
+namespace {
+
+// Box and triangle shapes: the patch from their separating axes (15 for two boxes, 13 for a box
+// and a triangle, B before A swapped back), where those decide; farther apart than the
+// margin, no patch and the pair's exact distance. False where the general path answers
+// (also where a placed box fails check_box by the rounding of its rotation). They need no cache.
+bool own_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
+               const Eigen::Isometry3d& pose_b, double margin, ContactPatch& out) {
+  using Kind = detail::ShapeData::Kind;
+  using detail::BoxPatch;
+  const detail::ShapeData &da = *detail::ShapeAccess::data(a), &db = *detail::ShapeAccess::data(b);
+  const bool boxes = da.kind == Kind::Box && db.kind == Kind::Box;
+  const bool swap = da.kind == Kind::Triangle && db.kind == Kind::Box;
+  if (!boxes && !swap && !(da.kind == Kind::Box && db.kind == Kind::Triangle)) return false;
+  const Box x = swap ? placed_box(db, pose_b) : placed_box(da, pose_a);
+  if (check_box(x) != Status::Ok) return false;
+  BoxPatch decided;
+  Proximity p;
+  if (boxes) {
+    const Box y = placed_box(db, pose_b);
+    if (check_box(y) != Status::Ok) return false;
+    decided = detail::box_pair_patch(x, y, margin, out);
+    if (decided == BoxPatch::Apart && proximity(x, y, p, Want::Contact) != Status::Ok) return false;
+  } else {
+    const detail::ShapeData& dt = swap ? da : db;
+    const Eigen::Isometry3d& pose = swap ? pose_a : pose_b;
+    const Triangle y{pose * dt.triangle.a, pose * dt.triangle.b, pose * dt.triangle.c};
+    if (check_triangle(y) != Status::Ok) return false;
+    decided = detail::box_triangle_patch(x, y, margin, out);
+    if (decided == BoxPatch::Apart && proximity(x, y, p, Want::Contact) != Status::Ok) return false;
+  }
+  if (decided == BoxPatch::Undecided) return false;
+  if (decided == BoxPatch::Apart) {  // no patch; the normal from the box's witness to the other's
+    out.size = 0, out.depth = -p.distance, out.normal = (p.point_b - p.point_a).normalized();
+    out.feature_a = out.feature_b = {};
+  }
+  if (swap) {  // the triangle is A: its plane, the normal turned, the order reversed
+    out.normal = -out.normal;
+    for (int k = 0; k < out.size; ++k) out.points[k] += out.depth * out.normal;
+    std::reverse(out.points, out.points + out.size);
+    std::swap(out.feature_a, out.feature_b);
+  }
+  return true;
+}
+
+// Both contact_patch calls: the boxes' and triangles' axes, else the exact query (through the
+// cache where one is given) and the patch of its answer.
+Status posed_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
+                   const Eigen::Isometry3d& pose_b, double margin, ProximityCache* cache, ContactPatch& out) {
   out.size = 0, out.normal.setZero(), out.depth = 0, out.feature_a = out.feature_b = {};
   if (a.empty() || b.empty()) return Status::TooFewPoints;
   for (const auto* pose : {&pose_a, &pose_b})
     if (const Status s = check_pose(*pose); s != Status::Ok) return s;
   if (!(margin >= 0)) return Status::InvalidArgument;
-  // Two boxes: their 15 axes, where those decide (a placed box may fail check_box by the
-  // rounding of its rotation: then the general path).
-  using Kind = detail::ShapeData::Kind;
-  const detail::ShapeData &da = *detail::ShapeAccess::data(a), &db = *detail::ShapeAccess::data(b);
-  if (da.kind == Kind::Box && db.kind == Kind::Box) {
-    const Box x = placed_box(da, pose_a), y = placed_box(db, pose_b);
-    const detail::BoxPatch decided = check_box(x) == Status::Ok && check_box(y) == Status::Ok
-                                         ? detail::box_pair_patch(x, y, margin, out)
-                                         : detail::BoxPatch::Undecided;
-    if (decided == detail::BoxPatch::Done) return Status::Ok;
-    out.size = 0, out.feature_a = out.feature_b = {};
-    Proximity p;  // farther apart than the margin: no patch, and the box pair's exact distance
-    if (decided == detail::BoxPatch::Apart && proximity(x, y, p, Want::Contact) == Status::Ok) {
-      out.depth = -p.distance, out.normal = (p.point_b - p.point_a).normalized();
-      return Status::Ok;
-    }
-  }
+  if (own_patch(a, pose_a, b, pose_b, margin, out)) return Status::Ok;
+  out.size = 0, out.normal.setZero(), out.depth = 0, out.feature_a = out.feature_b = {};
   const PosedShape pa = posed(a, pose_a), pb = posed(b, pose_b);
   Proximity p;
   Features f;
-  exact_proximity(pa, pb, p, Want::Contact, &f);
+  if (cache)
+    cached_proximity(pa, pb, *cache, p, Want::Contact, &f);
+  else
+    exact_proximity(pa, pb, p, Want::Contact, &f);
   const Status s = patch_of(pa, pb, p, f, margin, out);
   if (s != Status::Ok) out.size = 0, out.feature_a = out.feature_b = {};
   return s;
+}
+
+}  // namespace
+
+Status contact_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
+                     const Eigen::Isometry3d& pose_b, double margin, ContactPatch& out) {
+  return posed_patch(a, pose_a, b, pose_b, margin, nullptr, out);
+}
+
+Status contact_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
+                     const Eigen::Isometry3d& pose_b, double margin, ProximityCache& cache, ContactPatch& out) {
+  return posed_patch(a, pose_a, b, pose_b, margin, &cache, out);
 }
 
 }  // namespace minksum
