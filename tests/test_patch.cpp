@@ -99,6 +99,7 @@ Points2 overlap(const Points2& P, const Points2& Q, double tol) {
 }
 
 struct Placed {
+  bool flat = false;  // one face, seen from either side (a triangle)
   std::vector<Vector3d> v;
   std::vector<Vector3d> face_normal;
   std::vector<std::vector<int>> face_loop;
@@ -106,6 +107,7 @@ struct Placed {
 
 Placed place(const ConvexShape& s, const Isometry3d& pose) {
   Placed p;
+  p.flat = s.polytope().flat;
   for (const auto& x : s.polytope().vertices) p.v.push_back(pose * x);
   for (const auto& f : s.polytope().faces)
     p.face_normal.push_back(pose.linear() * f.normal), p.face_loop.push_back(f.loop);
@@ -168,7 +170,8 @@ int check_patch(const ConvexShape& A, const Isometry3d& pa, const ConvexShape& B
     const auto holds = [&](int v) { return std::find(in.begin(), in.end(), v) != in.end(); };
     if (f.kind == Kind::Face) {
       ASSERT_TRUE(f.index[0] >= 0 && f.index[0] < int(s.face_loop.size())) << where;
-      EXPECT_GT(sign * s.face_normal[f.index[0]].dot(n), 1 - 1e-9) << where;
+      const double along = s.face_normal[f.index[0]].dot(n);
+      EXPECT_GT(s.flat ? std::abs(along) : sign * along, 1 - 1e-9) << where;
       for (int v : s.face_loop[f.index[0]]) EXPECT_TRUE(holds(v)) << where;
     } else if (f.kind == Kind::Edge || f.kind == Kind::Vertex) {
       EXPECT_TRUE(holds(f.index[0])) << where;
@@ -304,6 +307,157 @@ TEST(ContactPatch, BoxPairsEqualBruteForce) {
   EXPECT_GT(polygons, rounds / 4);
   EXPECT_GT(segments, 0);
   EXPECT_GT(points, rounds / 4);
+}
+
+// A box and a triangle take their own path (13 separating axes), either way round: random
+// poses, and integer triangles on, into and beside an integer box (corners and edges on its
+// faces and edges: exact ties).
+TEST(ContactPatch, BoxTrianglePairsEqualBruteForce) {
+  std::mt19937_64 rng(41);
+  std::uniform_real_distribution<double> unit(-1, 1), size(0.2, 1.0);
+  std::uniform_int_distribution<int> step(-3, 3);
+  int polygons = 0, segments = 0, points = 0;
+  const int rounds = test::scaled(200);
+  for (int k = 0; k < 2 * rounds; ++k) {
+    std::srand(unsigned(rng()));  // (Eigen's UnitRandom draws from rand())
+    ConvexShape box, tri;
+    Triangle t;
+    Isometry3d pose_box = Isometry3d::Identity(), pose_tri = Isometry3d::Identity();
+    if (k < rounds) {
+      ASSERT_EQ(shape_from_box(Box{Vector3d::Zero(), Eigen::Quaterniond::UnitRandom().toRotationMatrix(),
+                                   Vector3d(size(rng), size(rng), size(rng))},
+                               box),
+                Status::Ok);
+      t = Triangle{Vector3d(unit(rng), unit(rng), unit(rng)), Vector3d(unit(rng), unit(rng), unit(rng)),
+                   Vector3d(unit(rng), unit(rng), unit(rng))};
+      pose_box = Isometry3d(Eigen::Translation3d(0.2 * Vector3d(unit(rng), unit(rng), unit(rng))) *
+                            Eigen::Quaterniond::UnitRandom());
+      pose_tri = Isometry3d(Eigen::Translation3d(1.2 * Vector3d(unit(rng), unit(rng), unit(rng))));
+    } else {
+      ASSERT_EQ(shape_from_box(Box{Vector3d::Zero(), Eigen::Matrix3d::Identity(), Vector3d(2, 2, 1)}, box), Status::Ok);
+      const auto corner = [&] { return Vector3d(step(rng), step(rng), 1 + (k % 3 == 0 ? step(rng) % 2 : 0)); };
+      t = Triangle{corner(), corner(), corner()};
+      pose_tri = Isometry3d(Eigen::Translation3d(0, 0, k % 3 - 1));
+    }
+    if (shape_from_triangle(t, tri) != Status::Ok) continue;  // (collinear integer corners)
+    const std::string where = "box-triangle " + std::to_string(k);
+    for (bool box_first : {true, false}) {
+      const int n = box_first ? check_patch(box, pose_box, tri, pose_tri, 0.5, where)
+                              : check_patch(tri, pose_tri, box, pose_box, 0.5, where + " (swapped)");
+      polygons += n >= 3, segments += n == 2, points += n == 1;
+    }
+  }
+  EXPECT_GT(polygons, 0);
+  EXPECT_GT(segments, 0);
+  EXPECT_GT(points, rounds / 2);
+}
+
+// The coherent patch (through a ProximityCache) along the face-to-face slides equals the cold
+// one: the same size and features, normal and depth to 1e-12, and every point within 1e-12 of
+// the other's set; and the cache answers warm on most of the clear (apart or pressed) ticks.
+TEST(ContactPatch, CoherentEqualsCold) {
+  long warm = 0, clear = 0;
+  for (const auto& pair : tools::face_pairs()) {
+    ConvexShape A, B;
+    ASSERT_EQ(pair.a_is_box ? shape_from_box(pair.box_a, A) : shape_from_points(pair.a, A), Status::Ok);
+    ASSERT_EQ(pair.b_is_box ? shape_from_box(pair.box_b, B) : shape_from_points(pair.b, B), Status::Ok);
+    for (bool rocking : {false, true})
+      for (double gap : {1e-3, 0.0, -1e-3}) {
+        ProximityCache cache;
+        for (int k = 0; k < 64; ++k) {
+          const Isometry3d pose_b = kPoseA * tools::face_pose(pair, k, 64, gap, rocking);
+          const std::string where =
+              pair.name + (rocking ? " rocking" : "") + " gap " + std::to_string(gap) + " tick " + std::to_string(k);
+          ContactPatch cold, coherent;
+          ASSERT_EQ(contact_patch(A, kPoseA, B, pose_b, 2e-3, cold), Status::Ok) << where;
+          const long before = cache.warm;
+          ASSERT_EQ(contact_patch(A, kPoseA, B, pose_b, 2e-3, cache, coherent), Status::Ok) << where;
+          warm += cache.warm - before, clear += gap != 0;
+          ASSERT_EQ(coherent.size, cold.size) << where;
+          EXPECT_NEAR((coherent.normal - cold.normal).norm(), 0, 1e-12) << where;
+          EXPECT_NEAR(coherent.depth, cold.depth, 1e-12) << where;
+          EXPECT_EQ(coherent.feature_a.kind, cold.feature_a.kind) << where;
+          EXPECT_EQ(coherent.feature_b.kind, cold.feature_b.kind) << where;
+          const Vector3d u = cold.normal.unitOrthogonal(), w = cold.normal.cross(u);
+          Points2 x, y;
+          for (int j = 0; j < cold.size; ++j) x.push_back({u.dot(cold.points[j]), w.dot(cold.points[j])});
+          for (int j = 0; j < coherent.size; ++j) y.push_back({u.dot(coherent.points[j]), w.dot(coherent.points[j])});
+          for (const auto& q : x) EXPECT_LE(distance_to(y, q), 1e-12) << where;
+          for (const auto& q : y) EXPECT_LE(distance_to(x, q), 1e-12) << where;
+        }
+      }
+  }
+  EXPECT_GT(warm, clear / 2);
+}
+
+// The largest area of a quadrilateral on the points of a convex polygon, by trying every four.
+double largest_quadrilateral(const std::vector<Vector3d>& p, const Vector3d& n) {
+  const auto area = [&](int i, int j, int k) { return (p[j] - p[i]).cross(p[k] - p[i]).dot(n); };
+  double best = 0;
+  const int m = int(p.size());
+  for (int i = 0; i < m; ++i)
+    for (int j = i + 1; j < m; ++j)
+      for (int k = j + 1; k < m; ++k)
+        for (int l = k + 1; l < m; ++l) best = std::max(best, area(i, j, k) + area(i, k, l));
+  return best;
+}
+
+// reduce_contact_patch keeps 4 of the patch's points, counter-clockwise, whose quadrilateral
+// has the largest area (by brute force): random convex polygons, regular ones (every chord
+// has parallel twins: ties), hulls of integer points, and polygons with points along their
+// edges (collinear triples).
+TEST(ContactPatch, ReductionKeepsTheLargestQuadrilateral) {
+  std::mt19937_64 rng(37);
+  std::uniform_real_distribution<double> unit(0, 1);
+  std::uniform_int_distribution<int> grid(-5, 5);
+  int reduced = 0;
+  for (int round = 0; round < test::scaled(240); ++round) {
+    // A plane in space: the polygon's points in its basis (u, w), counter-clockwise about n.
+    const Eigen::Matrix3d frame = Eigen::Quaterniond::UnitRandom().toRotationMatrix();
+    const Vector3d u = frame.col(0), w = frame.col(1), n = frame.col(2), o(unit(rng), unit(rng), unit(rng));
+    Points2 flat;
+    const int kind = round % 4, count = 5 + round % 36;
+    if (kind == 0) {  // random angles on an ellipse
+      std::vector<double> t;
+      for (int k = 0; k < count; ++k) t.push_back(2 * M_PI * unit(rng));
+      std::sort(t.begin(), t.end());
+      for (double a : t) flat.push_back({2 * std::cos(a), 0.7 * std::sin(a)});
+    } else if (kind == 1) {  // regular
+      for (int k = 0; k < count; ++k) flat.push_back({std::cos(2 * M_PI * k / count), std::sin(2 * M_PI * k / count)});
+    } else if (kind == 2) {  // the hull of integer points
+      Points2 pts;
+      for (int k = 0; k < count; ++k) pts.push_back({double(grid(rng)), double(grid(rng))});
+      flat = gift_wrap(pts, 1e-12);
+    } else {  // a rectangle with points along its sides
+      const int along = 1 + round % 5;
+      const Vector2d c[4] = {{0, 0}, {3, 0}, {3, 2}, {0, 2}};
+      for (int s = 0; s < 4; ++s)
+        for (int k = 0; k < along; ++k) flat.push_back(c[s] + (c[(s + 1) % 4] - c[s]) * double(k) / along);
+    }
+    ContactPatch patch;
+    patch.normal = n, patch.size = int(flat.size());
+    std::vector<Vector3d> original;
+    for (int k = 0; k < patch.size; ++k) patch.points[k] = o + flat[k].x() * u + flat[k].y() * w;
+    original.assign(patch.points, patch.points + patch.size);
+    reduce_contact_patch(patch);
+    const std::string where = "round " + std::to_string(round) + " kind " + std::to_string(kind);
+    if (original.size() <= 4) {
+      EXPECT_EQ(patch.size, int(original.size())) << where;
+      continue;
+    }
+    ++reduced;
+    ASSERT_EQ(patch.size, 4) << where;
+    for (int k = 0; k < 4; ++k)
+      EXPECT_NE(std::find(original.begin(), original.end(), patch.points[k]), original.end()) << where;
+    double got = 0;
+    for (int k = 1; k + 1 < 4; ++k) {
+      const double a = (patch.points[k] - patch.points[0]).cross(patch.points[k + 1] - patch.points[0]).dot(n);
+      EXPECT_GT(a, 0) << where << " (not counter-clockwise)";
+      got += a;
+    }
+    EXPECT_NEAR(got, largest_quadrilateral(original, n), 1e-12 * (1 + got)) << where;
+  }
+  EXPECT_GT(reduced, test::scaled(240) / 2);
 }
 
 TEST(ContactPatch, MarginAndBadInput) {

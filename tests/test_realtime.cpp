@@ -284,8 +284,8 @@ TEST(RealTime, CoherentQueriesDoNotAllocate) {
 
 // Face to face (tools::face_pairs: boxes, prisms, a box on a prism, a flat face on a box, an
 // edge along a face), apart, touching and pressed, flat and rocking, cold and coherent: the
-// patch witnesses, the touching certificate, the face probe and the contact patch work in fixed
-// buffers.
+// patch witnesses, the touching certificate, the face probe and the contact patch (cold,
+// coherent and reduced) work in fixed buffers.
 TEST(RealTime, FaceToFaceQueriesDoNotAllocate) {
   SKIP_UNLESS_COUNTING();
   const Eigen::Isometry3d pose_a(Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 3).normalized()));
@@ -295,7 +295,7 @@ TEST(RealTime, FaceToFaceQueriesDoNotAllocate) {
     ASSERT_EQ(pair.b_is_box ? shape_from_box(pair.box_b, B) : shape_from_points(pair.b, B), Status::Ok);
     for (double gap : {1e-3, 0.0, -1e-3})
       for (bool rocking : {false, true}) {
-        ProximityCache cache;
+        ProximityCache cache, patch_cache;
         Proximity p;
         ContactPatch patch;
         EXPECT_EQ(allocations([&] {
@@ -304,6 +304,8 @@ TEST(RealTime, FaceToFaceQueriesDoNotAllocate) {
                       proximity(A, pose_a, B, pose_b, p, Want::Contact);
                       proximity(A, pose_a, B, pose_b, cache, p, Want::Contact);
                       contact_patch(A, pose_a, B, pose_b, 2e-3, patch);
+                      contact_patch(A, pose_a, B, pose_b, 2e-3, patch_cache, patch);
+                      reduce_contact_patch(patch);
                     }
                   }),
                   0)

@@ -142,9 +142,24 @@ void same(Status cold_status, const Proximity& cold, Status warm_status, const P
 // supporting plane along a unit normal, and points exactly where the shapes lie within the
 // margin.
 void patch(const ConvexShape& A, const ConvexShape& B, const Eigen::Isometry3d& pose, Status sc, const Proximity& cold,
-           double margin, double reach) {
-  ContactPatch p;
+           double margin, double reach, ProximityCache& cache) {
+  ContactPatch p, q;
   const Status s = contact_patch(A, Eigen::Isometry3d::Identity(), B, pose, margin, p);
+  // The coherent patch: the cold one's status, depth (to the certificates' slack) and points.
+  if (contact_patch(A, Eigen::Isometry3d::Identity(), B, pose, margin, cache, q) != s)
+    fuzz::fail("the coherent patch's status differs from the cold one's");
+  const double slack = 1e-9 * (1 + reach);
+  if (s == Status::Ok && !(std::abs(q.depth - p.depth) <= slack))
+    fuzz::fail("the coherent patch's depth differs from the cold one's");
+  if (s == Status::Ok && std::abs(p.depth + margin) > slack && (q.size > 0) != (p.size > 0))
+    fuzz::fail("the coherent patch is empty where the cold one is not, or the reverse");
+  // Its reduction: at most 4 of its points.
+  ContactPatch r = p;
+  reduce_contact_patch(r);
+  if (r.size > 4 || (p.size <= 4 && r.size != p.size)) fuzz::fail("a reduced patch of the wrong size");
+  for (int k = 0; k < r.size; ++k)
+    if (std::find(p.points, p.points + p.size, r.points[k]) == p.points + p.size)
+      fuzz::fail("a reduced patch with a point not in the patch");
   const Status expected = sc != Status::Ok ? sc : !(margin >= 0) ? Status::InvalidArgument : Status::Ok;
   if (s != expected) fuzz::fail("the patch's status differs from the query's");
   if (s != Status::Ok) {
@@ -165,8 +180,37 @@ void patch(const ConvexShape& A, const ConvexShape& B, const Eigen::Isometry3d& 
       fuzz::fail("a patch point off A's supporting plane");
 }
 
+// The own-form patches (a box and a box, a box and a triangle: their separating axes) against
+// the general path on the same polytopes: the same status, the depth to rounding, a patch on
+// both or neither (away from the margin's edge), points on A's supporting plane.
+void own_form_patch(const ConvexShape& A, const ConvexShape& B, const Eigen::Isometry3d& pose, double margin) {
+  ConvexShape GA, GB;
+  if (shape_from_polytope(A.polytope(), GA) != Status::Ok || shape_from_polytope(B.polytope(), GB) != Status::Ok)
+    return;
+  const Eigen::Isometry3d identity = Eigen::Isometry3d::Identity();
+  ContactPatch p, q;
+  const Status s = contact_patch(A, identity, B, pose, margin, p);
+  if (s != contact_patch(GA, identity, GB, pose, margin, q)) fuzz::fail("an own-form patch's status differs");
+  if (s != Status::Ok) return;
+  double reach = 0;
+  for (const auto& v : A.polytope().vertices) reach = std::max(reach, v.cwiseAbs().maxCoeff());
+  for (const auto& v : B.polytope().vertices) reach = std::max(reach, (pose * v).cwiseAbs().maxCoeff());
+  if (!std::isfinite(reach)) return;
+  const double slack = 1e-9 * (1 + reach);
+  if (!(std::abs(p.depth - q.depth) <= slack)) fuzz::fail("an own-form patch's depth differs from the general one's");
+  if (std::abs(q.depth + margin) > slack && (p.size > 0) != (q.size > 0))
+    fuzz::fail("an own-form patch is empty where the general one is not, or the reverse");
+  if (p.size == 0) return;
+  if (!p.normal.allFinite() || std::abs(p.normal.norm() - 1) > 1e-9) fuzz::fail("an own-form patch's normal");
+  double top = -std::numeric_limits<double>::infinity();
+  for (const auto& v : A.polytope().vertices) top = std::max(top, p.normal.dot(v));
+  for (int k = 0; k < p.size; ++k)
+    if (!p.points[k].allFinite() || std::abs(p.normal.dot(p.points[k]) - top) > slack)
+      fuzz::fail("an own-form patch point off A's supporting plane");
+}
+
 // Kinds 3-5: up to 12 motions of B, each answered cold and through one cache (kind 5: and its
-// contact patch).
+// contact patch, cold, coherent and reduced, and the own-form patches of its boxes and triangle).
 void sequence(fuzz::Bytes& in, int kind) {
   const Box a = box(in), body = box(in);
   const Triangle tri = triangle(in);
@@ -179,7 +223,7 @@ void sequence(fuzz::Bytes& in, int kind) {
     if (shape_from_points(pa, A) != Status::Ok || shape_from_points(pb, B) != Status::Ok) return;
   }
   const double margin = kind == 5 ? in.number() : 0;
-  ProximityCache cache;
+  ProximityCache cache, patch_cache;
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   const auto largest = [](std::initializer_list<Eigen::Vector3d> v) {
     double m = 0;
@@ -208,7 +252,17 @@ void sequence(fuzz::Bytes& in, int kind) {
     }
     if (!std::isfinite(reach)) reach = 0;
     same(sc, cold, sw, warm, reach);
-    if (kind == 5) patch(A, B, pose, sc, cold, margin, reach);
+    if (kind == 5) {
+      patch(A, B, pose, sc, cold, margin, reach, patch_cache);
+      ConvexShape box_a, box_b, triangle_b;  // the same motions on the sequence's boxes and triangle
+      if (shape_from_box(a, box_a) == Status::Ok) {
+        if (shape_from_box(body, box_b) == Status::Ok) own_form_patch(box_a, box_b, pose, margin);
+        if (shape_from_triangle(tri, triangle_b) == Status::Ok) {
+          own_form_patch(box_a, triangle_b, pose, margin);
+          own_form_patch(triangle_b, box_a, pose, margin);
+        }
+      }
+    }
   }
 }
 
