@@ -267,10 +267,12 @@ int cmd_query(int argc, char** argv) {
   } else if (files.size() == 2 && boxes.empty()) {
     if (!load(files[0], A) || !load(files[1], B)) return 2;
     if (!poses.empty()) {  // one JSON line per pose; consecutive poses share one cache
-      ProximityCache cache;
+      ProximityCache cache, patch_cache;  // (one per kind of query)
       for (const Eigen::Isometry3d& pose : poses) {
         s = coherent ? proximity(A, identity, B, pose, cache, p) : proximity(A, identity, B, pose, p);
-        if (s == Status::Ok && with_patch) s = contact_patch(A, identity, B, pose, margin, patch);
+        if (s == Status::Ok && with_patch)
+          s = coherent ? contact_patch(A, identity, B, pose, margin, patch_cache, patch)
+                       : contact_patch(A, identity, B, pose, margin, patch);
         if (s != Status::Ok) {
           std::fprintf(stderr, "minksum: pose: %s\n", to_string(s));
           return 2;
