@@ -181,17 +181,18 @@ def face_markdown(directory):
 
 
 def patch_markdown(directory):
-    """The ContactPatch table: minksum and Bullet's clipping per pair and contact, their ratio
-    (target: bullet / minksum >= 5) and the mean points of each."""
+    """The ContactPatch table: minksum (cold and coherent) and Bullet's clipping per pair and
+    contact, their ratios (target: bullet / minksum >= 5) and the mean points of each."""
     t, order = by_method(f"{directory}/contact_patch.csv", "pair", "gap")
-    out = ["| pair | contact | minksum [ns] | bullet_clip [ns] | bullet / minksum | points: minksum, bullet |",
-           "|---|---|---|---|---|---|"]
+    out = ["| pair | contact | minksum [ns] | coherent [ns] | bullet_clip [ns] | bullet / minksum | bullet / coherent"
+           " | points: minksum, bullet |",
+           "|---|---|---|---|---|---|---|---|"]
     for key in order:
         m = t[key]
-        if len(m) < 2:
+        if len(m) < 3:
             continue
-        a, b = float(m["minksum"]["ns_per_patch"]), float(m["bullet_clip"]["ns_per_patch"])
-        out.append(f"| {key[0]} | {key[1]} | {a:.0f} | {b:.0f} | {b / a:.2f}x |"
+        a, c, b = (float(m[k]["ns_per_patch"]) for k in ("minksum", "minksum_coherent", "bullet_clip"))
+        out.append(f"| {key[0]} | {key[1]} | {a:.0f} | {c:.0f} | {b:.0f} | {b / a:.2f}x | {b / c:.2f}x |"
                    f" {float(m['minksum']['points']):.2f}, {float(m['bullet_clip']['points']):.2f} |")
     with open(f"{directory}/contact_patch.md", "w") as f:
         f.write("\n".join(out) + "\n")
