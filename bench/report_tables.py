@@ -87,7 +87,7 @@ def face_to_face(p, r):
 
 
 def contact_patch(p, r):
-    return p[0] == "ContactPatch" and [p[1], p[2], p[3], us(r) * 1e3, r.get("points", "")]
+    return p[0] == "ContactPatch" and [p[1], p[2], p[3], us(r) * 1e3, r.get("points", ""), r.get("warm_share", "")]
 
 
 def trajectory(p, r):
@@ -107,7 +107,7 @@ TABLES = {
     "mesh": (["benchmark", "median_us", "max_us", "min_culled_pct", "mean_us"], mesh),
     "trajectory": (["pair", "method", "ns_per_query", "contact_share", "warm_share", "searched_share", "median_us", "max_us"], trajectory),
     "face_to_face": (["family", "gap", "method", "ns_per_query", "searched_share", "warm_share"], face_to_face),
-    "contact_patch": (["pair", "gap", "method", "ns_per_patch", "points"], contact_patch),
+    "contact_patch": (["pair", "gap", "method", "ns_per_patch", "points", "warm_share"], contact_patch),
     "mesh_bands": (["set", "pair", "method", "median_us", "max_us"] + [f"{b}_{k}" for b in BANDS for k in ("median_us", "max_us")]
                    + ["median_culled_pct", "bytes_per_triangle"], mesh_bands),
     "point_build": (["cloud", "method", "build_ms", "bytes_per_point"], point_build),
@@ -185,14 +185,15 @@ def patch_markdown(directory):
     contact, their ratios (target: bullet / minksum >= 5) and the mean points of each."""
     t, order = by_method(f"{directory}/contact_patch.csv", "pair", "gap")
     out = ["| pair | contact | minksum [ns] | coherent [ns] | bullet_clip [ns] | bullet / minksum | bullet / coherent"
-           " | points: minksum, bullet |",
-           "|---|---|---|---|---|---|---|---|"]
+           " | warm share | points: minksum, bullet |",
+           "|---|---|---|---|---|---|---|---|---|"]
     for key in order:
         m = t[key]
         if len(m) < 3:
             continue
         a, c, b = (float(m[k]["ns_per_patch"]) for k in ("minksum", "minksum_coherent", "bullet_clip"))
         out.append(f"| {key[0]} | {key[1]} | {a:.0f} | {c:.0f} | {b:.0f} | {b / a:.2f}x | {b / c:.2f}x |"
+                   f" {float(m['minksum_coherent']['warm_share']):.2f} |"
                    f" {float(m['minksum']['points']):.2f}, {float(m['bullet_clip']['points']):.2f} |")
     with open(f"{directory}/contact_patch.md", "w") as f:
         f.write("\n".join(out) + "\n")
