@@ -126,6 +126,34 @@ Status contact_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, cons
 /// (counter-clockwise as before), as contact solvers take it. Every point of a patch lies at
 /// the patch's depth, so the deepest point stays. Patches of 4 points or fewer are unchanged.
 void reduce_contact_patch(ContactPatch& patch);
+/// When two shapes moving within a tick first touch. Each moves from pose0 to pose1: its
+/// origin along the segment, its rotation about one axis at a constant rate. Conservative
+/// advancement on the exact distance: the reported time is never after the first contact, and
+/// the shapes lie within `tolerance` of each other then.
+struct TimeOfImpact {
+  bool hit = false;                                   ///< they come within the tolerance at some time in [0, 1]
+  double time = 1;                                    ///< that time (0: already touching or overlapping; 1: no hit)
+  double distance = 0;                                ///< how far apart they are then (<= tolerance; 0 overlapping)
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();   ///< unit, from A towards B, at that time
+  Eigen::Vector3d point_a = Eigen::Vector3d::Zero();  ///< the closest point on A then (world frame)
+  Eigen::Vector3d point_b = Eigen::Vector3d::Zero();  ///< and on B
+  double tolerance = 0;                               ///< the stopping distance used
+  bool converged = true;  ///< false: the iteration cap came first (no contact before `time`)
+  int iterations = 0;     ///< exact proximity queries made
+};
+
+/// The most proximity queries time_of_impact makes.
+constexpr int kTimeOfImpactIterations = 256;
+
+/// The time of impact of A moving from a0 to a1 and B from b0 to b1 (see TimeOfImpact). A pure
+/// translation is exact: each step lands on the supporting plane the relative motion's ray
+/// meets. With rotation, the steps are bounded by the rotation's reach. `tolerance` 0: 1e-12 of
+/// the scene's size translating, 1e-6 turning. TooFewPoints for an empty shape, InvalidPose
+/// for a pose that is not rigid, InvalidArgument for a tolerance < 0, NaN or infinite.
+Status time_of_impact(const ConvexShape& a, const Eigen::Isometry3d& a0, const Eigen::Isometry3d& a1,
+                      const ConvexShape& b, const Eigen::Isometry3d& b0, const Eigen::Isometry3d& b1, TimeOfImpact& out,
+                      double tolerance = 0);
+
 /// How far B must move along the unit direction u for A and B to stop overlapping (0 if they
 /// are separated, or already would be after any move along u).
 double penetration_along(const MinkowskiSum& m, const Eigen::Vector3d& u);
