@@ -137,10 +137,21 @@ void same(Status cold_status, const Proximity& cold, Status warm_status, const P
   }
 }
 
+// A patch's normal is unit and its points lie on A's supporting plane along it (within slack).
+void on_plane(const ConvexShape& A, const ContactPatch& p, double slack) {
+  if (p.size == 0) return;
+  if (!p.normal.allFinite() || std::abs(p.normal.norm() - 1) > 1e-9) fuzz::fail("a patch's normal is not unit");
+  double top = -std::numeric_limits<double>::infinity();
+  for (const auto& v : A.polytope().vertices) top = std::max(top, p.normal.dot(v));
+  for (int k = 0; k < p.size; ++k)
+    if (!p.points[k].allFinite() || std::abs(p.normal.dot(p.points[k]) - top) > slack)
+      fuzz::fail("a patch point off A's supporting plane");
+}
+
 // Kind 5's contact patch at each step: the query's status (InvalidArgument for a margin < 0
 // or NaN), the cold query's depth (minus its distance apart) exactly, finite points on A's
 // supporting plane along a unit normal, and points exactly where the shapes lie within the
-// margin.
+// margin; the coherent patch the same to the slack; the reduction at most 4 of its points.
 void patch(const ConvexShape& A, const ConvexShape& B, const Eigen::Isometry3d& pose, Status sc, const Proximity& cold,
            double margin, double reach, ProximityCache& cache) {
   ContactPatch p, q;
@@ -171,13 +182,7 @@ void patch(const ConvexShape& A, const ConvexShape& B, const Eigen::Isometry3d& 
     fuzz::fail("the patch's depth differs from the query's");
   if ((p.size > 0) != (cold.intersecting || cold.distance <= margin))
     fuzz::fail("a patch where the shapes are beyond the margin, or none within it");
-  if (p.size == 0) return;
-  if (!p.normal.allFinite() || std::abs(p.normal.norm() - 1) > 1e-9) fuzz::fail("the patch's normal is not unit");
-  double top = -std::numeric_limits<double>::infinity();
-  for (const auto& v : A.polytope().vertices) top = std::max(top, p.normal.dot(v));
-  for (int k = 0; k < p.size; ++k)
-    if (!p.points[k].allFinite() || std::abs(p.normal.dot(p.points[k]) - top) > 1e-9 * (1 + reach))
-      fuzz::fail("a patch point off A's supporting plane");
+  on_plane(A, p, slack), on_plane(A, q, slack);
 }
 
 // The own-form patches (a box and a box, a box and a triangle: their separating axes) against
@@ -200,17 +205,44 @@ void own_form_patch(const ConvexShape& A, const ConvexShape& B, const Eigen::Iso
   if (!(std::abs(p.depth - q.depth) <= slack)) fuzz::fail("an own-form patch's depth differs from the general one's");
   if (std::abs(q.depth + margin) > slack && (p.size > 0) != (q.size > 0))
     fuzz::fail("an own-form patch is empty where the general one is not, or the reverse");
-  if (p.size == 0) return;
-  if (!p.normal.allFinite() || std::abs(p.normal.norm() - 1) > 1e-9) fuzz::fail("an own-form patch's normal");
-  double top = -std::numeric_limits<double>::infinity();
-  for (const auto& v : A.polytope().vertices) top = std::max(top, p.normal.dot(v));
-  for (int k = 0; k < p.size; ++k)
-    if (!p.points[k].allFinite() || std::abs(p.normal.dot(p.points[k]) - top) > slack)
-      fuzz::fail("an own-form patch point off A's supporting plane");
+  on_plane(A, p, slack);
+}
+
+// Kind 5's time of impact for B's motion from one pose to the next: the proximity query's
+// status; a time in [0, 1], 0 where they overlap at the start; within the tolerance at it,
+// along a unit normal; and no overlap deeper than rounding at 8 times before it.
+void impact(const ConvexShape& A, const ConvexShape& B, const Eigen::Isometry3d& from, const Eigen::Isometry3d& to,
+            Status expected, double reach) {
+  const Eigen::Isometry3d identity = Eigen::Isometry3d::Identity();
+  TimeOfImpact toi;
+  const Status s = time_of_impact(A, identity, identity, B, from, to, toi);
+  if (s != expected) fuzz::fail("the time of impact's status differs from the query's");
+  if (s != Status::Ok) return;
+  if (!(toi.time >= 0 && toi.time <= 1)) fuzz::fail("a time of impact outside [0, 1]");
+  Proximity start;
+  if (proximity(A, identity, B, from, start, Want::Contact) != Status::Ok) return;
+  if (start.intersecting && (!toi.hit || toi.time != 0)) fuzz::fail("overlapping at the start, not time 0");
+  if (!toi.hit) return;
+  if (!(toi.distance <= toi.tolerance)) fuzz::fail("a time of impact farther apart than its tolerance");
+  if (!toi.normal.allFinite() || std::abs(toi.normal.norm() - 1) > 1e-9) fuzz::fail("a time of impact's normal");
+  // (B's pose at a time as time_of_impact moves it: the origin along the segment, the rotation
+  // about one axis.)
+  const Eigen::AngleAxisd turn(Eigen::Matrix3d(from.linear().transpose() * to.linear()));
+  for (int k = 0; k < 8 && toi.time > 0; ++k) {
+    const double t = toi.time * k / 8;
+    Eigen::Isometry3d at = Eigen::Isometry3d::Identity();
+    at.linear() = from.linear() * Eigen::AngleAxisd(t * turn.angle(), turn.axis()).toRotationMatrix();
+    at.translation() = (1 - t) * from.translation() + t * to.translation();
+    Proximity p;
+    if (proximity(A, identity, B, at, p, Want::Contact) == Status::Ok && p.intersecting &&
+        p.penetration_depth > 1e-9 * (1 + reach))
+      fuzz::fail("overlapping before the time of impact");
+  }
 }
 
 // Kinds 3-5: up to 12 motions of B, each answered cold and through one cache (kind 5: and its
-// contact patch, cold, coherent and reduced, and the own-form patches of its boxes and triangle).
+// contact patch, cold, coherent and reduced, the own-form patches of its boxes and triangle, and
+// the time of impact of each motion).
 void sequence(fuzz::Bytes& in, int kind) {
   const Box a = box(in), body = box(in);
   const Triangle tri = triangle(in);
@@ -231,6 +263,7 @@ void sequence(fuzz::Bytes& in, int kind) {
     return m;
   };
   for (int step = 0; step < 12 && in.n > 0; ++step) {
+    const Eigen::Isometry3d before = pose;
     pose = pose * motion(in);
     Proximity cold, warm;
     Status sc, sw;
@@ -254,6 +287,7 @@ void sequence(fuzz::Bytes& in, int kind) {
     same(sc, cold, sw, warm, reach);
     if (kind == 5) {
       patch(A, B, pose, sc, cold, margin, reach, patch_cache);
+      if (step > 0) impact(A, B, before, pose, check_pose(before) != Status::Ok ? check_pose(before) : sc, reach);
       ConvexShape box_a, box_b, triangle_b;  // the same motions on the sequence's boxes and triangle
       if (shape_from_box(a, box_a) == Status::Ok) {
         if (shape_from_box(body, box_b) == Status::Ok) own_form_patch(box_a, box_b, pose, margin);
