@@ -88,13 +88,15 @@ const char* kHelp =
     "  query A B [--pose-b \"qw qx qy qz tx ty tz\" | --poses FILE [--coherent]] [--patch MARGIN]\n"
     "          [--json]\n"
     "  query --box \"cx cy cz hx hy hz qw qx qy qz\" --box \"...\" [--patch MARGIN] [--json]\n"
+    "  query A B --toi FILE\n"
     "      Collision, exact distance with closest points, maximum distance and penetration\n"
     "      depth and direction of two convex objects (vertex files, or boxes given inline:\n"
     "      centre, half extents, unit quaternion). --poses reads one pose of B per line and\n"
     "      prints one JSON line each; --coherent starts each query from the last answer (the\n"
     "      same answers, to 1e-12 relative). --patch adds the contact patch where the objects\n"
     "      overlap, touch or lie within MARGIN (>= 0): its normal, depth, the supporting\n"
-    "      feature of each and the patch's corners.\n"
+    "      feature of each and the patch's corners. --toi reads poses of B (A stays) and prints,\n"
+    "      per motion from one pose to the next, the time of impact as a JSON line.\n"
     "  distance [MESH_A MESH_B] [--pose \"qw qx qy qz tx ty tz\"] [--poses FILE [--coherent]]\n"
     "           [--json] [--brute]\n"
     "      Exact minimum distance between two triangle meshes (PLY, OBJ, OFF, STL) through\n"
@@ -215,16 +217,38 @@ void print_answer(const Proximity& p, bool json, const ContactPatch* patch = nul
   if (patch) std::printf("%s", patch_text(*patch, false).c_str());
 }
 
+// query A B --toi FILE: B moves through the file's poses, A stays; one JSON line per motion.
+int query_toi(const ConvexShape& A, const ConvexShape& B, const std::vector<Eigen::Isometry3d>& poses) {
+  const Eigen::Isometry3d identity = Eigen::Isometry3d::Identity();
+  for (std::size_t k = 0; k + 1 < poses.size(); ++k) {
+    TimeOfImpact toi;
+    if (const Status s = time_of_impact(A, identity, identity, B, poses[k], poses[k + 1], toi); s != Status::Ok) {
+      std::fprintf(stderr, "minksum: motion %zu: %s\n", k, to_string(s));
+      return 2;
+    }
+    std::printf(
+        "{\"motion\": %zu, \"hit\": %s, \"time\": %.17g, \"distance\": %.17g, \"normal\": %s, "
+        "\"closest_points\": [%s, %s], \"tolerance\": %.17g, \"converged\": %s, \"iterations\": %d}\n",
+        k, toi.hit ? "true" : "false", toi.time, toi.distance, vec(toi.normal).c_str(), vec(toi.point_a).c_str(),
+        vec(toi.point_b).c_str(), toi.tolerance, toi.converged ? "true" : "false", toi.iterations);
+  }
+  return 0;
+}
+
 int cmd_query(int argc, char** argv) {
   std::vector<std::string> files, boxes;
   bool json = false, posed = false, coherent = false, with_patch = false;
   double margin = 0;
   Eigen::Isometry3d pose_b = Eigen::Isometry3d::Identity();
-  std::vector<Eigen::Isometry3d> poses;
+  std::vector<Eigen::Isometry3d> poses, motion;
   std::string error;
   for (int k = 0; k < argc; ++k) {
     const std::string a = argv[k];
-    if (a == "--json") {
+    if (a == "--toi") {
+      if (k + 1 >= argc) return usage_error("--toi needs a value");
+      if (!cli::read_poses(argv[++k], motion, error)) return usage_error(error);
+      if (motion.size() < 2) return usage_error("--toi needs two poses or more");
+    } else if (a == "--json") {
       json = true;
     } else if (a == "--coherent") {
       coherent = true;
@@ -251,6 +275,13 @@ int cmd_query(int argc, char** argv) {
   }
   if (posed && !poses.empty()) return usage_error("give --pose-b or --poses, not both");
   if (coherent && poses.empty()) return usage_error("--coherent needs --poses");
+  if (!motion.empty()) {
+    if (posed || !poses.empty() || with_patch || !boxes.empty() || files.size() != 2)
+      return usage_error("--toi takes two vertex files, without --pose-b, --poses, --patch or --box");
+    ConvexShape A, B;
+    if (!load(files[0], A) || !load(files[1], B)) return 2;
+    return query_toi(A, B, motion);
+  }
   Proximity p;
   Status s;
   ConvexShape A, B;  // (the patch's operands: the files' shapes, or the boxes')
@@ -266,7 +297,7 @@ int cmd_query(int argc, char** argv) {
       s = contact_patch(A, identity, B, identity, margin, patch);
   } else if (files.size() == 2 && boxes.empty()) {
     if (!load(files[0], A) || !load(files[1], B)) return 2;
-    if (!poses.empty()) {  // one JSON line per pose; consecutive poses share one cache
+    if (!poses.empty()) {                 // one JSON line per pose; consecutive poses share one cache
       ProximityCache cache, patch_cache;  // (one per kind of query)
       for (const Eigen::Isometry3d& pose : poses) {
         s = coherent ? proximity(A, identity, B, pose, cache, p) : proximity(A, identity, B, pose, p);

@@ -455,5 +455,22 @@ TEST(Cli, FlatOperandGivesASolidSum) {
   expect_exact_sum(r.out, tools::cube_points(), tri, 1);
 }
 
+// --toi: B falls onto A through its poses, one JSON line per motion. Unit cubes (corners at
+// +-1), B from 5 to 1 above A and then up again: the faces, 3 apart, meet at 3/4 of the first
+// motion; the second moves apart from overlapping (time 0).
+TEST(Cli, QueryPrintsTheTimeOfImpact) {
+  const std::string a = write_points("toi_a", tools::cube_points(), 1);
+  const std::string poses = write("toi_poses.txt", "1 0 0 0 0 0 5\n1 0 0 0 0 0 1\n1 0 0 0 0 0 9\n");
+  const CliRun r = run("query " + a + " " + a + " --toi " + poses);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto hit = field(r.out, "time");
+  ASSERT_EQ(hit.size(), 2u) << r.out;
+  EXPECT_NEAR(hit[0], 0.75, 1e-12) << r.out;
+  EXPECT_EQ(hit[1], 0) << r.out;
+  EXPECT_NE(r.out.find("\"motion\": 0, \"hit\": true"), std::string::npos) << r.out;
+  expect_rejected("query " + a + " " + a + " --toi " + write("toi_one.txt", "1 0 0 0 0 0 5\n"), "two poses");
+  expect_rejected("query " + a + " " + a + " --toi " + poses + " --patch 0.1", "--toi takes");
+}
+
 }  // namespace
 }  // namespace minksum
