@@ -138,8 +138,10 @@ struct TimeOfImpact {
   Eigen::Vector3d point_a = Eigen::Vector3d::Zero();  ///< the closest point on A then (world frame)
   Eigen::Vector3d point_b = Eigen::Vector3d::Zero();  ///< and on B
   double tolerance = 0;                               ///< the stopping distance used
-  bool converged = true;  ///< false: the iteration cap came first (no contact before `time`)
-  int iterations = 0;     ///< exact proximity queries made
+  /// false: the advancement stopped short of the tolerance, at the iteration cap or where the
+  /// gap rounds to zero (a tolerance below the coordinates' rounding); no contact before `time`
+  bool converged = true;
+  int iterations = 0;  ///< exact proximity queries made
 };
 
 /// The most proximity queries time_of_impact makes.

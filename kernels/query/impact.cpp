@@ -96,11 +96,18 @@ Status time_of_impact(const ConvexShape& a, const Isometry3d& a0, const Isometry
     };
     // (Overlapping after a step: a touching contact that rounding put inside by its slack.)
     if (p.intersecting || p.distance <= tolerance) return answer();
-    const Vector3d n = (p.point_b - p.point_a) / p.distance;
     // The step from the planes' gap along n, not from d: n is the witnesses' direction, turned
-    // by rounding, and the gap along it is what the bound holds for.
-    const double g = gap(a, pa, b, pb, n), mu = std::max(0.0, (ma.v - mb.v).dot(n)) + turning;
-    if (!(g > 0)) return answer();     // within rounding of touching
+    // by rounding, and the gap along it is what the bound holds for. Near the tolerance that
+    // turn can close the gap (faces 1 wide, 1e-11 apart): then the certificate's normal.
+    Vector3d n = (p.point_b - p.point_a) / p.distance;
+    double g = gap(a, pa, b, pb, n);
+    if (!(g > 0)) {
+      ContactPatch patch;
+      const Status s = contact_patch(a, pa, b, pb, p.distance, patch);
+      if (s == Status::Ok || s == Status::CapacityExceeded) n = patch.normal, g = gap(a, pa, b, pb, n);
+    }
+    if (!(g > 0)) return out.converged = false, out.time = t, Status::Ok;  // rounding stops it here
+    const double mu = std::max(0.0, (ma.v - mb.v).dot(n)) + turning;
     if (!(mu > 0)) return Status::Ok;  // they do not close along n: never
     t += g / mu;
     if (!(t <= 1)) return Status::Ok;
