@@ -35,6 +35,16 @@ test::Oracle oracle(const ConvexShape& a, const Isometry3d& pa, const ConvexShap
 
 const Isometry3d kIdentity = Isometry3d::Identity();
 
+// The gap along n between A's highest vertex and B's lowest: the normal of an answer at time
+// > 0 must separate them to within its tolerance (0 <= gap <= distance <= tolerance).
+double gap_along(const ConvexShape& a, const Isometry3d& pa, const ConvexShape& b, const Isometry3d& pb,
+                 const Vector3d& n) {
+  double top = -HUGE_VAL, bottom = HUGE_VAL;
+  for (const Vector3d& x : a.polytope().vertices) top = std::max(top, n.dot(pa * x));
+  for (const Vector3d& x : b.polytope().vertices) bottom = std::min(bottom, n.dot(pb * x));
+  return bottom - top;
+}
+
 TEST(TimeOfImpact, TranslationEqualsBisection) {
   std::mt19937_64 rng(43);
   std::uniform_real_distribution<double> unit(-1, 1);
@@ -75,6 +85,9 @@ TEST(TimeOfImpact, TranslationEqualsBisection) {
     const test::Oracle o = oracle(A, pa, B, at(b0, b1, toi.time));
     EXPECT_LE(o.overlap ? 0.0 : o.distance, toi.tolerance + 1e-12) << where;
     EXPECT_NEAR(toi.normal.norm(), 1, 1e-12) << where;
+    const double g = gap_along(A, pa, B, at(b0, b1, toi.time), toi.normal);
+    EXPECT_GE(g, -1e-12) << where;
+    EXPECT_LE(g, toi.tolerance + 1e-12) << where;
     ++hits;
   }
   EXPECT_GT(hits, pairs / 3);
@@ -109,8 +122,53 @@ TEST(TimeOfImpact, RotationNeverReportsAfterTheFirstContact) {
     ++hits;
     const test::Oracle o = oracle(A, at(a0, a1, toi.time), B, at(b0, b1, toi.time));
     EXPECT_LE(o.overlap ? 0.0 : o.distance, toi.tolerance * (1 + 1e-9)) << where;
+    const double g = gap_along(A, at(a0, a1, toi.time), B, at(b0, b1, toi.time), toi.normal);
+    EXPECT_GE(g, -1e-12) << where;
+    EXPECT_LE(g, toi.tolerance * (1 + 1e-9)) << where;
   }
   EXPECT_GT(hits, pairs / 3);
+}
+
+TEST(TimeOfImpact, TurningOntoAFaceOnIntegerCoordinates) {
+  // Ties everywhere: a box or an octahedron (integer corners) falls turning onto a box's top
+  // face (z = 0), about axes along, across and oblique to the faces (about z, B's bottom face
+  // stays parallel to the top all along), by up to a half turn. Apart at 500 sampled times
+  // before the answer, within the tolerance at it, the normal a separating plane there; a
+  // quarter turn about z (the box's bottom face on the top face at every time) is a pure
+  // fall: the time is exact.
+  ConvexShape A, box, octahedron;
+  ASSERT_EQ(shape_from_box(Box{Vector3d(0, 0, -1), Eigen::Matrix3d::Identity(), Vector3d(3, 3, 1)}, A), Status::Ok);
+  ASSERT_EQ(shape_from_box(Box{Vector3d::Zero(), Eigen::Matrix3d::Identity(), Vector3d(1, 1, 1)}, box), Status::Ok);
+  ASSERT_EQ(shape_from_points({{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}}, octahedron),
+            Status::Ok);
+  const Vector3d axes[] = {Vector3d::UnitZ(), Vector3d::UnitX(), Vector3d(1, 1, 0).normalized(),
+                           Vector3d(1, 0, 1).normalized(), Vector3d(1, 2, 2).normalized()};
+  int hits = 0;
+  for (const ConvexShape* B : {&box, &octahedron})
+    for (const Vector3d& axis : axes)
+      for (double angle : {0.25, M_PI / 2, 1.0, 3.0})
+        for (int drop : {2, 3, 5}) {
+          const Isometry3d b0 = Eigen::Translation3d(0, 0, 1 + drop) * Eigen::AngleAxisd(0, axis);
+          const Isometry3d b1 = Eigen::Translation3d(0, 0, 1 - drop) * Eigen::AngleAxisd(angle, axis);
+          const std::string where = std::string(B == &box ? "box" : "octahedron") + " axis " +
+                                    std::to_string(&axis - axes) + " angle " + std::to_string(angle) + " drop " +
+                                    std::to_string(drop);
+          TimeOfImpact toi;
+          ASSERT_EQ(time_of_impact(A, kIdentity, kIdentity, *B, b0, b1, toi), Status::Ok) << where;
+          ASSERT_TRUE(toi.hit) << where;  // (it ends 2 below the top: through it)
+          ASSERT_TRUE(toi.converged) << where;
+          for (int s = 0; s < 500; ++s)
+            EXPECT_FALSE(oracle(A, kIdentity, *B, at(b0, b1, toi.time * s / 500)).overlap) << where;
+          const Isometry3d pb = at(b0, b1, toi.time);
+          const test::Oracle o = oracle(A, kIdentity, *B, pb);
+          EXPECT_LE(o.overlap ? 0.0 : o.distance, toi.tolerance * (1 + 1e-9)) << where;
+          const double g = gap_along(A, kIdentity, *B, pb, toi.normal);
+          EXPECT_GE(g, -1e-12) << where;
+          EXPECT_LE(g, toi.tolerance * (1 + 1e-9)) << where;
+          if (B == &box && &axis == axes && angle == M_PI / 2) EXPECT_NEAR(toi.time, drop / (2.0 * drop), 1e-9);
+          ++hits;
+        }
+  EXPECT_EQ(hits, 2 * 5 * 4 * 3);
 }
 
 TEST(TimeOfImpact, NoTunnellingThroughAThinSheet) {
