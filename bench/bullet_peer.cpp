@@ -2,6 +2,8 @@
 
 #include <BulletCollision/CollisionShapes/btBoxShape.h>
 #include <BulletCollision/CollisionShapes/btConvexHullShape.h>
+#include <BulletCollision/NarrowPhaseCollision/btContinuousConvexCollision.h>
+#include <BulletCollision/NarrowPhaseCollision/btGjkConvexCast.h>
 #include <BulletCollision/NarrowPhaseCollision/btGjkEpaPenetrationDepthSolver.h>
 #include <BulletCollision/NarrowPhaseCollision/btGjkPairDetector.h>
 #include <BulletCollision/NarrowPhaseCollision/btPolyhedralContactClipping.h>
@@ -114,6 +116,24 @@ int BulletClip::clip(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, dou
 void BulletClip::point(int k, Eigen::Vector3d& p, double& depth) const {
   const btVector3& q = impl_->points[k];
   p = Eigen::Vector3d(q.x(), q.y(), q.z()), depth = impl_->depths[k];
+}
+
+bool BulletPair::time_of_impact(const Eigen::Isometry3d& a0, const Eigen::Isometry3d& a1, const Eigen::Isometry3d& b0,
+                                const Eigen::Isometry3d& b1, bool turning, double& time, Eigen::Vector3d& normal) {
+  Impl& x = *impl_;
+  btConvexCast::CastResult result;
+  result.m_fraction = 1;  // (input: the farthest time asked for)
+  bool hit;
+  if (turning) {
+    btContinuousConvexCollision cast(x.a.get(), x.b.get(), &x.simplex, &x.epa);
+    hit = cast.calcTimeOfImpact(bt(a0), bt(a1), bt(b0), bt(b1), result);
+  } else {
+    btGjkConvexCast cast(x.a.get(), x.b.get(), &x.simplex);
+    hit = cast.calcTimeOfImpact(bt(a0), bt(a1), bt(b0), bt(b1), result);
+  }
+  time = hit ? result.m_fraction : 1.0;
+  normal = Eigen::Vector3d(result.m_normal.x(), result.m_normal.y(), result.m_normal.z());
+  return hit;
 }
 
 }  // namespace minksum::peers

@@ -110,6 +110,19 @@ void FclPair::proximity(FclSolver solver, FclAnswer& out) {
   if (distance(solver, &out) <= 0) penetration(solver, out);
 }
 
+bool FclPair::time_of_impact(FclSolver solver, const Eigen::Isometry3d& a0, const Eigen::Isometry3d& a1,
+                             const Eigen::Isometry3d& b0, const Eigen::Isometry3d& b1, bool turning, double& time) {
+  fcl::ContinuousCollisionRequestd request;
+  request.ccd_solver_type = fcl::CCDC_CONSERVATIVE_ADVANCEMENT;
+  request.ccd_motion_type = turning ? fcl::CCDM_LINEAR : fcl::CCDM_TRANS;
+  request.gjk_solver_type = type(solver);
+  fcl::ContinuousCollisionResultd result;
+  fcl::continuousCollide(impl_->ga.get(), fcl::Transform3d(a0.matrix()), fcl::Transform3d(a1.matrix()), impl_->gb.get(),
+                         fcl::Transform3d(b0.matrix()), fcl::Transform3d(b1.matrix()), request, result);
+  time = result.is_collide ? result.time_of_contact : 1.0;
+  return result.is_collide;
+}
+
 struct FclMeshPair::Impl {
   std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> ga, gb;
   std::unique_ptr<fcl::CollisionObjectd> a, b;

@@ -50,6 +50,12 @@ class FclPair {
   /// collision (FCL's distance stops there) the penetration depth and normal too. The fair peer
   /// of a full proximity query.
   void proximity(FclSolver solver, FclAnswer& out);
+  /// fcl::continuousCollide by conservative advancement (CCDC_CONSERVATIVE_ADVANCEMENT, its
+  /// default toc_err 1e-4), A moving a0 -> a1 and B b0 -> b1: by translation (CCDM_TRANS), or
+  /// turning (CCDM_LINEAR: the origin along the segment, the rotation about one axis at a
+  /// constant rate). The time of contact (1: none) into `time`; whether they hit.
+  bool time_of_impact(FclSolver solver, const Eigen::Isometry3d& a0, const Eigen::Isometry3d& a1,
+                      const Eigen::Isometry3d& b0, const Eigen::Isometry3d& b1, bool turning, double& time);
 
  private:
   struct Impl;
