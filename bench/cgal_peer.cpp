@@ -4,6 +4,10 @@
 #include "cgal_peer.hpp"
 
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+#include <CGAL/Gmpzf.h>
+#include <CGAL/Homogeneous.h>
+#include <CGAL/Polytope_distance_d.h>
+#include <CGAL/Polytope_distance_d_traits_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Nef_polyhedron_3.h>
 #include <CGAL/Polyhedron_3.h>
@@ -12,6 +16,7 @@
 #include <CGAL/minkowski_sum_3.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <numeric>
 #include <set>
@@ -157,6 +162,17 @@ ExactCounts exact_structure(const std::vector<Eigen::Vector3d>& a, const std::ve
   for (const auto& u : a)
     for (const auto& v : b) p.emplace_back(u.x() + s * v.x(), u.y() + s * v.y(), u.z() + s * v.z());
   return hull_structure<Epick>(p, facets);
+}
+
+double cgal_distance(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b) {
+  using HK = CGAL::Homogeneous<double>;
+  using Traits = CGAL::Polytope_distance_d_traits_3<HK, CGAL::Gmpzf, double>;
+  std::vector<HK::Point_3> p, q;
+  for (const auto& v : a) p.emplace_back(v.x(), v.y(), v.z());
+  for (const auto& v : b) q.emplace_back(v.x(), v.y(), v.z());
+  CGAL::Polytope_distance_d<Traits> pd(p.begin(), p.end(), q.begin(), q.end());
+  return std::sqrt(CGAL::to_double(pd.squared_distance_numerator()) /
+                   CGAL::to_double(pd.squared_distance_denominator()));
 }
 
 }  // namespace minksum::peers

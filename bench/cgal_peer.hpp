@@ -1,4 +1,5 @@
-// CGAL as a peer of the Minkowski sums (benchmarks only).
+// CGAL as a peer of the Minkowski sums and the exact oracle of the tests: CGAL's one
+// translation unit (it is header-heavy).
 #pragma once
 
 #include <Eigen/Core>
@@ -45,5 +46,10 @@ ExactCounts exact_counts(const std::vector<Eigen::Vector3d>& a, const std::vecto
 /// facet's vertices (the points a_i + s b_j), sorted lexicographically.
 ExactCounts exact_structure(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b, double s,
                             std::vector<std::vector<Eigen::Vector3d>>* facets);
+
+/// The distance between the hulls of two point sets by CGAL's exact polytope distance (an
+/// LP-type solver over the points, exact Gmpzf arithmetic): its squared distance is an exact
+/// ratio, rounded once.
+double cgal_distance(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b);
 
 }  // namespace minksum::peers

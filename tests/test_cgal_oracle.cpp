@@ -1,10 +1,6 @@
 // The exact oracle: CGAL's exact kernel (Epeck) builds the hull of the pairwise sums and merges
 // exactly coplanar triangles (peers::exact_counts, in bench/cgal_peer.cpp); its V, E, F must
 // equal the fast path's. CGAL's exact polytope distance checks the queries.
-#include <CGAL/Gmpzf.h>
-#include <CGAL/Homogeneous.h>
-#include <CGAL/Polytope_distance_d.h>
-#include <CGAL/Polytope_distance_d_traits_3.h>
 #include <gtest/gtest.h>
 #include <minksum/minksum.hpp>
 
@@ -282,19 +278,6 @@ INSTANTIATE_TEST_SUITE_P(Families, DegenerateFamilies, testing::Range(0, tools::
                            return tools::degenerate_pair(info.param, rng).name;
                          });
 
-// CGAL's exact polytope distance (an LP-type solver over the input points, exact Gmpzf
-// arithmetic) as the oracle of minksum's distances: its squared distance is an exact ratio.
-double cgal_distance(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b) {
-  using HK = CGAL::Homogeneous<double>;
-  using Traits = CGAL::Polytope_distance_d_traits_3<HK, CGAL::Gmpzf, double>;
-  std::vector<HK::Point_3> p, q;
-  for (const auto& v : a) p.emplace_back(v.x(), v.y(), v.z());
-  for (const auto& v : b) q.emplace_back(v.x(), v.y(), v.z());
-  CGAL::Polytope_distance_d<Traits> pd(p.begin(), p.end(), q.begin(), q.end());
-  return std::sqrt(CGAL::to_double(pd.squared_distance_numerator()) /
-                   CGAL::to_double(pd.squared_distance_denominator()));
-}
-
 // A tie-heavy pair (tests/ties) of the given kind: boxes, a box and a triangle, or two
 // triangles in exact contact; or two lattice solids.
 void tie_pair(std::mt19937_64& rng, int kind, std::vector<Vector3d> (&pts)[2]) {
@@ -337,7 +320,7 @@ TEST(ExactOracle, DistancesAgreeWithCgalPolytopeDistance) {
     ASSERT_EQ(polytope_from_points(pts[1], B), Status::Ok);
     Proximity p;
     ASSERT_EQ(proximity(A, B, p), Status::Ok);
-    const double exact = cgal_distance(pts[0], pts[1]);
+    const double exact = peers::cgal_distance(pts[0], pts[1]);
     EXPECT_NEAR(p.distance, exact, 1e-9 * (1 + exact)) << "pair " << k;
     if (ties) {  // the verdict exactly; exactly 0 at contact
       EXPECT_EQ(p.intersecting, exact == 0) << "pair " << k << ": exact distance " << exact;
