@@ -14,4 +14,8 @@ inline double nearest_on_segment(const Eigen::Vector3d& a, const Eigen::Vector3d
   return len2 > 0 ? std::clamp(-a.dot(e) / len2, 0.0, 1.0) : 0.0;
 }
 
+/// The point of the simplex w[0..n) (n <= 4) nearest the origin, as barycentric weights (zero
+/// outside the nearest feature); false if the origin lies inside the tetrahedron.
+bool nearest_on_simplex(const Eigen::Vector3d* w, int n, double (&lambda)[4]);
+
 }  // namespace minksum::detail

@@ -622,69 +622,6 @@ struct Features {
   Vector3d normal = Vector3d::Zero();  // the proof's unit normal, A towards B (0: the search answered)
 };
 
-// The point of the simplex w[0..n) (n <= 4) nearest the origin, as barycentric weights (zero
-// outside the nearest feature), by Voronoi regions (Ericson, "Real-Time Collision Detection",
-// 2005, sections 5.1.2, 5.1.5 and 5.1.6). False if the origin lies inside the tetrahedron.
-bool nearest_on_simplex(const Vector3d* w, int n, double (&lambda)[4]) {
-  for (double& l : lambda) l = 0;
-  if (n == 1) return lambda[0] = 1, true;
-  if (n == 2) {
-    const double t = detail::nearest_on_segment(w[0], w[1]);
-    return lambda[0] = 1 - t, lambda[1] = t, true;
-  }
-  // Triangle (i, j, k) of w: Ericson's ClosestPtPointTriangle with the query point at the origin.
-  const auto triangle = [&](int i, int j, int k, double(&l)[4]) {
-    for (double& x : l) x = 0;
-    const Vector3d &a = w[i], ab = w[j] - a, ac = w[k] - a;
-    const double d1 = -ab.dot(a), d2 = -ac.dot(a);
-    if (d1 <= 0 && d2 <= 0) return void(l[i] = 1);
-    const double d3 = -ab.dot(w[j]), d4 = -ac.dot(w[j]);
-    if (d3 >= 0 && d4 <= d3) return void(l[j] = 1);
-    const double vc = d1 * d4 - d3 * d2;
-    if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-      const double v = d1 / (d1 - d3);
-      return void((l[i] = 1 - v, l[j] = v));
-    }
-    const double d5 = -ab.dot(w[k]), d6 = -ac.dot(w[k]);
-    if (d6 >= 0 && d5 <= d6) return void(l[k] = 1);
-    const double vb = d5 * d2 - d1 * d6;
-    if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-      const double t = d2 / (d2 - d6);
-      return void((l[i] = 1 - t, l[k] = t));
-    }
-    const double va = d3 * d6 - d5 * d4;
-    if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) {
-      const double t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-      return void((l[j] = 1 - t, l[k] = t));
-    }
-    const double denom = va + vb + vc;
-    const double v = vb / denom, t = vc / denom;
-    l[i] = 1 - v - t, l[j] = v, l[k] = t;
-  };
-  const auto dist2 = [&](const double(&l)[4]) {
-    Vector3d p = Vector3d::Zero();
-    for (int k = 0; k < n; ++k) p += l[k] * w[k];
-    return p.squaredNorm();
-  };
-  if (n == 3) return triangle(0, 1, 2, lambda), true;
-  // Tetrahedron: the nearest of the faces whose plane has the origin on the far side from the
-  // fourth point (none: the origin is inside). A tetrahedron flat to rounding has no inside
-  // whose sign can be trusted (face-to-face pairs 1e-6 apart would read as "inside"): every
-  // face is a candidate.
-  static constexpr int kFace[4][4] = {{0, 1, 2, 3}, {0, 2, 3, 1}, {0, 3, 1, 2}, {1, 3, 2, 0}};
-  const Vector3d e1 = w[1] - w[0], e2 = w[2] - w[0], e3 = w[3] - w[0];
-  const bool flat = !(std::abs(e1.dot(e2.cross(e3))) > 1e-12 * e1.norm() * e2.norm() * e3.norm());
-  double best = std::numeric_limits<double>::infinity();
-  for (const auto& f : kFace) {
-    const Vector3d nf = (w[f[1]] - w[f[0]]).cross(w[f[2]] - w[f[0]]);
-    if (!flat && -w[f[0]].dot(nf) * (w[f[3]] - w[f[0]]).dot(nf) > 0) continue;
-    double l[4];
-    triangle(f[0], f[1], f[2], l);
-    if (const double d = dist2(l); d < best) best = d, std::copy(l, l + 4, lambda);
-  }
-  return best < std::numeric_limits<double>::infinity();
-}
-
 // The nearest features of separated shapes by GJK (Gilbert, Johnson & Keerthi, "A fast
 // procedure for computing the distance between complex objects in three-dimensional space",
 // IEEE J. Robotics and Automation 4(2), 1988) on M = A (-) B, from the support pairs
@@ -710,7 +647,7 @@ int gjk_features(const A& a, const B& b, double scale, const int* start_a, const
   int best_a[3] = {}, best_b[3] = {}, best_n = 0;  // the nearest simplex so far (ties can stall)
   for (int iter = 0; iter < 64; ++iter) {
     double lambda[4];
-    if (!nearest_on_simplex(w, n, lambda)) {
+    if (!detail::nearest_on_simplex(w, n, lambda)) {
       std::copy(ia, ia + 4, fa), std::copy(ib, ib + 4, fb);
       return 4;
     }
