@@ -168,4 +168,16 @@ constexpr int kMaxContactTriangles = 2048;
 Status mesh_contact(const Octree& a, const Eigen::Isometry3d& pose_a, const ConvexShape& tool,
                     const Eigen::Isometry3d& pose_tool, MeshWorkspace& ws, MeshContact& out);
 
+/// When a convex tool moving within a tick (from pose t0 to t1, as time_of_impact moves a
+/// shape: its origin along the segment, its rotation about one axis at a constant rate) first
+/// touches mesh A, still at pose_a: the earliest time of impact over A's triangles, each by
+/// time_of_impact's advancement (never after the first contact, within the tolerance at it),
+/// and its triangle. The tool sweeps inside the capsule of its radius about its origin's
+/// segment: only the nodes and triangles that capsule reaches before the earliest hit so far
+/// are visited. Answers in the world frame; no allocation. `tolerance` 0: time_of_impact's
+/// default over the tool and the mesh's box. TooFewPoints for an empty mesh or tool,
+/// InvalidPose for a pose that is not rigid, InvalidArgument for a tolerance < 0 or NaN.
+Status time_of_impact(const Octree& a, const Eigen::Isometry3d& pose_a, const ConvexShape& tool,
+                      const Eigen::Isometry3d& t0, const Eigen::Isometry3d& t1, TimeOfImpact& out, double tolerance = 0);
+
 }  // namespace minksum

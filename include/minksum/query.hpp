@@ -128,28 +128,31 @@ Status contact_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, cons
 void reduce_contact_patch(ContactPatch& patch);
 /// When two shapes moving within a tick first touch. Each moves from pose0 to pose1: its
 /// origin along the segment, its rotation about one axis at a constant rate. Conservative
-/// advancement on the exact distance: the reported time is never after the first contact, and
+/// advancement with certified bounds: the reported time is never after the first contact, and
 /// the shapes lie within `tolerance` of each other then.
 struct TimeOfImpact {
   bool hit = false;                                   ///< they come within the tolerance at some time in [0, 1]
   double time = 1;                                    ///< that time (0: already touching or overlapping; 1: no hit)
-  double distance = 0;                                ///< how far apart they are then (<= tolerance; 0 overlapping)
-  Eigen::Vector3d normal = Eigen::Vector3d::Zero();   ///< unit, from A towards B, at that time
-  Eigen::Vector3d point_a = Eigen::Vector3d::Zero();  ///< the closest point on A then (world frame)
-  Eigen::Vector3d point_b = Eigen::Vector3d::Zero();  ///< and on B
+  double distance = 0;  ///< |point_b - point_a| then (<= tolerance; 0 overlapping): at least the distance
+  /// Unit, from A towards B: a separating plane's normal then (the two supporting planes along
+  /// it lie between 0 and `distance` apart), or at time 0 the contact patch's.
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  Eigen::Vector3d point_a = Eigen::Vector3d::Zero();  ///< a point on A then, within the tolerance of B (world frame)
+  Eigen::Vector3d point_b = Eigen::Vector3d::Zero();  ///< and on B (overlapping at time 0: the deepest points)
   double tolerance = 0;                               ///< the stopping distance used
   /// false: the advancement stopped short of the tolerance, at the iteration cap or where the
   /// gap rounds to zero (a tolerance below the coordinates' rounding); no contact before `time`
   bool converged = true;
-  int iterations = 0;  ///< exact proximity queries made
+  int iterations = 0;  ///< GJK iterations made (each a support point of each shape)
+  int triangle = -1;   ///< against a mesh: the triangle of the answer (else -1)
 };
 
-/// The most proximity queries time_of_impact makes.
+/// The most GJK iterations time_of_impact makes.
 constexpr int kTimeOfImpactIterations = 256;
 
 /// The time of impact of A moving from a0 to a1 and B from b0 to b1 (see TimeOfImpact). A pure
-/// translation is exact: each step lands on the supporting plane the relative motion's ray
-/// meets. With rotation, the steps are bounded by the rotation's reach. `tolerance` 0: 1e-12 of
+/// translation is exact to the tolerance: each step lands on the supporting plane the relative
+/// motion's ray meets. With rotation, the steps are bounded by the rotation's reach. `tolerance` 0: 1e-12 of
 /// the scene's size translating, 1e-6 turning. TooFewPoints for an empty shape, InvalidPose
 /// for a pose that is not rigid, InvalidArgument for a tolerance < 0, NaN or infinite.
 Status time_of_impact(const ConvexShape& a, const Eigen::Isometry3d& a0, const Eigen::Isometry3d& a1,

@@ -1,16 +1,20 @@
 // Time of impact: where two shapes moving within a tick first touch, by conservative
 // advancement (Mirtich, "Impulse-based dynamic simulation of rigid body systems", 1996, 3.3):
-// at time t the exact query gives the distance d and the direction n of the closest points;
-// along n the two supporting planes close at most at mu, so nothing touches before t + g / mu,
-// where g is the gap between them (<= d). mu is the directional bound of Zhang, Lee and Kim
-// ("Interactive continuous collision detection for non-convex polyhedra", The Visual Computer
-// 22, 2006): (v_A - v_B) . n + |w_A x n| r_A + |w_B x n| r_B, with r a shape's reach across
-// its rotation axis, not its radius: a point x turning at w moves along n at (w x x) . n =
-// x . (n x w), and n x w is square to w. A pure translation has mu = (v_A - v_B) . n, and
-// each step lands on the supporting plane of the feature of A (-) B that the ray of the
-// relative motion meets (van den Bergen's GJK ray cast, "Ray casting against general convex
-// objects", 2004): exact to rounding.
-#include <minksum/query.hpp>
+// at time t, a direction n from A towards B and the gap g between the two supporting planes
+// along it bound the distance from below; along n the planes close at most at mu, so nothing
+// touches before t + g / mu. mu is the directional bound of Zhang, Lee and Kim ("Interactive
+// continuous collision detection for non-convex polyhedra", The Visual Computer 22, 2006):
+// (v_A - v_B) . n + |w_A x n| r_A + |w_B x n| r_B, with r a shape's reach across its rotation
+// axis, not its radius: a point x turning at w moves along n at (w x x) . n = x . (n x w), and
+// n x w is square to w. The directions are GJK's on A (-) B, its simplex kept from one step to
+// the next, and GJK's nearest points (a point of each shape) bound the distance from above and
+// stop it: van den Bergen's GJK ray cast ("Ray casting against general convex objects with
+// application to continuous collision detection", 2004), where a pure translation's steps land
+// on the supporting plane the ray of the relative motion meets: exact to the tolerance.
+#include "query/impact.hpp"
+
+#include "core/scale.hpp"
+#include "geometry/closest.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -21,62 +25,54 @@ namespace minksum {
 using Eigen::Isometry3d;
 using Eigen::Vector3d;
 
-namespace {
+namespace detail {
 
-// A pose moving from p0 to p1 in a tick: its origin along the segment, its rotation about one
-// body axis at a constant rate (|w| = angle per tick).
-struct Motion {
-  Isometry3d p0;
-  Vector3d v;      // the origin's velocity, per tick
-  Vector3d axis;   // the rotation's body axis (unit)
-  double angle;    // and its angle per tick, in [0, pi]
-  Vector3d omega;  // the angular velocity in the world frame (R0 axis angle: fixed as it turns)
-  Motion(const Isometry3d& a, const Isometry3d& b) : p0(a), v(b.translation() - a.translation()) {
-    // (The same rotation at both ends: no turn at all, not the rounding of R0^T R1.)
+Mover::Mover(const Vector3d* vertices, int size, const Isometry3d& a, const Isometry3d& b)
+    : vertices(vertices), size(size), p0(a), v(b.translation() - a.translation()) {
+  if (a.linear() != b.linear()) {  // (the same rotation at both ends: no turn, not the rounding of R0^T R1)
     const Eigen::AngleAxisd turn(Eigen::Matrix3d(a.linear().transpose() * b.linear()));
-    const bool still = a.linear() == b.linear();
-    angle = still ? 0.0 : std::abs(turn.angle());
-    axis = still ? Vector3d::UnitX() : turn.angle() < 0 ? Vector3d(-turn.axis()) : turn.axis();
+    angle = std::abs(turn.angle()), axis = turn.angle() < 0 ? Vector3d(-turn.axis()) : turn.axis();
     omega = angle * (a.linear() * axis);
   }
-  Isometry3d at(double t) const {
-    Isometry3d p = Isometry3d::Identity();
-    p.linear() = angle > 0 ? Eigen::Matrix3d(p0.linear() * Eigen::AngleAxisd(t * angle, axis).toRotationMatrix())
-                           : Eigen::Matrix3d(p0.linear());
-    p.translation() = p0.translation() + t * v;
-    return p;
-  }
-};
-
-// The largest |x| of a shape's body vertices (its reach about its origin), and into `across`
-// the largest distance of one from the axis through the origin (its reach across the axis).
-double radius(const ConvexShape& s, const Vector3d& axis, double& across) {
   double r2 = 0, across2 = 0;
-  for (const Vector3d& x : s.polytope().vertices) {
-    const double xx = x.squaredNorm(), along = axis.dot(x);
+  for (int i = 0; i < size; ++i) {
+    const double xx = vertices[i].squaredNorm(), along = axis.dot(vertices[i]);
     r2 = std::max(r2, xx), across2 = std::max(across2, xx - along * along);
   }
-  across = std::sqrt(across2) * (1 + 1e-15);  // (rounded up: a bound)
-  return std::sqrt(r2);
+  radius = std::sqrt(r2), across = std::sqrt(across2) * (1 + 1e-15);  // (rounded up: a bound)
 }
 
-// A shape at pose p moving by m, seen along n: each vertex x has the height h = n . x and
-// the rate h' = v . n + (w x r) . n = v . n + r . (n x w) (r: x less the shape's origin); over
-// its vertices, the highest (sign 1) or lowest (sign -1) of h + delta h', and that vertex's
-// rate into `rate` (of exact ties at delta 0, the one that leads: the line of an actual vertex).
-double extreme(const ConvexShape& s, const Isometry3d& p, const Motion& m, const Vector3d& n, double delta,
-               double sign, double& rate) {
+Isometry3d Mover::at(double t) const {
+  Isometry3d p = Isometry3d::Identity();
+  p.linear() = angle > 0 ? Eigen::Matrix3d(p0.linear() * Eigen::AngleAxisd(t * angle, axis).toRotationMatrix())
+                         : Eigen::Matrix3d(p0.linear());
+  p.translation() = p0.translation() + t * v;
+  return p;
+}
+
+}  // namespace detail
+
+namespace {
+
+using detail::Mover;
+
+// A body at pose p moving by m, seen along n: each vertex x has the height h = n . x and the
+// rate h' = v . n + (w x r) . n = v . n + r . (n x w) (r: x less the body's origin); over its
+// vertices, the highest (sign 1) or lowest (sign -1) of h + delta h', and that vertex's rate
+// into `rate` and index into `arg` (of exact ties at delta 0, the one that leads: the line of
+// an actual vertex).
+double extreme(const Mover& m, const Isometry3d& p, const Vector3d& n, double delta, double sign, double& rate,
+               int& arg) {
   const Vector3d nb = p.linear().transpose() * n, wb = p.linear().transpose() * n.cross(m.omega);  // body frame
   const Vector3d k = sign * (nb + delta * wb), ks = sign * wb;
-  const auto& vertices = s.polytope().vertices;
   double best = -std::numeric_limits<double>::infinity(), lead = best;
-  size_t arg = 0;
-  for (size_t i = 0; i < vertices.size(); ++i) {
-    const double h = k.dot(vertices[i]);
+  arg = 0;
+  for (int i = 0; i < m.size; ++i) {
+    const double h = k.dot(m.vertices[i]);
     if (h < best) continue;
-    if (const double r = ks.dot(vertices[i]); h > best || r > lead) best = h, lead = r, arg = i;
+    if (const double r = ks.dot(m.vertices[i]); h > best || r > lead) best = h, lead = r, arg = i;
   }
-  rate = m.v.dot(n) + wb.dot(vertices[arg]);
+  rate = m.v.dot(n) + wb.dot(m.vertices[arg]);
   return sign * best + n.dot(p.translation()) + delta * m.v.dot(n);
 }
 
@@ -84,21 +80,179 @@ double extreme(const ConvexShape& s, const Isometry3d& p, const Motion& m, const
 // 0: the gap itself, B's lowest vertex less A's highest): each vertex moved by its first-order
 // motion at t, less what the rotations add beyond it. A point r from the axis turning by phi
 // = |w| delta moves off its tangent by |r_perp| |e^(i phi) - 1 - i phi| <= |r_perp| phi^2 / 2,
-// and along n by |n x w| / |w| of that: K delta^2 / 2, K = |w| |n x w| r_perp per shape. The
+// and along n by |n x w| / |w| of that: K delta^2 / 2, K = |w| |n x w| r_perp per body. The
 // bound is concave in delta (lowest of lines, less highest of lines, less a parabola). The
-// rate of the gap at delta 0+ along the two extreme vertices' lines goes into `slope`.
+// rate of the gap at delta 0+ along the two extreme vertices' lines goes into `slope`, and
+// those vertices (M's support point along -n) into `support`.
 struct GapBound {
-  const ConvexShape &a, &b;
-  const Motion &ma, &mb;
+  const Mover &a, &b;
   Isometry3d pa, pb;
   Vector3d n;
   double curvature;  // K_A + K_B
-  double at(double delta, double* slope = nullptr) const {
+  double at(double delta, double* slope = nullptr, int* support = nullptr) const {
     double rate_a, rate_b;
-    const double g = extreme(b, pb, mb, n, delta, -1, rate_b) - extreme(a, pa, ma, n, delta, 1, rate_a);
+    int ia, ib;
+    const double g = extreme(b, pb, n, delta, -1, rate_b, ib) - extreme(a, pa, n, delta, 1, rate_a, ia);
     if (slope) *slope = rate_b - rate_a;
+    if (support) support[0] = ia, support[1] = ib;
     return g - 0.5 * curvature * delta * delta;
   }
+};
+
+// GJK (Gilbert, Johnson and Keerthi, 1988) on M = A (-) B: its simplex of support pairs (a
+// vertex of A, a vertex of B) is kept from one step to the next and re-evaluated at each
+// step's poses, as van den Bergen's ray cast keeps it along the ray.
+struct Simplex {
+  int ia[4] = {}, ib[4] = {};
+  int size = 1;
+  // Its point nearest the origin at the poses: a* - b* (scaled by k), with a* on A and b* on
+  // B into near_a and near_b; the simplex keeps the pairs that span it. False if the origin
+  // is inside (they overlap, to rounding) or the simplex is empty.
+  bool nearest(const Mover& a, const Isometry3d& pa, const Mover& b, const Isometry3d& pb, double k, Vector3d& near_a,
+               Vector3d& near_b) {
+    if (size == 0) return false;
+    Vector3d w[4], xa[4], xb[4];
+    for (int j = 0; j < size; ++j)
+      xa[j] = pa * a.vertices[ia[j]], xb[j] = pb * b.vertices[ib[j]], w[j] = k * (xa[j] - xb[j]);
+    double lambda[4];
+    if (!detail::nearest_on_simplex(w, size, lambda)) return false;
+    near_a.setZero(), near_b.setZero();
+    int m = 0;
+    for (int j = 0; j < size; ++j)
+      if (lambda[j] > 0) near_a += lambda[j] * xa[j], near_b += lambda[j] * xb[j], ia[m] = ia[j], ib[m] = ib[j], ++m;
+    size = m;
+    return m > 0;
+  }
+  // Adds a support pair; false if it is there already (GJK cannot go on).
+  bool add(const int (&pair)[2]) {
+    for (int j = 0; j < size; ++j)
+      if (ia[j] == pair[0] && ib[j] == pair[1]) return false;
+    if (size == 4) return false;
+    ia[size] = pair[0], ib[size] = pair[1], ++size;
+    return true;
+  }
+};
+
+// The step a gap g > 0 along the bound's direction certifies (see the top): conservative
+// advancement's g / mu and the bound's own, the longer; each aims at half the tolerance short
+// of touching, not at touching: the next query is then well apart by rounding's measure
+// (touching is where an exact query's certificates fail and it searches), and still within
+// the tolerance. 0: they never close along it.
+double certified_step(GapBound& bound, double g, double slope, double tolerance, double t) {
+  const Mover &a = bound.a, &b = bound.b;
+  const double turn_a = a.omega.cross(bound.n).norm() * a.across, turn_b = b.omega.cross(bound.n).norm() * b.across;
+  const double mu = (a.v - b.v).dot(bound.n) + turn_a + turn_b;
+  if (!(mu > 0)) return 0;
+  const double aim = g > tolerance ? 0.5 * tolerance : 0.0, closable = g - aim;
+  const double step = closable / mu;
+  if (a.angle == 0 && b.angle == 0) return step;
+  // The parabola g + slope delta - K delta^2 / 2 lies above the bound (it follows one vertex
+  // of each body), so at its root the bound is below 0 or the whole step is clear; below 0,
+  // the chord from (0, g) meets 0 before the bound does (concave). Near the contact that is a
+  // Newton step: the steps shrink quadratically.
+  bound.curvature = a.angle * turn_a + b.angle * turn_b;
+  const double root = 2 * closable / (-slope + std::sqrt(slope * slope + 2 * bound.curvature * closable));
+  const double far = std::min(root, 1.5 - t);  // (past the tick's end is far enough)
+  const double low = bound.at(far) - aim;
+  return std::max(step, low >= 0 ? far : closable * far / (closable - low));
+}
+
+}  // namespace
+
+namespace detail {
+
+Status advance(const Mover& a, const Mover& b, double tolerance, double reach, double limit, const ExactAnswers& exact,
+               TimeOfImpact& out) {
+  out = TimeOfImpact{};
+  out.tolerance = tolerance;
+  const double k = scale_to_one(reach);  // (GJK's squared lengths neither over- nor underflow)
+  Simplex simplex;
+  Vector3d n = Vector3d::Zero();  // the last step's direction: its planes touch at the answer
+  double t = 0, previous = std::numeric_limits<double>::infinity();  // GJK's last |b* - a*| since a step
+  for (int iteration = 0; iteration < kTimeOfImpactIterations; ++iteration) {
+    out.iterations = iteration + 1;
+    const Isometry3d pa = a.at(t), pb = b.at(t);
+    // Each iteration has a pair of points (a* on A, b* on B: |b* - a*| bounds the distance
+    // from above) and a direction whose supporting planes bound it from below (the gap g):
+    // GJK's, or the exact query's where GJK cannot go on (the origin inside its simplex, or
+    // no progress: rounding or an overlap) and at the start where g does not show them well
+    // apart (there the query alone tells touching from apart, as proximity answers it).
+    Vector3d near_a, near_b;
+    GapBound bound{a, b, pa, pb, Vector3d::Zero(), 0};
+    double apart = 0, g = 0, slope = 0;
+    int support[2] = {};
+    bool gjk = simplex.nearest(a, pa, b, pb, k, near_a, near_b) && (apart = (near_b - near_a).norm()) < previous;
+    if (gjk && apart > tolerance) {
+      bound.n = (near_b - near_a) / apart, g = bound.at(0, &slope, support);
+      gjk = t > 0 || g > 1e-12 * reach;
+    }
+    if (!gjk) {
+      Proximity p;
+      if (!exact.query(pa, pb, p)) return out.converged = false, out.time = t, Status::Ok;
+      near_a = p.point_a, near_b = p.point_b, apart = p.intersecting ? 0.0 : p.distance;
+      if (apart > tolerance) {
+        // The witnesses' direction, turned by rounding, can close the gap near the tolerance
+        // (faces 1 wide, 1e-11 apart): then the certificate's normal. Where neither shows a
+        // gap (the nearest features an edge's end, 1e-11 apart, turned by 1e-6 by rounding),
+        // the distance itself: no point moves faster than |v| + |w| r, whatever the
+        // direction (Mirtich's bound).
+        bound.n = (near_b - near_a) / apart, g = bound.at(0, &slope, support);
+        if (!(g > 0) && exact.normal(pa, pb, apart, bound.n)) g = bound.at(0, &slope, support);
+        if (!(g > 0)) {
+          const double mu = (a.v - b.v).norm() + a.omega.norm() * a.radius + b.omega.norm() * b.radius;
+          if (!(mu > 0)) return Status::Ok;  // still: they stay apart
+          t += (apart - (apart > 2 * tolerance ? tolerance : 0.5 * apart)) / mu, n.setZero();
+          if (!(t <= limit)) return Status::Ok;
+          simplex.size = 0;  // (the exact query again next)
+          continue;
+        }
+      }
+    }
+    if (!(apart > tolerance)) {
+      out.hit = true, out.time = t, out.distance = apart, out.point_a = near_a, out.point_b = near_b;
+      // The normal: the last step's, whose planes the step closed from g > 0 to between 0 and
+      // the distance (a separating plane within the tolerance of both); at the start or
+      // after a step by the distance alone, the certified one of the contact.
+      if (t > 0 && !n.isZero()) return out.normal = n, Status::Ok;
+      if (!exact.normal(pa, pb, tolerance, out.normal))
+        out.normal = apart > 0 ? Vector3d((near_b - near_a) / apart) : Vector3d::UnitZ();  // (none better known)
+      return Status::Ok;
+    }
+    const bool added = simplex.add(support);  // GJK's next support point: M's along -v
+    if (!(g > 0)) {  // no step: GJK goes on at these poses (stalled: the exact query next)
+      if (!added) simplex.size = 0;
+      previous = apart;
+      continue;
+    }
+    const double step = certified_step(bound, g, slope, tolerance, t);
+    if (!(step > 0)) return Status::Ok;  // they never close along it: no hit
+    n = bound.n, t += step, previous = std::numeric_limits<double>::infinity();
+    if (!(t <= limit)) return Status::Ok;
+  }
+  out.converged = false, out.time = t;  // they do not touch before t
+  return Status::Ok;
+}
+
+}  // namespace detail
+
+namespace {
+
+// A prepared pair's exact answers: the exact query, and the contact patch's certified normal.
+class ShapeAnswers final : public detail::ExactAnswers {
+ public:
+  ShapeAnswers(const ConvexShape& a, const ConvexShape& b) : a_(a), b_(b) {}
+  bool query(const Isometry3d& pa, const Isometry3d& pb, Proximity& out) const override {
+    return proximity(a_, pa, b_, pb, out, Want::Contact) == Status::Ok;
+  }
+  bool normal(const Isometry3d& pa, const Isometry3d& pb, double margin, Vector3d& out) const override {
+    ContactPatch patch;  // (a patch past its capacity still has its normal)
+    const Status s = contact_patch(a_, pa, b_, pb, margin, patch);
+    if (s != Status::Ok && s != Status::CapacityExceeded) return false;
+    return out = patch.normal, true;
+  }
+
+ private:
+  const ConvexShape &a_, &b_;
 };
 
 }  // namespace
@@ -107,76 +261,21 @@ Status time_of_impact(const ConvexShape& a, const Isometry3d& a0, const Isometry
                       const Isometry3d& b0, const Isometry3d& b1, TimeOfImpact& out, double tolerance) {
   out = TimeOfImpact{};
   if (a.empty() || b.empty()) return Status::TooFewPoints;
-  for (const Isometry3d* pose : {&a0, &a1, &b0, &b1})
+  for (const Isometry3d* pose : {&a0, &a1, &b0, &b1}) {
+    if ((pose == &a1 && a1.matrix() == a0.matrix()) || (pose == &b1 && b1.matrix() == b0.matrix()))
+      continue;  // (a still shape's end pose is its start pose, checked)
     if (const Status s = check_pose(*pose); s != Status::Ok) return s;
+  }
   if (!(tolerance >= 0) || !std::isfinite(tolerance)) return Status::InvalidArgument;
-  const Motion ma(a0, a1), mb(b0, b1);
-  double across_a, across_b;
-  const double ra = radius(a, ma.axis, across_a), rb = radius(b, mb.axis, across_b);
-  const bool translation = ma.angle == 0 && mb.angle == 0;
-  if (tolerance == 0) {  // the default: 1e-12 of the scene's reach translating, 1e-6 turning
-    double reach = 0;
-    for (const Isometry3d* pose : {&a0, &a1, &b0, &b1}) reach = std::max(reach, pose->translation().norm());
-    tolerance = (translation ? 1e-12 : 1e-6) * (reach + std::max(ra, rb));
-  }
-  out.tolerance = tolerance;
-  // Successive poses are close: each query starts from the last one's features (the answer
-  // is the cold one's whatever the cache holds).
-  ProximityCache cache;
-  Vector3d n = Vector3d::Zero();  // the last step's direction: its planes touch at the answer
-  double t = 0;
-  for (int k = 0; k < kTimeOfImpactIterations; ++k) {
-    out.iterations = k + 1;
-    const Isometry3d pa = ma.at(t), pb = mb.at(t);
-    Proximity p;
-    if (const Status s = proximity(a, pa, b, pb, cache, p, Want::Contact); s != Status::Ok) return out = {}, s;
-    // (Overlapping after a step: a touching contact that rounding put inside by its slack.)
-    if (p.intersecting || p.distance <= tolerance) {
-      out.hit = true, out.time = t, out.distance = p.distance, out.point_a = p.point_a, out.point_b = p.point_b;
-      // The normal: the last step's, whose planes the step closed from g > 0 to between 0 and
-      // d (a separating plane within the tolerance of both). At the start, the contact
-      // patch's, the one its certificate proved (a patch past its capacity still has it).
-      if (k > 0) return out.normal = n, Status::Ok;
-      ContactPatch patch;
-      const Status s = contact_patch(a, pa, b, pb, tolerance, patch);
-      if (s != Status::Ok && s != Status::CapacityExceeded) return out = {}, s;
-      return out.normal = patch.normal, Status::Ok;
-    }
-    // The step from the planes' gap along n, not from d: n is the witnesses' direction, turned
-    // by rounding, and the gap along it is what the bounds hold for. Near the tolerance that
-    // turn can close the gap (faces 1 wide, 1e-11 apart): then the certificate's normal.
-    n = (p.point_b - p.point_a) / p.distance;
-    GapBound bound{a, b, ma, mb, pa, pb, n, 0};
-    double slope;
-    double g = bound.at(0, &slope);
-    if (!(g > 0)) {
-      ContactPatch patch;
-      const Status s = contact_patch(a, pa, b, pb, p.distance, patch);
-      if (s == Status::Ok || s == Status::CapacityExceeded) n = bound.n = patch.normal, g = bound.at(0, &slope);
-    }
-    if (!(g > 0)) return out.converged = false, out.time = t, Status::Ok;  // rounding stops it here
-    const double turn_a = ma.omega.cross(n).norm() * across_a, turn_b = mb.omega.cross(n).norm() * across_b;
-    const double mu = (ma.v - mb.v).dot(n) + turn_a + turn_b;
-    // Two certified steps; the longer is taken. Conservative advancement's g / mu, and the
-    // bound's own: the parabola q = g + slope delta - K delta^2 / 2 lies above the bound (it
-    // follows one vertex of each shape), so at its root the bound is below 0 or the whole
-    // step is clear; below 0, the chord from (0, g) meets 0 before the bound does (concave).
-    // Near the contact that is a Newton step: the steps shrink quadratically.
-    if (!(mu > 0)) return Status::Ok;  // they do not close along n: never
-    double step = g / mu;
-    if (!translation) {
-      bound.curvature = ma.angle * turn_a + mb.angle * turn_b;
-      const double root = 2 * g / (-slope + std::sqrt(slope * slope + 2 * bound.curvature * g));
-      const double far = std::min(root, 1.5 - t);  // (past the tick's end is far enough)
-      const double low = bound.at(far);
-      const double sure = low >= 0 ? far : g * far / (g - low);
-      step = std::max(step, sure);
-    }
-    t += step;
-    if (!(t <= 1)) return Status::Ok;
-  }
-  out.converged = false, out.time = t;  // they do not touch before t
-  return Status::Ok;
+  const auto& va = a.polytope().vertices;
+  const auto& vb = b.polytope().vertices;
+  const Mover ma(va.data(), int(va.size()), a0, a1), mb(vb.data(), int(vb.size()), b0, b1);
+  double reach = 0;
+  for (const Isometry3d* pose : {&a0, &a1, &b0, &b1}) reach = std::max(reach, pose->translation().norm());
+  reach += std::max(ma.radius, mb.radius);
+  // The default tolerance: 1e-12 of the scene's reach translating, 1e-6 turning.
+  if (tolerance == 0) tolerance = (ma.angle == 0 && mb.angle == 0 ? 1e-12 : 1e-6) * reach;
+  return detail::advance(ma, mb, tolerance, reach, 1, ShapeAnswers(a, b), out);
 }
 
 }  // namespace minksum

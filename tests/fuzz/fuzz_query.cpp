@@ -11,6 +11,7 @@
 #include "exact_distance.hpp"
 
 #include <algorithm>
+#include <array>
 #include <initializer_list>
 #include <limits>
 #include <type_traits>
@@ -210,9 +211,10 @@ void own_form_patch(const ConvexShape& A, const ConvexShape& B, const Eigen::Iso
 
 // Kind 5's time of impact for B's motion from one pose to the next: the proximity query's
 // status; a time in [0, 1], 0 where they overlap at the start; within the tolerance at it,
-// along a unit normal; and no overlap deeper than rounding at 8 times before it.
-void impact(const ConvexShape& A, const ConvexShape& B, const Eigen::Isometry3d& from, const Eigen::Isometry3d& to,
-            Status expected, double reach) {
+// along a unit normal; and no overlap deeper than rounding at 8 times before it. Then against
+// A's surface as a mesh, at the same tolerance.
+void impact(const ConvexShape& A, const Octree& surface, const ConvexShape& B, const Eigen::Isometry3d& from,
+            const Eigen::Isometry3d& to, Status expected, double reach) {
   const Eigen::Isometry3d identity = Eigen::Isometry3d::Identity();
   TimeOfImpact toi;
   const Status s = time_of_impact(A, identity, identity, B, from, to, toi);
@@ -238,6 +240,22 @@ void impact(const ConvexShape& A, const ConvexShape& B, const Eigen::Isometry3d&
         p.penetration_depth > 1e-9 * (1 + reach))
       fuzz::fail("overlapping before the time of impact");
   }
+  // A's surface as a mesh: where B starts clear of A, the same hit (within the tolerance of A
+  // at it, apart from A before it: the surface is A's boundary).
+  TimeOfImpact mesh;
+  const Status sm = time_of_impact(surface, identity, B, from, to, mesh, toi.tolerance);
+  if (sm != s) fuzz::fail("the mesh time of impact's status differs from the convex one's");
+  if (!(toi.time > 0) || !toi.converged || !mesh.converged) return;
+  if (mesh.hit != toi.hit) fuzz::fail("the mesh time of impact hits where the convex one does not, or the reverse");
+  if (!mesh.hit) return;
+  if (!(mesh.time >= 0 && mesh.time <= 1) || mesh.triangle < 0) fuzz::fail("a mesh time of impact's time or triangle");
+  Eigen::Isometry3d at = Eigen::Isometry3d::Identity();
+  at.linear() = from.linear() * Eigen::AngleAxisd(mesh.time * turn.angle(), turn.axis()).toRotationMatrix();
+  at.translation() = (1 - mesh.time) * from.translation() + mesh.time * to.translation();
+  Proximity p;
+  if (proximity(A, identity, B, at, p, Want::Contact) == Status::Ok && !p.intersecting &&
+      p.distance > mesh.tolerance * (1 + 1e-6) + 1e-12 * (1 + reach))
+    fuzz::fail("a mesh time of impact farther apart than its tolerance");
 }
 
 // Kinds 3-5: up to 12 motions of B, each answered cold and through one cache (kind 5: and its
@@ -247,12 +265,17 @@ void sequence(fuzz::Bytes& in, int kind) {
   const Box a = box(in), body = box(in);
   const Triangle tri = triangle(in);
   ConvexShape A, B;
+  Octree surface;
   if (kind == 5) {
     std::vector<Eigen::Vector3d> pa, pb;
     const int na = 4 + in.take<uint8_t>() % 12, nb = 4 + in.take<uint8_t>() % 12;
     for (int k = 0; k < na; ++k) pa.emplace_back(in.number(), in.number(), in.number());
     for (int k = 0; k < nb; ++k) pb.emplace_back(in.number(), in.number(), in.number());
     if (shape_from_points(pa, A) != Status::Ok || shape_from_points(pb, B) != Status::Ok) return;
+    std::vector<std::array<int, 3>> triangles;  // A's faces, fanned
+    for (const auto& f : A.polytope().faces)
+      for (size_t k = 1; k + 1 < f.loop.size(); ++k) triangles.push_back({f.loop[0], f.loop[k], f.loop[k + 1]});
+    if (build_octree(A.polytope().vertices, triangles, surface) != Status::Ok) return;
   }
   const double margin = kind == 5 ? in.number() : 0;
   ProximityCache cache, patch_cache;
@@ -287,7 +310,8 @@ void sequence(fuzz::Bytes& in, int kind) {
     same(sc, cold, sw, warm, reach);
     if (kind == 5) {
       patch(A, B, pose, sc, cold, margin, reach, patch_cache);
-      if (step > 0) impact(A, B, before, pose, check_pose(before) != Status::Ok ? check_pose(before) : sc, reach);
+      if (step > 0)
+        impact(A, surface, B, before, pose, check_pose(before) != Status::Ok ? check_pose(before) : sc, reach);
       ConvexShape box_a, box_b, triangle_b;  // the same motions on the sequence's boxes and triangle
       if (shape_from_box(a, box_a) == Status::Ok) {
         if (shape_from_box(body, box_b) == Status::Ok) own_form_patch(box_a, box_b, pose, margin);
