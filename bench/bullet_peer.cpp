@@ -3,10 +3,10 @@
 #include <BulletCollision/CollisionShapes/btBoxShape.h>
 #include <BulletCollision/CollisionShapes/btConvexHullShape.h>
 #include <BulletCollision/NarrowPhaseCollision/btContinuousConvexCollision.h>
-#include <BulletCollision/NarrowPhaseCollision/btGjkConvexCast.h>
 #include <BulletCollision/NarrowPhaseCollision/btGjkEpaPenetrationDepthSolver.h>
 #include <BulletCollision/NarrowPhaseCollision/btGjkPairDetector.h>
 #include <BulletCollision/NarrowPhaseCollision/btPolyhedralContactClipping.h>
+#include <BulletCollision/NarrowPhaseCollision/btSubSimplexConvexCast.h>
 #include <BulletCollision/NarrowPhaseCollision/btPointCollector.h>
 #include <BulletCollision/NarrowPhaseCollision/btVoronoiSimplexSolver.h>
 #include <LinearMath/btConvexHullComputer.h>
@@ -128,7 +128,7 @@ bool BulletPair::time_of_impact(const Eigen::Isometry3d& a0, const Eigen::Isomet
     btContinuousConvexCollision cast(x.a.get(), x.b.get(), &x.simplex, &x.epa);
     hit = cast.calcTimeOfImpact(bt(a0), bt(a1), bt(b0), bt(b1), result);
   } else {
-    btGjkConvexCast cast(x.a.get(), x.b.get(), &x.simplex);
+    btSubsimplexConvexCast cast(x.a.get(), x.b.get(), &x.simplex);
     hit = cast.calcTimeOfImpact(bt(a0), bt(a1), bt(b0), bt(b1), result);
   }
   time = hit ? result.m_fraction : 1.0;

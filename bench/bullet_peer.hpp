@@ -33,10 +33,12 @@ class BulletPair {
   ~BulletPair();
   /// The signed distance at the poses, from the detector's last separating axis.
   double distance(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, BulletAnswer* out = nullptr);
-  /// The time of impact of A moving a0 -> a1 and B b0 -> b1 within a tick: btGjkConvexCast (a
-  /// GJK ray cast) for a pure translation, btContinuousConvexCollision (conservative
-  /// advancement on GJK distances) when either turns; both stop within 1e-3, absolute (their
-  /// fixed stopping distance). Whether they hit, the time in [0, 1] (1: no hit), its normal.
+  /// The time of impact of A moving a0 -> a1 and B b0 -> b1 within a tick: for a pure
+  /// translation btSubsimplexConvexCast (van den Bergen's GJK ray cast, what Bullet's own
+  /// convex sweeps use; its btGjkConvexCast reports no hit for a box falling flat onto a box
+  /// with zero margins), and btContinuousConvexCollision (conservative advancement on GJK
+  /// distances, stopping within 1e-3, absolute) when either turns. Whether they hit, the time
+  /// in [0, 1] (1: no hit), its normal.
   bool time_of_impact(const Eigen::Isometry3d& a0, const Eigen::Isometry3d& a1, const Eigen::Isometry3d& b0,
                       const Eigen::Isometry3d& b1, bool turning, double& time, Eigen::Vector3d& normal);
 

@@ -1,15 +1,17 @@
 // Time of impact: minksum's time_of_impact (exact for a translation, conservative advancement
-// on the exact distance when turning) against Bullet (btGjkConvexCast translating,
+// on the exact distance when turning) against Bullet (btSubsimplexConvexCast translating,
 // btContinuousConvexCollision turning) and FCL's continuousCollide (conservative advancement,
 // GJK). B sweeps through A within a tick along 1,024 motions: from a contact pose lifted by
 // `lift` along a direction to the pose as far beyond it, turning by 0.5 rad about a varying
 // axis or not. The face families slide down onto A's top face (a face meeting a face: every
-// step of a conservative advancement lands on a tie), Table 1's pairs cross from every side.
+// step of a conservative advancement lands on a tie), Table 1's pairs cross from every side
+// (from 2.2 times the larger radius, so apart at both ends).
 //   TimeOfImpact/<pair>/<translation|turning>/<minksum|bullet_ccd|fcl_ccd>
 // Counters: hits (the share of motions that hit), iterations (minksum's exact queries per
 // motion), and for the peers dt_max, the largest |time - minksum's time| over the motions
-// both say hit (minksum's stops within 1e-12 of the size translating and 1e-6 turning,
-// Bullet's within 1e-3 absolute, FCL's once a step is under 1e-4 of the tick).
+// both say hit (minksum's stops within 1e-12 of the size translating and 1e-6 turning;
+// Bullet's cast within 1e-15 and its advancement within 1e-3, absolute; FCL's once a step is
+// under 1e-4 of the tick).
 #include <benchmark/benchmark.h>
 #include <minksum/minksum.hpp>
 
@@ -145,9 +147,12 @@ const int registered = [] {
         if (p < faces.size()) {
           const Vector3d u = Vector3d(0.2 * std::cos(s), 0.2 * std::sin(s), 1).normalized();
           motions.back()[k] = sweep(tools::face_pose(faces[p], k, kMotions, 0, false), u, 0.5, k, turning);
-        } else {  // across A's centre, B overlapping it halfway, from 3 apart
+        } else {  // through A's centre, from beyond the sum of the radii to as far past it
+          double reach = 0;
+          for (const auto* points : {&pairs[p].a, &pairs[p].b})
+            for (const Vector3d& x : *points) reach = std::max(reach, x.norm());
           const Vector3d u = Vector3d(std::cos(s), std::sin(3 * s), 0.5 * std::cos(2 * s)).normalized();
-          motions.back()[k] = sweep(Isometry3d::Identity(), u, 3, k, turning);
+          motions.back()[k] = sweep(Isometry3d::Identity(), u, 2.2 * reach, k, turning);
         }
       }
       for (Method method : kMethods)

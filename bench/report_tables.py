@@ -90,6 +90,11 @@ def contact_patch(p, r):
     return p[0] == "ContactPatch" and [p[1], p[2], p[3], us(r) * 1e3, r.get("points", ""), r.get("warm_share", "")]
 
 
+def time_of_impact(p, r):
+    return p[0] == "TimeOfImpact" and [p[1], p[2], p[3], us(r) * 1e3, r.get("hits", ""), r.get("iterations", ""),
+                                        r.get("dt_max", "")]
+
+
 def trajectory(p, r):
     return p[0] == "Trajectory" and [p[1], p[2], us(r) * 1e3, r.get("contact_share", ""), r.get("warm_share", ""), r.get("searched_share", ""),
                                       r.get("median_us", ""), r.get("max_us", "")]
@@ -108,6 +113,7 @@ TABLES = {
     "trajectory": (["pair", "method", "ns_per_query", "contact_share", "warm_share", "searched_share", "median_us", "max_us"], trajectory),
     "face_to_face": (["family", "gap", "method", "ns_per_query", "searched_share", "warm_share"], face_to_face),
     "contact_patch": (["pair", "gap", "method", "ns_per_patch", "points", "warm_share"], contact_patch),
+    "time_of_impact": (["pair", "motion", "method", "ns_per_motion", "hits", "iterations", "dt_max"], time_of_impact),
     "mesh_bands": (["set", "pair", "method", "median_us", "max_us"] + [f"{b}_{k}" for b in BANDS for k in ("median_us", "max_us")]
                    + ["median_culled_pct", "bytes_per_triangle"], mesh_bands),
     "point_build": (["cloud", "method", "build_ms", "bytes_per_point"], point_build),
@@ -199,6 +205,26 @@ def patch_markdown(directory):
         f.write("\n".join(out) + "\n")
 
 
+def impact_markdown(directory):
+    """The TimeOfImpact table: minksum, Bullet and FCL per pair and motion, the ratio to the
+    fastest peer (target >= 5), the hit shares, minksum's GJK iterations and the peers' largest
+    time difference from minksum's."""
+    t, order = by_method(f"{directory}/time_of_impact.csv", "pair", "motion")
+    out = ["| pair | motion | minksum [ns] | bullet_ccd [ns] | fcl_ccd [ns] | fastest peer / minksum | hits: minksum,"
+           " bullet, fcl | minksum iterations | dt_max: bullet, fcl |", "|---|---|---|---|---|---|---|---|---|"]
+    for key in order:
+        m = t[key]
+        if len(m) < 3:
+            continue
+        a, b, f = (float(m[k]["ns_per_motion"]) for k in ("minksum", "bullet_ccd", "fcl_ccd"))
+        hits = ", ".join(f"{float(m[k]['hits']):.3f}" for k in ("minksum", "bullet_ccd", "fcl_ccd"))
+        out.append(f"| {key[0]} | {key[1]} | {a:.0f} | {b:.0f} | {f:.0f} | {min(b, f) / a:.2f}x | {hits} |"
+                   f" {float(m['minksum']['iterations']):.2f} | {float(m['bullet_ccd']['dt_max']):.1e},"
+                   f" {float(m['fcl_ccd']['dt_max']):.1e} |")
+    with open(f"{directory}/time_of_impact.md", "w") as f:
+        f.write("\n".join(out) + "\n")
+
+
 def main(directory):
     runs = json.load(open(directory + "/bench.json"))["benchmarks"]
     for name, (header, row) in TABLES.items():
@@ -212,6 +238,7 @@ def main(directory):
     bands_markdown(directory)
     face_markdown(directory)
     patch_markdown(directory)
+    impact_markdown(directory)
 
 
 if __name__ == "__main__":
