@@ -276,6 +276,10 @@ TEST(RealTime, CoherentQueriesDoNotAllocate) {
                 Eigen::Isometry3d mp = Eigen::Isometry3d::Identity();
                 mp.linear() = pose.linear(), mp.translation() = 0.05 * pose.translation();
                 mesh_distance(M, Eigen::Isometry3d::Identity(), M, mp, ws, meshes, d);
+                // The tool's time of impact against the mesh, from 0.1 above the pose to it, turning.
+                TimeOfImpact toi;
+                time_of_impact(M, Eigen::Isometry3d::Identity(), A, Eigen::Translation3d(0, 0, 0.1) * mp,
+                               mp * Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ()), toi);
               }
             }),
             0);
@@ -306,6 +310,13 @@ TEST(RealTime, FaceToFaceQueriesDoNotAllocate) {
                       contact_patch(A, pose_a, B, pose_b, 2e-3, patch);
                       contact_patch(A, pose_a, B, pose_b, 2e-3, patch_cache, patch);
                       reduce_contact_patch(patch);
+                      // B falling onto A from 0.5 above through the pose, turning on odd ticks.
+                      TimeOfImpact toi;
+                      const Eigen::Isometry3d from = pose_b * Eigen::Translation3d(0, 0, 0.5);
+                      const Eigen::Isometry3d to = (k % 2 ? pose_b * Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX())
+                                                          : pose_b) *
+                                                   Eigen::Translation3d(0, 0, -0.5);
+                      time_of_impact(A, pose_a, pose_a, B, from, to, toi);
                     }
                   }),
                   0)
