@@ -175,8 +175,8 @@ Status advance(const Mover& a, const Mover& b, double tolerance, double reach, d
     // Each iteration has a pair of points (a* on A, b* on B: |b* - a*| bounds the distance
     // from above) and a direction whose supporting planes bound it from below (the gap g):
     // GJK's, or the exact query's where GJK cannot go on (the origin inside its simplex, or
-    // no progress: rounding or an overlap) and at the start where g does not show them well
-    // apart (there the query alone tells touching from apart, as proximity answers it).
+    // no progress: rounding or an overlap) and at the start where g shows a gap too small to
+    // tell touching from apart (there the query alone does, as proximity answers it).
     Vector3d near_a, near_b;
     GapBound bound{a, b, pa, pb, Vector3d::Zero(), 0};
     double apart = 0, g = 0, slope = 0;
@@ -184,7 +184,7 @@ Status advance(const Mover& a, const Mover& b, double tolerance, double reach, d
     bool gjk = simplex.nearest(a, pa, b, pb, k, near_a, near_b) && (apart = (near_b - near_a).norm()) < previous;
     if (gjk && apart > tolerance) {
       bound.n = (near_b - near_a) / apart, g = bound.at(0, &slope, support);
-      gjk = t > 0 || g > 1e-12 * reach;
+      gjk = t > 0 || !(g > 0) || g > 1e-12 * reach;  // (no gap: GJK goes on, no step is taken)
     }
     if (!gjk) {
       Proximity p;
