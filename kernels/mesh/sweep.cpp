@@ -104,7 +104,7 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
   const Octree::Node& root = a.nodes[0];
   const double reach = std::max(q0.translation().norm(), q1.translation().norm()) + moving.radius +
                        root.box_center.norm() + root.box_half.norm();
-  if (tolerance == 0) tolerance = (moving.angle == 0 ? 1e-12 : 1e-6) * reach;  // (as time_of_impact's)
+  if (tolerance == 0) tolerance = detail::default_tolerance(moving, moving, reach);  // (the mesh is still)
   out.tolerance = tolerance;
   // The capsule's radius, with room for the rounding of the entry times.
   const double r = moving.radius + tolerance + 1e-12 * reach;

@@ -273,8 +273,7 @@ Status time_of_impact(const ConvexShape& a, const Isometry3d& a0, const Isometry
   double reach = 0;
   for (const Isometry3d* pose : {&a0, &a1, &b0, &b1}) reach = std::max(reach, pose->translation().norm());
   reach += std::max(ma.radius, mb.radius);
-  // The default tolerance: 1e-12 of the scene's reach translating, 1e-6 turning.
-  if (tolerance == 0) tolerance = (ma.angle == 0 && mb.angle == 0 ? 1e-12 : 1e-6) * reach;
+  if (tolerance == 0) tolerance = detail::default_tolerance(ma, mb, reach);
   return detail::advance(ma, mb, tolerance, reach, 1, ShapeAnswers(a, b), out);
 }
 

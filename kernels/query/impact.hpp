@@ -24,6 +24,11 @@ struct Mover {
   Eigen::Isometry3d at(double t) const;
 };
 
+/// time_of_impact's default tolerance: 1e-12 of the scene's reach translating, 1e-6 turning.
+inline double default_tolerance(const Mover& a, const Mover& b, double reach) {
+  return (a.angle == 0 && b.angle == 0 ? 1e-12 : 1e-6) * reach;
+}
+
 /// What the advancement asks of a pair where GJK cannot go on (rounding, or an overlap).
 class ExactAnswers {
  public:
