@@ -354,7 +354,8 @@ TEST(Octree, RejectsABadPoseAndAForeignWorkspace) {
 // mesh_contact of a box tool, prepared once and posed per call, on a flat floor (z = 0, wound
 // counter-clockwise from +z): turned about z and by quarter turns about x, so that its lowest
 // face stays level and the push-out is straight up by (half height - centre height), a figure
-// computed here from the box, not by the library. Bad poses and empty tools get a status.
+// computed here from the box, not by the library; the contact's area and centre are the box's
+// level section's. Bad poses and empty tools get a status.
 TEST(MeshContact, PosedBoxOnAFloorIsPushedStraightUp) {
   const std::vector<Vector3d> floor{{-5, -5, 0}, {5, -5, 0}, {5, 5, 0}, {-5, 5, 0}};
   Octree A;
@@ -386,6 +387,11 @@ TEST(MeshContact, PosedBoxOnAFloorIsPushedStraightUp) {
     EXPECT_NEAR(c.penetration_depth, want, 1e-12);
     EXPECT_NEAR((c.penetration_direction - Vector3d::UnitZ()).norm(), 0, 1e-12);
     EXPECT_NEAR(c.point.z(), 0, 1e-12);
+    // The part inside is the box's level section, a rectangle of its two horizontal extents
+    // about the point under its centre: the area and centre that force and torque act by.
+    const double width = quarter % 2 ? box.half_extents.z() : box.half_extents.y();
+    EXPECT_NEAR(c.area, 4 * box.half_extents.x() * width, 1e-12);
+    EXPECT_NEAR((c.centre - Vector3d(pose.translation().x(), pose.translation().y(), 0)).norm(), 0, 1e-12);
     // Floor and tool moved together by one rigid motion W (world poses): the same contact,
     // its point and direction moved by W.
     const Eigen::Isometry3d W = test::random_pose(world_rng, 1.0);
@@ -395,6 +401,7 @@ TEST(MeshContact, PosedBoxOnAFloorIsPushedStraightUp) {
     EXPECT_NEAR(moved.penetration_depth, want, 1e-12);
     EXPECT_NEAR((moved.penetration_direction - W.linear() * Vector3d::UnitZ()).norm(), 0, 1e-12);
     EXPECT_NEAR((W.inverse() * moved.point).z(), 0, 1e-12);
+    EXPECT_NEAR((moved.centre - W * c.centre).norm(), 0, 1e-12);
   }
   EXPECT_GT(touching, 50);
   MeshContact c;

@@ -148,6 +148,10 @@ struct MeshContact {
   Eigen::Vector3d penetration_direction = Eigen::Vector3d::Zero();  ///< unit push-out direction (as Proximity's)
   Eigen::Vector3d point = Eigen::Vector3d::Zero();                  ///< the part's corner that needs it most
   int triangle = -1;                                                ///< the triangle of that corner
+  double area = 0;                                                  ///< the parts' total area
+  /// Their area-weighted centre (the contact force's point of application; continuous as the
+  /// tool slides, as the direction is)
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   int tested = 0;                                                   ///< triangles that were clipped
   bool overflow = false;  ///< over kMaxContactTriangles overlapped: the first ones count
 };

@@ -78,7 +78,8 @@ void triangle_corners(const Octree& a, int tri, Vector3d (&t)[3]) {
 // The overlapped triangles (each once: a triangle is listed in one leaf), their parts inside
 // the tool in ws.parts, and the area vector of those parts, whose direction is the push-out
 // direction (a sum over the contact patch: it turns continuously as the tool slides, unlike any
-// single triangle's normal). Returns how many triangles were hit; their indices go to `hit`.
+// single triangle's normal), and their area and its first moment (out.area, out.centre times
+// the area). Returns how many triangles were hit; their indices go to `hit`.
 int gather_parts(const Octree& a, const ToolPlanes& tool, MeshScratch& ws, int (&hit)[kMaxContactTriangles],
                  Vector3d& area, MeshContact& out) {
   const Vector3d box_c = (tool.lo + tool.hi) / 2, box_h = (tool.hi - tool.lo) / 2;
@@ -113,7 +114,11 @@ int gather_parts(const Octree& a, const ToolPlanes& tool, MeshScratch& ws, int (
       std::copy(poly, poly + m, ws.parts.begin() + ws.part_start[hits]);
       ws.part_start[hits + 1] = ws.part_start[hits] + m;
       ++hits;
-      for (int k = 1; k + 1 < m; ++k) area += (poly[k] - poly[0]).cross(poly[k + 1] - poly[0]) / 2;
+      for (int k = 1; k + 1 < m; ++k) {  // the part as a fan of triangles
+        const Vector3d a2 = (poly[k] - poly[0]).cross(poly[k + 1] - poly[0]);
+        const double size = a2.norm() / 2;
+        area += a2 / 2, out.area += size, out.centre += size * (poly[0] + poly[k] + poly[k + 1]) / 3;
+      }
     }
   }
   return hits;
@@ -165,6 +170,8 @@ Status contact_in_a(const Octree& a, const ConvexShape& shape, const Eigen::Isom
   const int hits = gather_parts(a, tool, ws, hit, area, out);
   if (hits == 0) return Status::Ok;
   out.intersecting = true;
+  if (out.area > 0) out.centre /= out.area;
+  else out.centre = ws.parts[0];  // parts of no area (a corner or an edge grazing the tool)
   Vector3d u = area.norm() > 0 ? Vector3d(area.normalized()) : Vector3d::Zero();
   if (u.isZero()) {  // parts facing both ways cancel (a sheet pinched from both sides)
     Vector3d t[3];
@@ -187,6 +194,7 @@ Status mesh_contact(const Octree& a, const Eigen::Isometry3d& pose_a, const Conv
   const Status s = contact_in_a(a, shape, pose, *ws.scratch(), out);
   if (out.intersecting) out.penetration_direction = pose_a.linear() * out.penetration_direction;
   if (out.triangle >= 0) out.point = pose_a * out.point;
+  if (out.intersecting) out.centre = pose_a * out.centre;
   return s;
 }
 
