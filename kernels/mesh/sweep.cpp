@@ -4,8 +4,10 @@
 // segment enters each node's box grown by r (a lower bound of when the tool can reach it:
 // the grown box holds the capsule's reach), and each triangle by when it enters the
 // triangle's bounding sphere grown by r; a node or triangle that cannot be reached before
-// the earliest hit so far is skipped. Each triangle left gets time_of_impact's advancement
-// (query/impact.hpp), limited to that earliest hit.
+// the earliest hit so far is skipped, and so is one that a face plane of the tool at the
+// start separates by more than any point of the tool can move before that hit (a tool resting
+// on a surface: all but the few triangles under it), as is a node whose box one separates so. Each triangle left gets
+// time_of_impact's advancement (query/impact.hpp), limited to that earliest hit.
 #include <minksum/mesh.hpp>
 
 #include "mesh/mesh_internal.hpp"
@@ -22,7 +24,37 @@ using Eigen::Vector3d;
 
 namespace {
 
-constexpr double kNever = 2;  // an entry time past the tick
+constexpr double kNever = 2;      // an entry time past the tick
+constexpr int kSeparatingPlanes = 64;  // the tool's face planes tried as separating planes (the first)
+
+// The tool's face planes at the start (n . x <= o inside), in the mesh's frame.
+struct StartPlanes {
+  int count = 0;
+  Vector3d n[kSeparatingPlanes];
+  double o[kSeparatingPlanes];
+  StartPlanes(const ConvexPolytope& tool, const Isometry3d& q0) {
+    if (tool.flat) return;  // (a flat tool's two faces are its sides: no inside)
+    count = int(std::min(tool.faces.size(), size_t(kSeparatingPlanes)));
+    for (int f = 0; f < count; ++f) {
+      n[f] = q0.linear() * tool.faces[size_t(f)].normal;
+      o[f] = tool.faces[size_t(f)].offset + n[f].dot(q0.translation());
+    }
+  }
+  // A lower bound of the distance from the triangle to the tool: the largest gap between a
+  // face's plane and the triangle beyond it (0 if none separates).
+  double gap(const Vector3d* t) const {
+    double best = 0;
+    for (int f = 0; f < count; ++f)
+      best = std::max(best, std::min({n[f].dot(t[0]), n[f].dot(t[1]), n[f].dot(t[2])}) - o[f]);
+    return best;
+  }
+  // The same for a node's box (centre c, half extents h): its lowest point along each normal.
+  double gap(const Vector3d& c, const Vector3d& h) const {
+    double best = 0;
+    for (int f = 0; f < count; ++f) best = std::max(best, n[f].dot(c) - n[f].cwiseAbs().dot(h) - o[f]);
+    return best;
+  }
+};
 
 // When the segment c0 + s d (s in [0, 1]) first enters the box [lo, hi] (the slab method:
 // the latest entry over the axes, unless after the earliest exit); kNever if it does not.
@@ -109,6 +141,9 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
   // The capsule's radius, with room for the rounding of the entry times.
   const double r = moving.radius + tolerance + 1e-12 * reach;
   const Vector3d c0 = q0.translation(), d = q1.translation() - q0.translation();
+  // No point of the tool moves faster than |d| + angle radius over the tick (Mirtich's bound).
+  const double speed = d.norm() + moving.angle * moving.radius, slack = tolerance + 1e-12 * reach;
+  const StartPlanes planes(tool.polytope(), q0);
   double earliest = 1;  // no hit before it (a hit's time, an unconverged stop's, or the tick's end)
   int iterations = 0;
   struct Entry {
@@ -129,7 +164,8 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
         const Octree::Node& child = a.nodes[c];
         const Vector3d grow = child.box_half + Vector3d::Constant(r);
         const double s = box_entry(c0, d, child.box_center - grow, child.box_center + grow);
-        if (s <= earliest) stack[top++] = {c, s};
+        if (s <= earliest && planes.gap(child.box_center, child.box_half) <= earliest * speed + slack)
+          stack[top++] = {c, s};
       }
       std::sort(stack + from, stack + top, [](const Entry& x, const Entry& y) { return x.time > y.time; });
       continue;
@@ -139,6 +175,7 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
       const Eigen::Vector4d& sphere = a.spheres[tri];
       if (sphere_entry(c0, d, sphere.head<3>(), sphere[3] + r) > earliest) continue;
       const Vector3d* corners = &a.item_corners[size_t(3) * x];
+      if (planes.gap(corners) > earliest * speed + slack) continue;
       const detail::Mover still(corners, 3, Isometry3d::Identity(), Isometry3d::Identity());
       TimeOfImpact toi;
       detail::advance(still, moving, tolerance, reach, earliest, TriangleAnswers(corners, tool), toi);
