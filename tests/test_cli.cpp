@@ -393,6 +393,24 @@ TEST(Cli, DistanceRejectsBadInput) {
 }
 
 // Numbers after `key` in each JSON line of `out`.
+std::vector<double> field(const std::string& out, const std::string& key);
+
+// The 6-DOF haptic loop from the command line: a fast plunge onto the thin sheet is felt (ticks
+// in contact, times of impact swept), nothing allocated; bad options and files get exit code 2.
+TEST(Cli, HapticsPlungesOntoTheSheet) {
+  const CliRun r = run("haptics --scene sheet --speed 10 --press 5 --seconds 0.3 --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_EQ(field(r.out, "contacts").size(), 1u) << r.out;
+  EXPECT_GT(field(r.out, "contacts")[0], 250) << r.out;
+  EXPECT_GT(field(r.out, "sweeps")[0], 250) << r.out;
+  EXPECT_LE(field(r.out, "allocations")[0], 0) << r.out;  // 0, or -1 where not counted
+  expect_rejected("haptics --speed -1", "--speed");
+  expect_rejected("haptics --press nan", "--press");
+  expect_rejected("haptics --tool no_such_tool.off", "no_such_tool.off");
+  expect_rejected("haptics --scene " + write("empty.off", "OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n"), "empty.off");
+}
+
+// Numbers after `key` in each JSON line of `out`.
 std::vector<double> field(const std::string& out, const std::string& key) {
   std::vector<double> v;
   const std::regex re("\"" + key + "\": ([-0-9.e+]+)");

@@ -325,11 +325,16 @@ TEST(RealTime, FaceToFaceQueriesDoNotAllocate) {
   }
 }
 
-// A short haptic loop (two 4 s path cycles at 1 kHz) for each convex tool: nothing allocated or
-// thrown after warm-up; no force while apart; pressing in pushes the tool back up (the press is
-// straight down onto the scene's highest point); the depth moves continuously along the path.
+// A short 6-DOF haptic loop (two 4 s path cycles at 1 kHz) for each convex tool: nothing
+// allocated or thrown after warm-up; no force while the proxy is apart; pressing in pushes the
+// device back out and up (the press is straight down onto the scene's highest point). The box
+// presses a face onto the surface: there the depth moves continuously along the path, and so
+// do the force and the torque in steady contact. (The icosahedron touches by a vertex: its
+// patch is the facet under that vertex, and on the coarse bunny (2 mm facets under a 2 mm
+// press) the contact normal turns by a crease's angle when the vertex crosses an edge, and the
+// force with it.)
 TEST(RealTime, HapticLoop) {
-  for (const char* tool : {"box", "icosa"}) {
+  for (const std::string tool : {"box", "icosa"}) {
     SCOPED_TRACE(tool);
     haptics::Options o;
     o.tool = tool, o.seconds = 8, o.warmup = 500;
@@ -341,7 +346,7 @@ TEST(RealTime, HapticLoop) {
     EXPECT_EQ(r.exceptions, 0);
     EXPECT_GT(r.contacts, 1000);  // both phases happen
     EXPECT_LT(r.contacts, 7000);
-    double max_jump = 0, max_depth = 0;
+    double max_jump = 0, max_depth = 0, max_force = 0, max_torque = 0;
     for (long k = 0; k < r.ticks; ++k) {
       if (r.distance[k] > 0) EXPECT_EQ(r.force[k], 0) << "tick " << k;
       if (r.depth[k] > 0.001) {  // pressing in: pushed out, and up
@@ -350,10 +355,48 @@ TEST(RealTime, HapticLoop) {
       }
       if (k > 0) max_jump = std::max(max_jump, std::abs(r.depth[k] - r.depth[k - 1]));
       max_depth = std::max(max_depth, r.depth[k]);
+      max_force = std::max(max_force, r.force[k]), max_torque = std::max(max_torque, r.torque[k]);
     }
+    EXPECT_GT(max_depth, 0.0015);  // the 2 mm press was felt
+    EXPECT_GT(max_force, 3.0);
+    if (tool != "box") continue;
     // The path moves at most 0.1 mm per tick; the depth may not jump by more than that.
     EXPECT_LT(max_jump, 1e-4);
-    EXPECT_GT(max_depth, 0.0015);  // the 2 mm press was felt
+    // Steady contact: the spring stretches by at most the path's step a tick (0.1 N at 2 kN/m)
+    // and the patch's normal and centre move with the proxy. A proxy that lifts off a surface
+    // as it slides, or a patch whose centre hops between triangles, jumps by the whole force.
+    EXPECT_GT(max_torque, 1e-3);  // the slide and the turn move the patch off the device's axis
+    EXPECT_LT(r.max_force_jump, 0.1 * max_force);
+    EXPECT_LT(r.max_torque_jump, 0.05 * max_torque);
+  }
+}
+
+// A device plunging through a sheet 0.5 mm thick at 1, 3 and 10 m/s (0.5 mm to 5 times the
+// sheet's thickness a tick), 5 mm past its top: the proxy never enters the sheet, and from the
+// first tick of contact on the force pushes the device back up by at least the spring's
+// stretch from the sheet's top (the proxy rests a skin above it).
+TEST(RealTime, HapticProxyDoesNotTunnelThroughAThinSheet) {
+  for (double speed : {1.0, 3.0, 10.0}) {
+    SCOPED_TRACE("speed " + std::to_string(speed) + " m/s");
+    haptics::Options o;
+    o.scene = "sheet", o.speed = speed, o.press = 0.005, o.seconds = 0.5, o.warmup = 0;
+    haptics::Report r;
+    std::string error;
+    ASSERT_TRUE(haptics::run(o, haptics::allocation_count, r, error)) << error;
+    const double lift = 0.008;  // the box tool's half height: its bottom is 8 mm below its origin
+    double deepest = 0;
+    long pushed = 0;
+    for (long k = 0; k < r.ticks; ++k) {
+      EXPECT_GE(r.proxy_y[k] - lift, -1e-9) << "tick " << k << ": the proxy entered the sheet";
+      const double below = -(r.device_y[k] - lift);  // the device's bottom under the sheet's top
+      deepest = std::max(deepest, below);
+      if (below > 0 && k > 0 && r.device_y[k - 1] - lift < 0) {
+        EXPECT_GE(r.force_up[k], 0.999 * o.stiffness * below) << "tick " << k;
+        ++pushed;
+      }
+    }
+    EXPECT_GT(deepest, 0.0045);  // the device did go through (the sheet's bottom is at 0.5 mm)
+    EXPECT_GT(pushed, 400);
   }
 }
 

@@ -1,4 +1,5 @@
 // minksum haptics: the 1 kHz loop with its latency table (and, on request, its plot).
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -27,12 +28,12 @@ int cmd_haptics(int argc, char** argv) {
     } else if (a == "--tool" || a == "--scene" || a == "--plot" || a == "--trace") {
       if (!value(v)) return usage_error(a + " needs a value");
       (a == "--tool" ? o.tool : a == "--scene" ? o.scene : a == "--plot" ? png : trace) = v;
-    } else if (a == "--seconds" || a == "--rate") {
+    } else if (a == "--seconds" || a == "--rate" || a == "--press" || a == "--speed") {
       if (!value(v)) return usage_error(a + " needs a value");
       char* end = nullptr;
       const double x = std::strtod(v.c_str(), &end);
-      if (*end != '\0' || !(x > 0)) return usage_error(a + ": '" + v + "' is not a positive number");
-      (a == "--seconds" ? o.seconds : o.rate) = x;
+      if (*end != '\0' || !(x > 0) || !std::isfinite(x)) return usage_error(a + ": '" + v + "' is not a positive number");
+      (a == "--seconds" ? o.seconds : a == "--rate" ? o.rate : a == "--press" ? o.press : o.speed) = a == "--press" ? x / 1000 : x;
     } else {
       return usage_error("unknown option '" + a + "'");
     }
@@ -51,11 +52,13 @@ int cmd_haptics(int argc, char** argv) {
     std::printf(
         "{\"ticks\": %ld, \"p50_us\": %.2f, \"p99_us\": %.2f, \"p999_us\": %.2f, \"max_us\": %.2f, "
         "\"cpu_p999_us\": %.2f, \"cpu_max_us\": %.2f, \"misses\": %ld, \"late_starts\": %ld, "
-        "\"overruns\": %ld, \"allocations\": %ld, \"exceptions\": %ld, \"contacts\": %ld, "
+        "\"overruns\": %ld, \"allocations\": %ld, \"exceptions\": %ld, \"contacts\": %ld, \"sweeps\": %ld, "
+        "\"max_force_jump_n\": %.4f, \"max_torque_jump_nm\": %.6f, "
         "\"realtime_priority\": %s, \"max_late_start_us\": %.1f, \"cold\": {\"p50_us\": %.2f, "
         "\"p99_us\": %.2f, \"p999_us\": %.2f, \"max_us\": %.2f, \"cpu_p999_us\": %.2f, \"misses\": %ld}}\n",
         r.ticks, r.p50_us, r.p99_us, r.p999_us, r.max_us, r.cpu_p999_us, r.cpu_max_us, r.misses, r.late_starts,
-        r.overruns, r.allocations, r.exceptions, r.contacts, r.realtime_priority ? "true" : "false",
+        r.overruns, r.allocations, r.exceptions, r.contacts, r.sweeps, r.max_force_jump, r.max_torque_jump,
+        r.realtime_priority ? "true" : "false",
         r.max_late_start_us, cold.p50_us, cold.p99_us, cold.p999_us, cold.max_us, cold.cpu_p999_us, cold.misses);
   } else {
     std::printf("haptics: %s on %s, %ld ticks at %.0f Hz (%s), the same path cold and coherent\n", r.tool_name.c_str(),
@@ -77,8 +80,10 @@ int cmd_haptics(int argc, char** argv) {
                     x->max_late_start_us);
       std::printf(", %ld ticks whose own CPU time overran the period\n", x->overruns);
     }
-    std::printf("allocations after warm-up %ld and %ld, exceptions %ld and %ld, ticks in contact %ld\n",
-                cold.allocations, r.allocations, cold.exceptions, r.exceptions, r.contacts);
+    std::printf("allocations after warm-up %ld and %ld, exceptions %ld and %ld, ticks in contact %ld, swept %ld\n",
+                cold.allocations, r.allocations, cold.exceptions, r.exceptions, r.contacts, r.sweeps);
+    std::printf("in steady contact the force changed by at most %.3f N and the torque by %.3f N mm a tick\n",
+                r.max_force_jump, 1000 * r.max_torque_jump);
   }
   if (!trace.empty()) {  // per tick, both runs: for plots of cold against coherent
     FILE* f = std::fopen(trace.c_str(), "w");

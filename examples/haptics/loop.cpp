@@ -1,5 +1,6 @@
-// The haptic loop: a scripted tool path over a static mesh (approach, touch, press in, slide,
-// leave), one query set per tick, latency percentiles over the run.
+// The haptic loop: a scripted 6-DOF device path over a static mesh (approach, touch, press in,
+// slide while turning, leave), one proxy move and contact patch per tick, latency percentiles
+// over the run.
 #include "haptics/loop.hpp"
 
 #include <minksum/minksum.hpp>
@@ -21,18 +22,25 @@ namespace minksum::haptics {
 
 namespace {
 
+using Eigen::Isometry3d;
 using Eigen::Vector3d;
 
-// Penalty force: a spring along the push-out direction and a damper on the approach speed.
-constexpr double kStiffness = 2000;  // N/m
-constexpr double kDamping = 5;       // N s/m
+// The proxy rests this far above a surface it met, so that the next sweep starts apart (a time
+// of impact from touching is 0, whatever the motion); the sweeps stop within a quarter of it.
+constexpr double kSkin = 5e-5;  // m
+constexpr int kPasses = 3;      // sweeps a tick: the motion, then sliding along one or two surfaces
+// Resting on a surface, the proxy follows the device into it by at most this much a tick: far
+// enough to stay on a surface that curves away as it slides, and the sweep stays short (its
+// cost grows with the triangles within its reach).
+constexpr double kFall = 4 * kSkin;  // m
 
-// The tool: a surface mesh for the distance, and its hull, prepared once and posed per tick,
-// for the penetration depth.
+// The tool is its convex hull (the swept shape), that hull grown by twice the skin (its contact
+// patch at the proxy, which rests a skin away), and the hull's surface (its distance to the
+// scene, which certifies a free move without a sweep).
 struct Tool {
-  tools::Mesh mesh;
-  ConvexShape hull;
-  bool convex = true;  // the mesh is its hull's surface
+  tools::Mesh surface;
+  ConvexShape hull, skin;
+  double radius = 0;  // the largest |x| of its vertices: how far a turn moves them
 };
 
 bool make_tool(const std::string& what, Tool& tool, std::string& name, std::string& error) {
@@ -43,49 +51,64 @@ bool make_tool(const std::string& what, Tool& tool, std::string& name, std::stri
     for (auto& p : points) p = what == "box" ? Vector3d(0.010 * p.x(), 0.008 * p.y(), 0.006 * p.z()) : Vector3d(s * p);
     name = what == "box" ? "box 20 x 16 x 12 mm" : "icosahedron, 8 mm circumradius";
   } else {
-    if (!tools::read_mesh(what, tool.mesh, error)) return false;
+    tools::Mesh mesh;
+    if (!tools::read_mesh(what, mesh, error)) return false;
+    if (mesh.triangles.empty()) return error = what + ": no triangles", false;
     // Scaled to 30 mm across and centred, so that it is a tool, not a second scene.
-    Vector3d lo = tool.mesh.vertices[tool.mesh.triangles[0][0]], hi = lo;
-    for (const auto& t : tool.mesh.triangles)
-      for (int k : t) lo = lo.cwiseMin(tool.mesh.vertices[k]), hi = hi.cwiseMax(tool.mesh.vertices[k]);
+    Vector3d lo = mesh.vertices[mesh.triangles[0][0]], hi = lo;
+    for (const auto& t : mesh.triangles)
+      for (int k : t) lo = lo.cwiseMin(mesh.vertices[k]), hi = hi.cwiseMax(mesh.vertices[k]);
     const double scale = 0.03 / (hi - lo).maxCoeff();
-    for (auto& v : tool.mesh.vertices) v = scale * (v - (lo + hi) / 2);
-    points = tool.mesh.vertices;
-    name = what + " (scaled to 30 mm)";
-    tool.convex = false;
+    for (auto& v : mesh.vertices) points.push_back(scale * (v - (lo + hi) / 2));
+    name = what + " (its hull, scaled to 30 mm)";
   }
   if (const Status s = shape_from_points(points, tool.hull); s != Status::Ok)
     return error = "tool: " + std::string(to_string(s)), false;
-  if (tool.mesh.triangles.empty()) {  // a convex tool's surface: its hull's faces, fanned
-    tool.mesh.vertices = tool.hull.polytope().vertices;
-    for (const auto& f : tool.hull.polytope().faces)
-      for (size_t k = 1; k + 1 < f.loop.size(); ++k)
-        tool.mesh.triangles.push_back({f.loop[0], f.loop[k], f.loop[k + 1]});
-  }
-  if (int(tool.hull.polytope().vertices.size()) > kMaxToolVertices)
+  const ConvexPolytope& hull = tool.hull.polytope();
+  if (int(hull.vertices.size()) > kMaxToolVertices)
     return error = "tool: its hull has more than " + std::to_string(kMaxToolVertices) + " vertices", false;
+  // The skin: the hull scaled about its centroid so that every face moves out by at least
+  // twice the skin (a face at distance h from the centroid moves out by h times the growth).
+  Vector3d centroid = Vector3d::Zero();
+  for (const auto& v : hull.vertices) centroid += v / double(hull.vertices.size());
+  double inner = std::numeric_limits<double>::infinity();
+  for (const auto& f : hull.faces) inner = std::min(inner, f.offset - f.normal.dot(centroid));
+  std::vector<Vector3d> grown;
+  for (const auto& v : hull.vertices) {
+    grown.push_back(centroid + (1 + 2 * kSkin / inner) * (v - centroid));
+    tool.radius = std::max(tool.radius, v.norm());
+  }
+  if (const Status s = shape_from_points(grown, tool.skin); s != Status::Ok)
+    return error = "tool: " + std::string(to_string(s)), false;
+  tool.surface.vertices = hull.vertices;  // the hull's faces, fanned
+  for (const auto& f : hull.faces)
+    for (size_t k = 1; k + 1 < f.loop.size(); ++k) tool.surface.triangles.push_back({f.loop[0], f.loop[k], f.loop[k + 1]});
   return true;
 }
 
-// The scripted path, one 4 s cycle: approach from 30 mm straight above the scene's highest
-// vertex, touch, press 2 mm in, slide 8 mm to one side and 8 mm to the other while pressed,
-// come back up; smooth in time (cosine ramps), so positions and velocities are continuous.
-// Nothing of the scene is higher than where the tool presses, so the tool never runs into a
-// wall side-on (a penalty depth cannot be continuous there).
+// The scripted device path, one 4 s cycle: approach from 30 mm straight above the scene's top,
+// touch, press `press` in, slide 8 mm to one side and back while turning (up to 0.4 rad about
+// the vertical and 0.08 rad of roll), come back up. Smooth in time (cosine ramps) unless
+// `speed` asks for a straight plunge at that speed. Nothing of the scene is higher than where
+// the tool presses, so the tool does not run into a wall side-on.
 struct Path {
-  Vector3d top;     // the scene's highest vertex
-  double lift = 0;  // the tool's reach below its centre (touching clearance)
-  Vector3d at(double t) const {
+  Vector3d top;     // the scene's highest vertex (of those, the nearest to the middle)
+  double lift = 0;  // the tool's reach below its origin (touching clearance)
+  double press = 0.002, speed = 0;
+  Isometry3d at(double t) const {
     const double u = std::fmod(t, 4.0);
     const auto ramp = [](double x) { return 0.5 - 0.5 * std::cos(M_PI * std::clamp(x, 0.0, 1.0)); };
-    double clearance = -0.002, slide = 0;
-    if (u < 1)
-      clearance = 0.03 - 0.032 * ramp(u);  // approach, touch, press
-    else if (u < 3)
-      slide = 0.008 * std::sin(M_PI * (u - 1));  // slide there and back
-    else
-      clearance = -0.002 + 0.032 * ramp(u - 3);  // leave
-    return top + Vector3d(slide, lift + clearance, 0);
+    double clearance = -press, slide = 0, turn = 0;
+    if (u < 1)  // approach, touch, press
+      clearance = speed > 0 ? std::max(-press, 0.03 - speed * u) : 0.03 - (0.03 + press) * ramp(u);
+    else if (u < 3)  // slide there and back, turning
+      slide = 0.008 * std::sin(M_PI * (u - 1)), turn = std::sin(M_PI * (u - 1));
+    else  // leave
+      clearance = -press + (0.03 + press) * ramp(u - 3);
+    Isometry3d pose(Eigen::Translation3d(top + Vector3d(slide, lift + clearance, 0)));
+    pose.linear() = (Eigen::AngleAxisd(0.4 * turn, Vector3d::UnitY()) * Eigen::AngleAxisd(0.08 * turn, Vector3d::UnitZ()))
+                        .toRotationMatrix();
+    return pose;
   }
 };
 
@@ -101,38 +124,136 @@ double percentile(std::vector<double> v, double q) {
   return v[std::min(v.size() - 1, size_t(q * double(v.size())))];
 }
 
-// Everything a run sets up before its first tick: all of its allocation happens here.
+// Everything a run sets up before its first tick (all of its allocation happens here), and the
+// state carried from tick to tick.
 struct Setup {
   tools::Mesh scene;
   Tool tool;
   Octree scene_tree, tool_tree;
   MeshWorkspace ws;
   Path path;
+  ProximityCache cache;  // the distance's, from one tick to the next (options.coherent)
+  Isometry3d proxy = Isometry3d::Identity();
+  double distance = 0;  // the proxy's distance to the scene (0: touching or unknown)
+  Vector3d normal = Vector3d::Zero();  // the contact patch's normal at the proxy (0: apart)
+  Vector3d force = Vector3d::Zero(), torque = Vector3d::Zero();
+  bool touching = false;
 };
 
 bool set_up(const Options& options, Setup& s, Report& report, std::string& error) {
   if (options.scene.empty() || options.scene == "bunny_full") {
     s.scene = tools::demo_mesh(options.scene.empty() ? "bun_zipper_res2.ply" : "bun_zipper.ply", report.scene_source);
+  } else if (options.scene == "sheet") {
+    s.scene = tools::box_mesh(Vector3d(-0.03, -0.0005, -0.03), Vector3d(0.03, 0, 0.03), 12);
+    report.scene_source = "a sheet 60 x 60 x 0.5 mm";
   } else {
     if (!tools::read_mesh(options.scene, s.scene, error)) return false;
+    if (s.scene.triangles.empty()) return error = options.scene + ": no triangles", false;
     report.scene_source = options.scene;
   }
   if (!make_tool(options.tool, s.tool, report.tool_name, error)) return false;
   // A small tool is fastest as one leaf (a deeper tree multiplies the node pairs).
   OctreeOptions tool_options;
-  if (s.tool.mesh.triangles.size() <= 64) tool_options.max_depth = 0;
+  if (s.tool.surface.triangles.size() <= 64) tool_options.max_depth = 0;
   if (Status st = build_octree(s.scene.vertices, s.scene.triangles, s.scene_tree); st != Status::Ok)
     return error = "scene: " + std::string(to_string(st)), false;
-  if (Status st = build_octree(s.tool.mesh.vertices, s.tool.mesh.triangles, s.tool_tree, tool_options);
+  if (Status st = build_octree(s.tool.surface.vertices, s.tool.surface.triangles, s.tool_tree, tool_options);
       st != Status::Ok)
     return error = "tool: " + std::string(to_string(st)), false;
   make_workspace(s.scene_tree, s.tool_tree, s.ws);
-  s.path.top = s.scene.vertices[s.scene.triangles[0][0]];
+  // The top: the highest vertex, and of several as high, the nearest to the middle.
+  Vector3d lo = s.scene.vertices[s.scene.triangles[0][0]], hi = lo;
   for (const auto& t : s.scene.triangles)
-    for (int k : t)
-      if (s.scene.vertices[k].y() > s.path.top.y()) s.path.top = s.scene.vertices[k];
+    for (int k : t) lo = lo.cwiseMin(s.scene.vertices[k]), hi = hi.cwiseMax(s.scene.vertices[k]);
+  const auto off_middle = [&](const Vector3d& v) { return std::hypot(v.x() - (lo + hi).x() / 2, v.z() - (lo + hi).z() / 2); };
+  s.path.top = lo;
+  for (const auto& t : s.scene.triangles)
+    for (int k : t) {
+      const Vector3d& v = s.scene.vertices[k];
+      if (v.y() > s.path.top.y() || (v.y() == s.path.top.y() && off_middle(v) < off_middle(s.path.top))) s.path.top = v;
+    }
   for (const auto& v : s.tool.hull.polytope().vertices) s.path.lift = std::max(s.path.lift, -v.y());
+  s.path.press = options.press, s.path.speed = options.speed;
+  s.proxy = s.path.at(0);
   return true;
+}
+
+// The pose at time t of a motion from p0 to p1 as time_of_impact moves a shape: its origin
+// along the segment, its rotation about one axis at a constant rate (the slerp).
+Isometry3d pose_at(const Isometry3d& p0, const Isometry3d& p1, double t) {
+  Isometry3d p = Isometry3d::Identity();
+  p.linear() = Eigen::Quaterniond(p0.linear()).slerp(t, Eigen::Quaterniond(p1.linear())).toRotationMatrix();
+  p.translation() = p0.translation() + t * (p1.translation() - p0.translation());
+  return p;
+}
+
+// What is left of a translation that slides along the surfaces met (their normals, pointing
+// out of the scene): no part into any of them. Against one, its tangential part; against two,
+// its part along their crease; against more, nothing.
+Vector3d slide(Vector3d rest, const Vector3d* normals, int met) {
+  for (int i = 0; i < met; ++i)
+    if (rest.dot(normals[i]) < 0) rest -= rest.dot(normals[i]) * normals[i];
+  bool into = false;
+  for (int i = 0; i < met; ++i) into = into || rest.dot(normals[i]) < -1e-12 * rest.norm();
+  if (!into) return rest;
+  if (met != 2) return Vector3d::Zero();
+  const Vector3d crease = normals[0].cross(normals[1]).normalized();
+  return crease.allFinite() ? Vector3d(rest.dot(crease) * crease) : Vector3d::Zero();
+}
+
+// The proxy swept towards `goal` (time_of_impact against the scene's octree, turning included):
+// at an impact it stops a skin back along the contact normal, and with `sliding` the rest of
+// its translation slides along the surfaces met, its turn waiting for the next tick. Returns
+// the sweeps made.
+int sweep_proxy(Setup& s, Isometry3d goal, bool sliding) {
+  Isometry3d& proxy = s.proxy;
+  Vector3d normals[kPasses];
+  int met = 0;
+  for (int pass = 0; pass < kPasses; ++pass) {
+    TimeOfImpact toi;
+    const Status st = time_of_impact(s.scene_tree, Isometry3d::Identity(), s.tool.hull, proxy, goal, toi, kSkin / 4);
+    if (st != Status::Ok) return pass + 1;  // (poses and shapes are checked at set-up)
+    if (!toi.hit) {
+      proxy = goal;
+      return pass + 1;
+    }
+    // At time 0 the proxy touches already (a back-off that met another surface): it backs off
+    // along the contact normal, as far as the shapes overlap, and tries again.
+    proxy = pose_at(proxy, goal, toi.time);
+    proxy.translation() += (kSkin + (toi.time == 0 ? (toi.point_a - toi.point_b).norm() : 0.0)) * toi.normal;
+    normals[met++] = toi.normal;
+    const Vector3d rest = slide(goal.translation() - proxy.translation(), normals, met);
+    if (!sliding || rest.norm() < 1e-2 * kSkin) return pass + 1;  // (nothing left worth a sweep)
+    goal.linear() = proxy.linear(), goal.translation() = proxy.translation() + rest;
+  }
+  return kPasses;
+}
+
+// Moves the proxy towards the device pose without ever entering the scene: Zilles and
+// Salisbury's god object (1995) in six degrees of freedom. Resting on a surface (s.normal),
+// it first moves along the surface and turns, then follows the device into it by at most
+// kFall (so that a turn or a slide is not cut short by the press). No sweep where the proxy's
+// distance to the scene exceeds how far any point of the tool moves (Mirtich's bound,
+// |dx| + angle * radius). Returns the sweeps made.
+int move_proxy(Setup& s, const Isometry3d& device) {
+  const Isometry3d& proxy = s.proxy;
+  const double turn = Eigen::AngleAxisd(Eigen::Matrix3d(proxy.linear().transpose() * device.linear())).angle();
+  const double reach = (device.translation() - proxy.translation()).norm() + turn * s.tool.radius;
+  if (s.distance > reach) {
+    s.proxy = device;
+    return 0;
+  }
+  const double into = std::max(0.0, -(device.translation() - proxy.translation()).dot(s.normal));
+  Isometry3d along = device;
+  along.translation() += into * s.normal;
+  int sweeps = 0;
+  if (reach - into > 1e-3 * kSkin) sweeps += sweep_proxy(s, along, true);  // (else still)
+  if (into > 0) {
+    Isometry3d down = proxy;
+    down.translation() -= std::min(into, kFall) * s.normal;
+    sweeps += sweep_proxy(s, down, false);
+  }
+  return sweeps;
 }
 
 // Paced runs ask for real-time scheduling and locked memory (granted to root or with
@@ -149,39 +270,44 @@ void ask_for_realtime(Report& report) {
   sched_setaffinity(0, sizeof one, &one);
 }
 
-// One tick's queries and force, with the tool at `pose` (the scene sits at the identity) moving
-// at `velocity`; written to the report at k. A convex tool: contact first (it only looks under
-// the tool), the exact distance when there is none. A mesh tool: the mesh-mesh distance, and
-// its hull's depth on contact.
-void tick(const Options& options, Setup& s, ProximityCache& cache, const Eigen::Isometry3d& pose,
-          const Vector3d& velocity, long k, Report& report) {
-  const Eigen::Isometry3d scene = Eigen::Isometry3d::Identity();
-  const auto distance = [&](MeshDistance& d) {
-    return options.coherent ? mesh_distance(s.scene_tree, scene, s.tool_tree, pose, s.ws, cache, d)
-                            : mesh_distance(s.scene_tree, scene, s.tool_tree, pose, s.ws, d);
-  };
-  MeshDistance d;
+// One tick with the device at `device` moving at `velocity` (the scene sits at the identity),
+// written to the report at k: the proxy moves, the skin's contact patch at the proxy gives the
+// normal and the centre the force acts at, and the spring from the device to the proxy along
+// that normal its size. Apart, the proxy's distance (coherent: started from the last tick's).
+void tick(const Options& options, Setup& s, const Isometry3d& device, const Vector3d& velocity, long k,
+          Report& report) {
+  const Isometry3d scene = Isometry3d::Identity();
+  report.sweeps += move_proxy(s, device);
   MeshContact c;
-  double force = 0, along = 0, up = 0;
-  bool touching;
-  if (s.tool.convex) {
-    touching = mesh_contact(s.scene_tree, scene, s.tool.hull, pose, s.ws, c) == Status::Ok && c.intersecting;
-    if (!touching) distance(d);
-  } else {
-    touching = distance(d) == Status::Ok && d.intersecting &&
-               mesh_contact(s.scene_tree, scene, s.tool.hull, pose, s.ws, c) == Status::Ok && c.intersecting;
-  }
+  const bool touching =
+      mesh_contact(s.scene_tree, scene, s.tool.skin, s.proxy, s.ws, c) == Status::Ok && c.intersecting;
+  MeshDistance d;
+  s.distance = 0;
   if (!touching) {
-    c = MeshContact{};
-  } else {
-    const double push =
-        kStiffness * c.penetration_depth - kDamping * std::min(0.0, velocity.dot(c.penetration_direction));
-    const Vector3d f = std::max(0.0, push) * c.penetration_direction;
-    force = f.norm(), along = f.dot(c.penetration_direction), up = f.y();
+    const Status st = options.coherent ? mesh_distance(s.scene_tree, scene, s.tool_tree, s.proxy, s.ws, s.cache, d)
+                                       : mesh_distance(s.scene_tree, scene, s.tool_tree, s.proxy, s.ws, d);
+    if (st == Status::Ok && !d.intersecting) s.distance = d.distance;
+  }
+  Vector3d force = Vector3d::Zero(), torque = Vector3d::Zero();
+  double depth = 0;
+  if (touching) {
+    const Vector3d& u = c.penetration_direction;
+    depth = std::max(0.0, (s.proxy.translation() - device.translation()).dot(u));
+    const double push = options.stiffness * depth - options.damping * std::min(0.0, velocity.dot(u));
+    if (depth > 0 && push > 0) force = push * u;
+    torque = (c.centre - device.translation()).cross(force);
     ++report.contacts;
   }
-  report.distance[k] = d.distance, report.depth[k] = c.penetration_depth;
-  report.force[k] = force, report.force_dot_normal[k] = along, report.force_up[k] = up;
+  if (touching && s.touching) {  // steady contact: how smooth the rendering is
+    report.max_force_jump = std::max(report.max_force_jump, (force - s.force).norm());
+    report.max_torque_jump = std::max(report.max_torque_jump, (torque - s.torque).norm());
+  }
+  s.force = force, s.torque = torque, s.touching = touching;
+  s.normal = touching ? c.penetration_direction : Vector3d::Zero();
+  report.distance[k] = s.distance, report.depth[k] = depth, report.force[k] = force.norm();
+  report.torque[k] = torque.norm(), report.force_dot_normal[k] = touching ? force.dot(c.penetration_direction) : 0;
+  report.force_up[k] = force.y(), report.device_y[k] = device.translation().y();
+  report.proxy_y[k] = s.proxy.translation().y();
 }
 
 // The latency percentiles of a finished run.
@@ -204,7 +330,7 @@ bool run(const Options& options, long (*allocations)(), Report& report, std::str
   if (!set_up(options, s, report, error)) return false;
   const long n = long(std::llround(options.seconds * options.rate));
   for (auto* v : {&report.time, &report.distance, &report.depth, &report.force, &report.latency_us, &report.cpu_us,
-                  &report.force_dot_normal, &report.force_up})
+                  &report.force_dot_normal, &report.force_up, &report.torque, &report.device_y, &report.proxy_y})
     v->assign(size_t(n), 0.0);
   const double dt = 1 / options.rate;
   using clock = std::chrono::steady_clock;
@@ -212,8 +338,7 @@ bool run(const Options& options, long (*allocations)(), Report& report, std::str
   const auto start = clock::now();
   const auto period = std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(dt));
   long allocations_after_warmup = 0;
-  Vector3d previous = s.path.at(0);
-  ProximityCache cache;  // the mesh distance's, from one tick to the next (options.coherent)
+  Vector3d previous = s.path.at(0).translation();
   for (long k = 0; k < n; ++k) {
     if (k == options.warmup) allocations_after_warmup = allocations();
     const auto deadline = start + (k + 1) * period;
@@ -228,11 +353,11 @@ bool run(const Options& options, long (*allocations)(), Report& report, std::str
     const auto t0 = clock::now();
     const double cpu0 = thread_cpu_us();
     try {
-      const Eigen::Isometry3d pose(Eigen::Translation3d(s.path.at(double(k) * dt)));
-      const Vector3d velocity = (pose.translation() - previous) / dt;
-      previous = pose.translation();
+      const Isometry3d device = s.path.at(double(k) * dt);
+      const Vector3d velocity = (device.translation() - previous) / dt;
+      previous = device.translation();
       report.time[k] = double(k) * dt;
-      tick(options, s, cache, pose, velocity, k, report);
+      tick(options, s, device, velocity, k, report);
     } catch (...) {
       ++report.exceptions;
     }
@@ -258,17 +383,18 @@ bool plot(const Report& r, const std::string& png, std::string& error) {
   FILE* f = std::fopen(data.c_str(), "w");
   if (!f) return error = png + ": cannot write " + data, false;
   for (size_t k = 0; k < r.time.size(); ++k)
-    std::fprintf(f, "%.6f %.9g %.9g %.9g %.3f\n", r.time[k], 1000 * r.distance[k], 1000 * r.depth[k], r.force[k],
-                 r.latency_us[k]);
+    std::fprintf(f, "%.6f %.9g %.9g %.9g %.3f %.9g\n", r.time[k], 1000 * r.distance[k], 1000 * r.depth[k], r.force[k],
+                 r.latency_us[k], 1000 * r.torque[k]);
   std::fclose(f);
   FILE* g = popen("gnuplot 2>&1", "w");
   if (!g) return error = "gnuplot not found (Debian package gnuplot-nox)", false;
   std::fprintf(
       g,
-      "set terminal pngcairo size 1200,900 noenhanced\nset output '%s'\nset multiplot layout 2,1 title '%s on %s'\n"
-      "set xlabel 'time [s]'\nset ylabel 'distance, depth [mm]'\nset y2label 'force [N]'\nset y2tics\nset ytics "
-      "nomirror\n"
-      "plot [0:8] '%s' u 1:2 w l t 'distance', '' u 1:3 w l t 'depth', '' u 1:4 axes x1y2 w l t 'force'\n"
+      "set terminal pngcairo size 1200,1200 noenhanced\nset output '%s'\nset multiplot layout 3,1 title '%s on %s'\n"
+      "set xlabel 'time [s]'\nset ylabel 'distance, depth [mm]'\n"
+      "plot [0:8] '%s' u 1:2 w l t 'proxy distance', '' u 1:3 w l t 'device depth past the proxy'\n"
+      "set ylabel 'force [N]'\nset y2label 'torque [N mm]'\nset y2tics\nset ytics nomirror\n"
+      "plot [0:8] '' u 1:4 w l t '|force|', '' u 1:6 axes x1y2 w l t '|torque| about the device origin'\n"
       "unset y2label\nunset y2tics\nset xlabel 'tick latency [us]'\nset ylabel 'ticks'\nset logscale y\nbinwidth=1\n"
       "plot '%s' u (binwidth*floor($5/binwidth)):(1.0) smooth freq w boxes t 'latency'\nunset multiplot\n",
       png.c_str(), r.tool_name.c_str(), r.scene_source.c_str(), data.c_str(), data.c_str());

@@ -1,5 +1,6 @@
-// A 1 kHz haptic servo loop on minksum, as a device application would run it: everything sized
-// at set-up, then per tick collision, exact distance or penetration depth, and a penalty force.
+// A 1 kHz 6-DOF haptic servo loop on minksum, as a device application would run it: everything
+// sized at set-up, then per tick a proxy swept towards the device pose (time of impact), the
+// contact patch at the proxy, and the force and torque that patch transmits.
 #pragma once
 
 #include <string>
@@ -9,9 +10,15 @@ namespace minksum::haptics {
 
 /// What to run.
 struct Options {
-  std::string tool = "box";  ///< "box", "icosa", or a mesh file (its hull gives the depth)
-  std::string scene;         ///< mesh file; empty: bunny res2; "bunny_full": the full bunny (or their fallbacks)
+  std::string tool = "box";  ///< "box", "icosa", or a mesh file (its convex hull is the tool)
+  /// mesh file; empty: bunny res2; "bunny_full": the full bunny (or their fallbacks); "sheet":
+  /// a 60 mm square sheet 0.5 mm thick
+  std::string scene;
   double seconds = 60;       ///< simulated time
+  double press = 0.002;      ///< how far the device is pressed below touching the scene [m]
+  double speed = 0;          ///< > 0: the device plunges straight down at this speed [m/s]
+  double stiffness = 2000;   ///< the virtual coupling's spring from the device to the proxy [N/m]
+  double damping = 5;        ///< and its damper on the device's approach speed [N s/m]
   double rate = 1000;        ///< ticks per second
   bool realtime = false;     ///< pace ticks with sleep-until and count missed deadlines
   bool coherent = true;      ///< start each tick's mesh distance from the last tick's answer
@@ -33,8 +40,16 @@ struct Report {
   long allocations = 0;            ///< heap allocations inside the loop after warm-up (-1: not counted)
   long exceptions = 0;             ///< exceptions caught around ticks
   long contacts = 0;               ///< ticks with the tool touching or pressing into the scene
+  long sweeps = 0;                 ///< times of impact computed (the others were certified free)
+  /// The largest change of the force [N] and of the torque [N m] from one tick to the next,
+  /// both in contact after the first tick of contact (an impact's first tick jumps by design)
+  double max_force_jump = 0, max_torque_jump = 0;
   bool realtime_priority = false;  ///< a paced run got SCHED_FIFO
-  std::vector<double> time, distance, depth, force, latency_us;  ///< per tick
+  /// Per tick: the proxy's distance to the scene, the device's depth past the proxy along the
+  /// contact normal, |force|, latency
+  std::vector<double> time, distance, depth, force, latency_us;
+  std::vector<double> torque;                                    ///< per tick: |torque| about the device's origin
+  std::vector<double> device_y, proxy_y;                         ///< per tick: the origins' heights
   std::vector<double> cpu_us;                                    ///< per tick: its thread CPU time
   std::vector<double> force_dot_normal;                          ///< force . push-out direction (>= 0)
   std::vector<double> force_up;                                  ///< force . +y (the press is straight down along -y)
@@ -48,7 +63,7 @@ long allocation_count();
 /// operator new and malloc). False with a one-line `error` for bad options or files.
 bool run(const Options& options, long (*allocations)(), Report& report, std::string& error);
 
-/// Draws distance, depth and force along the path and a latency histogram into a PNG (gnuplot).
+/// Draws distance, depth, force and torque along the path and a latency histogram into a PNG (gnuplot).
 bool plot(const Report& report, const std::string& png, std::string& error);
 
 }  // namespace minksum::haptics

@@ -239,6 +239,33 @@ std::vector<Eigen::Isometry3d> banded_poses(const Octree& a, const Octree& b, do
   return poses;
 }
 
+Mesh box_mesh(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, int cells) {
+  Mesh m;
+  const Eigen::Vector3d d = hi - lo;
+  const auto count = [&](int axis) { return std::max(1, int(std::lround(cells * d[axis] / d.maxCoeff()))); };
+  // A face as a grid from corner o along e1 then e2 (its outward normal is e1 x e2).
+  const auto face = [&](const Eigen::Vector3d& o, int a1, int a2) {
+    const int n1 = count(a1), n2 = count(a2), first = int(m.vertices.size());
+    for (int i = 0; i <= n1; ++i)
+      for (int j = 0; j <= n2; ++j)
+        m.vertices.push_back(o + d[a1] * i / n1 * Eigen::Vector3d::Unit(a1) + d[a2] * j / n2 * Eigen::Vector3d::Unit(a2));
+    const auto at = [&](int i, int j) { return first + i * (n2 + 1) + j; };
+    for (int i = 0; i < n1; ++i)
+      for (int j = 0; j < n2; ++j) {
+        m.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+        m.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+      }
+  };
+  for (int a = 0; a < 3; ++a) {  // e_b x e_c = e_a for the cyclic b, c
+    const int b = (a + 1) % 3, c = (a + 2) % 3;
+    Eigen::Vector3d top = lo;
+    top[a] = hi[a];
+    face(top, b, c);
+    face(lo, c, b);
+  }
+  return m;
+}
+
 Mesh sphere_mesh(double radius, int rings) {
   Mesh m;
   const int n = rings, around = 2 * rings;

@@ -45,6 +45,10 @@ std::vector<Eigen::Isometry3d> banded_poses(const Octree& a, const Octree& b, do
 /// The band of the k-th of `count` banded poses: 0 contact, 1 near (< 5 %), 2 far.
 inline int band_of(int k, int count) { return 3 * k / count; }
 
+/// The surface of the box [lo, hi], each face a grid of squares wound outward, about `cells`
+/// along its longest edge (at least one along each): a thin box is a sheet.
+Mesh box_mesh(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, int cells);
+
 /// A UV sphere about the origin: a vertex at each pole, rings - 1 circles of 2 rings vertices,
 /// 4 rings (rings - 1) triangles.
 Mesh sphere_mesh(double radius, int rings);
