@@ -134,7 +134,10 @@ struct Setup {
   Path path;
   ProximityCache cache;  // the distance's, from one tick to the next (options.coherent)
   Isometry3d proxy = Isometry3d::Identity();
-  double distance = 0;  // the proxy's distance to the scene (0: touching or unknown)
+  // A certified lower bound of the proxy's distance to the scene: the exact distance apart;
+  // after a sweep, the skin it backed off by (or the sweep's tolerance if it met nothing);
+  // less the reach of every move made without a sweep since.
+  double clearance = 0;
   Vector3d normal = Vector3d::Zero();  // the contact patch's normal at the proxy (0: apart)
   Vector3d force = Vector3d::Zero(), torque = Vector3d::Zero();
   bool touching = false;
@@ -213,14 +216,17 @@ int sweep_proxy(Setup& s, Isometry3d goal, bool sliding) {
     TimeOfImpact toi;
     const Status st = time_of_impact(s.scene_tree, Isometry3d::Identity(), s.tool.hull, proxy, goal, toi, kSkin / 4);
     if (st != Status::Ok) return pass + 1;  // (poses and shapes are checked at set-up)
-    if (!toi.hit) {
-      proxy = goal;
+    if (!toi.hit) {  // (no contact within the tolerance up to the goal)
+      proxy = goal, s.clearance = kSkin / 4;
       return pass + 1;
     }
     // At time 0 the proxy touches already (a back-off that met another surface): it backs off
     // along the contact normal, as far as the shapes overlap, and tries again.
+    // Else, after the impact, the supporting planes along the normal lie between 0 and the
+    // tolerance apart: a skin along it, they are a skin apart (and so are the shapes).
     proxy = pose_at(proxy, goal, toi.time);
     proxy.translation() += (kSkin + (toi.time == 0 ? (toi.point_a - toi.point_b).norm() : 0.0)) * toi.normal;
+    s.clearance = toi.time > 0 ? kSkin : 0.0;
     normals[met++] = toi.normal;
     const Vector3d rest = slide(goal.translation() - proxy.translation(), normals, met);
     if (!sliding || rest.norm() < 1e-2 * kSkin) return pass + 1;  // (nothing left worth a sweep)
@@ -232,24 +238,24 @@ int sweep_proxy(Setup& s, Isometry3d goal, bool sliding) {
 // Moves the proxy towards the device pose without ever entering the scene: Zilles and
 // Salisbury's god object (1995) in six degrees of freedom. Resting on a surface (s.normal),
 // it first moves along the surface and turns, then follows the device into it by at most
-// kFall (so that a turn or a slide is not cut short by the press). No sweep where the proxy's
-// distance to the scene exceeds how far any point of the tool moves (Mirtich's bound,
-// |dx| + angle * radius). Returns the sweeps made.
+// kFall (so that a turn or a slide is not cut short by the press). A move needs no sweep where
+// no point of the tool moves farther than the clearance (Mirtich's bound: |dx| + angle *
+// radius): resting, the slide and the turn of a tick usually fit in the skin. Returns the
+// sweeps made.
 int move_proxy(Setup& s, const Isometry3d& device) {
-  const Isometry3d& proxy = s.proxy;
-  const double turn = Eigen::AngleAxisd(Eigen::Matrix3d(proxy.linear().transpose() * device.linear())).angle();
-  const double reach = (device.translation() - proxy.translation()).norm() + turn * s.tool.radius;
-  if (s.distance > reach) {
-    s.proxy = device;
-    return 0;
-  }
-  const double into = std::max(0.0, -(device.translation() - proxy.translation()).dot(s.normal));
+  const double into = std::max(0.0, -(device.translation() - s.proxy.translation()).dot(s.normal));
   Isometry3d along = device;
   along.translation() += into * s.normal;
+  const double turn = Eigen::AngleAxisd(Eigen::Matrix3d(s.proxy.linear().transpose() * along.linear())).angle();
+  const double reach = (along.translation() - s.proxy.translation()).norm() + turn * s.tool.radius;
   int sweeps = 0;
-  if (reach - into > 1e-3 * kSkin) sweeps += sweep_proxy(s, along, true);  // (else still)
+  if (reach < s.clearance) {
+    s.proxy = along, s.clearance -= reach;
+  } else {
+    sweeps += sweep_proxy(s, along, true);
+  }
   if (into > 0) {
-    Isometry3d down = proxy;
+    Isometry3d down = s.proxy;
     down.translation() -= std::min(into, kFall) * s.normal;
     sweeps += sweep_proxy(s, down, false);
   }
@@ -282,11 +288,11 @@ void tick(const Options& options, Setup& s, const Isometry3d& device, const Vect
   const bool touching =
       mesh_contact(s.scene_tree, scene, s.tool.skin, s.proxy, s.ws, c) == Status::Ok && c.intersecting;
   MeshDistance d;
-  s.distance = 0;
+  double distance = 0;
   if (!touching) {
     const Status st = options.coherent ? mesh_distance(s.scene_tree, scene, s.tool_tree, s.proxy, s.ws, s.cache, d)
                                        : mesh_distance(s.scene_tree, scene, s.tool_tree, s.proxy, s.ws, d);
-    if (st == Status::Ok && !d.intersecting) s.distance = d.distance;
+    if (st == Status::Ok && !d.intersecting) distance = d.distance, s.clearance = std::max(s.clearance, distance);
   }
   Vector3d force = Vector3d::Zero(), torque = Vector3d::Zero();
   double depth = 0;
@@ -304,7 +310,7 @@ void tick(const Options& options, Setup& s, const Isometry3d& device, const Vect
   }
   s.force = force, s.torque = torque, s.touching = touching;
   s.normal = touching ? c.penetration_direction : Vector3d::Zero();
-  report.distance[k] = s.distance, report.depth[k] = depth, report.force[k] = force.norm();
+  report.distance[k] = distance, report.depth[k] = depth, report.force[k] = force.norm();
   report.torque[k] = torque.norm(), report.force_dot_normal[k] = touching ? force.dot(c.penetration_direction) : 0;
   report.force_up[k] = force.y(), report.device_y[k] = device.translation().y();
   report.proxy_y[k] = s.proxy.translation().y();

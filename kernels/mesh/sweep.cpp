@@ -3,11 +3,12 @@
 // inside that capsule. The octree is walked depth first, nearest first, by the time the
 // segment enters each node's box grown by r (a lower bound of when the tool can reach it:
 // the grown box holds the capsule's reach), and each triangle by when it enters the
-// triangle's bounding sphere grown by r; a node or triangle that cannot be reached before
-// the earliest hit so far is skipped, and so is one that a face plane of the tool at the
-// start separates by more than any point of the tool can move before that hit (a tool resting
-// on a surface: all but the few triangles under it), as is a node whose box one separates so. Each triangle left gets
-// time_of_impact's advancement (query/impact.hpp), limited to that earliest hit.
+// triangle's bounding sphere grown by r. A face plane of the tool at the start that separates
+// a node's box or a triangle by g bounds that time too: no point of the tool moves faster
+// than |v| + angle r (Mirtich's bound). A node or triangle that cannot be reached before the
+// earliest hit so far is skipped (a tool resting on a surface: all but the few triangles under
+// it), and the children are walked soonest first, so the first hit comes early. Each triangle
+// left gets time_of_impact's advancement (query/impact.hpp), limited to that earliest hit.
 #include <minksum/mesh.hpp>
 
 #include "mesh/mesh_internal.hpp"
@@ -40,15 +41,18 @@ struct StartPlanes {
       o[f] = tool.faces[size_t(f)].offset + n[f].dot(q0.translation());
     }
   }
-  // A lower bound of the distance from the triangle to the tool: the largest gap between a
-  // face's plane and the triangle beyond it (0 if none separates).
-  double gap(const Vector3d* t) const {
-    double best = 0;
-    for (int f = 0; f < count; ++f)
-      best = std::max(best, std::min({n[f].dot(t[0]), n[f].dot(t[1]), n[f].dot(t[2])}) - o[f]);
-    return best;
+  // Whether a face's plane separates the triangle from the tool by more than `limit`. The
+  // plane that separated the last triangle is tried first: resting on a surface, one face
+  // separates almost every triangle near it.
+  bool separates(const Vector3d* t, double limit, int& last) const {
+    for (int i = 0; i < count; ++i) {
+      const int f = i == 0 ? last : i == last ? 0 : i;
+      if (std::min({n[f].dot(t[0]), n[f].dot(t[1]), n[f].dot(t[2])}) - o[f] > limit) return last = f, true;
+    }
+    return false;
   }
-  // The same for a node's box (centre c, half extents h): its lowest point along each normal.
+  // A lower bound of the distance from a node's box (centre c, half extents h) to the tool:
+  // the largest gap between a face's plane and the box beyond it (0 if none separates).
   double gap(const Vector3d& c, const Vector3d& h) const {
     double best = 0;
     for (int f = 0; f < count; ++f) best = std::max(best, n[f].dot(c) - n[f].cwiseAbs().dot(h) - o[f]);
@@ -143,7 +147,11 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
   const Vector3d c0 = q0.translation(), d = q1.translation() - q0.translation();
   // No point of the tool moves faster than |d| + angle radius over the tick (Mirtich's bound).
   const double speed = d.norm() + moving.angle * moving.radius, slack = tolerance + 1e-12 * reach;
+  // A lower bound of when the tool can come within the tolerance of what lies `gap` beyond one
+  // of its face planes at the start.
+  const auto plane_time = [&](double gap) { return gap <= slack ? 0.0 : speed > 0 ? (gap - slack) / speed : kNever; };
   const StartPlanes planes(tool.polytope(), q0);
+  int last_plane = 0;
   double earliest = 1;  // no hit before it (a hit's time, an unconverged stop's, or the tick's end)
   int iterations = 0;
   struct Entry {
@@ -158,14 +166,14 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
     const Entry e = stack[--top];
     const Octree::Node& n = a.nodes[e.node];
     if (e.time > earliest) continue;
-    if (n.first_child >= 0) {  // the children the capsule reaches in time, the nearest on top
+    if (n.first_child >= 0) {  // the children the tool can reach in time, the soonest on top
       const int from = top;
       for (int c = n.first_child; c < n.first_child + n.child_count; ++c) {
         const Octree::Node& child = a.nodes[c];
         const Vector3d grow = child.box_half + Vector3d::Constant(r);
-        const double s = box_entry(c0, d, child.box_center - grow, child.box_center + grow);
-        if (s <= earliest && planes.gap(child.box_center, child.box_half) <= earliest * speed + slack)
-          stack[top++] = {c, s};
+        const double s = std::max(box_entry(c0, d, child.box_center - grow, child.box_center + grow),
+                                  plane_time(planes.gap(child.box_center, child.box_half)));
+        if (s <= earliest) stack[top++] = {c, s};
       }
       std::sort(stack + from, stack + top, [](const Entry& x, const Entry& y) { return x.time > y.time; });
       continue;
@@ -175,7 +183,7 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
       const Eigen::Vector4d& sphere = a.spheres[tri];
       if (sphere_entry(c0, d, sphere.head<3>(), sphere[3] + r) > earliest) continue;
       const Vector3d* corners = &a.item_corners[size_t(3) * x];
-      if (planes.gap(corners) > earliest * speed + slack) continue;
+      if (planes.separates(corners, earliest * speed + slack, last_plane)) continue;
       const detail::Mover still(corners, 3, Isometry3d::Identity(), Isometry3d::Identity());
       TimeOfImpact toi;
       detail::advance(still, moving, tolerance, reach, earliest, TriangleAnswers(corners, tool), toi);
