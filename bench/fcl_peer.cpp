@@ -172,4 +172,31 @@ double FclMeshPair::distance(const Eigen::Isometry3d& pose, Eigen::Vector3d* pa,
   return result.min_distance;
 }
 
+struct FclMeshTool::Impl {
+  std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> mesh;
+  std::shared_ptr<fcl::Boxd> box;
+};
+
+FclMeshTool::FclMeshTool(const std::vector<Eigen::Vector3d>& v, const std::vector<std::array<int, 3>>& t,
+                         const Eigen::Vector3d& half_extents)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->mesh = bvh(v, t), impl_->box = std::make_shared<fcl::Boxd>(2 * half_extents);
+}
+
+FclMeshTool::~FclMeshTool() = default;
+
+bool FclMeshTool::time_of_impact(const Eigen::Isometry3d& t0, const Eigen::Isometry3d& t1, bool turning,
+                                 double& time) {
+  fcl::ContinuousCollisionRequestd request;
+  request.ccd_solver_type = fcl::CCDC_NAIVE;
+  request.ccd_motion_type = turning ? fcl::CCDM_LINEAR : fcl::CCDM_TRANS;
+  request.gjk_solver_type = fcl::GST_INDEP;
+  fcl::ContinuousCollisionResultd result;
+  const fcl::Transform3d still = fcl::Transform3d::Identity();
+  fcl::continuousCollide(impl_->mesh.get(), still, still, impl_->box.get(), fcl::Transform3d(t0.matrix()),
+                         fcl::Transform3d(t1.matrix()), request, result);
+  time = result.is_collide ? result.time_of_contact : 1.0;
+  return result.is_collide;
+}
+
 }  // namespace minksum::peers

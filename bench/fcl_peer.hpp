@@ -80,4 +80,24 @@ class FclMeshPair {
   std::unique_ptr<Impl> impl_;
 };
 
+/// A still triangle mesh (an OBBRSS BVH at the identity, built once) and a moving box tool, for
+/// continuous collision.
+class FclMeshTool {
+ public:
+  /// The mesh's BVH (FCL's default splitter) and the box (centred at its pose's origin).
+  FclMeshTool(const std::vector<Eigen::Vector3d>& v, const std::vector<std::array<int, 3>>& t,
+              const Eigen::Vector3d& half_extents);
+  ~FclMeshTool();
+  /// fcl::continuousCollide of the box from t0 to t1 by FCL's naive solver: the motion sampled
+  /// at num_max_iterations (10) poses, the first that collides (at or after the contact; a
+  /// thin part between two samples is missed). FCL 0.7's conservative advancement reports no
+  /// contact for a BVH (OBBRSS or RSS) against a shape or a mesh, even a box falling flat onto
+  /// two triangles (FCL issues #120, #555). The time of contact (1: none) into `time`.
+  bool time_of_impact(const Eigen::Isometry3d& t0, const Eigen::Isometry3d& t1, bool turning, double& time);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 }  // namespace minksum::peers

@@ -212,8 +212,16 @@ def impact_markdown(directory):
     t, order = by_method(f"{directory}/time_of_impact.csv", "pair", "motion")
     out = ["| pair | motion | minksum [ns] | bullet_ccd [ns] | fcl_ccd [ns] | fastest peer / minksum | hits: minksum,"
            " bullet, fcl | minksum iterations | dt_max: bullet, fcl |", "|---|---|---|---|---|---|---|---|---|"]
+    mesh = ["", "Against a mesh (FCL's naive solver: 10 sampled poses, not conservative):", "",
+            "| scene | motion | minksum [ns] | fcl_ccd [ns] | fcl_ccd / minksum | hits: minksum, fcl |"
+            " minksum iterations | dt_max: fcl |", "|---|---|---|---|---|---|---|---|"]
     for key in order:
         m = t[key]
+        if "bullet_ccd" not in m and len(m) == 2:
+            a, f = (float(m[k]["ns_per_motion"]) for k in ("minksum", "fcl_ccd"))
+            mesh.append(f"| {key[0]} | {key[1]} | {a:.0f} | {f:.0f} | {f / a:.2f}x | {float(m['minksum']['hits']):.3f},"
+                        f" {float(m['fcl_ccd']['hits']):.3f} | {float(m['minksum']['iterations']):.1f} |"
+                        f" {float(m['fcl_ccd']['dt_max']):.1e} |")
         if len(m) < 3:
             continue
         a, b, f = (float(m[k]["ns_per_motion"]) for k in ("minksum", "bullet_ccd", "fcl_ccd"))
@@ -221,6 +229,8 @@ def impact_markdown(directory):
         out.append(f"| {key[0]} | {key[1]} | {a:.0f} | {b:.0f} | {f:.0f} | {min(b, f) / a:.2f}x | {hits} |"
                    f" {float(m['minksum']['iterations']):.2f} | {float(m['bullet_ccd']['dt_max']):.1e},"
                    f" {float(m['fcl_ccd']['dt_max']):.1e} |")
+    if len(mesh) > 5:
+        out += mesh
     with open(f"{directory}/time_of_impact.md", "w") as f:
         f.write("\n".join(out) + "\n")
 

@@ -1,14 +1,17 @@
-// Time of impact of a convex tool against a still mesh. Whatever it turns, the tool stays
-// within its radius r of its origin, and the origin moves along a segment: the tool sweeps
-// inside that capsule. The octree is walked depth first, nearest first, by the time the
-// segment enters each node's box grown by r (a lower bound of when the tool can reach it:
-// the grown box holds the capsule's reach), and each triangle by when it enters the
-// triangle's bounding sphere grown by r. A face plane of the tool at the start that separates
-// a node's box or a triangle by g bounds that time too: no point of the tool moves faster
-// than |v| + angle r (Mirtich's bound). A node or triangle that cannot be reached before the
-// earliest hit so far is skipped (a tool resting on a surface: all but the few triangles under
-// it), and the children are walked soonest first, so the first hit comes early. Each triangle
-// left gets time_of_impact's advancement (query/impact.hpp), limited to that earliest hit.
+// Time of impact of a convex tool against a still mesh, by branch and bound on lower bounds of
+// when the tool can first reach a node's box or a triangle:
+// - Whatever it turns, the tool stays within its radius r of its origin, and the origin moves
+//   along a segment: the tool sweeps inside that capsule, which enters each node's box grown
+//   by r, and each triangle's bounding sphere grown by r, no sooner than the slab or sphere
+//   entry time says.
+// - A face plane of the tool at the start, or the triangle's own plane, that separates them by
+//   g: no point of the tool advances along the plane's normal n faster than d . n + |n x w| r
+//   (d: the origin's displacement, w: the turn; the directional bound of Zhang, Lee and Kim, as
+//   in query/impact.cpp).
+// The octree is walked depth first, the soonest child on top; the triangles in reach wait in
+// a heap and get time_of_impact's advancement (query/impact.hpp) soonest first, before any
+// node that may be reached later. Whatever cannot be reached before the earliest hit so far
+// is skipped: a tool sliding on a surface advances against the few triangles under it.
 #include <minksum/mesh.hpp>
 
 #include "mesh/mesh_internal.hpp"
@@ -27,35 +30,77 @@ namespace {
 
 constexpr double kNever = 2;      // an entry time past the tick
 constexpr int kSeparatingPlanes = 64;  // the tool's face planes tried as separating planes (the first)
+constexpr int kHeapTriangles = 256;    // triangles in reach waiting for their advancement
 
-// The tool's face planes at the start (n . x <= o inside), in the mesh's frame.
+// The tool's face planes at the start (n . x <= o inside), in the mesh's frame, and how fast
+// each can advance: over the tick a point of the tool moves along n by at most d . n (d: the
+// origin's displacement) plus |n x w| r (w: the turn's vector, angle times unit axis; r: the
+// farthest vertex from the axis: the turn moves a point square to the axis, by at most its arc),
+// so the tool stays inside each plane moved by t times that. What lies beyond a plane by g is
+// out of reach before g over that rate.
 struct StartPlanes {
-  int count = 0;
-  Vector3d n[kSeparatingPlanes];
-  double o[kSeparatingPlanes];
-  StartPlanes(const ConvexPolytope& tool, const Isometry3d& q0) {
+  int count = 0, corners = 0;
+  Vector3d n[kSeparatingPlanes], v[kSeparatingPlanes];  // (v: the tool's vertices, if no more)
+  double o[kSeparatingPlanes], rate[kSeparatingPlanes];
+  Vector3d d, w;
+  double r = 0, slack = 0;  // slack: the tolerance and the rounding: gaps within it count as none
+  StartPlanes(const ConvexPolytope& tool, const Isometry3d& q0, const Vector3d& d, const Vector3d& w, double r,
+              double slack)
+      : d(d), w(w), r(r), slack(slack) {
+    if (tool.vertices.size() <= size_t(kSeparatingPlanes)) {
+      corners = int(tool.vertices.size());
+      for (int i = 0; i < corners; ++i) v[i] = q0 * tool.vertices[size_t(i)];
+    }
     if (tool.flat) return;  // (a flat tool's two faces are its sides: no inside)
     count = int(std::min(tool.faces.size(), size_t(kSeparatingPlanes)));
     for (int f = 0; f < count; ++f) {
       n[f] = q0.linear() * tool.faces[size_t(f)].normal;
       o[f] = tool.faces[size_t(f)].offset + n[f].dot(q0.translation());
+      rate[f] = n[f].dot(d) + n[f].cross(w).norm() * r;
     }
   }
-  // Whether a face's plane separates the triangle from the tool by more than `limit`. The
-  // plane that separated the last triangle is tried first: resting on a surface, one face
+  // Whether a face's plane keeps the triangle out of reach until after `limit`. The plane
+  // that did so for the last triangle is tried first: resting on a surface, one face
   // separates almost every triangle near it.
-  bool separates(const Vector3d* t, double limit, int& last) const {
+  bool out_of_reach(const Vector3d* t, double limit, int& last) const {
     for (int i = 0; i < count; ++i) {
       const int f = i == 0 ? last : i == last ? 0 : i;
-      if (std::min({n[f].dot(t[0]), n[f].dot(t[1]), n[f].dot(t[2])}) - o[f] > limit) return last = f, true;
+      const double g = std::min({n[f].dot(t[0]), n[f].dot(t[1]), n[f].dot(t[2])}) - o[f] - slack;
+      if (g > 0 && g > limit * rate[f]) return last = f, true;
     }
     return false;
   }
-  // A lower bound of the distance from a node's box (centre c, half extents h) to the tool:
-  // the largest gap between a face's plane and the box beyond it (0 if none separates).
-  double gap(const Vector3d& c, const Vector3d& h) const {
+  // A lower bound of when the tool can reach the triangle (0 if none is known): over the
+  // face planes, its gap beyond one over that plane's rate; and by its own plane, the tool's
+  // vertices all on one side of it by g, approaching it at most at -d . m + |m x w| r (m: its
+  // unit normal towards them). Past the tick, kNever.
+  double reach_time(const Vector3d* t) const {
     double best = 0;
-    for (int f = 0; f < count; ++f) best = std::max(best, n[f].dot(c) - n[f].cwiseAbs().dot(h) - o[f]);
+    for (int f = 0; f < count; ++f) {
+      const double g = std::min({n[f].dot(t[0]), n[f].dot(t[1]), n[f].dot(t[2])}) - o[f] - slack;
+      if (g > 0) best = std::max(best, g > rate[f] ? kNever : g / rate[f]);
+    }
+    Vector3d m = (t[1] - t[0]).cross(t[2] - t[0]);
+    const double length = m.norm();
+    if (corners == 0 || !(length > 0)) return best;
+    m /= length;
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (int i = 0; i < corners; ++i) {
+      const double h = m.dot(v[i] - t[0]);
+      lo = std::min(lo, h), hi = std::max(hi, h);
+    }
+    const double turn = m.cross(w).norm() * r;
+    const double g = lo > slack ? lo - slack : hi < -slack ? -hi - slack : 0.0,
+                 rate = lo > slack ? turn - m.dot(d) : turn + m.dot(d);
+    return g > 0 ? std::max(best, g > rate ? kNever : g / rate) : best;
+  }
+  // The same for a node's box (centre c, half extents h), by the face planes.
+  double reach_time(const Vector3d& c, const Vector3d& h) const {
+    double best = 0;
+    for (int f = 0; f < count; ++f) {
+      const double g = n[f].dot(c) - n[f].cwiseAbs().dot(h) - o[f] - slack;
+      if (g > 0) best = std::max(best, g > rate[f] ? kNever : g / rate[f]);
+    }
     return best;
   }
 };
@@ -145,12 +190,7 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
   // The capsule's radius, with room for the rounding of the entry times.
   const double r = moving.radius + tolerance + 1e-12 * reach;
   const Vector3d c0 = q0.translation(), d = q1.translation() - q0.translation();
-  // No point of the tool moves faster than |d| + angle radius over the tick (Mirtich's bound).
-  const double speed = d.norm() + moving.angle * moving.radius, slack = tolerance + 1e-12 * reach;
-  // A lower bound of when the tool can come within the tolerance of what lies `gap` beyond one
-  // of its face planes at the start.
-  const auto plane_time = [&](double gap) { return gap <= slack ? 0.0 : speed > 0 ? (gap - slack) / speed : kNever; };
-  const StartPlanes planes(tool.polytope(), q0);
+  const StartPlanes planes(tool.polytope(), q0, d, moving.omega, moving.across, tolerance + 1e-12 * reach);
   int last_plane = 0;
   double earliest = 1;  // no hit before it (a hit's time, an unconverged stop's, or the tick's end)
   int iterations = 0;
@@ -162,8 +202,28 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
   int top = 0;
   const Vector3d grow = root.box_half + Vector3d::Constant(r);
   stack[top++] = {0, box_entry(c0, d, root.box_center - grow, root.box_center + grow)};
+  // The triangles in reach wait in a heap, soonest first; before a node is opened, those that
+  // may be reached before it get their advancement (best first: the earliest hit comes early,
+  // and bounds what is left). A full heap advances its soonest to make room.
+  Entry heap[kHeapTriangles];
+  int waiting = 0;
+  const auto later = [](const Entry& x, const Entry& y) { return x.time > y.time; };
+  const auto advance_next = [&] {
+    std::pop_heap(heap, heap + waiting, later);
+    const Entry c = heap[--waiting];
+    if (c.time > earliest) return;
+    const Vector3d* corners = &a.item_corners[size_t(3) * c.node];
+    const detail::Mover still(corners, 3, Isometry3d::Identity(), Isometry3d::Identity());
+    TimeOfImpact toi;
+    detail::advance(still, moving, tolerance, reach, earliest, TriangleAnswers(corners, tool), toi);
+    iterations += toi.iterations;
+    // (The earliest hit or unconverged stop; of equal times, the first found.)
+    if ((toi.hit || !toi.converged) && (toi.time < earliest || (toi.time == earliest && !out.hit && out.converged)))
+      out = toi, out.triangle = a.items[c.node], earliest = toi.time;
+  };
   while (top > 0) {
     const Entry e = stack[--top];
+    while (waiting > 0 && heap[0].time <= e.time && heap[0].time <= earliest) advance_next();
     const Octree::Node& n = a.nodes[e.node];
     if (e.time > earliest) continue;
     if (n.first_child >= 0) {  // the children the tool can reach in time, the soonest on top
@@ -172,27 +232,24 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
         const Octree::Node& child = a.nodes[c];
         const Vector3d grow = child.box_half + Vector3d::Constant(r);
         const double s = std::max(box_entry(c0, d, child.box_center - grow, child.box_center + grow),
-                                  plane_time(planes.gap(child.box_center, child.box_half)));
+                                  planes.reach_time(child.box_center, child.box_half));
         if (s <= earliest) stack[top++] = {c, s};
       }
-      std::sort(stack + from, stack + top, [](const Entry& x, const Entry& y) { return x.time > y.time; });
+      std::sort(stack + from, stack + top, later);
       continue;
     }
-    for (int x = n.first; x < n.first + n.count; ++x) {
-      const int tri = a.items[x];
-      const Eigen::Vector4d& sphere = a.spheres[tri];
-      if (sphere_entry(c0, d, sphere.head<3>(), sphere[3] + r) > earliest) continue;
+    for (int x = n.first; x < n.first + n.count; ++x) {  // (heap entries name the item x)
+      const Eigen::Vector4d& sphere = a.spheres[a.items[x]];
+      double s = sphere_entry(c0, d, sphere.head<3>(), sphere[3] + r);
       const Vector3d* corners = &a.item_corners[size_t(3) * x];
-      if (planes.separates(corners, earliest * speed + slack, last_plane)) continue;
-      const detail::Mover still(corners, 3, Isometry3d::Identity(), Isometry3d::Identity());
-      TimeOfImpact toi;
-      detail::advance(still, moving, tolerance, reach, earliest, TriangleAnswers(corners, tool), toi);
-      iterations += toi.iterations;
-      // (The earliest hit or unconverged stop; of equal times, the first found.)
-      if ((toi.hit || !toi.converged) && (toi.time < earliest || (toi.time == earliest && !out.hit && out.converged)))
-        out = toi, out.triangle = tri, earliest = toi.time;
+      if (s > earliest || planes.out_of_reach(corners, earliest, last_plane)) continue;  // (the cheap tests first)
+      if ((s = std::max(s, planes.reach_time(corners))) > earliest) continue;
+      if (waiting == kHeapTriangles) advance_next();
+      heap[waiting++] = {x, s};
+      std::push_heap(heap, heap + waiting, later);
     }
   }
+  while (waiting > 0 && heap[0].time <= earliest) advance_next();
   out.iterations = iterations, out.tolerance = tolerance;
   if (out.hit || !out.converged) {  // back to the world frame
     out.normal = pose_a.linear() * out.normal, out.point_a = pose_a * out.point_a, out.point_b = pose_a * out.point_b;
