@@ -417,6 +417,42 @@ TEST(MeshContact, PosedBoxOnAFloorIsPushedStraightUp) {
   EXPECT_FALSE(c.intersecting);
 }
 
+// mesh_contact of a tool of many faces (a 64-sided prism: its faces are climbed across their
+// edges to reject a triangle) standing on a finely tessellated floor (z = 0), pressed h in:
+// the parts inside are the prism's section, a regular 64-gon about its axis, whose area
+// (n R^2 sin(2 pi / n) / 2) and centre are computed here; it is pushed straight up by h.
+TEST(MeshContact, ManyFacedPrismOnAFloorIsItsSection) {
+  const tools::Mesh floor = tools::box_mesh(Vector3d(-5, -5, -1), Vector3d(5, 5, 0), 40);
+  Octree A;
+  ASSERT_EQ(build_octree(floor.vertices, floor.triangles, A), Status::Ok);
+  MeshWorkspace ws;
+  make_workspace(A, A, ws);
+  constexpr int n = 64;
+  std::vector<Vector3d> corners;
+  for (int k = 0; k < n; ++k)
+    for (double z : {-1.0, 1.0}) corners.emplace_back(std::cos(2 * M_PI * k / n), std::sin(2 * M_PI * k / n), z);
+  ConvexShape prism;
+  ASSERT_EQ(shape_from_points(corners, prism), Status::Ok);
+  ASSERT_EQ(prism.polytope().faces.size(), size_t(n + 2));
+  const double area = n * std::sin(2 * M_PI / n) / 2;
+  std::mt19937_64 rng(43);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int k = 0; k < 50; ++k) {
+    SCOPED_TRACE("pose " + std::to_string(k));
+    const double h = 0.05 + 0.9 * (u(rng) + 1) / 2;
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.linear() = Eigen::AngleAxisd(M_PI * u(rng), Vector3d::UnitZ()).toRotationMatrix();
+    pose.translation() = Vector3d(3 * u(rng), 3 * u(rng), 1 - h);
+    MeshContact c;
+    ASSERT_EQ(mesh_contact(A, Eigen::Isometry3d::Identity(), prism, pose, ws, c), Status::Ok);
+    ASSERT_TRUE(c.intersecting);
+    EXPECT_NEAR(c.area, area, 1e-9);
+    EXPECT_NEAR((c.centre - Vector3d(pose.translation().x(), pose.translation().y(), 0)).norm(), 0, 1e-9);
+    EXPECT_NEAR(c.penetration_depth, h, 1e-9);
+    EXPECT_NEAR((c.penetration_direction - Vector3d::UnitZ()).norm(), 0, 1e-9);
+  }
+}
+
 // Every triangle is listed in every leaf whose cube it meets: checked against the exact
 // box-triangle proximity of the general path, for every (leaf, triangle) pair of a small mesh.
 // Every triangle is listed in exactly one leaf (copies of an earlier one in none), and its

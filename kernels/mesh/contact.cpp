@@ -2,6 +2,7 @@
 // (clip_triangle), their parts inside gathered through the octree (gather_parts), and the depth
 // the tool must move to push them out (push_out).
 #include "mesh/mesh_internal.hpp"
+#include "shape/shape_data.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -20,6 +21,7 @@ constexpr int kMaxPlanes = 2 * kMaxToolVertices;
 // corner tests) and its bounding box.
 struct ToolPlanes {
   int count = 0;
+  const detail::MapLayout* map = nullptr;  // the faces' adjacency (across each edge), if known
   Vector3d n[kMaxPlanes];
   double o[kMaxPlanes];
   alignas(64) double nx[kMaxPlanes], ny[kMaxPlanes], nz[kMaxPlanes];
@@ -34,13 +36,37 @@ struct ClipScratch {
   int cut[kMaxPlanes];
 };
 
+// Whether a face's plane separates triangle t from the tool: a climb over the faces (across
+// their edges, to the neighbour whose plane leaves the corners farthest beyond) from `hint`,
+// the face the last climb ended on. Neighbouring triangles are separated by the same face or
+// one a few edges away, so most triangles near a tool of hundreds of faces are rejected after
+// a few dozen planes, not all. Where the climb stalls without a gap, the full pass decides.
+bool climb_separates(const ToolPlanes& tool, const Vector3d (&t)[3], int& hint) {
+  const auto gap = [&](int f) {
+    return std::min({tool.n[f].dot(t[0]), tool.n[f].dot(t[1]), tool.n[f].dot(t[2])}) - tool.o[f];
+  };
+  const detail::MapLayout& map = *tool.map;
+  int f = hint;
+  double g = gap(f);
+  for (int step = 0; step < tool.count && !(g > 0); ++step) {  // (each step gains: no cycle)
+    int best = -1;
+    for (int k = map.loop_start[f]; k < map.loop_start[f + 1]; ++k)
+      if (const double x = gap(map.loop_face[k]); x > g) best = map.loop_face[k], g = x;
+    if (best < 0) break;
+    f = best;
+  }
+  hint = f;
+  return g > 0;
+}
+
 // The part of triangle t inside the tool: its corner count (0: they do not meet), the corners
 // at `poly`. First every plane against the three corners at once (a loop the compiler
 // vectorises): a plane with all corners beyond it rejects the triangle, and only the planes
 // with a corner beyond can cut it; a plane with every corner inside leaves every point of the
 // triangle inside, so clipping by it would change nothing (to rounding). Then
 // Sutherland-Hodgman (1974) over the cutting planes: O(faces) per triangle.
-int clip_triangle(const ToolPlanes& tool, const Vector3d (&t)[3], ClipScratch& s, const Vector3d*& poly) {
+int clip_triangle(const ToolPlanes& tool, const Vector3d (&t)[3], ClipScratch& s, const Vector3d*& poly, int& hint) {
+  if (tool.map && climb_separates(tool, t, hint)) return 0;
   const int nf = tool.count;
   for (int f = 0; f < nf; ++f) {
     const double d0 = tool.nx[f] * t[0].x() + tool.ny[f] * t[0].y() + tool.nz[f] * t[0].z() - tool.o[f];
@@ -84,7 +110,7 @@ int gather_parts(const Octree& a, const ToolPlanes& tool, MeshScratch& ws, int (
                  Vector3d& area, MeshContact& out) {
   const Vector3d box_c = (tool.lo + tool.hi) / 2, box_h = (tool.hi - tool.lo) / 2;
   ClipScratch scratch;
-  int hits = 0;
+  int hits = 0, hint = 0;
   ws.part_start[0] = 0;
   area = Vector3d::Zero();
   int stack[8 * 25 + 8], top = 0;  // depth <= 24 (OctreeOptions): at most 7 more per level
@@ -104,7 +130,7 @@ int gather_parts(const Octree& a, const ToolPlanes& tool, MeshScratch& ws, int (
       if ((tlo.array() > tool.hi.array()).any() || (thi.array() < tool.lo.array()).any()) continue;
       ++out.tested;
       const Vector3d* poly;
-      const int m = clip_triangle(tool, t, scratch, poly);
+      const int m = clip_triangle(tool, t, scratch, poly, hint);
       if (m == 0) continue;
       if (hits == kMaxContactTriangles || ws.part_start[hits] + m > int(ws.parts.size())) {
         out.overflow = true;  // more contact than capacity: flagged, the first parts count
@@ -160,6 +186,9 @@ Status contact_in_a(const Octree& a, const ConvexShape& shape, const Eigen::Isom
     tool.lo = tool.lo.cwiseMin(v), tool.hi = tool.hi.cwiseMax(v);
   }
   tool.count = int(polytope.faces.size());
+  // The climb pays where the faces are many (a box's six are cheaper all at once).
+  const detail::ShapeData* data = detail::ShapeAccess::data(shape);
+  if (tool.count > 32 && data && data->faces == tool.count) tool.map = &data->map[0];
   for (int f = 0; f < tool.count; ++f) {
     tool.n[f] = pose.linear() * polytope.faces[f].normal;
     tool.o[f] = polytope.faces[f].offset + tool.n[f].dot(pose.translation());
