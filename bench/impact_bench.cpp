@@ -58,6 +58,24 @@ Motion sweep(const Isometry3d& at, const Vector3d& u, double lift, int k, bool t
   return m;
 }
 
+// What a run reports: the share of motions that hit, and minksum's GJK iterations per motion or
+// a peer's largest |time - minksum's time| over the motions both say hit (the first pass).
+struct Tally {
+  long hits = 0, ticks = 0;
+  double dt_max = 0;
+  void add(bool hit, double time, bool reference_hit, double reference, bool first_pass) {
+    hits += hit;
+    if (hit && reference_hit && first_pass) dt_max = std::max(dt_max, std::abs(time - reference));
+  }
+  void report(benchmark::State& state, Method method, double iterations) const {
+    state.counters["hits"] = double(hits) / double(std::max(1L, ticks));
+    if (method == Method::Minksum)
+      state.counters["iterations"] = iterations;
+    else
+      state.counters["dt_max"] = dt_max;
+  }
+};
+
 struct Pair {
   std::vector<Vector3d> a, b;
   const Box *box_a = nullptr, *box_b = nullptr;
@@ -100,10 +118,9 @@ void Impact(benchmark::State& state, const Pair& pair, const std::vector<Motion>
   if (method == Method::Fcl)
     fcl = boxes ? std::make_unique<peers::FclPair>(*pair.box_a, *pair.box_b)
                 : std::make_unique<peers::FclPair>(A.polytope(), B.polytope());
-  long hits = 0, ticks = 0;
-  double dt_max = 0;
+  Tally tally;
   for (auto _ : state) {
-    const size_t k = size_t(ticks++ % kMotions);
+    const size_t k = size_t(tally.ticks++ % kMotions);
     const Motion& m = motions[k];
     double time = 1;
     bool hit = false;
@@ -118,14 +135,9 @@ void Impact(benchmark::State& state, const Pair& pair, const std::vector<Motion>
       hit = fcl->time_of_impact(peers::FclSolver::Gjk, a0 * fa, a0 * fa, m.b0 * fb, m.b1 * fb, turning, time);
     }
     benchmark::DoNotOptimize(time);
-    hits += hit;
-    if (hit && reference_hit[k] && ticks <= kMotions) dt_max = std::max(dt_max, std::abs(time - reference[k]));
+    tally.add(hit, time, reference_hit[k], reference[k], tally.ticks <= kMotions);
   }
-  state.counters["hits"] = double(hits) / double(std::max(1L, ticks));
-  if (method == Method::Minksum)
-    state.counters["iterations"] = double(iterations) / double(motions.size());
-  else
-    state.counters["dt_max"] = dt_max;
+  tally.report(state, method, double(iterations) / double(motions.size()));
 }
 
 constexpr int kMeshMotions = 256;
@@ -175,10 +187,9 @@ void MeshImpact(benchmark::State& state, bool turning, Method method) {
   }
   std::unique_ptr<peers::FclMeshTool> fcl;
   if (method == Method::Fcl) fcl = std::make_unique<peers::FclMeshTool>(s.mesh.vertices, s.mesh.triangles, s.box.half_extents);
-  long hits = 0, ticks = 0;
-  double dt_max = 0;
+  Tally tally;
   for (auto _ : state) {
-    const size_t k = size_t(ticks++ % kMeshMotions);
+    const size_t k = size_t(tally.ticks++ % kMeshMotions);
     double time = 1;
     bool hit;
     if (method == Method::Minksum) {
@@ -189,14 +200,9 @@ void MeshImpact(benchmark::State& state, bool turning, Method method) {
       hit = fcl->time_of_impact(motions[k].b0, motions[k].b1, turning, time);
     }
     benchmark::DoNotOptimize(time);
-    hits += hit;
-    if (hit && reference_hit[k] && ticks <= kMeshMotions) dt_max = std::max(dt_max, std::abs(time - reference[k]));
+    tally.add(hit, time, reference_hit[k], reference[k], tally.ticks <= kMeshMotions);
   }
-  state.counters["hits"] = double(hits) / double(std::max(1L, ticks));
-  if (method == Method::Minksum)
-    state.counters["iterations"] = double(iterations) / double(motions.size());
-  else
-    state.counters["dt_max"] = dt_max;
+  tally.report(state, method, double(iterations) / double(motions.size()));
 }
 
 const int registered = [] {
