@@ -13,6 +13,7 @@
 #include <random>
 
 #include "checks.hpp"
+#include "support/mesh_io.hpp"
 #include "support/shapes.hpp"
 
 namespace minksum {
@@ -351,6 +352,50 @@ TEST(TimeOfImpact, NoTunnellingThroughAThinSheetMesh) {
     if (!w.turning) EXPECT_NEAR(toi.time, w.first, 1e-9) << w.where;
     EXPECT_GT(toi.normal.z(), 0.9) << w.where;  // the sheet's top, towards the tool
   }
+}
+
+TEST(TimeOfImpact, AFaceFallingFlatOntoATessellatedFloor) {
+  // Face on face: a box falls flat, or rocking by up to 1e-3 rad, onto a floor whose top is a
+  // 16 x 16 grid, so that the 30-odd triangles under its face share one gap. The answer must be
+  // the floor's as one convex slab (time_of_impact on the slab) to the tolerance's time, never
+  // after the first contact (apart from the slab at 50 sampled times before it), within the
+  // tolerance at it; and the triangles under the face that cannot touch the box before the
+  // first hit are not advanced: a few times the slab's iterations, not one slab's per tie.
+  const tools::Mesh floor = tools::box_mesh(Vector3d(-1, -1, -0.1), Vector3d(1, 1, 0), 16);
+  Octree mesh;
+  ASSERT_EQ(build_octree(floor.vertices, floor.triangles, mesh), Status::Ok);
+  ConvexShape slab, tool;
+  ASSERT_EQ(shape_from_box(Box{Vector3d(0, 0, -0.05), Eigen::Matrix3d::Identity(), Vector3d(1, 1, 0.05)}, slab),
+            Status::Ok);
+  ASSERT_EQ(shape_from_box(Box{Vector3d::Zero(), Eigen::Matrix3d::Identity(), Vector3d(0.3, 0.2, 0.1)}, tool),
+            Status::Ok);
+  std::mt19937_64 rng(71);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  long mesh_iterations = 0, slab_iterations = 0;
+  const int sweeps = test::scaled(40);
+  for (int k = 0; k < sweeps; ++k) {
+    // Flat and translating; tilted and translating; rocking through flat (turning).
+    const double tilt0 = k % 3 == 0 ? 0.0 : 1e-3 * unit(rng), tilt1 = k % 3 == 2 ? -tilt0 : tilt0;
+    const double yaw = 3 * unit(rng);
+    const Vector3d from(0.4 * unit(rng), 0.4 * unit(rng), 0.4), to = from + Vector3d(0.2 * unit(rng), 0.2 * unit(rng), -0.6);
+    const Isometry3d t0 = Eigen::Translation3d(from) * Eigen::AngleAxisd(yaw, Vector3d::UnitZ()) *
+                          Eigen::AngleAxisd(tilt0, Vector3d::UnitX());
+    const Isometry3d t1 = Eigen::Translation3d(to) * Eigen::AngleAxisd(yaw, Vector3d::UnitZ()) *
+                          Eigen::AngleAxisd(tilt1, Vector3d::UnitX());
+    const double tolerance = k % 3 == 2 ? 1e-7 : 1e-11;
+    const std::string where = "sweep " + std::to_string(k);
+    TimeOfImpact toi, one;
+    ASSERT_EQ(time_of_impact(mesh, kIdentity, tool, t0, t1, toi, tolerance), Status::Ok) << where;
+    ASSERT_EQ(time_of_impact(slab, kIdentity, kIdentity, tool, t0, t1, one, tolerance), Status::Ok) << where;
+    ASSERT_TRUE(toi.hit && toi.converged && one.hit) << where;
+    EXPECT_NEAR(toi.time, one.time, 1e-6) << where;
+    EXPECT_LE(oracle(slab, kIdentity, tool, at(t0, t1, toi.time)).distance, tolerance * (1 + 1e-6)) << where;
+    for (int s = 0; s < 50; ++s)
+      ASSERT_FALSE(oracle(slab, kIdentity, tool, at(t0, t1, toi.time * s / 50)).overlap) << where << " sample " << s;
+    mesh_iterations += toi.iterations, slab_iterations += one.iterations;
+  }
+  // (Each tie advanced would cost about the slab's iterations: 30-odd times as many.)
+  EXPECT_LE(mesh_iterations, 4 * slab_iterations);
 }
 
 TEST(TimeOfImpact, BadInputAndOverlapAtTheStart) {

@@ -178,7 +178,9 @@ Status mesh_contact(const Octree& a, const Eigen::Isometry3d& pose_a, const Conv
 /// time_of_impact's advancement (never after the first contact, within the tolerance at it),
 /// and its triangle. The tool sweeps inside the capsule of its radius about its origin's
 /// segment: only the nodes and triangles that capsule reaches before the earliest hit so far
-/// are visited. Answers in the world frame; no allocation. `tolerance` 0: time_of_impact's
+/// are visited, and a triangle that a plane of the tool at that hit proves apart until then
+/// is not advanced (it cannot make the answer late; under a face resting on a face, it would
+/// only find the same time again). Answers in the world frame; no allocation. `tolerance` 0: time_of_impact's
 /// default over the tool and the mesh's box. TooFewPoints for an empty mesh or tool,
 /// InvalidPose for a pose that is not rigid, InvalidArgument for a tolerance < 0 or NaN.
 Status time_of_impact(const Octree& a, const Eigen::Isometry3d& pose_a, const ConvexShape& tool,

@@ -11,7 +11,9 @@
 // The octree is walked depth first, the soonest child on top; the triangles in reach wait in
 // a heap and get time_of_impact's advancement (query/impact.hpp) soonest first, before any
 // node that may be reached later. Whatever cannot be reached before the earliest hit so far
-// is skipped: a tool sliding on a surface advances against the few triangles under it.
+// is skipped: a tool sliding on a surface advances against the few triangles under it. So is
+// a triangle that the same planes taken at the hit's pose, bounded backwards in time, prove
+// apart until the hit: the many ties under a face resting on a face.
 #include <minksum/mesh.hpp>
 
 #include "mesh/mesh_internal.hpp"
@@ -32,76 +34,102 @@ constexpr double kNever = 2;      // an entry time past the tick
 constexpr int kSeparatingPlanes = 64;  // the tool's face planes tried as separating planes (the first)
 constexpr int kHeapTriangles = 256;    // triangles in reach waiting for their advancement
 
-// The tool's face planes at the start (n . x <= o inside), in the mesh's frame, and how fast
-// each can advance: over the tick a point of the tool moves along n by at most d . n (d: the
-// origin's displacement) plus |n x w| r (w: the turn's vector, angle times unit axis; r: the
-// farthest vertex from the axis: the turn moves a point square to the axis, by at most its arc),
-// so the tool stays inside each plane moved by t times that. What lies beyond a plane by g is
-// out of reach before g over that rate.
-struct StartPlanes {
+// The tool's face planes at one pose of the tick (n . x <= o inside), in the mesh's frame, its
+// vertices there (if no more than kSeparatingPlanes), and how fast each plane can move: over
+// the tick a point of the tool moves along n by d . n (d: the origin's displacement) give or
+// take |n x w| r (w: the turn's vector, angle times unit axis; r: the farthest vertex from the
+// axis: the turn moves a point square to the axis, by at most its arc).
+// - Forward, from the start: what lies beyond a plane by g is out of reach before g over
+//   (d . n + |n x w| r).
+// - Backward, from the pose at the earliest hit e: what lies beyond a plane there by g was
+//   beyond it at every earlier time if g > e max(0, |n x w| r - d . n), and cannot make the hit
+//   late. This settles a face resting on a face: the triangles under it share the start's gap,
+//   and the turn's term leaves their forward bounds short of the hit, but the tool was above
+//   their plane all along.
+struct ToolPlanes {
   int count = 0, corners = 0;
-  Vector3d n[kSeparatingPlanes], v[kSeparatingPlanes];  // (v: the tool's vertices, if no more)
-  double o[kSeparatingPlanes], rate[kSeparatingPlanes];
+  Vector3d n[kSeparatingPlanes], v[kSeparatingPlanes];
+  double o[kSeparatingPlanes], ahead[kSeparatingPlanes], behind[kSeparatingPlanes];
   Vector3d d, w;
-  double r = 0, slack = 0;  // slack: the tolerance and the rounding: gaps within it count as none
-  StartPlanes(const ConvexPolytope& tool, const Isometry3d& q0, const Vector3d& d, const Vector3d& w, double r,
-              double slack)
+  double r = 0, slack = 0;  // slack: gaps within it count as none
+  ToolPlanes() = default;
+  ToolPlanes(const ConvexPolytope& tool, const Isometry3d& q, const Vector3d& d, const Vector3d& w, double r,
+             double slack)
       : d(d), w(w), r(r), slack(slack) {
     if (tool.vertices.size() <= size_t(kSeparatingPlanes)) {
       corners = int(tool.vertices.size());
-      for (int i = 0; i < corners; ++i) v[i] = q0 * tool.vertices[size_t(i)];
+      for (int i = 0; i < corners; ++i) v[i] = q * tool.vertices[size_t(i)];
     }
     if (tool.flat) return;  // (a flat tool's two faces are its sides: no inside)
     count = int(std::min(tool.faces.size(), size_t(kSeparatingPlanes)));
     for (int f = 0; f < count; ++f) {
-      n[f] = q0.linear() * tool.faces[size_t(f)].normal;
-      o[f] = tool.faces[size_t(f)].offset + n[f].dot(q0.translation());
-      rate[f] = n[f].dot(d) + n[f].cross(w).norm() * r;
+      n[f] = q.linear() * tool.faces[size_t(f)].normal;
+      o[f] = tool.faces[size_t(f)].offset + n[f].dot(q.translation());
+      const double turn = n[f].cross(w).norm() * r;
+      ahead[f] = n[f].dot(d) + turn, behind[f] = turn - n[f].dot(d);
     }
   }
-  // Whether a face's plane keeps the triangle out of reach until after `limit`. The plane
-  // that did so for the last triangle is tried first: resting on a surface, one face
-  // separates almost every triangle near it.
-  bool out_of_reach(const Vector3d* t, double limit, int& last) const {
-    for (int i = 0; i < count; ++i) {
-      const int f = i == 0 ? last : i == last ? 0 : i;
-      const double g = std::min({n[f].dot(t[0]), n[f].dot(t[1]), n[f].dot(t[2])}) - o[f] - slack;
-      if (g > 0 && g > limit * rate[f]) return last = f, true;
-    }
-    return false;
+  // The triangle's gap beyond face f (less the slack).
+  double gap(int f, const Vector3d* t) const {
+    return std::min({n[f].dot(t[0]), n[f].dot(t[1]), n[f].dot(t[2])}) - o[f] - slack;
   }
-  // A lower bound of when the tool can reach the triangle (0 if none is known): over the
-  // face planes, its gap beyond one over that plane's rate; and by its own plane, the tool's
-  // vertices all on one side of it by g, approaching it at most at -d . m + |m x w| r (m: its
-  // unit normal towards them). Past the tick, kNever.
-  double reach_time(const Vector3d* t) const {
-    double best = 0;
-    for (int f = 0; f < count; ++f) {
-      const double g = std::min({n[f].dot(t[0]), n[f].dot(t[1]), n[f].dot(t[2])}) - o[f] - slack;
-      if (g > 0) best = std::max(best, g > rate[f] ? kNever : g / rate[f]);
-    }
-    Vector3d m = (t[1] - t[0]).cross(t[2] - t[0]);
+  // The triangle's own plane (unit normal m) and the tool's vertices' gap to it, g > 0 where
+  // they all lie on one side; m is turned towards them. False if unknown.
+  bool own_plane(const Vector3d* t, Vector3d& m, double& g) const {
+    m = (t[1] - t[0]).cross(t[2] - t[0]);
     const double length = m.norm();
-    if (corners == 0 || !(length > 0)) return best;
+    if (corners == 0 || !(length > 0)) return false;
     m /= length;
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     for (int i = 0; i < corners; ++i) {
       const double h = m.dot(v[i] - t[0]);
       lo = std::min(lo, h), hi = std::max(hi, h);
     }
-    const double turn = m.cross(w).norm() * r;
-    const double g = lo > slack ? lo - slack : hi < -slack ? -hi - slack : 0.0,
-                 rate = lo > slack ? turn - m.dot(d) : turn + m.dot(d);
-    return g > 0 ? std::max(best, g > rate ? kNever : g / rate) : best;
+    if (lo < -hi) m = -m, lo = -hi;
+    g = lo - slack;
+    return true;
   }
-  // The same for a node's box (centre c, half extents h), by the face planes.
+  // Forward: whether a face's plane keeps the triangle out of reach until after `limit`. The
+  // plane that did so for the last triangle is tried first: resting on a surface, one face
+  // separates almost every triangle near it.
+  bool out_of_reach(const Vector3d* t, double limit, int& last) const {
+    for (int i = 0; i < count; ++i) {
+      const int f = i == 0 ? last : i == last ? 0 : i;
+      const double g = gap(f, t);
+      if (g > 0 && g > limit * ahead[f]) return last = f, true;
+    }
+    return false;
+  }
+  // Forward: a lower bound of when the tool can reach the triangle (0 if none is known), by
+  // the face planes and by its own plane (the tool approaching it at most at
+  // |m x w| r - d . m); past the tick, kNever.
+  double reach_time(const Vector3d* t) const {
+    double best = 0;
+    const auto bound = [&](double g, double rate) { best = std::max(best, g > rate ? kNever : g / rate); };
+    for (int f = 0; f < count; ++f)
+      if (const double g = gap(f, t); g > 0) bound(g, ahead[f]);
+    Vector3d m;
+    double g;
+    if (own_plane(t, m, g) && g > 0) bound(g, m.cross(w).norm() * r - m.dot(d));
+    return best;
+  }
+  // Forward: the same for a node's box (centre c, half extents h), by the face planes.
   double reach_time(const Vector3d& c, const Vector3d& h) const {
     double best = 0;
     for (int f = 0; f < count; ++f) {
       const double g = n[f].dot(c) - n[f].cwiseAbs().dot(h) - o[f] - slack;
-      if (g > 0) best = std::max(best, g > rate[f] ? kNever : g / rate[f]);
+      if (g > 0) best = std::max(best, g > ahead[f] ? kNever : g / ahead[f]);
     }
     return best;
+  }
+  // Backward, with these planes at the pose of time e: whether the triangle was apart from the
+  // tool at every time in [0, e].
+  bool apart_until(const Vector3d* t, double e) const {
+    for (int f = 0; f < count; ++f)
+      if (const double g = gap(f, t); g > 0 && g > e * std::max(0.0, behind[f])) return true;
+    Vector3d m;
+    double g;
+    return own_plane(t, m, g) && g > 0 && g > e * std::max(0.0, m.cross(w).norm() * r + m.dot(d));
   }
 };
 
@@ -190,7 +218,10 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
   // The capsule's radius, with room for the rounding of the entry times.
   const double r = moving.radius + tolerance + 1e-12 * reach;
   const Vector3d c0 = q0.translation(), d = q1.translation() - q0.translation();
-  const StartPlanes planes(tool.polytope(), q0, d, moving.omega, moving.across, tolerance + 1e-12 * reach);
+  // Forward from the start, gaps within the tolerance count as none (a hit is coming within
+  // it); backward from the earliest hit, only the rounding's (no contact before it).
+  const ToolPlanes planes(tool.polytope(), q0, d, moving.omega, moving.across, tolerance + 1e-12 * reach);
+  ToolPlanes at_hit;
   int last_plane = 0;
   double earliest = 1;  // no hit before it (a hit's time, an unconverged stop's, or the tick's end)
   int iterations = 0;
@@ -213,13 +244,16 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
     const Entry c = heap[--waiting];
     if (c.time > earliest) return;
     const Vector3d* corners = &a.item_corners[size_t(3) * c.node];
+    if (out.hit && at_hit.apart_until(corners, earliest)) return;
     const detail::Mover still(corners, 3, Isometry3d::Identity(), Isometry3d::Identity());
     TimeOfImpact toi;
     detail::advance(still, moving, tolerance, reach, earliest, TriangleAnswers(corners, tool), toi);
     iterations += toi.iterations;
     // (The earliest hit or unconverged stop; of equal times, the first found.)
-    if ((toi.hit || !toi.converged) && (toi.time < earliest || (toi.time == earliest && !out.hit && out.converged)))
+    if ((toi.hit || !toi.converged) && (toi.time < earliest || (toi.time == earliest && !out.hit && out.converged))) {
       out = toi, out.triangle = a.items[c.node], earliest = toi.time;
+      if (out.hit) at_hit = ToolPlanes(tool.polytope(), moving.at(earliest), d, moving.omega, moving.across, 1e-12 * reach);
+    }
   };
   while (top > 0) {
     const Entry e = stack[--top];
