@@ -627,16 +627,17 @@ struct Features {
 // IEEE J. Robotics and Automation 4(2), 1988) on M = A (-) B, from the support pairs
 // (start_a[k], start_b[k]), k < start (a cold query: one pair; a coherent one: the last
 // answer's three): returns 3 with up to three vertices of A (fa) and of B (fb) whose hulls hold
-// the nearest points, 4 with the four pairs of a tetrahedron of M around the origin, or 0
-// (NaN). Its answer is a guess, rounding and all: certified_distance, certified_depth and
+// the nearest points, and the weights of its nearest point (weight, summing to 1; all 0 where
+// it has none), 4 with the four pairs of a tetrahedron of M around the origin, or 0 (NaN). Its answer is a guess, rounding and all: certified_distance, certified_depth and
 // certified_touching prove it, or the caller does the exhaustive search. M's points are scaled
 // by `scale`, a power of two near 1 / the coordinates' magnitude, so that their products
 // neither overflow nor underflow.
 template <class A, class B>
 int gjk_features(const A& a, const B& b, double scale, const int* start_a, const int* start_b, int start, int (&fa)[4],
-                 int (&fb)[4]) {
+                 int (&fb)[4], double (&weight)[3]) {
   Vector3d w[4];
   int ia[4], ib[4], n = 0;
+  double l[4] = {0, 0, 0, 0};  // the weights of the nearest point of w[0, n) (0 for a point not yet weighed)
   for (int j = 0; j < start; ++j) {
     bool repeat = false;
     for (int m = 0; m < n; ++m) repeat |= ia[m] == start_a[j] && ib[m] == start_b[j];
@@ -645,6 +646,7 @@ int gjk_features(const A& a, const B& b, double scale, const int* start_a, const
   }
   double vv = std::numeric_limits<double>::infinity();
   int best_a[3] = {}, best_b[3] = {}, best_n = 0;  // the nearest simplex so far (ties can stall)
+  double best_l[3] = {};
   for (int iter = 0; iter < 64; ++iter) {
     double lambda[4];
     if (!detail::nearest_on_simplex(w, n, lambda)) {
@@ -655,17 +657,17 @@ int gjk_features(const A& a, const B& b, double scale, const int* start_a, const
     Vector3d v = Vector3d::Zero();
     int m = 0;
     for (int j = 0; j < n; ++j)
-      if (lambda[j] > 0) v += lambda[j] * w[j], w[m] = w[j], ia[m] = ia[j], ib[m] = ib[j], ++m;
+      if (lambda[j] > 0) v += lambda[j] * w[j], w[m] = w[j], ia[m] = ia[j], ib[m] = ib[j], l[m] = lambda[j], ++m;
     if (m == 0) return 0;  // no weight left (NaN from a degenerate simplex)
     n = m;
     if (!(v.squaredNorm() < vv)) {  // no progress: rounding has the last word; the best one stands
       n = best_n;
-      std::copy(best_a, best_a + 3, ia), std::copy(best_b, best_b + 3, ib);
+      std::copy(best_a, best_a + 3, ia), std::copy(best_b, best_b + 3, ib), std::copy(best_l, best_l + 3, l);
       break;
     }
     vv = v.squaredNorm();
     best_n = n;
-    std::copy(ia, ia + 3, best_a), std::copy(ib, ib + 3, best_b);
+    std::copy(ia, ia + 3, best_a), std::copy(ib, ib + 3, best_b), std::copy(l, l + 3, best_l);
     // M's support point in -v: A's lowest vertex along v minus B's highest.
     double lo, hi;
     const int ka = highest(a, -v, lo), kb = highest(b, v, hi);
@@ -675,9 +677,10 @@ int gjk_features(const A& a, const B& b, double scale, const int* start_a, const
     bool repeat = false;
     for (int j = 0; j < n; ++j) repeat |= ia[j] == ka && ib[j] == kb;
     if (repeat || n == 4) break;
-    w[n] = scale * (a.vertex(ka) - b.vertex(kb)), ia[n] = ka, ib[n] = kb, ++n;
+    w[n] = scale * (a.vertex(ka) - b.vertex(kb)), ia[n] = ka, ib[n] = kb, l[n] = 0, ++n;
   }
   for (int j = 0; j < 3; ++j) fa[j] = ia[std::min(j, n - 1)], fb[j] = ib[std::min(j, n - 1)];
+  for (int j = 0; j < 3; ++j) weight[j] = j < n && n < 4 ? l[j] : 0.0;
   return 3;
 }
 
@@ -755,20 +758,10 @@ int feature_span(const Vector3d* s, int ns, const Vector3d* t, int nt, Vector3d 
   return rank;
 }
 
-// The distance of separated shapes from the features GJK settles on, proven: the exact nearest
-// points p, q of the features' hulls (triangle_distance, repeated vertices allowed), d = |q - p|,
-// and a unit n with A below the plane n . x = top and B above n . x = bottom: no pair of points
-// is nearer than bottom - top, so d is the distance to within d - (bottom - top), kept when
-// that is at most `slack` and d > touching + slack. The candidates for n, best first:
-// q - p made orthogonal to the directions the features span (exactly orthogonal to the nearest
-// sets when they are a face, an edge or parallel edges, where q - p alone is turned by
-// rounding / d, which a face of size L lifts L * rounding / d above its plane), q - p itself,
-// and the face normals of A and of B nearest it. Otherwise false (p, q and d are still set).
+// The planes' proof of certified_distance for a pair p on A and q on B at distance d.
 template <class A, class B>
-bool certified_distance(const A& a, const B& b, const Vector3d* s, const Vector3d* t, double slack, double touching,
-                        double tau, Vector3d& p, Vector3d& q, double& d, Proximity& out, Contact& c) {
-  const Vector3d s3[3] = {s[0], s[1], s[2]}, t3[3] = {t[0], t[1], t[2]};
-  d = triangle_distance(s3, t3, p, q);
+bool distance_by_planes(const A& a, const B& b, const Vector3d* s, const Vector3d* t, double slack, double touching,
+                        double tau, const Vector3d& p, const Vector3d& q, double d, Proximity& out, Contact& c) {
   if (!(d > touching + slack)) return false;
   const Vector3d n0 = (q - p) / d;
   // (Both sides: d below the planes' bound means p and q are not on A and B, as where
@@ -802,6 +795,33 @@ bool certified_distance(const A& a, const B& b, const Vector3d* s, const Vector3
   if (!ok) return false;
   out.distance = d, out.point_a = p, out.point_b = q;
   return true;
+}
+
+// The distance of separated shapes from the features GJK settles on, proven: the exact nearest
+// points p, q of the features' hulls (triangle_distance, repeated vertices allowed), d = |q - p|,
+// and a unit n with A below the plane n . x = top and B above n . x = bottom: no pair of points
+// is nearer than bottom - top, so d is the distance to within d - (bottom - top), kept when
+// that is at most `slack` and d > touching + slack. The candidates for n, best first:
+// q - p made orthogonal to the directions the features span (exactly orthogonal to the nearest
+// sets when they are a face, an edge or parallel edges, where q - p alone is turned by
+// rounding / d, which a face of size L lifts L * rounding / d above its plane), q - p itself,
+// and the face normals of A and of B nearest it. Otherwise false (p, q and d are still set).
+// GJK's own nearest point (its weights on s and t) is tried first: it is the features' nearest
+// pair to rounding wherever GJK converged, and costs no triangle_distance (a third of a
+// coherent query); where no plane proves it, the exact pair is.
+template <class A, class B>
+bool certified_distance(const A& a, const B& b, const Vector3d* s, const Vector3d* t, const double (&weight)[3],
+                        double slack, double touching, double tau, Vector3d& p, Vector3d& q, double& d,
+                        Proximity& out, Contact& c) {
+  if (std::abs(weight[0] + weight[1] + weight[2] - 1) <= 1e-12) {
+    p = weight[0] * s[0] + weight[1] * s[1] + weight[2] * s[2];
+    q = weight[0] * t[0] + weight[1] * t[1] + weight[2] * t[2];
+    d = length(q - p);
+    if (distance_by_planes(a, b, s, t, slack, touching, tau, p, q, d, out, c)) return true;
+  }
+  const Vector3d s3[3] = {s[0], s[1], s[2]}, t3[3] = {t[0], t[1], t[2]};
+  d = triangle_distance(s3, t3, p, q);
+  return distance_by_planes(a, b, s, t, slack, touching, tau, p, q, d, out, c);
 }
 
 // Which feature of a shape a level set is: a face, or one or two vertices (a vertex, an edge).
@@ -1226,8 +1246,8 @@ bool depth_from_faces(const A& a, const B& b, int found, const int (&fa)[4], con
 // tetrahedron around the origin), or touching (either); then the witnesses from the contact
 // frame, and the features kept for the next query. False if no certificate holds.
 template <class A, class B>
-bool certified(const A& a, const B& b, int found, const int (&fa)[4], const int (&fb)[4], const Tolerances& t,
-               Proximity& out, Features* f) {
+bool certified(const A& a, const B& b, int found, const int (&fa)[4], const int (&fb)[4], const double (&weight)[3],
+               const Tolerances& t, Proximity& out, Features* f) {
   if (found != 3 && found != 4) return false;
   Vector3d s[4], u[4];
   for (int j = 0; j < found; ++j) s[j] = a.vertex(fa[j]), u[j] = b.vertex(fb[j]);
@@ -1240,7 +1260,7 @@ bool certified(const A& a, const B& b, int found, const int (&fa)[4], const int 
   };
   if (found == 3) {
     double d;
-    ok = certified_distance(a, b, s, u, t.slack, t.touching, t.tau, p, q, d, out, c) ||
+    ok = certified_distance(a, b, s, u, weight, t.slack, t.touching, t.tau, p, q, d, out, c) ||
          (touching = certified_touching(a, b, p, q, s, u, 3, t.touching, t.tau, t.margin, out, c)) ||
          (d <= t.touching + t.slack && depth(depth_from_faces(a, b, 3, fa, fb, t, out, f)));
   } else {
@@ -1352,17 +1372,18 @@ void exact_proximity(const A& a, const B& b, Proximity& out, Want want, Features
   if (has(want, Want::MaxDistance)) farthest_pair(a, b, t.k, out);
   if (!has(want, Want::Contact)) return;
   int fa[4], fb[4];
+  double weight[3];
   const int first = 0;
-  int found = gjk_features(a, b, t.k, &first, &first, 1, fa, fb);
-  if (certified(a, b, found, fa, fb, t, out, features)) return;
+  int found = gjk_features(a, b, t.k, &first, &first, 1, fa, fb, weight);
+  if (certified(a, b, found, fa, fb, weight, t, out, features)) return;
   // Once more from the supports along the line between the first vertices: rounding stalls GJK
   // on needles and slivers from one start and not from another (a triangle 1e10 long, where
   // the search below also misjudges).
   double unused;
   const Vector3d d = b.vertex(0) - a.vertex(0);
   const int sa = highest(a, d, unused), sb = highest(b, Vector3d(-d), unused);
-  found = gjk_features(a, b, t.k, &sa, &sb, 1, fa, fb);
-  if (certified(a, b, found, fa, fb, t, out, features)) return;
+  found = gjk_features(a, b, t.k, &sa, &sb, 1, fa, fb, weight);
+  if (certified(a, b, found, fa, fb, weight, t, out, features)) return;
   if (features && (found == 3 || found == 4)) {
     std::copy(fa, fa + 3, features->a), std::copy(fb, fb + 3, features->b);
     features->valid = true;
@@ -1386,7 +1407,8 @@ bool warm_depth(const A& a, const B& b, const ProximityCache& cache, const Toler
   double unused;
   const int ka = highest(a, -n, unused), kb = highest(b, n, unused);
   int ta[4] = {cache.a[0], cache.a[1], cache.a[2], ka}, tb[4] = {cache.b[0], cache.b[1], cache.b[2], kb};
-  if (certified(a, b, 4, ta, tb, t, out, &f)) return true;
+  const double none[3] = {0, 0, 0};  // (a tetrahedron: no nearest point)
+  if (certified(a, b, 4, ta, tb, none, t, out, &f)) return true;
   out = Proximity{}, f = Features{};
   return false;
 }
@@ -1406,8 +1428,9 @@ MINKSUM_FLATTEN bool warm_proximity(const A& a, const B& b, const ProximityCache
   ok = ok || (cache.active == kDepthFacet && warm_depth(a, b, cache, t, out, f));
   if (!ok) {
     int fa[4], fb[4];
-    const int found = gjk_features(a, b, t.k, cache.a, cache.b, 3, fa, fb);
-    ok = certified(a, b, found, fa, fb, t, out, &f);
+    double weight[3];
+    const int found = gjk_features(a, b, t.k, cache.a, cache.b, 3, fa, fb, weight);
+    ok = certified(a, b, found, fa, fb, weight, t, out, &f);
   }
   // Apart or overlapping by less than 1e-9 of the coordinates (touching included), the verdict
   // rests on the touching tolerance, which the cold query may reach from other features (at
