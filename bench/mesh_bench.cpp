@@ -12,7 +12,9 @@
 // bounding-box diagonal), 99 poses: 33 intersecting, 33 apart by less than 5 % of the smaller
 // mesh's diagonal (the near band, where haptics lives), 33 farther, each pose run 3 times (its
 // fastest counts). Counters per band: median and worst us, minksum's median culled percentage;
-// bytes per triangle of each structure.
+// bytes per triangle of each structure. Two generated thin shapes, each against itself:
+// "ribbon", a twisted helical ribbon of 8,000 slivers (tools::ribbon_mesh: 25 to 1), and
+// "flattened", a closed surface of 14,160 triangles flattened to 1:200 (tools::flattened_mesh).
 //
 // PointDistance/<pair>/minksum|nanoflann: clouds sampled from the same meshes' surfaces (50K to
 // 200K points), the same banded poses; the exact closest pair of points, both structures built
@@ -53,6 +55,10 @@ const tools::Mesh& mesh(const std::string& name) {
     tools::Mesh& m = cache[name];
     if (name == "sphere_outer")
       m = tools::sphere_mesh(1.0, 40);
+    else if (name == "ribbon")
+      m = tools::ribbon_mesh(4000, 8);
+    else if (name == "flattened")
+      m = tools::flattened_mesh(60);
     else if (name == "sphere_inner")
       m = tools::sphere_mesh(0.9, 40);
     else if (name.find(".off") == std::string::npos || !tools::cgal_demo_mesh(name, m))
@@ -258,7 +264,8 @@ const int kRegistered = [] {
        {std::tuple{"bunny", "bun_zipper.ply", "bun_zipper.ply"}, std::tuple{"camel_bull", "camel.off", "bull.off"},
         std::tuple{"femur_turbine", "femur.off", "turbine.off"},
         std::tuple{"fandisk_blade", "fandisk.off", "blade.off"}, std::tuple{"blade_camel", "blade.off", "camel.off"},
-        std::tuple{"turbine_bull", "turbine.off", "bull.off"}}) {
+        std::tuple{"turbine_bull", "turbine.off", "bull.off"}, std::tuple{"ribbon", "ribbon", "ribbon"},
+        std::tuple{"flattened", "flattened", "flattened"}}) {
     const std::string base = std::string("MeshDistance/") + label + "/";
     const Scene scene{a, b, true};
     benchmark::RegisterBenchmark((base + "minksum").c_str(), Minksum, scene)

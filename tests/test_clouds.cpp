@@ -50,11 +50,18 @@ const std::vector<std::pair<std::string, std::string>> kPairs = {{"camel.off", "
 // 5 s of brute force per pose; where ../shared/data is absent, its fallback mesh).
 const std::pair<std::string, std::string> kBunny = {"bun_zipper.ply", "bun_zipper.ply"};
 
-void sweep(const std::vector<std::pair<std::string, std::string>>& pairs, int per_pair) {
+// The thin shapes, each against itself: "ribbon" (tools::ribbon_mesh) and "flattened"
+// (tools::flattened_mesh), at the benchmark's sizes (8,000 and 14,160 triangles) with `full`,
+// else at 1,600 and 1,520.
+void sweep(const std::vector<std::pair<std::string, std::string>>& pairs, int per_pair, bool full = false) {
   for (const auto& [na, nb] : pairs) {
     tools::Mesh ma, mb;
     if (na == "bun_zipper.ply") {
       ma = mb = test::test_mesh(na, 64);
+    } else if (na == "ribbon") {
+      ma = mb = tools::ribbon_mesh(full ? 4000 : 800, full ? 8 : 2);
+    } else if (na == "flattened") {
+      ma = mb = tools::flattened_mesh(full ? 60 : 20);
     } else if (!tools::cgal_demo_mesh(na, ma) || !tools::cgal_demo_mesh(nb, mb)) {
       GTEST_SKIP() << "libcgal-demo is absent";
     }
@@ -93,6 +100,12 @@ TEST(AdaptiveOctree, EqualsBruteForceOnTheBenchmarkMeshes) {
   sweep(pairs, test::scaled(6, 3));
 }
 
+const std::vector<std::pair<std::string, std::string>> kThin = {{"ribbon", "ribbon"}, {"flattened", "flattened"}};
+
+// Thin and sheet-like shapes, where an axis-aligned cube fits the surface badly at every level:
+// a twisted ribbon of slivers (25 to 1) and a closed surface flattened to 1:200.
+TEST(AdaptiveOctree, EqualsBruteForceOnThinShapes) { sweep(kThin, test::scaled(30, 6)); }
+
 // The full bunny, one pose per band and the touching ones: the full sweep's largest pair, on
 // every Release run (about 25 s). Instrumented it would take minutes: the sanitizer run leaves it
 // to the Release run, saying so.
@@ -102,13 +115,14 @@ TEST(AdaptiveOctree, FullBunnyOnePosePerBand) {
 }
 
 // The full sweep of the closing note: MINKSUM_FULL_SWEEP=1 runs 201 poses per pair of the
-// benchmark, the bunny's included (1,206 in all, plus the touching ones); without it the test is
-// skipped.
+// benchmark, the bunny's and the two thin shapes' included (1,608 in all, plus the touching ones);
+// without it the test is skipped.
 TEST(AdaptiveOctree, FullSweep) {
   if (!std::getenv("MINKSUM_FULL_SWEEP")) GTEST_SKIP() << "set MINKSUM_FULL_SWEEP=1 (about 25 minutes)";
   auto pairs = kPairs;
   pairs.insert(pairs.begin(), kBunny);
   sweep(pairs, 201);
+  sweep(kThin, 201, true);
 }
 
 // Leaves follow the local density: thin, long or flat parts do not force a global depth.

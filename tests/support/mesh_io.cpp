@@ -290,6 +290,31 @@ Mesh sphere_mesh(double radius, int rings) {
   return m;
 }
 
+Mesh ribbon_mesh(int segments, double twists) {
+  Mesh m;
+  constexpr double kRadius = 0.3, kTurns = 4, kRise = 0.1, kWidth = 0.05;
+  for (int i = 0; i <= segments; ++i) {
+    const double s = double(i) / segments, a = 2 * M_PI * kTurns * s;
+    const Eigen::Vector3d centre(kRadius * std::cos(a), kRadius * std::sin(a), kRise * kTurns * s);
+    const Eigen::Vector3d tangent =
+        Eigen::Vector3d(-kRadius * std::sin(a), kRadius * std::cos(a), kRise / (2 * M_PI)).normalized();
+    const Eigen::Vector3d out(std::cos(a), std::sin(a), 0);  // (square to the tangent)
+    const Eigen::Vector3d across = Eigen::AngleAxisd(2 * M_PI * twists * s, tangent) * out;
+    m.vertices.push_back(centre - kWidth / 2 * across), m.vertices.push_back(centre + kWidth / 2 * across);
+  }
+  for (int i = 0; i < segments; ++i) {
+    const int v = 2 * i;
+    m.triangles.push_back({v, v + 2, v + 1}), m.triangles.push_back({v + 1, v + 2, v + 3});
+  }
+  return m;
+}
+
+Mesh flattened_mesh(int rings) {
+  Mesh m = sphere_mesh(0.5, rings);
+  for (Eigen::Vector3d& v : m.vertices) v.z() /= 200;
+  return m;
+}
+
 Status build_tree(const Mesh& mesh, Octree& out) {
   return mesh.triangles.empty() ? build_octree(mesh.vertices, out) : build_octree(mesh.vertices, mesh.triangles, out);
 }

@@ -53,6 +53,15 @@ Mesh box_mesh(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, int cells);
 /// 4 rings (rings - 1) triangles.
 Mesh sphere_mesh(double radius, int rings);
 
+/// A twisted ribbon of slivers: a strip 0.05 wide wound as a helix about the z axis (radius 0.3,
+/// 4 turns, 0.1 apart), turning about its centre line `twists` times along it; `segments` steps
+/// along, two triangles each (at 4,000 steps each is 0.002 long and 0.05 across: 25 to 1).
+Mesh ribbon_mesh(int segments, double twists);
+
+/// A closed surface flattened to 1:200: sphere_mesh(0.5, rings) with z scaled by 1/200 (a lens 1
+/// across and 0.005 thick).
+Mesh flattened_mesh(int rings);
+
 /// All-pairs triangle distance (for checking mesh_distance): every pair is enumerated, a pair
 /// is skipped only if its bounding spheres are already farther apart than the best distance.
 /// A point cloud's points are zero-area triangles; two clouds: plain point-point distances.
