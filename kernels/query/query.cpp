@@ -627,8 +627,9 @@ struct Features {
 // IEEE J. Robotics and Automation 4(2), 1988) on M = A (-) B, from the support pairs
 // (start_a[k], start_b[k]), k < start (a cold query: one pair; a coherent one: the last
 // answer's three): returns 3 with up to three vertices of A (fa) and of B (fb) whose hulls hold
-// the nearest points, and the weights of its nearest point (weight, summing to 1; all 0 where
-// it has none), 4 with the four pairs of a tetrahedron of M around the origin, or 0 (NaN). Its answer is a guess, rounding and all: certified_distance, certified_depth and
+// the nearest points and the weights of its nearest point on them (summing to 1; all 0 where
+// it has none), 4 with the four pairs of a tetrahedron of M around the origin, or 0 (NaN).
+// Its answer is a guess, rounding and all: certified_distance, certified_depth and
 // certified_touching prove it, or the caller does the exhaustive search. M's points are scaled
 // by `scale`, a power of two near 1 / the coordinates' magnitude, so that their products
 // neither overflow nor underflow.
@@ -637,7 +638,8 @@ int gjk_features(const A& a, const B& b, double scale, const int* start_a, const
                  int (&fb)[4], double (&weight)[3]) {
   Vector3d w[4];
   int ia[4], ib[4], n = 0;
-  double l[4] = {0, 0, 0, 0};  // the weights of the nearest point of w[0, n) (0 for a point not yet weighed)
+  double l[4] = {0, 0, 0, 0};  // the weights of the nearest point of w[0, n) (0: not yet weighed)
+  weight[0] = weight[1] = weight[2] = 0;
   for (int j = 0; j < start; ++j) {
     bool repeat = false;
     for (int m = 0; m < n; ++m) repeat |= ia[m] == start_a[j] && ib[m] == start_b[j];
@@ -797,8 +799,8 @@ bool distance_by_planes(const A& a, const B& b, const Vector3d* s, const Vector3
   return true;
 }
 
-// The distance of separated shapes from the features GJK settles on, proven: the exact nearest
-// points p, q of the features' hulls (triangle_distance, repeated vertices allowed), d = |q - p|,
+// The distance of separated shapes from the features GJK settles on, proven: nearest points
+// p, q of the features' hulls (see below; repeated vertices allowed), d = |q - p|,
 // and a unit n with A below the plane n . x = top and B above n . x = bottom: no pair of points
 // is nearer than bottom - top, so d is the distance to within d - (bottom - top), kept when
 // that is at most `slack` and d > touching + slack. The candidates for n, best first:
@@ -806,9 +808,9 @@ bool distance_by_planes(const A& a, const B& b, const Vector3d* s, const Vector3
 // sets when they are a face, an edge or parallel edges, where q - p alone is turned by
 // rounding / d, which a face of size L lifts L * rounding / d above its plane), q - p itself,
 // and the face normals of A and of B nearest it. Otherwise false (p, q and d are still set).
-// GJK's own nearest point (its weights on s and t) is tried first: it is the features' nearest
-// pair to rounding wherever GJK converged, and costs no triangle_distance (a third of a
-// coherent query); where no plane proves it, the exact pair is.
+// The pair is GJK's own nearest point first (its weights on s and t): the features' nearest
+// pair to rounding wherever GJK converged, at no cost (triangle_distance was a third of a
+// coherent query); where no plane proves it, their exact nearest pair (triangle_distance).
 template <class A, class B>
 bool certified_distance(const A& a, const B& b, const Vector3d* s, const Vector3d* t, const double (&weight)[3],
                         double slack, double touching, double tau, Vector3d& p, Vector3d& q, double& d,
