@@ -4,6 +4,7 @@
 #include <minksum/kernels.hpp>
 #include <minksum/mesh.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <limits>
@@ -47,10 +48,11 @@ Triangle rounded(const Triangle& t) {
           t.c.cast<T>().template cast<double>()};
 }
 
-// Brute-force support of the operand pair at the kernel's own normal n, and its scale
-// (the sum of the absolute terms, which bounds the rounding error).
+// Brute-force support of the operand pair at the kernel's own normal n, its scale (the sum
+// of the absolute terms, which bounds the rounding error) and its reach (the farthest point
+// of the pair from the origin, |centre| + |half extents| or the farthest vertex, per operand).
 struct Expected {
-  double h, scale;
+  double h, scale, reach = 0;
 };
 
 // Compares one kernel plane with the reference plane. Offsets are compared with the exact
@@ -68,7 +70,10 @@ void compare(const KernelPlane& got, const KernelPlane& ref, const Expected& e, 
   }
   EXPECT_NEAR(got.normal.norm(), 1, 8 * eps) << what << " plane " << p;
   EXPECT_LE((got.normal - ref.normal).norm(), 16 * eps / cross_len) << what << " plane " << p;
-  EXPECT_LE(std::abs(got.offset - e.h), ulps * eps * e.scale)
+  // The kernel's offset belongs to its normal before the components were rounded to T, each
+  // by at most eps / 2 of the unit normal; the support moves by at most that times the reach
+  // (the support function is Lipschitz with the farthest point's norm as its constant).
+  EXPECT_LE(std::abs(got.offset - e.h), ulps * eps * e.scale + 0.5 * eps * e.reach)
       << what << " plane " << p << " offset " << got.offset << " vs " << e.h;
 }
 
@@ -106,6 +111,7 @@ void check_box_box(Isa isa, const std::vector<std::pair<Box, Box>>& pairs, bool 
         for (int d = 0; d < 3; ++d)
           e.scale += a.half_extents[d] * std::abs(got.normal.dot(a.rotation.col(d))) +
                      b.half_extents[d] * std::abs(got.normal.dot(b.rotation.col(d)));
+        e.reach = a.center.norm() + a.half_extents.norm() + b.center.norm() + b.half_extents.norm();
         compare<T>(got, ref[p], e, ulps, cross_len, ("box-box pair " + std::to_string(base + k)).c_str(), p);
         if (!got.valid || testing::Test::HasFailure()) continue;
         // Corner codes from the sign bits, complemented on the opposite side; ties skipped.
@@ -236,6 +242,7 @@ void check_box_triangle(Isa isa, const std::vector<std::pair<Box, Triangle>>& pa
           ex.scale += a.half_extents[d] * std::abs(got.normal.dot(a.rotation.col(d)));
           ex.scale += std::abs(got.normal.dot(v[d]));
         }
+        ex.reach = a.center.norm() + a.half_extents.norm() + std::max({v[0].norm(), v[1].norm(), v[2].norm()});
         compare<T>(got, ref[p], ex, ulps, cross_len, "box-triangle", p);
         if (!got.valid || testing::Test::HasFailure()) continue;
         const int code = int(out->code[p][k]);
