@@ -58,32 +58,36 @@ double diagonal(const Vector3d* pts, size_t n) {
   return (hi - lo).norm();
 }
 
+bool proper_rotation(const double* r, int stride) {
+  // Orthonormal columns x, y, z (to 1e-9: six dot products) and right-handed ((x × y) . z > 0,
+  // which is ±1 for orthonormal columns). A conjunction of comparisons, so that a NaN or Inf
+  // entry fails.
+  const double *x = r, *y = r + stride, *z = r + 2 * stride;
+  const auto dot = [](const double* u, const double* v) { return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]; };
+  const double det =
+      (x[1] * y[2] - x[2] * y[1]) * z[0] + (x[2] * y[0] - x[0] * y[2]) * z[1] + (x[0] * y[1] - x[1] * y[0]) * z[2];
+  const double tol = 1e-9;
+  return (std::abs(dot(x, x) - 1) <= tol) & (std::abs(dot(y, y) - 1) <= tol) & (std::abs(dot(z, z) - 1) <= tol) &
+         (std::abs(dot(x, y)) <= tol) & (std::abs(dot(x, z)) <= tol) & (std::abs(dot(y, z)) <= tol) & (det > 0);
+}
+
 }  // namespace detail
 
 Status check_box(const Box& box) {
   // One pass over the 15 numbers (a proximity query checks two boxes per call): finite iff
   // x * 0 == 0 for every entry (NaN and Inf give NaN), summed without a branch per entry.
   const double *c = box.center.data(), *h = box.half_extents.data(), *r = box.rotation.data();
-  double zero = 0, cmax = 0, hmax = 0;
-  for (int k = 0; k < 3; ++k) {
-    zero += 0 * c[k] + 0 * h[k] + 0 * r[k] + 0 * r[3 + k] + 0 * r[6 + k];
-    cmax = std::max(cmax, std::abs(c[k])), hmax = std::max(hmax, h[k]);
-  }
+  double zero = 0;
+  for (int k = 0; k < 3; ++k) zero += 0 * c[k] + 0 * h[k] + 0 * r[k] + 0 * r[3 + k] + 0 * r[6 + k];
   if (!(zero == 0)) return Status::NonFinite;
+  const double cmax = std::max({std::abs(c[0]), std::abs(c[1]), std::abs(c[2])});
+  const double hmax = std::max({h[0], h[1], h[2]});
   if (!(cmax <= kMaxCoordinate && hmax <= kMaxCoordinate)) return Status::OutOfRange;
   // Positive, and not so small against the box's coordinates that its corners coincide in
   // double (1e-13 relative: about 450 ulps).
   const double floor = 1e-13 * (cmax + hmax);
   if (!(h[0] > floor && h[1] > floor && h[2] > floor)) return Status::InvalidBox;
-  // A proper rotation: orthonormal columns x, y, z (to 1e-9) and a right-handed frame.
-  const auto dot = [r](int i, int j) { return r[i] * r[j] + r[i + 1] * r[j + 1] + r[i + 2] * r[j + 2]; };
-  const double worst = std::max(std::max(std::abs(dot(0, 0) - 1), std::abs(dot(3, 3) - 1)),
-                                std::max(std::max(std::abs(dot(6, 6) - 1), std::abs(dot(0, 3))),
-                                         std::max(std::abs(dot(0, 6)), std::abs(dot(3, 6)))));
-  const double det =
-      (r[1] * r[5] - r[2] * r[4]) * r[6] + (r[2] * r[3] - r[0] * r[5]) * r[7] + (r[0] * r[4] - r[1] * r[3]) * r[8];
-  if (!(worst <= 1e-9) || det < 0) return Status::InvalidBox;
-  return Status::Ok;
+  return detail::proper_rotation(r, 3) ? Status::Ok : Status::InvalidBox;
 }
 
 Status check_triangle(const Triangle& t) {
@@ -96,15 +100,14 @@ Status check_triangle(const Triangle& t) {
   return Status::Ok;
 }
 
-[[gnu::flatten]] Status check_pose(const Eigen::Isometry3d& pose) {
-  const Eigen::Matrix3d R = pose.linear();
-  const Vector3d t = pose.translation();
-  if (!R.allFinite() || !t.allFinite()) return Status::InvalidPose;
-  if (!(t.cwiseAbs().maxCoeff() <= kMaxCoordinate)) return Status::InvalidPose;
-  // A proper rotation: orthonormal columns (to 1e-9) and a right-handed frame.
-  if (!((R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <= 1e-9) || !(R.determinant() > 0))
-    return Status::InvalidPose;
-  return Status::Ok;
+Status check_pose(const Eigen::Isometry3d& pose) {
+  const double* t = pose.translation().data();
+  // (NaN and Inf fail these comparisons, and proper_rotation's.)
+  const bool placed =
+      std::abs(t[0]) <= kMaxCoordinate && std::abs(t[1]) <= kMaxCoordinate && std::abs(t[2]) <= kMaxCoordinate;
+  return placed && detail::proper_rotation(pose.linear().data(), int(pose.linear().outerStride()))
+             ? Status::Ok
+             : Status::InvalidPose;
 }
 
 }  // namespace minksum

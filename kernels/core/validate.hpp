@@ -19,4 +19,8 @@ Status check_coordinates(const Eigen::Vector3d* pts, size_t n);
 /// The diagonal of the points' bounding box (n >= 1).
 double diagonal(const Eigen::Vector3d* pts, size_t n);
 
+/// True if the 3x3 matrix whose columns start at r, r + stride and r + 2 stride is a proper
+/// rotation: orthonormal columns to 1e-9 and right-handed. NaN and Inf entries fail.
+bool proper_rotation(const double* r, int stride);
+
 }  // namespace minksum::detail

@@ -186,8 +186,8 @@ bool box_level(const Box& x, const Vector3d& m, double sign, double tau, const V
   Vector3d base = x.center;
   int free[2], nfree = 0, code = 0;
   for (int k = 0; k < 3; ++k) {
-    const double d = sign * m.dot(x.rotation.col(k));
-    if (2 * x.half_extents[k] * std::abs(d) <= tau) {
+    const double dot = m.dot(x.rotation.col(k)), d = sign * dot;
+    if (axis_across(x, k, dot, tau)) {
       if (nfree == 2) return false;
       free[nfree++] = k;
     } else {

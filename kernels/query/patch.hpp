@@ -40,6 +40,20 @@ void tidy(Patch& x, double tol);
 // The witness on A's and B's level sets P and Q (see Patch); false where they do not meet.
 bool patch_point(const Patch& P, const Patch& Q, double tol, Eigen::Vector2d& x);
 
+// Whether axis k of box x, at dot product d with a unit normal, lies across it within tau
+// (its extent along the normal is at most tau).
+inline bool axis_across(const Box& x, int k, double d, double tau) {
+  return 2 * x.half_extents[k] * std::abs(d) <= tau;
+}
+
+// The axes of box x across the unit m within tau: 0 for a corner on its level, 1 an edge,
+// 2 a face, 3 a box narrower than tau.
+inline int box_axes_across(const Box& x, const Eigen::Vector3d& m, double tau) {
+  int n = 0;
+  for (int k = 0; k < 3; ++k) n += axis_across(x, k, m.dot(x.rotation.col(k)), tau);
+  return n;
+}
+
 // A box's set on its level along the unit m (sign +1: its top, -1: its bottom) in the basis
 // (u, w), counter-clockwise and settled, with the level's height along m and, if asked, its feature in the
 // numbering of polytope_from_box. False for a box narrower than tau in every axis.

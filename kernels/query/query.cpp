@@ -813,8 +813,8 @@ bool distance_by_planes(const A& a, const B& b, const Vector3d* s, const Vector3
 // coherent query); where no plane proves it, their exact nearest pair (triangle_distance).
 template <class A, class B>
 bool certified_distance(const A& a, const B& b, const Vector3d* s, const Vector3d* t, const double (&weight)[3],
-                        double slack, double touching, double tau, Vector3d& p, Vector3d& q, double& d,
-                        Proximity& out, Contact& c) {
+                        double slack, double touching, double tau, Vector3d& p, Vector3d& q, double& d, Proximity& out,
+                        Contact& c) {
   if (std::abs(weight[0] + weight[1] + weight[2] - 1) <= 1e-12) {
     p = weight[0] * s[0] + weight[1] * s[1] + weight[2] * s[2];
     q = weight[0] * t[0] + weight[1] * t[1] + weight[2] * t[2];
@@ -1153,6 +1153,11 @@ void box_patch(const Box& a, const Box& b, Proximity& out) {
   for (int snapped = 1; snapped >= 0; --snapped) {
     if (snapped && !(align > 1 - 1e-12)) continue;
     const Vector3d m = snapped ? Vector3d(axis.normalized()) : n;
+    // (A corner on either level: the pair's witnesses are the only ones, as below, found
+    // without the levels; most poses end here.)
+    const int across_a = detail::box_axes_across(a, m, tau), across_b = detail::box_axes_across(b, m, tau);
+    if (across_a == 3 || across_b == 3) continue;
+    if (across_a == 0 || across_b == 0) return;
     const Vector3d u = m.unitOrthogonal(), w = m.cross(u);
     Patch P, Q;
     double top, bottom;
