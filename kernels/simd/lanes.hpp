@@ -49,12 +49,7 @@ struct Lanes {
   template <class M>
   static B inv_len_where(const M& ok, const B& len2, B& valid_bit, T bit) {
     valid_bit = valid_bit + S::select(ok, B(bit), B(T(0)));
-    // In double, a square root and a division: they run in the divider, beside the multiply
-    // pipes the kernels fill, where the estimate's refinement (S::rsqrt) takes six more
-    // multiplies (measured: the box-box kernel 3% faster on Zen 5). In float the wider lanes
-    // make the divider the bottleneck.
-    const B x = S::select(ok, len2, B(T(1)));
-    return S::select(ok, std::is_same_v<T, double> ? B(T(1)) / S::sqrt(x) : S::rsqrt(x), B(T(0)));
+    return S::select(ok, S::rsqrt(S::select(ok, len2, B(T(1)))), B(T(0)));
   }
   // The unit axis of c, or the zero vector (see inv_len_or_zero).
   static V3 unit_or_zero(const V3& c, const B& scale2, B& valid_bit, T bit) {
