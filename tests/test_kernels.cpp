@@ -340,6 +340,26 @@ void check_support(Isa isa) {
     support_push(x.data(), y.data(), z.data(), n, d, d + 1, d + 2, 1, &top, &at);
     EXPECT_EQ(at, 0) << "n " << n;
   }
+  // Integer vertices and directions (every product exact): the cube's corners twice over, so
+  // that every direction ties; 33 directions cover whole blocks of lanes and the leftovers.
+  std::vector<T> x, y, z, dx, dy, dz;
+  for (int copy = 0; copy < 2; ++copy)
+    for (int c = 0; c < 8; ++c)
+      x.push_back(T(c & 1 ? 1 : -1)), y.push_back(T(c & 2 ? 1 : -1)), z.push_back(T(c & 4 ? 1 : -1));
+  const int n = int(x.size()), m = 33;
+  for (int q = 0; q < m; ++q)
+    dx.push_back(T(q % 3 - 1)), dy.push_back(T(q / 3 % 3 - 1)), dz.push_back(T(q / 9 % 3 - 1));
+  std::vector<T> best(m);
+  std::vector<int> arg(m);
+  support_push(x.data(), y.data(), z.data(), n, dx.data(), dy.data(), dz.data(), m, best.data(), arg.data());
+  for (int q = 0; q < m; ++q) {
+    int first = 0;
+    for (int k = 1; k < n; ++k)
+      if (dx[q] * x[k] + dy[q] * y[k] + dz[q] * z[k] > dx[q] * x[first] + dy[q] * y[first] + dz[q] * z[first])
+        first = k;
+    EXPECT_EQ(arg[q], first) << "direction " << q;
+    EXPECT_EQ(best[q], dx[q] * x[first] + dy[q] * y[first] + dz[q] * z[first]) << "direction " << q;
+  }
 }
 
 TEST_P(Kernels, SupportPushMatchesBruteForce) {

@@ -108,6 +108,12 @@ struct Lanes {
     else
       return B::load_unaligned(p);
   }
+  static void store_u(T* p, const B& v) {
+    if constexpr (S::size == 1)
+      *p = v;
+    else
+      v.store_unaligned(p);
+  }
 };
 
 }  // namespace minksum::detail
