@@ -1,6 +1,8 @@
 // Google Benchmark runs of the SoA kernels on every supported ISA, with Qhull on the same box
-// pair as the peer: BoxBox/<isa>/<batch>, BoxTriangle/<isa>/<batch>, SupportPush/<isa>/<n>,
-// BoxBox/single, BoxBox/qhull, TopologyInstantiate/<kind>. Items are box pairs (or facets).
+// pair as the peer: IsaKernels/box_box_planes_<batch>/<precision>/<isa>,
+// IsaKernels/box_triangle_planes_<batch>/float/<isa>, IsaKernels/support_push_<n>/float/<isa>,
+// BoxBox/single, BoxBox/qhull, TopologyInstantiate/<kind>. Items are box pairs (or facets, or
+// directions).
 #include <benchmark/benchmark.h>
 #include <minksum/kernels.hpp>
 #include <minksum/sum.hpp>
@@ -9,6 +11,7 @@
 #include <random>
 
 #include "core/hull.hpp"
+#include "isa_rows.hpp"
 #include "support/shapes.hpp"
 
 namespace {
@@ -16,11 +19,10 @@ namespace {
 using namespace minksum;
 using Eigen::Vector3d;
 
-template <int N>
-void BoxBoxBatch(benchmark::State& state, Isa isa) {
-  force_isa(isa);
-  auto a = std::make_unique<BoxBatch<float, N>>(), b = std::make_unique<BoxBatch<float, N>>();
-  auto out = std::make_unique<BoxBoxPlanes<float, N>>();
+template <class T, int N>
+void BoxBoxBatch(benchmark::State& state) {
+  auto a = std::make_unique<BoxBatch<T, N>>(), b = std::make_unique<BoxBatch<T, N>>();
+  auto out = std::make_unique<BoxBoxPlanes<T, N>>();
   std::mt19937_64 rng(1);
   a->count = b->count = N;
   for (int k = 0; k < N; ++k) a->set(k, tools::random_box(rng, 5, 2)), b->set(k, tools::random_box(rng, 5, 2));
@@ -32,8 +34,7 @@ void BoxBoxBatch(benchmark::State& state, Isa isa) {
 }
 
 template <int N>
-void BoxTriangleBatch(benchmark::State& state, Isa isa) {
-  force_isa(isa);
+void BoxTriangleBatch(benchmark::State& state) {
   auto a = std::make_unique<BoxBatch<float, N>>();
   auto t = std::make_unique<TriangleBatch<float, N>>();
   auto out = std::make_unique<BoxTrianglePlanes<float, N>>();
@@ -51,8 +52,7 @@ void BoxTriangleBatch(benchmark::State& state, Isa isa) {
   state.SetItemsProcessed(state.iterations() * N);
 }
 
-void SupportPushBench(benchmark::State& state, Isa isa, int n) {
-  force_isa(isa);
+void SupportPushBench(benchmark::State& state, int n) {
   const auto pts = tools::sphere_points(n, 3), dirs = tools::sphere_points(64, 4);
   std::vector<float> x, y, z, dx, dy, dz, best(64);
   std::vector<int> arg(64);
@@ -127,18 +127,17 @@ void TopologyInstantiate(benchmark::State& state, int kind) {
 }
 
 const int kRegistered = [] {
-  for (Isa isa : {Isa::Scalar, Isa::Sse4_2, Isa::Avx2, Isa::Avx512}) {
-    if (!isa_supported(isa)) continue;
-    const std::string name = to_string(isa);
-    benchmark::RegisterBenchmark(("BoxBox/" + name + "/16").c_str(), BoxBoxBatch<16>, isa);
-    benchmark::RegisterBenchmark(("BoxBox/" + name + "/1024").c_str(), BoxBoxBatch<1024>, isa);
-    benchmark::RegisterBenchmark(("BoxBox/" + name + "/65536").c_str(), BoxBoxBatch<65536>, isa);
-    benchmark::RegisterBenchmark(("BoxTriangle/" + name + "/16").c_str(), BoxTriangleBatch<16>, isa);
-    benchmark::RegisterBenchmark(("BoxTriangle/" + name + "/1024").c_str(), BoxTriangleBatch<1024>, isa);
-    benchmark::RegisterBenchmark(("BoxTriangle/" + name + "/65536").c_str(), BoxTriangleBatch<65536>, isa);
-    for (int n : {8, 64, 512, 4096})
-      benchmark::RegisterBenchmark(("SupportPush/" + name + "/" + std::to_string(n)).c_str(), SupportPushBench, isa, n);
-  }
+  using bench::register_per_isa;
+  register_per_isa("box_box_planes_16", "float", BoxBoxBatch<float, 16>);
+  register_per_isa("box_box_planes_1024", "float", BoxBoxBatch<float, 1024>);
+  register_per_isa("box_box_planes_65536", "float", BoxBoxBatch<float, 65536>);
+  register_per_isa("box_box_planes_1024", "double", BoxBoxBatch<double, 1024>);
+  register_per_isa("box_triangle_planes_16", "float", BoxTriangleBatch<16>);
+  register_per_isa("box_triangle_planes_1024", "float", BoxTriangleBatch<1024>);
+  register_per_isa("box_triangle_planes_65536", "float", BoxTriangleBatch<65536>);
+  for (int n : {8, 64, 512, 4096})
+    register_per_isa("support_push_" + std::to_string(n), "float",
+                     [n](benchmark::State& state) { SupportPushBench(state, n); });
   benchmark::RegisterBenchmark("BoxBox/single", BoxBoxSingle);
   benchmark::RegisterBenchmark("BoxBox/qhull", BoxBoxQhull);
   benchmark::RegisterBenchmark("TopologyInstantiate/box_box", TopologyInstantiate, 0);

@@ -12,6 +12,7 @@
 //   osm_kernel_float   the same in float
 //   osm_kernel_single  minkowski_sum of two Boxes: the kernel for one pair, assembled into a
 //                  MinkowskiSum (vectors of planes, loops and vertices) and checked
+//                  (the three kernel rows on every ISA: IsaKernels/box_box_sum_*, isa_rows.hpp)
 //   qhull          libqhull_r on the |A||B| pairwise sums: merged facets (unit normal) with their
 //                  vertex loops ordered counter-clockwise (the pairwise sums are formed inside
 //                  the timed loop, as a user of the convex hull method must)
@@ -39,6 +40,7 @@
 #include "bullet_peer.hpp"
 #include "cgal_peer.hpp"
 #include "core/hull.hpp"
+#include "isa_rows.hpp"
 #include "support/shapes.hpp"
 
 namespace {
@@ -244,6 +246,9 @@ const int kRegistered = [] {
       benchmark::RegisterBenchmark((base + "osm_kernel_float").c_str(), Table1KernelBatch<float>)
           ->Unit(benchmark::kMicrosecond);
       benchmark::RegisterBenchmark((base + "osm_kernel_single").c_str(), Table1Kernel)->Unit(benchmark::kMicrosecond);
+      bench::register_per_isa("box_box_sum_32", "double", Table1KernelBatch<double>);
+      bench::register_per_isa("box_box_sum_32", "float", Table1KernelBatch<float>);
+      bench::register_per_isa("box_box_sum_single", "double", Table1Kernel);
     }
     const Prepared p = prepare(row);
     benchmark::RegisterBenchmark((base + "qhull").c_str(), HullPeer, p.A.vertices, p.B.vertices, 1.0, false)

@@ -5,7 +5,8 @@
 // (one separated and one overlapping pose of each Table 1 pair, and of two hulls of 64 and of
 // 256 points on a sphere). minksum skips the farthest pair (Want::Contact) as FCL has none,
 // except in BoxBoxDistance/minksum_with_max. Distance runs use 256 box pairs, half of them
-// overlapping; penetration runs use overlapping pairs only.
+// overlapping; penetration runs use overlapping pairs only. IsaKernels/box_box_query_single,
+// box_box_distance_1024 and triangle_distance_256 run the same bodies on every ISA.
 #include <benchmark/benchmark.h>
 #include <minksum/minksum.hpp>
 
@@ -13,6 +14,7 @@
 #include <random>
 
 #include "fcl_peer.hpp"
+#include "isa_rows.hpp"
 #include "support/shapes.hpp"
 
 namespace {
@@ -245,6 +247,13 @@ const int kRegistered = [] {
   benchmark::RegisterBenchmark("TriangleTriangleDistance/fcl_gjk", SmallDistance, true, true);
   benchmark::RegisterBenchmark("TriangleExactDistance/scalar", TriangleDistanceOnly, false);
   benchmark::RegisterBenchmark("TriangleExactDistance/batch", TriangleDistanceOnly, true);
+  // The same kernels on every ISA (the report's per-ISA table).
+  bench::register_per_isa("box_box_query_single", "double",
+                          [](benchmark::State& state) { BoxDistanceMinksum(state, Want::Contact); });
+  bench::register_per_isa("box_box_distance_1024", "float", BoxDistanceBatch<float>);
+  bench::register_per_isa("box_box_distance_1024", "double", BoxDistanceBatch<double>);
+  bench::register_per_isa("triangle_distance_256", "double",
+                          [](benchmark::State& state) { TriangleDistanceOnly(state, true); });
   const auto pairs = tools::table1_pairs();
   std::vector<int> rows = {-256, -64};  // the sphere hulls, then the Table 1 rows
   for (int row = 0; row < int(pairs.size()); ++row) rows.push_back(row);

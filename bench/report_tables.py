@@ -52,6 +52,11 @@ def speed_error(p, r):
     return p[0] == "SpeedError" and p[1:5] + [r["s_per_case"], r["max_rel_error"], r["exact_structure"]]
 
 
+def isa_kernels(p, r):
+    """The SoA kernels on every ISA (bench/isa_rows.hpp): ns per item (pair, sum or direction)."""
+    return p[0] == "IsaKernels" and [p[1], p[2], p[3], us(r) * 1e3]
+
+
 def near_parallel(p, r):
     return p[0] == "NearParallel" and [p[1], p[2], us(r), r["facets"], r["exact_facets"], r["euler_ok"],
                                        r["corrected"], r["max_rel_error"]]
@@ -106,6 +111,7 @@ TABLES = {
     "scaling": (["n", "method", "time_us", "facets", "pairs", "ns_per_facet", "ns_per_edge_or_facet"], scaling),
     "speed_error": (["set", "method", "precision", "isa", "s_per_case", "max_rel_error", "exact_structure"],
                     speed_error),
+    "isa_kernels": (["kernel", "precision", "isa", "ns_per_item"], isa_kernels),
     "near_parallel": (["k", "method", "time_us", "facets", "exact_facets", "euler_ok", "corrected",
                        "max_rel_error"], near_parallel),
     "queries": (["benchmark", "time_ns"], queries),
