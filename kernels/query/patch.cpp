@@ -179,42 +179,38 @@ bool patch_point(const Patch& P, const Patch& Q, double tol, Eigen::Vector2d& x)
   return true;
 }
 
-bool box_level(const Box& x, const Vector3d& m, double sign, double tau, const Vector3d& u, const Vector3d& w, Patch& P,
-               double& height, ContactPatch::Feature* feature) {
-  // The axes across m (within tau over the box) run free; the others sit at the side m points
-  // to: a face, an edge or a corner. Corner `code` has bit k set on axis k's + side.
-  Vector3d base = x.center;
-  int free[2], nfree = 0, code = 0;
-  for (int k = 0; k < 3; ++k) {
-    const double dot = m.dot(x.rotation.col(k)), d = sign * dot;
-    if (axis_across(x, k, dot, tau)) {
-      if (nfree == 2) return false;
-      free[nfree++] = k;
-    } else {
-      base += (d > 0 ? 1.0 : -1.0) * x.half_extents[k] * x.rotation.col(k);
-      code |= (d > 0) << k;
-    }
-  }
-  height = m.dot(base);
+void level_patch(const Box& x, const BoxLevel& L, double tau, const Vector3d& u, const Vector3d& w, Patch& P,
+                 ContactPatch::Feature* feature) {
   const auto put = [&](const Vector3d& p) { P.p[P.size++] = Eigen::Vector2d(u.dot(p), w.dot(p)); };
-  const auto edge = [&](int j) { return Vector3d(x.half_extents[free[j]] * x.rotation.col(free[j])); };
+  const auto edge = [&](int j) { return Vector3d(x.half_extents[L.free[j]] * x.rotation.col(L.free[j])); };
   using Kind = ContactPatch::Feature::Kind;
+  const Vector3d& base = L.base;
+  const int code = L.code;
   P.size = 0;
-  if (nfree == 0) {
+  if (L.nfree == 0) {
     put(base);
     if (feature) *feature = {Kind::Vertex, {code, -1}};
-  } else if (nfree == 1) {
+  } else if (L.nfree == 1) {
     put(base - edge(0)), put(base + edge(0));
-    if (feature) *feature = {Kind::Edge, {code, code | 1 << free[0]}};
+    if (feature) *feature = {Kind::Edge, {code, code | 1 << L.free[0]}};
   } else {
     put(base - edge(0) - edge(1)), put(base + edge(0) - edge(1)), put(base + edge(0) + edge(1)),
         put(base - edge(0) + edge(1));
     if (area2(P) < 0) std::reverse(P.p, P.p + 4);
-    const int fixed = 3 - free[0] - free[1];  // polytope_from_box's face 2 a + (its + side)
+    const int fixed = 3 - L.free[0] - L.free[1];  // polytope_from_box's face 2 a + (its + side)
     if (feature) *feature = {Kind::Face, {2 * fixed + (code >> fixed & 1), -1}};
   }
   // (Narrower than tau only where a free edge is: at coordinates of 1e86, or a speck of a box.)
-  if (nfree > 0 && std::min(x.half_extents[free[0]], x.half_extents[free[nfree - 1]]) * 2 <= tau) settle(P, tau);
+  if (L.nfree > 0 && std::min(x.half_extents[L.free[0]], x.half_extents[L.free[L.nfree - 1]]) * 2 <= tau)
+    settle(P, tau);
+}
+
+bool box_level(const Box& x, const Vector3d& m, double sign, double tau, const Vector3d& u, const Vector3d& w, Patch& P,
+               double& height, ContactPatch::Feature* feature) {
+  BoxLevel L;
+  if (!box_level_of(x, m, sign, tau, L)) return false;
+  height = m.dot(L.base);
+  level_patch(x, L, tau, u, w, P, feature);
   return true;
 }
 

@@ -40,23 +40,38 @@ void tidy(Patch& x, double tol);
 // The witness on A's and B's level sets P and Q (see Patch); false where they do not meet.
 bool patch_point(const Patch& P, const Patch& Q, double tol, Eigen::Vector2d& x);
 
-// Whether axis k of box x, at dot product d with a unit normal, lies across it within tau
-// (its extent along the normal is at most tau).
-inline bool axis_across(const Box& x, int k, double d, double tau) {
-  return 2 * x.half_extents[k] * std::abs(d) <= tau;
+// Where a box meets its level along a unit normal: the corner on it, or the first corner of
+// the edge or face on it (`base`, corner `code`: bit k set on axis k's + side), and the axes
+// across the normal within tau (`free`, `nfree` of them: 0 a corner, 1 an edge, 2 a face).
+struct BoxLevel {
+  Eigen::Vector3d base;
+  int free[2];
+  int nfree = 0, code = 0;
+};
+// Box x's level along the unit m (sign +1: its top, -1: its bottom) without the set itself;
+// false for a box narrower than tau in every axis.
+inline bool box_level_of(const Box& x, const Eigen::Vector3d& m, double sign, double tau, BoxLevel& L) {
+  // The axes across m (within tau over the box) run free; the others sit at the side m points
+  // to: a face, an edge or a corner. Corner `code` has bit k set on axis k's + side.
+  L.base = x.center, L.nfree = 0, L.code = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double d = sign * m.dot(x.rotation.col(k));
+    if (2 * x.half_extents[k] * std::abs(d) <= tau) {
+      if (L.nfree == 2) return false;
+      L.free[L.nfree++] = k;
+    } else {
+      L.base += (d > 0 ? 1.0 : -1.0) * x.half_extents[k] * x.rotation.col(k);
+      L.code |= (d > 0) << k;
+    }
+  }
+  return true;
 }
+// The set of box x on its level L in the basis (u, w), counter-clockwise and settled, and if
+// asked its feature in the numbering of polytope_from_box.
+void level_patch(const Box& x, const BoxLevel& L, double tau, const Eigen::Vector3d& u, const Eigen::Vector3d& w,
+                 Patch& P, ContactPatch::Feature* feature = nullptr);
 
-// The axes of box x across the unit m within tau: 0 for a corner on its level, 1 an edge,
-// 2 a face, 3 a box narrower than tau.
-inline int box_axes_across(const Box& x, const Eigen::Vector3d& m, double tau) {
-  int n = 0;
-  for (int k = 0; k < 3; ++k) n += axis_across(x, k, m.dot(x.rotation.col(k)), tau);
-  return n;
-}
-
-// A box's set on its level along the unit m (sign +1: its top, -1: its bottom) in the basis
-// (u, w), counter-clockwise and settled, with the level's height along m and, if asked, its feature in the
-// numbering of polytope_from_box. False for a box narrower than tau in every axis.
+// box_level_of, then level_patch, with the level's height along m.
 bool box_level(const Box& x, const Eigen::Vector3d& m, double sign, double tau, const Eigen::Vector3d& u,
                const Eigen::Vector3d& w, Patch& P, double& height, ContactPatch::Feature* feature = nullptr);
 

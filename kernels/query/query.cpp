@@ -1153,17 +1153,15 @@ void box_patch(const Box& a, const Box& b, Proximity& out) {
   for (int snapped = 1; snapped >= 0; --snapped) {
     if (snapped && !(align > 1 - 1e-12)) continue;
     const Vector3d m = snapped ? Vector3d(axis.normalized()) : n;
-    // (A corner on either level: the pair's witnesses are the only ones, as below, found
-    // without the levels; most poses end here.)
-    const int across_a = detail::box_axes_across(a, m, tau), across_b = detail::box_axes_across(b, m, tau);
-    if (across_a == 3 || across_b == 3) continue;
-    if (across_a == 0 || across_b == 0) return;
+    detail::BoxLevel la, lb;
+    if (!detail::box_level_of(a, m, 1.0, tau, la) || !detail::box_level_of(b, m, -1.0, tau, lb)) continue;
+    // A corner: the pair's witnesses are the only ones (most poses end here, before the sets).
+    if (la.nfree == 0 || lb.nfree == 0) return;
     const Vector3d u = m.unitOrthogonal(), w = m.cross(u);
     Patch P, Q;
-    double top, bottom;
-    if (!detail::box_level(a, m, 1.0, tau, u, w, P, top) || !detail::box_level(b, m, -1.0, tau, u, w, Q, bottom))
-      continue;
-    if (P.size == 1 || Q.size == 1) return;  // a corner: the pair's witnesses are the only ones
+    detail::level_patch(a, la, tau, u, w, P), detail::level_patch(b, lb, tau, u, w, Q);
+    if (P.size == 1 || Q.size == 1) return;  // (a speck of an edge or face, settled to a point)
+    const double top = m.dot(la.base), bottom = m.dot(lb.base);
     if (!(std::abs(bottom - top - gap) <= 64 * eps * reach)) continue;
     Eigen::Vector2d x;
     if (!patch_point(P, Q, tau, x)) return;
