@@ -14,7 +14,9 @@
 // fastest counts). Counters per band: median and worst us, minksum's median culled percentage;
 // bytes per triangle of each structure. Two generated thin shapes, each against itself:
 // "ribbon", a twisted helical ribbon of 8,000 slivers (tools::ribbon_mesh: 25 to 1), and
-// "flattened", a closed surface of 14,160 triangles flattened to 1:200 (tools::flattened_mesh).
+// "flattened", a closed surface of 14,160 triangles flattened to 1:200 (tools::flattened_mesh),
+// and "flattened_tilted", the same turned off the coordinate axes (tools::tilted): FCL's
+// oriented boxes do not care, boxes aligned with the mesh's axes do.
 //
 // PointDistance/<pair>/minksum|nanoflann: clouds sampled from the same meshes' surfaces (50K to
 // 200K points), the same banded poses; the exact closest pair of points, both structures built
@@ -59,6 +61,8 @@ const tools::Mesh& mesh(const std::string& name) {
       m = tools::ribbon_mesh(4000, 8);
     else if (name == "flattened")
       m = tools::flattened_mesh(60);
+    else if (name == "flattened_tilted")
+      m = tools::tilted(tools::flattened_mesh(60));
     else if (name == "sphere_inner")
       m = tools::sphere_mesh(0.9, 40);
     else if (name.find(".off") == std::string::npos || !tools::cgal_demo_mesh(name, m))
@@ -265,7 +269,8 @@ const int kRegistered = [] {
         std::tuple{"femur_turbine", "femur.off", "turbine.off"},
         std::tuple{"fandisk_blade", "fandisk.off", "blade.off"}, std::tuple{"blade_camel", "blade.off", "camel.off"},
         std::tuple{"turbine_bull", "turbine.off", "bull.off"}, std::tuple{"ribbon", "ribbon", "ribbon"},
-        std::tuple{"flattened", "flattened", "flattened"}}) {
+        std::tuple{"flattened", "flattened", "flattened"},
+        std::tuple{"flattened_tilted", "flattened_tilted", "flattened_tilted"}}) {
     const std::string base = std::string("MeshDistance/") + label + "/";
     const Scene scene{a, b, true};
     benchmark::RegisterBenchmark((base + "minksum").c_str(), Minksum, scene)

@@ -51,8 +51,8 @@ const std::vector<std::pair<std::string, std::string>> kPairs = {{"camel.off", "
 const std::pair<std::string, std::string> kBunny = {"bun_zipper.ply", "bun_zipper.ply"};
 
 // The thin shapes, each against itself: "ribbon" (tools::ribbon_mesh) and "flattened"
-// (tools::flattened_mesh), at the benchmark's sizes (8,000 and 14,160 triangles) with `full`,
-// else at 1,600 and 1,520.
+// (tools::flattened_mesh, and "flattened_tilted" turned off the axes), at the benchmark's sizes
+// (8,000 and 14,160 triangles) with `full`, else at 1,600 and 1,520.
 void sweep(const std::vector<std::pair<std::string, std::string>>& pairs, int per_pair, bool full = false) {
   for (const auto& [na, nb] : pairs) {
     tools::Mesh ma, mb;
@@ -62,6 +62,8 @@ void sweep(const std::vector<std::pair<std::string, std::string>>& pairs, int pe
       ma = mb = tools::ribbon_mesh(full ? 4000 : 800, full ? 8 : 2);
     } else if (na == "flattened") {
       ma = mb = tools::flattened_mesh(full ? 60 : 20);
+    } else if (na == "flattened_tilted") {
+      ma = mb = tools::tilted(tools::flattened_mesh(full ? 60 : 20));
     } else if (!tools::cgal_demo_mesh(na, ma) || !tools::cgal_demo_mesh(nb, mb)) {
       GTEST_SKIP() << "libcgal-demo is absent";
     }
@@ -100,10 +102,12 @@ TEST(AdaptiveOctree, EqualsBruteForceOnTheBenchmarkMeshes) {
   sweep(pairs, test::scaled(6, 3));
 }
 
-const std::vector<std::pair<std::string, std::string>> kThin = {{"ribbon", "ribbon"}, {"flattened", "flattened"}};
+const std::vector<std::pair<std::string, std::string>> kThin = {
+    {"ribbon", "ribbon"}, {"flattened", "flattened"}, {"flattened_tilted", "flattened_tilted"}};
 
 // Thin and sheet-like shapes, where an axis-aligned cube fits the surface badly at every level:
-// a twisted ribbon of slivers (25 to 1) and a closed surface flattened to 1:200.
+// a twisted ribbon of slivers (25 to 1) and a closed surface flattened to 1:200, along the axes
+// and tilted off them (tools::tilted).
 TEST(AdaptiveOctree, EqualsBruteForceOnThinShapes) { sweep(kThin, test::scaled(30, 6)); }
 
 // The full bunny, one pose per band and the touching ones: the full sweep's largest pair, on
@@ -115,7 +119,7 @@ TEST(AdaptiveOctree, FullBunnyOnePosePerBand) {
 }
 
 // The full sweep of the closing note: MINKSUM_FULL_SWEEP=1 runs 201 poses per pair of the
-// benchmark, the bunny's and the two thin shapes' included (1,608 in all, plus the touching ones);
+// benchmark, the bunny's and the three thin shapes' included (1,809 in all, plus the touching ones);
 // without it the test is skipped.
 TEST(AdaptiveOctree, FullSweep) {
   if (!std::getenv("MINKSUM_FULL_SWEEP")) GTEST_SKIP() << "set MINKSUM_FULL_SWEEP=1 (about 25 minutes)";

@@ -4,6 +4,8 @@
 
 #include "core/validate.hpp"
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <cmath>
 #include <array>
@@ -17,26 +19,49 @@ using Eigen::Vector3d;
 
 namespace {
 
-// The node's box (its triangles' bounding box) and its slab along the triangles' area-weighted
-// mean normal (any unit normal gives a valid slab; a flat patch a thin one). Both hold the
-// node's triangles whole, so every bound of the search holds for whole triangles.
+// The width of the node's triangles along the unit normal n: [lo, hi] of n . x over their corners.
+void slab_along(const std::vector<Vector3d>& v, const std::vector<std::array<int, 3>>& tris,
+                const std::vector<int>& list, const Vector3d& n, double& lo, double& hi) {
+  lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (int t : list)
+    for (int k : tris[t]) {
+      const double d = n.dot(v[k]);
+      lo = std::min(lo, d), hi = std::max(hi, d);
+    }
+}
+
+// The node's box (its triangles' bounding box) and its slab. The slab's normal is the
+// triangles' area-weighted mean normal (it prunes patches that face each other best), unless
+// one of two others gives a slab less than half as wide: the principal axis of their unoriented
+// normals (both sheets of a thin shell, whose oriented normals cancel) or the least-spread
+// direction of their corners (a flat strip). Any unit normal gives a valid slab; both bounds
+// hold the node's triangles whole, so every bound of the search holds for whole triangles.
 void fit_bounds(const std::vector<Vector3d>& v, const std::vector<std::array<int, 3>>& tris,
                 const std::vector<int>& list, Octree::Node& node) {
   Vector3d lo = Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo, n = Vector3d::Zero();
+  Eigen::Matrix3d sheets = Eigen::Matrix3d::Zero(), spread = Eigen::Matrix3d::Zero();
+  Vector3d mean = Vector3d::Zero();
+  for (int t : list) mean += v[tris[t][0]] + v[tris[t][1]] + v[tris[t][2]];
+  mean /= double(3 * list.size());
   for (int t : list) {
     const auto& x = tris[t];
-    for (int k : x) lo = lo.cwiseMin(v[k]), hi = hi.cwiseMax(v[k]);
-    n += (v[x[1]] - v[x[0]]).cross(v[x[2]] - v[x[0]]);
+    for (int k : x) lo = lo.cwiseMin(v[k]), hi = hi.cwiseMax(v[k]), spread += (v[k] - mean) * (v[k] - mean).transpose();
+    const Vector3d c = (v[x[1]] - v[x[0]]).cross(v[x[2]] - v[x[0]]);  // twice the area times the normal
+    n += c;
+    if (const double area = c.norm(); area > 0) sheets += c * c.transpose() / area;
   }
   node.box_center = (lo + hi) / 2;
   node.box_half = ((hi - lo) / 2).cwiseMax(0.0) * (1 + 1e-12) + Vector3d::Constant(1e-15 * (1 + node.center.norm()));
   node.normal = n.norm() > 0 ? Vector3d(n.normalized()) : Vector3d::UnitZ();
-  node.slab_lo = std::numeric_limits<double>::infinity(), node.slab_hi = -node.slab_lo;
-  for (int t : list)
-    for (int k : tris[t]) {
-      const double d = node.normal.dot(v[k]);
-      node.slab_lo = std::min(node.slab_lo, d), node.slab_hi = std::max(node.slab_hi, d);
-    }
+  slab_along(v, tris, list, node.normal, node.slab_lo, node.slab_hi);
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> shell(sheets), strip(spread);
+  for (const Vector3d& other : {Vector3d(shell.eigenvectors().col(2)), Vector3d(strip.eigenvectors().col(0))}) {
+    if (!(other.norm() > 0.5) || !other.allFinite()) continue;  // unit, when the solver succeeds
+    double other_lo, other_hi;
+    slab_along(v, tris, list, other.normalized(), other_lo, other_hi);
+    if (other_hi - other_lo < 0.5 * (node.slab_hi - node.slab_lo))
+      node.normal = other.normalized(), node.slab_lo = other_lo, node.slab_hi = other_hi;
+  }
   const double pad = 1e-12 * (std::abs(node.slab_lo) + std::abs(node.slab_hi)) + 1e-15;
   node.slab_lo -= pad, node.slab_hi += pad;
 }

@@ -315,6 +315,12 @@ Mesh flattened_mesh(int rings) {
   return m;
 }
 
+Mesh tilted(Mesh m) {
+  const Eigen::Matrix3d r = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  for (Eigen::Vector3d& v : m.vertices) v = r * v;
+  return m;
+}
+
 Status build_tree(const Mesh& mesh, Octree& out) {
   return mesh.triangles.empty() ? build_octree(mesh.vertices, out) : build_octree(mesh.vertices, mesh.triangles, out);
 }

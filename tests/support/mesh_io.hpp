@@ -62,6 +62,10 @@ Mesh ribbon_mesh(int segments, double twists);
 /// across and 0.005 thick).
 Mesh flattened_mesh(int rings);
 
+/// The mesh turned 0.7 rad about (1, 2, 3): off every coordinate axis, where boxes aligned with
+/// the mesh's axes fit a thin shape worst (its lens or ribbon no longer lies along them).
+Mesh tilted(Mesh m);
+
 /// All-pairs triangle distance (for checking mesh_distance): every pair is enumerated, a pair
 /// is skipped only if its bounding spheres are already farther apart than the best distance.
 /// A point cloud's points are zero-area triangles; two clouds: plain point-point distances.
