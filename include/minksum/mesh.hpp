@@ -28,8 +28,8 @@ struct OctreeOptions {
 struct Octree {
   /// One cube; children are contiguous and only non-empty ones are kept. Besides the cube,
   /// two bounds of the node's triangles: their box (bounding box, axis-aligned in the mesh's
-  /// frame) and their slab (between two planes of the mean normal, or of a normal that fits
-  /// them less than half as wide: both sheets of a thin shell, a flat strip).
+  /// frame) and their slab (between two planes of the mean normal, or of the principal axis of
+  /// the unoriented normals where that is under a quarter as wide: both sheets of a thin shell).
   struct Node {
     Eigen::Vector3d center = Eigen::Vector3d::Zero();      ///< cube centre (mesh frame)
     double half = 0;                                       ///< half side length
