@@ -514,7 +514,7 @@ TEST(Octree, SlabsOfAThinShellAreAsThinAsTheShell) {
   ASSERT_GT(A.depth, 2);
   for (size_t i = 0; i < A.nodes.size(); ++i)
     ASSERT_LE(A.nodes[i].slab_hi - A.nodes[i].slab_lo, 0.02 * (1 + 1e-9)) << "node " << i << " of " << A.nodes.size();
-  const Vector3d axis = Eigen::AngleAxisd(0.7, Vector3d(1, 2, 3).normalized()) * Vector3d::UnitZ();
+  const Vector3d axis = tools::tilt() * Vector3d::UnitZ();  // the lens's axis
   EXPECT_NEAR(std::abs(A.nodes[0].normal.dot(axis)), 1.0, 1e-9);  // the root holds both sheets whole
   EXPECT_LE(A.nodes[0].slab_hi - A.nodes[0].slab_lo, 0.005 * (1 + 1e-9));
 }

@@ -315,8 +315,10 @@ Mesh flattened_mesh(int rings) {
   return m;
 }
 
+Eigen::Matrix3d tilt() { return Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix(); }
+
 Mesh tilted(Mesh m) {
-  const Eigen::Matrix3d r = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  const Eigen::Matrix3d r = tilt();
   for (Eigen::Vector3d& v : m.vertices) v = r * v;
   return m;
 }

@@ -62,8 +62,11 @@ Mesh ribbon_mesh(int segments, double twists);
 /// across and 0.005 thick).
 Mesh flattened_mesh(int rings);
 
-/// The mesh turned 0.7 rad about (1, 2, 3): off every coordinate axis, where boxes aligned with
-/// the mesh's axes fit a thin shape worst (its lens or ribbon no longer lies along them).
+/// The turn of `tilted`: 0.7 rad about (1, 2, 3), off every coordinate axis.
+Eigen::Matrix3d tilt();
+
+/// The mesh turned by tilt(): boxes aligned with the mesh's axes fit a thin shape worst there
+/// (its lens or ribbon no longer lies along them).
 Mesh tilted(Mesh m);
 
 /// All-pairs triangle distance (for checking mesh_distance): every pair is enumerated, a pair
