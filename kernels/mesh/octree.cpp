@@ -53,12 +53,12 @@ void fit_bounds(const std::vector<Vector3d>& v, const std::vector<std::array<int
   node.normal = n.norm() > 0 ? Vector3d(n.normalized()) : Vector3d::UnitZ();
   slab_along(v, tris, list, node.normal, node.slab_lo, node.slab_hi);
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> shell(sheets);
-  const Vector3d axis = shell.eigenvectors().col(2);
-  if (axis.allFinite() && axis.norm() > 0.5) {  // unit, when the solver succeeds
+  const Vector3d axis = shell.eigenvectors().col(2).normalized();  // the largest eigenvalue's
+  if (shell.info() == Eigen::Success && axis.allFinite()) {
     double shell_lo, shell_hi;
-    slab_along(v, tris, list, axis.normalized(), shell_lo, shell_hi);
+    slab_along(v, tris, list, axis, shell_lo, shell_hi);
     if (shell_hi - shell_lo < 0.25 * (node.slab_hi - node.slab_lo))
-      node.normal = axis.normalized(), node.slab_lo = shell_lo, node.slab_hi = shell_hi;
+      node.normal = axis, node.slab_lo = shell_lo, node.slab_hi = shell_hi;
   }
   const double pad = 1e-12 * (std::abs(node.slab_lo) + std::abs(node.slab_hi)) + 1e-15;
   node.slab_lo -= pad, node.slab_hi += pad;
