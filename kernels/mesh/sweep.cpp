@@ -150,14 +150,19 @@ double box_entry(const Vector3d& c0, const Vector3d& d, const Vector3d& lo, cons
 }
 
 // When the segment c0 + s d first comes within r of the point c (the smaller root of
-// |c0 + s d - c| = r); kNever if it does not in [0, 1].
+// |c0 + s d - c| = r); kNever if it does not in [0, 1]. Along the unit direction u = d / |d|,
+// so that no product of two squared lengths is formed: |d|^2 (|m|^2 - r^2) overflows past
+// coordinates of 1e77, where the README accepts 1e100 (a NaN discriminant culled every
+// triangle: fuzz_query-mesh-toi-disagrees).
 double sphere_entry(const Vector3d& c0, const Vector3d& d, const Vector3d& c, double r) {
   const Vector3d m = c0 - c;
   const double cc = m.squaredNorm() - r * r;
   if (cc <= 0) return 0;
-  const double dd = d.squaredNorm(), md = m.dot(d), disc = md * md - dd * cc;
-  if (!(md < 0) || !(disc >= 0)) return kNever;
-  const double s = cc / (-md + std::sqrt(disc));  // (the smaller root, without cancellation)
+  const double length = d.norm();
+  if (!(length > 0)) return kNever;
+  const double mu = m.dot(d) / length, disc = mu * mu - cc;
+  if (!(mu < 0) || !(disc >= 0)) return kNever;
+  const double s = cc / (-mu + std::sqrt(disc)) / length;  // (the smaller root, without cancellation)
   return s <= 1 ? s : kNever;
 }
 
@@ -219,7 +224,8 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
   const double r = moving.radius + tolerance + 1e-12 * reach;
   const Vector3d c0 = q0.translation(), d = q1.translation() - q0.translation();
   // Forward from the start, gaps within the tolerance count as none (a hit is coming within
-  // it); backward from the earliest hit, only the rounding's (no contact before it).
+  // it); backward from the earliest hit, those within half of it, less rounding (no pass that
+  // close before it).
   const ToolPlanes planes(tool.polytope(), q0, d, moving.omega, moving.across, tolerance + 1e-12 * reach);
   ToolPlanes at_hit;
   int last_plane = 0;
@@ -252,7 +258,12 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
     // (The earliest hit or unconverged stop; of equal times, the first found.)
     if ((toi.hit || !toi.converged) && (toi.time < earliest || (toi.time == earliest && !out.hit && out.converged))) {
       out = toi, out.triangle = a.items[c.node], earliest = toi.time;
-      if (out.hit) at_hit = ToolPlanes(tool.polytope(), moving.at(earliest), d, moving.omega, moving.across, 1e-12 * reach);
+      // (Backward, a triangle counts as apart beyond half the tolerance, less rounding: the
+      // band's contract. A face landing flat leaves every triangle under it at the hit's
+      // gap, which the advancement closed to half the tolerance and no further.)
+      if (out.hit)
+        at_hit = ToolPlanes(tool.polytope(), moving.at(earliest), d, moving.omega, moving.across,
+                            std::max(0.5 * tolerance - 1e-12 * reach, 1e-12 * reach));
     }
   };
   while (top > 0) {
