@@ -446,3 +446,85 @@ TEST(TimeOfImpact, BadInputAndOverlapAtTheStart) {
 
 }  // namespace
 }  // namespace minksum
+
+namespace minksum {
+namespace {
+
+// The distance from x to the box [-1, 1]^3, in closed form (the band's oracle: not the library).
+double box_distance(const Vector3d& x) { return (x.cwiseAbs() - Vector3d::Ones()).cwiseMax(0.0).norm(); }
+
+// The least of box_distance along p0 + t (p1 - p0) over t in [lo, hi]: convex in t, so a
+// ternary search finds it.
+double least_distance(const Vector3d& p0, const Vector3d& p1, double lo, double hi) {
+  const auto f = [&](double t) { return box_distance(p0 + t * (p1 - p0)); };
+  for (int k = 0; k < 200 && hi - lo > 1e-15; ++k) {
+    const double a = lo + (hi - lo) / 3, b = hi - (hi - lo) / 3;
+    (f(a) < f(b) ? hi : lo) = f(a) < f(b) ? b : a;
+  }
+  return std::min({f(lo), f(hi), f(0.5 * (lo + hi))});
+}
+
+// The band's contract (TimeOfImpact): a pass closer than tolerance / 2 always hits, no later
+// than its first such moment; no hit while farther than the tolerance. Grazing translations of
+// a 1e-9 tetrahedron past the box [-1, 1]^3 by a face, an edge or a corner, each passing at
+// 0.05 ... 2 tolerances (the closest approach from the closed form above), through the convex
+// sweep and the box as a mesh. Broken before: a convex step closed gaps within the tolerance to
+// 0, stepping over passes at 0.5-0.9 of it (216 of 268 missed at 0.9).
+TEST(TimeOfImpact, TheBandHasOneContractConvexAndMesh) {
+  const double tol = 1e-3, size = 1e-9;
+  ConvexShape A, B;
+  ASSERT_EQ(shape_from_box(Box{}, A), Status::Ok);
+  ASSERT_EQ(shape_from_points({Vector3d::Zero(), Vector3d(size, 0, 0), Vector3d(0, size, 0), Vector3d(0, 0, size)}, B),
+            Status::Ok);
+  const tools::Mesh box = tools::box_mesh(-Vector3d::Ones(), Vector3d::Ones(), 4);
+  Octree mesh;
+  ASSERT_EQ(build_octree(box.vertices, box.triangles, mesh), Status::Ok);
+  std::mt19937 rng(53);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const double fractions[] = {0.05, 0.2, 0.45, 0.55, 0.9, 1.1, 2};
+  int hits_below = 0, misses_above = 0, checked = 0;
+  for (int k = 0; k < 600; ++k) {
+    const double c = fractions[k % 7];
+    // The closest point's region: a face (0), an edge (1) or a corner (2) of the box, its
+    // outward offset w (unit), and a motion square to w through the closest point.
+    const int region = k / 7 % 3;
+    Vector3d on(0.8 * u(rng), 0.8 * u(rng), 1), w = Vector3d::UnitZ();
+    if (region == 1) on.x() = 1, w = Vector3d(1 + u(rng), 0, 1 + u(rng)).normalized();
+    if (region == 2) on = Vector3d::Ones(), w = Vector3d(1.2 + u(rng), 1.2 + u(rng), 1.2 + u(rng)).normalized();
+    const Vector3d x = on + c * tol * w, d = w.cross(Vector3d(u(rng), u(rng), u(rng))).normalized() * 0.3;
+    const double t_star = 0.2 + 0.6 * (u(rng) + 1) / 2;  // where the motion passes x
+    Isometry3d p0 = kIdentity, p1 = kIdentity;
+    p0.translation() = x - t_star * d, p1.translation() = x + (1 - t_star) * d;
+    const double least = least_distance(p0.translation(), p1.translation(), 0, 1);
+    for (int kind = 0; kind < 2; ++kind) {
+      TimeOfImpact toi;
+      const Status s = kind == 0 ? time_of_impact(A, kIdentity, kIdentity, B, p0, p1, toi, tol)
+                                 : time_of_impact(mesh, kIdentity, B, p0, p1, toi, tol);
+      ASSERT_EQ(s, Status::Ok);
+      ASSERT_TRUE(toi.converged) << k;
+      ++checked;
+      const char* what = kind == 0 ? "convex" : "mesh";
+      if (least < 0.5 * tol - 2 * size) {
+        EXPECT_TRUE(toi.hit) << what << " pass " << k << " at " << least / tol << " of the tolerance: no hit";
+        hits_below += toi.hit;
+      }
+      if (least > tol + 2 * size) {
+        EXPECT_FALSE(toi.hit) << what << " pass " << k << " at " << least / tol << " of the tolerance: a hit";
+        misses_above += !toi.hit;
+      }
+      if (!toi.hit) continue;
+      const Vector3d at_hit = p0.translation() + toi.time * (p1.translation() - p0.translation());
+      EXPECT_LE(box_distance(at_hit), tol + 2 * size) << what << " pass " << k << ": a hit farther than the tolerance";
+      EXPECT_LE(toi.distance, tol) << what << " pass " << k;
+      if (toi.time > 0)
+        EXPECT_GE(least_distance(p0.translation(), p1.translation(), 0, toi.time), 0.5 * tol - 2 * size)
+            << what << " pass " << k << ": a pass within half the tolerance before the hit";
+    }
+  }
+  EXPECT_EQ(checked, 1200);
+  EXPECT_GT(hits_below, 600 / 7 * 3 * 2 - 10);  // the passes below half the tolerance, both kinds
+  EXPECT_GT(misses_above, 600 / 7 * 2 * 2 - 10);
+}
+
+}  // namespace
+}  // namespace minksum

@@ -51,7 +51,8 @@ struct ProximityCache {
   long searched = 0;     ///< answers that needed the exhaustive search (statistics)
 };
 
-/// True if p lies in the closed polytope m; stops at the first plane that separates p.
+/// True if p lies in the closed polytope m; stops at the first plane that separates p. False
+/// for an empty m (a sum that failed) and for a point with a NaN coordinate.
 bool contains(const MinkowskiSum& m, const Eigen::Vector3d& p);
 
 /// The proximity of A and B read off M = A (-) B (from minkowski_difference(a, b, m)): the
@@ -128,8 +129,10 @@ Status contact_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, cons
 void reduce_contact_patch(ContactPatch& patch);
 /// When two shapes moving within a tick first touch. Each moves from pose0 to pose1: its
 /// origin along the segment, its rotation about one axis at a constant rate. Conservative
-/// advancement with certified bounds: the reported time is never after the first contact, and
-/// the shapes lie within `tolerance` of each other then.
+/// advancement with certified bounds. The band's contract (convex pairs, a tool against a mesh,
+/// and so the haptic proxy): a motion that brings the shapes closer than tolerance / 2 always
+/// hits, at a time no later than the first such pass; a hit never comes while they are farther
+/// apart than `tolerance`; a pass whose closest approach lies between the two may hit or not.
 struct TimeOfImpact {
   bool hit = false;                                   ///< they come within the tolerance at some time in [0, 1]
   double time = 1;                                    ///< that time (0: already touching or overlapping; 1: no hit)

@@ -133,17 +133,18 @@ struct Simplex {
   }
 };
 
-// The step a gap g > 0 along the bound's direction certifies (see the top): conservative
-// advancement's g / mu and the bound's own, the longer; each aims at half the tolerance short
-// of touching, not at touching: the next query is then well apart by rounding's measure
-// (touching is where an exact query's certificates fail and it searches), and still within
-// the tolerance. 0: they never close along it.
+// The step a gap g > tolerance / 2 along the bound's direction certifies (see the top):
+// conservative advancement's g / mu and the bound's own, the longer; each closes the gap to
+// half the tolerance, never further. That is the band's contract (TimeOfImpact): over every
+// step the shapes stay at least tolerance / 2 apart, so a pass closer than that is never
+// stepped over; and the next query is well apart by rounding's measure (touching is where an
+// exact query's certificates fail and it searches). 0: they never close along it.
 double certified_step(GapBound& bound, double g, double slope, double tolerance, double t) {
   const Mover &a = bound.a, &b = bound.b;
   const double turn_a = a.omega.cross(bound.n).norm() * a.across, turn_b = b.omega.cross(bound.n).norm() * b.across;
   const double mu = (a.v - b.v).dot(bound.n) + turn_a + turn_b;
   if (!(mu > 0)) return 0;
-  const double aim = g > tolerance ? 0.5 * tolerance : 0.0, closable = g - aim;
+  const double aim = 0.5 * tolerance, closable = g - aim;
   const double step = closable / mu;
   if (a.angle == 0 && b.angle == 0) return step;
   // The parabola g + slope delta - K delta^2 / 2 lies above the bound (it follows one vertex
@@ -197,11 +198,11 @@ Status advance(const Mover& a, const Mover& b, double tolerance, double reach, d
         // the distance itself: no point moves faster than |v| + |w| r, whatever the
         // direction (Mirtich's bound).
         bound.n = (near_b - near_a) / apart, g = bound.at(0, &slope, support);
-        if (!(g > 0) && exact.normal(pa, pb, apart, bound.n)) g = bound.at(0, &slope, support);
-        if (!(g > 0)) {
+        if (!(g > 0.5 * tolerance) && exact.normal(pa, pb, apart, bound.n)) g = bound.at(0, &slope, support);
+        if (!(g > 0.5 * tolerance)) {
           const double mu = (a.v - b.v).norm() + a.omega.norm() * a.radius + b.omega.norm() * b.radius;
           if (!(mu > 0)) return Status::Ok;  // still: they stay apart
-          t += (apart - (apart > 2 * tolerance ? tolerance : 0.5 * apart)) / mu, n.setZero();
+          t += (apart - (apart > 2 * tolerance ? tolerance : 0.5 * apart)) / mu, n.setZero();  // (apart/2 > tol/2)
           if (!(t <= limit)) return Status::Ok;
           simplex.size = 0;  // (the exact query again next)
           continue;
@@ -219,7 +220,9 @@ Status advance(const Mover& a, const Mover& b, double tolerance, double reach, d
       return Status::Ok;
     }
     const bool added = simplex.add(support);  // GJK's next support point: M's along -v
-    if (!(g > 0)) {  // no step: GJK goes on at these poses (stalled: the exact query next)
+    // No step where the gap is within half the tolerance (a step would close it past the
+    // band's contract): GJK goes on at these poses (stalled: the exact query next).
+    if (!(g > 0.5 * tolerance)) {
       if (!added) simplex.size = 0;
       previous = apart;
       continue;
