@@ -38,6 +38,13 @@ int cmd_haptics(int argc, char** argv) {
       return usage_error("unknown option '" + a + "'");
     }
   }
+  // The output files are checked before the run (a minute of ticks, then a path that fails).
+  for (const std::string* path : {&png, &trace}) {
+    if (path->empty()) continue;
+    FILE* f = std::fopen(path->c_str(), "w");
+    if (!f) return usage_error((path == &png ? "--plot " : "--trace ") + *path + ": cannot write there");
+    std::fclose(f);
+  }
   // The same path twice: every tick cold, then with the caches (the loop as it runs).
   haptics::Report cold, r;
   std::string error;

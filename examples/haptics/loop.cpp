@@ -120,6 +120,7 @@ double thread_cpu_us() {
 }
 
 double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0;
   std::sort(v.begin(), v.end());
   return v[std::min(v.size() - 1, size_t(q * double(v.size())))];
 }
@@ -320,10 +321,10 @@ void tick(const Options& options, Setup& s, const Isometry3d& device, const Vect
 void summarise(Report& report) {
   report.p50_us = percentile(report.latency_us, 0.5), report.p99_us = percentile(report.latency_us, 0.99);
   report.p999_us = percentile(report.latency_us, 0.999);
-  report.max_us = *std::max_element(report.latency_us.begin(), report.latency_us.end());
+  report.max_us = percentile(report.latency_us, 1);
   report.cpu_p50_us = percentile(report.cpu_us, 0.5), report.cpu_p99_us = percentile(report.cpu_us, 0.99);
   report.cpu_p999_us = percentile(report.cpu_us, 0.999);
-  report.cpu_max_us = *std::max_element(report.cpu_us.begin(), report.cpu_us.end());
+  report.cpu_max_us = percentile(report.cpu_us, 1);
 }
 
 }  // namespace
@@ -332,6 +333,9 @@ bool run(const Options& options, long (*allocations)(), Report& report, std::str
   report = Report{};
   if (!(options.seconds > 0) || !(options.rate > 0) || options.seconds * options.rate > 1e8)
     return error = "--seconds and --rate must be positive (at most 1e8 ticks)", false;
+  if (std::llround(options.seconds * options.rate) < 1)  // (no tick: no latency to report)
+    return error = "--seconds " + std::to_string(options.seconds) + " at --rate " + std::to_string(options.rate) +
+                   " Hz is less than one tick", false;
   Setup s;
   if (!set_up(options, s, report, error)) return false;
   const long n = long(std::llround(options.seconds * options.rate));
