@@ -18,7 +18,7 @@ enum class Status {
   InvalidBox,        ///< a box half extent is <= 0 or its rotation is not a rotation
   DegenerateResult,  ///< the sum is flat (two coplanar flat operands): not a solid
   HullFailed,        ///< Qhull reported an error on input that passed validation
-  OutOfRange,        ///< a coordinate's magnitude exceeds kMaxCoordinate
+  OutOfRange,        ///< a coordinate's magnitude exceeds kMaxCoordinate, or a shape is under kMinExtent across
   InvalidPose,       ///< a pose that is not a finite rigid motion (scale, shear, reflection, NaN)
   InvalidArgument,   ///< a number outside its documented range (a negative or NaN margin)
   CapacityExceeded,  ///< a result larger than its fixed capacity (a contact patch's 128 points)
@@ -27,6 +27,9 @@ enum class Status {
 /// Largest coordinate magnitude accepted: products of three stay finite in double, so the
 /// exact predicates and the distances never meet an overflow.
 constexpr double kMaxCoordinate = 1e100;
+/// Smallest extent (bounding-box diagonal) of a shape built from points or a mesh: squares and
+/// cubes of its lengths stay normal doubles, so no test of its shape underflows to zero.
+constexpr double kMinExtent = 1e-100;
 
 /// Human-readable one-line description of a status.
 const char* to_string(Status s);

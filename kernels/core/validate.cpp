@@ -17,7 +17,7 @@ const char* to_string(Status s) {
     case Status::NonFinite:
       return "a coordinate is NaN or Inf";
     case Status::OutOfRange:
-      return "a coordinate's magnitude exceeds 1e100";
+      return "a coordinate's magnitude exceeds 1e100, or the shape is under 1e-100 across (its products would overflow or underflow)";
     case Status::TooFewPoints:
       return "fewer than 3 distinct points";
     case Status::Collinear:
@@ -33,9 +33,9 @@ const char* to_string(Status s) {
     case Status::HullFailed:
       return "the convex hull (Qhull) failed";
     case Status::InvalidPose:
-      return "the pose is not a finite rigid motion (a proper rotation and a translation)";
+      return "the pose is not a rigid motion (a proper rotation, and a finite translation within 1e100)";
     case Status::InvalidArgument:
-      return "a number is outside its documented range (a negative or NaN margin)";
+      return "a number is outside its documented range (a contact margin or a time-of-impact tolerance that is negative, NaN or infinite)";
     case Status::CapacityExceeded:
       return "the result exceeds its fixed capacity";
   }

@@ -113,8 +113,9 @@ void farthest(const MinkowskiSum& m, const ConvexPolytope& a, const ConvexPolyto
 }  // namespace
 
 bool contains(const MinkowskiSum& m, const Vector3d& p) {
+  if (m.planes.empty()) return false;  // (a failed sum is empty: nothing lies in it)
   for (const auto& plane : m.planes)
-    if (plane.normal.dot(p) > plane.offset) return false;
+    if (!(plane.normal.dot(p) <= plane.offset)) return false;  // (a NaN point is in nothing)
   return true;
 }
 

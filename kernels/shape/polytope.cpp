@@ -9,6 +9,7 @@
 #include "core/hull.hpp"
 #include "core/manifold.hpp"
 #include "core/predicates.hpp"
+#include "core/scale.hpp"
 #include "core/validate.hpp"
 
 namespace minksum {
@@ -82,32 +83,38 @@ Status polytope_from_points(const std::vector<Vector3d>& points, ConvexPolytope&
 
   std::vector<Vector3d> pts;
   for (int id : unique_ids) pts.push_back(points[id]);
-  const double D = diagonal(pts);
+  if (!(diagonal(pts) >= kMinExtent)) return Status::OutOfRange;  // (1e-200 across: every cross product is 0)
+  // The shape tests and Qhull see the points scaled by a power of two to about 1 across (exact):
+  // Qhull's determinants overflow from coordinates of about 1e77, where 1e100 is accepted.
+  const double unit = detail::scale_to_one(diagonal(pts));
+  std::vector<Vector3d> scaled;
+  for (const Vector3d& p : pts) scaled.push_back(unit * p);
+  const double D = diagonal(scaled);
   // Two far-apart points, then the point farthest from their line, then from their plane.
   auto farthest = [&](auto dist) {
     int best = 0;
-    for (int k = 1; k < int(pts.size()); ++k)
-      if (dist(pts[k]) > dist(pts[best])) best = k;
+    for (int k = 1; k < int(scaled.size()); ++k)
+      if (dist(scaled[k]) > dist(scaled[best])) best = k;
     return best;
   };
-  const int p1 = farthest([&](const Vector3d& p) { return (p - pts[0]).squaredNorm(); });
-  const Vector3d axis = (pts[p1] - pts[0]).normalized();
-  auto line_dist = [&](const Vector3d& p) { return (p - pts[0]).cross(axis).norm(); };
+  const int p1 = farthest([&](const Vector3d& p) { return (p - scaled[0]).squaredNorm(); });
+  const Vector3d axis = (scaled[p1] - scaled[0]).normalized();
+  auto line_dist = [&](const Vector3d& p) { return (p - scaled[0]).cross(axis).norm(); };
   const int p2 = farthest(line_dist);
-  if (line_dist(pts[p2]) <= kLineTol * D) return Status::Collinear;
-  const Vector3d n = axis.cross(pts[p2] - pts[0]).normalized();
-  auto plane_dist = [&](const Vector3d& p) { return std::abs(n.dot(p - pts[0])); };
-  if (plane_dist(pts[farthest(plane_dist)]) <= kFlatTol * D) {
-    std::vector<int> all(pts.size());
-    for (int k = 0; k < int(pts.size()); ++k) all[k] = k;
-    std::vector<int> loop = detail::planar_hull(pts, all, n, kLineTol * D * D);
+  if (line_dist(scaled[p2]) <= kLineTol * D) return Status::Collinear;
+  const Vector3d n = axis.cross(scaled[p2] - scaled[0]).normalized();
+  auto plane_dist = [&](const Vector3d& p) { return std::abs(n.dot(p - scaled[0])); };
+  if (plane_dist(scaled[farthest(plane_dist)]) <= kFlatTol * D) {
+    std::vector<int> all(scaled.size());
+    for (int k = 0; k < int(scaled.size()); ++k) all[k] = k;
+    std::vector<int> loop = detail::planar_hull(scaled, all, n, kLineTol * D * D);
     if (loop.size() < 3) return Status::Collinear;
     for (int& id : loop) id = unique_ids[id];
     return make_flat(points, loop, n, out);
   }
 
   std::vector<detail::HullFacet> facets;
-  if (!detail::qhull_facets(pts, facets)) return Status::HullFailed;
+  if (!detail::qhull_facets(scaled, facets)) return Status::HullFailed;
   std::map<int, int> remap;  // index into pts -> vertex index, in input order
   for (const auto& f : facets)
     for (int id : f.loop) remap.emplace(id, 0);
@@ -136,6 +143,7 @@ Status polytope_from_mesh(const std::vector<Vector3d>& vertices, const std::vect
   if (const Status s = check_coordinates(vertices); s != Status::Ok) return s;
   if (vertices.size() < 4 || faces.size() < 4) return Status::InvalidMesh;
   const double D = diagonal(vertices);
+  if (!(D >= kMinExtent)) return Status::OutOfRange;  // (its normals would underflow to zero)
   const double tol = 1e-9 * D;
   std::vector<bool> used(vertices.size(), false);
   Vector3d centroid = Vector3d::Zero();
