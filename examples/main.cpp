@@ -49,6 +49,12 @@ bool parse_pose(const std::string& text, const std::string& what, Eigen::Isometr
   Eigen::Matrix3d rotation;
   if (!parse_numbers(text, what, "qw qx qy qz tx ty tz", 7, v, error)) return false;
   if (!unit_quaternion(&v[0], rotation, error)) return error = what + ": " + error, false;
+  for (int k = 4; k < 7; ++k)
+    if (!(std::abs(v[k]) <= kMaxCoordinate)) {
+      char text[120];
+      std::snprintf(text, sizeof text, ": the translation %.17g exceeds the 1e100 the library accepts", v[k]);
+      return error = what + text, false;
+    }
   pose = Eigen::Isometry3d::Identity();
   pose.linear() = rotation, pose.translation() = Eigen::Vector3d(v[4], v[5], v[6]);
   return true;
@@ -103,10 +109,12 @@ const char* kHelp =
     "      octrees; the pose places B in A's frame (default: B shifted along +x by 1.1 x A's\n"
     "      width); --poses reads one pose per line and prints one JSON line each (--coherent:\n"
     "      each search seeded by the last answer, the same distances); --brute checks by all\n"
-    "      pairs. No meshes: two bunnies (../shared/data, else libcgal-demo).\n"
+    "      pairs. No meshes: two bunnies (../shared/data beside the source tree, else a generated\n"
+    "      mesh of the same size).\n"
     "  haptics [--tool box|icosa|MESH] [--scene MESH|bunny_full|sheet] [--seconds S] [--rate HZ]\n"
     "          [--press MM] [--speed M/S] [--realtime] [--plot out.png] [--trace out.csv] [--json]\n"
     "      A 1 kHz 6-DOF haptic loop: a device approaches, presses MM (default 2) into and slides\n"
+    "      (--tool MESH: the mesh's convex hull, centred and scaled to 30 mm across, is the tool)\n"
     "      turning over the scene mesh (--speed: plunges straight down at that speed); a proxy\n"
     "      swept by time of impact stays out of the scene, and the contact patch at it gives\n"
     "      force and torque. Run twice on the same path: cold, then with each tick's mesh\n"
@@ -141,7 +149,14 @@ bool load(const std::string& path, ConvexShape& p) {
   }
   const Status s = shape_from_points(pts, p);
   if (s != Status::Ok) {
-    std::fprintf(stderr, "minksum: %s: %s\n", path.c_str(), to_string(s));
+    // OutOfRange within the coordinates' range: the shape is too small, not too large.
+    bool large = false;
+    for (const auto& x : pts) large = large || !(x.cwiseAbs().maxCoeff() <= kMaxCoordinate);
+    if (s == Status::OutOfRange && !large)
+      std::fprintf(stderr, "minksum: %s: the shape is under 1e-100 across, too small for double precision\n",
+                   path.c_str());
+    else
+      std::fprintf(stderr, "minksum: %s: %s\n", path.c_str(), to_string(s));
     return false;
   }
   return true;
@@ -268,6 +283,7 @@ int cmd_query(int argc, char** argv) {
       std::vector<double> v;
       if (k + 1 >= argc) return usage_error("--patch needs a value");
       if (!cli::parse_numbers(argv[++k], "--patch", "margin", 1, v, error)) return usage_error(error);
+      if (!(v[0] >= 0)) return usage_error("--patch: the margin " + std::string(argv[k]) + " is negative (it must be >= 0)");
       with_patch = true, margin = v[0];
     } else if (a.rfind("--", 0) == 0) {
       return usage_error("unknown option '" + a + "'");
@@ -488,14 +504,23 @@ int cmd_demo() {
 int main(int argc, char** argv) {
   if (argc < 2) return usage_error("no command");
   const std::string cmd = argv[1];
-  if (cmd == "--help" || cmd == "-h" || cmd == "help") {
+  // --help anywhere (minksum sum --help) prints the help; demo, --version and --help take
+  // nothing more.
+  for (int k = 1; k < argc; ++k)
+    if (!std::strcmp(argv[k], "--help") || !std::strcmp(argv[k], "-h")) {
+      std::fputs(kHelp, stdout);
+      return 0;
+    }
+  if ((cmd == "demo" || cmd == "--version" || cmd == "help") && argc > 2)
+    return usage_error(cmd + " takes no arguments ('" + argv[2] + "' given)");
+  if (cmd == "help") {
     std::fputs(kHelp, stdout);
     return 0;
   }
   if (cmd == "--version") {
     // Every ISA is compiled on x86-64; the active one is chosen once at start-up
     // (MINKSUM_ISA=scalar|sse4_2|avx2|avx512 forces one the CPU supports).
-    std::printf("minksum 0.1.0\ncompiled ISAs: scalar sse4_2 avx2 avx512\nsupported ISAs:");
+    std::printf("minksum " MINKSUM_VERSION_STRING "\ncompiled ISAs: scalar sse4_2 avx2 avx512\nsupported ISAs:");
     for (Isa isa : {Isa::Scalar, Isa::Sse4_2, Isa::Avx2, Isa::Avx512})
       if (isa_supported(isa)) std::printf(" %s", to_string(isa));
     std::printf("\nactive ISA: %s\n", to_string(active_isa()));

@@ -318,18 +318,7 @@ tools::Mesh test_mesh(const std::string& name, int fallback_rings) {
   tools::Mesh m;
   std::string error;
   if (std::filesystem::exists(path) && tools::read_mesh(path.string(), m, error)) return m;
-  const int n = fallback_rings;  // n rings of 2n quads: 4 n^2 triangles
-  for (int i = 0; i <= n; ++i)
-    for (int j = 0; j < 2 * n; ++j) {
-      const double th = M_PI * i / n, ph = M_PI * j / n, r = 0.08 * (1 + 0.2 * std::sin(5 * th) * std::cos(3 * ph));
-      m.vertices.emplace_back(r * std::sin(th) * std::cos(ph), r * std::sin(th) * std::sin(ph), r * std::cos(th));
-    }
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < 2 * n; ++j) {
-      const int a = i * 2 * n + j, b = i * 2 * n + (j + 1) % (2 * n), c = a + 2 * n, d = b + 2 * n;
-      m.triangles.push_back({a, b, d}), m.triangles.push_back({a, d, c});
-    }
-  return m;
+  return tools::bumpy_sphere(fallback_rings);
 }
 
 Eigen::Isometry3d random_pose(std::mt19937_64& rng, double reach) {

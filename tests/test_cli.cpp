@@ -222,6 +222,40 @@ TEST(Cli, BadInputGetsExitCodeTwoAndOneLine) {
   expect_rejected("sum " + cube + " " + cube + " --out " + (scratch() / "m.stl").string(), "extension");
 }
 
+std::string cube_off(const std::string& name, const std::string& bad_vertex, int bad_index);
+
+// Each line names the flag or the file and the real problem (issue "Trust, part 2"): sizes
+// out of double's range either way, a directory, a pose out of range, a negative margin, a plot
+// path that cannot be written (checked before the run), extra words, and a run of no tick.
+TEST(Cli, MessagesNameTheFlagOrFileAndTheRealProblem) {
+  const std::string cube = write_points("mcube", tools::cube_points(), 0);
+  const std::string tiny = write("tiny.txt", "0 0 0\n1e-200 0 0\n0 1e-200 0\n0 0 1e-200\n");
+  expect_rejected("sum " + tiny + " " + cube, "tiny.txt: the shape is under 1e-100 across");
+  expect_rejected("sum " + scratch().string() + " " + cube, ": is a directory, not a file");
+  expect_rejected("distance " + cube_off("dcube.off", "", -1) + " " + scratch().string(), ": is a directory, not a file");
+  expect_rejected("query " + cube + " " + cube + " --pose-b \"1 0 0 0 1e300 0 0\"",
+                  "--pose-b: the translation 1.0000000000000001e+300 exceeds the 1e100");
+  expect_rejected("sum " + cube + " " + cube + " --pose-b \"1 0 0 0 0 0 -2e100\"", "--pose-b: the translation");
+  expect_rejected("query " + cube + " " + cube + " --patch -1", "--patch: the margin -1 is negative");
+  expect_rejected("haptics --seconds 1 --plot /nonexistent/x.png", "--plot /nonexistent/x.png: cannot write");
+  expect_rejected("haptics --seconds 1 --trace /nonexistent/x.csv", "--trace /nonexistent/x.csv: cannot write");
+  expect_rejected("haptics --seconds 0.0001", "less than one tick");
+  expect_rejected("haptics --seconds 1 --rate 0.01", "less than one tick");
+  expect_rejected("demo extra", "demo takes no arguments ('extra' given)");
+  expect_rejected("--version extra", "--version takes no arguments ('extra' given)");
+  // A tetrahedron of edge 1e80 is within the documented range (1e100): it is summed.
+  const std::string huge = write("huge.txt", "0 0 0\n1e80 0 0\n0 1e80 0\n0 0 1e80\n");
+  const CliRun big = run("sum " + huge + " " + huge);
+  EXPECT_EQ(big.code, 0) << big.err;
+  EXPECT_NE(big.out.find("V=4 E=6 F=4, Euler holds"), std::string::npos) << big.out;
+  // --help after a command prints the help.
+  for (const char* args : {"sum --help", "query -h", "haptics --seconds 1 --help"}) {
+    const CliRun r = run(args);
+    EXPECT_EQ(r.code, 0) << args;
+    EXPECT_NE(r.out.find("usage: minksum"), std::string::npos) << args;
+  }
+}
+
 TEST(Cli, HelpListsTheCommands) {
   const CliRun r = run("--help");
   EXPECT_EQ(r.code, 0);

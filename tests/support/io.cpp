@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -401,7 +402,14 @@ bool read_polygons(std::istream& in, const std::string& name, std::string format
   return true;
 }
 
+bool readable_file(const std::string& path, std::string& error) {
+  std::error_code code;
+  if (std::filesystem::is_directory(path, code)) return error = path + ": is a directory, not a file", false;
+  return true;
+}
+
 bool read_points(const std::string& path, std::vector<Vector3d>& points, std::string& error) {
+  if (!readable_file(path, error)) return false;  // (a directory opens, then reads as empty)
   std::ifstream in(path, std::ios::binary);
   return read_polygons(in, path, lower_extension(path), points, nullptr, error);
 }

@@ -10,6 +10,9 @@
 
 namespace minksum::tools {
 
+/// False with "path: is a directory, not a file" for a directory (which opens, then reads as empty).
+bool readable_file(const std::string& path, std::string& error);
+
 /// Reads the vertices of an OFF, OBJ, PLY or plain "x y z" text file (by its extension, else
 /// by its content), checking its faces too: read_polygons on the file.
 bool read_points(const std::string& path, std::vector<Eigen::Vector3d>& points, std::string& error);

@@ -89,6 +89,7 @@ bool read_mesh(const std::string& path, Mesh& mesh, std::string& error, bool clo
   // 5.2.5 crashes, hangs or aborts on some malformed OFF and PLY files (found by fuzzing) and
   // gives no line numbers. STL goes to assimp once it is shaped like an STL file.
   mesh = Mesh{};
+  if (!readable_file(path, error)) return false;
   std::string ext = std::filesystem::path(path).extension().string();
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
   std::ifstream in(path, std::ios::binary);
@@ -168,26 +169,6 @@ bool read_demo_archive(const std::string& name, Mesh& mesh) {
   return tar_member(kDemoArchive, "data/meshes/" + name, text) && (stream.str(text), true) && !ext.empty() &&
          read_polygons(stream, kDemoArchive, ext.substr(1), mesh.vertices, &mesh.triangles, error) &&
          !mesh.triangles.empty();
-}
-
-// A torus of 48 x 24 quads (2,304 triangles), radii 1 and 0.35.
-Mesh torus() {
-  Mesh m;
-  const int nu = 48, nv = 24;
-  for (int i = 0; i < nu; ++i)
-    for (int j = 0; j < nv; ++j) {
-      const double u = 2 * M_PI * i / nu, v = 2 * M_PI * j / nv;
-      m.vertices.emplace_back((1 + 0.35 * std::cos(v)) * std::cos(u), (1 + 0.35 * std::cos(v)) * std::sin(u),
-                              0.35 * std::sin(v));
-    }
-  for (int i = 0; i < nu; ++i)
-    for (int j = 0; j < nv; ++j) {
-      const int a = i * nv + j, b = (i + 1) % nu * nv + j, c = (i + 1) % nu * nv + (j + 1) % nv,
-                d = i * nv + (j + 1) % nv;
-      m.triangles.push_back({a, b, c});
-      m.triangles.push_back({a, c, d});
-    }
-  return m;
 }
 
 }  // namespace
@@ -413,26 +394,38 @@ MeshDistance brute_distance(const Mesh& a_in, const Mesh& b_in, const Eigen::Iso
   return out;
 }
 
+Mesh bumpy_sphere(int rings) {
+  Mesh m;
+  const int n = rings;  // n rings of 2n quads: 4 n^2 triangles
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j < 2 * n; ++j) {
+      const double th = M_PI * i / n, ph = M_PI * j / n, r = 0.08 * (1 + 0.2 * std::sin(5 * th) * std::cos(3 * ph));
+      m.vertices.emplace_back(r * std::sin(th) * std::cos(ph), r * std::sin(th) * std::sin(ph), r * std::cos(th));
+    }
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < 2 * n; ++j) {
+      const int a = i * 2 * n + j, b = i * 2 * n + (j + 1) % (2 * n), c = a + 2 * n, d = b + 2 * n;
+      m.triangles.push_back({a, b, d}), m.triangles.push_back({a, d, c});
+    }
+  return m;
+}
+
 Mesh demo_mesh(const std::string& name, std::string& source) {
   Mesh mesh;
   std::string error;
   namespace fs = std::filesystem;
-  for (fs::path dir = fs::current_path();; dir = dir.parent_path()) {
-    const fs::path candidate = dir / "shared" / "data" / name;
-    const fs::path sibling = dir / ".." / "shared" / "data" / name;
-    for (const fs::path& p : {candidate, sibling})
-      if (fs::exists(p) && read_mesh(p.string(), mesh, error)) {
-        source = fs::weakly_canonical(p).string();
-        return mesh;
-      }
-    if (dir == dir.root_path() || dir.empty()) break;
-  }
-  if (read_demo_archive("bunny00.off", mesh)) {
-    source = std::string(kDemoArchive) + ":data/meshes/bunny00.off";
+  const fs::path shared = fs::path(MINKSUM_SHARED_DATA) / name;  // (not searched from the working directory)
+  if (fs::exists(shared) && read_mesh(shared.string(), mesh, error)) {
+    source = fs::weakly_canonical(shared).string();
     return mesh;
   }
-  source = "generated torus (no ../shared/data, no libcgal-demo)";
-  return torus();
+  // Else a generated mesh of the named bunny's size (as many triangles, as wide), so that what
+  // runs on it costs what it was written to cost.
+  const int triangles = name == "bun_zipper.ply" ? 69451 : name == "bun_zipper_res2.ply" ? 16301
+                        : name == "bun_zipper_res3.ply" ? 3851 : 948;
+  const int rings = int(std::lround(std::sqrt(triangles / 4.0)));
+  source = "a generated bumpy sphere of " + std::to_string(4 * rings * rings) + " triangles (no " + shared.string() + ")";
+  return bumpy_sphere(rings);
 }
 
 }  // namespace minksum::tools

@@ -26,10 +26,13 @@ Status build_tree(const Mesh& mesh, Octree& out);
 /// `count` points on the mesh's surface, uniform by area (seeded).
 std::vector<Eigen::Vector3d> sample_surface(const Mesh& mesh, int count, unsigned seed);
 
-/// The demo mesh: `name` in ../shared/data (searched from the working directory up), else
-/// data/meshes/bunny00.off from Debian's libcgal-demo (its data.tar.gz), else a generated
-/// torus. `source` says which one was used.
+/// The demo mesh: `name` (a Stanford bunny) in ../shared/data beside the source tree, wherever
+/// it is run from; else a generated bumpy sphere with as many triangles as that bunny (0.19
+/// across), never a larger mesh. `source` says which one was used.
 Mesh demo_mesh(const std::string& name, std::string& source);
+
+/// A bumpy sphere 0.19 across: `rings` rings of 2 `rings` quads, 4 rings^2 triangles.
+Mesh bumpy_sphere(int rings);
 
 /// A mesh of Debian's libcgal-demo, data/meshes/`name` in its data.tar.gz (e.g. "camel.off"),
 /// moved and scaled so that its bounding box is centred at the origin with diagonal 1; false if
