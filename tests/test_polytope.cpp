@@ -179,3 +179,32 @@ TEST(Status, EveryStatusHasAMessage) {
 
 }  // namespace
 }  // namespace minksum
+
+namespace minksum {
+namespace {
+
+// Sizes at both ends of double's range get the status that names them: a tetrahedron 1e-200
+// across is OutOfRange (it was "collinear": its cross products underflow), one of edge 1e80 is
+// built (Qhull failed on it; the README accepts 1e100); a failed (empty) sum contains nothing.
+TEST(Polytope, SizesAtTheEndsOfTheRange) {
+  const auto tetra = [](double s) {
+    return std::vector<Eigen::Vector3d>{{0, 0, 0}, {s, 0, 0}, {0, s, 0}, {0, 0, s}};
+  };
+  ConvexPolytope p;
+  EXPECT_EQ(polytope_from_points(tetra(1e-200), p), Status::OutOfRange);
+  EXPECT_EQ(polytope_from_points(tetra(1e-99), p), Status::Ok);
+  ASSERT_EQ(polytope_from_points(tetra(1e80), p), Status::Ok);
+  EXPECT_EQ(p.vertices.size(), 4u);
+  EXPECT_EQ(p.faces.size(), 4u);
+  MinkowskiSum m;
+  ASSERT_EQ(minkowski_sum(p, p, m), Status::Ok);
+  EXPECT_TRUE(m.euler_ok);
+  EXPECT_TRUE(contains(m, Eigen::Vector3d(1e79, 1e79, 1e79)));
+  EXPECT_FALSE(contains(MinkowskiSum{}, Eigen::Vector3d::Zero()));
+  EXPECT_FALSE(contains(m, Eigen::Vector3d(NAN, 0, 0)));
+  EXPECT_NE(std::string(to_string(Status::InvalidArgument)).find("tolerance"), std::string::npos);
+  EXPECT_NE(std::string(to_string(Status::OutOfRange)).find("1e-100"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace minksum

@@ -3,6 +3,8 @@
 // point): the verdict is intersecting and the distance exactly 0, for the single queries, the
 // polytopes and the posed shapes (cold and coherent), and the batched kernels.
 #include <gtest/gtest.h>
+
+#include <set>
 #include <minksum/minksum.hpp>
 
 #include "checks.hpp"
@@ -231,6 +233,26 @@ TEST(Ties, OctreeOnLatticeTrianglesEqualsTheExactDistance) {
   EXPECT_GT(meet, 0);
   EXPECT_GT(apart, 0);
   std::printf("lattice soups that meet / are apart: %d / %d\n", meet, apart);
+}
+
+}  // namespace
+}  // namespace minksum
+
+namespace minksum {
+namespace {
+
+// ties::quarter_turn draws every one of the 24 rotations of the cube (the header's promise; it
+// gave 14 before), each a proper rotation with entries in {-1, 0, 1}.
+TEST(Ties, QuarterTurnGivesAll24Rotations) {
+  std::mt19937_64 rng(24);
+  std::set<std::vector<int>> seen;
+  for (int k = 0; k < 2000; ++k) {
+    const Eigen::Matrix3d r = test::ties::quarter_turn(rng);
+    EXPECT_TRUE((r * r.transpose()).isIdentity(0)) << r;
+    EXPECT_EQ(r.determinant(), 1) << r;
+    seen.insert(std::vector<int>(r.data(), r.data() + 9));
+  }
+  EXPECT_EQ(seen.size(), 24u);
 }
 
 }  // namespace

@@ -20,13 +20,15 @@ Vector3d lattice_point(std::mt19937_64& rng, int range, int bits) {
 }
 
 Eigen::Matrix3d quarter_turn(std::mt19937_64& rng) {
+  // The 24: a permutation of the axes (6) times the signs of the first two (4); the third sign
+  // makes the determinant +1.
   static const int kPerm[6][3] = {{0, 1, 2}, {1, 2, 0}, {2, 0, 1}, {1, 0, 2}, {0, 2, 1}, {2, 1, 0}};
   const int code = int(rng() % 24);
-  const int* perm = kPerm[code % 6];
-  double sign[3] = {code & 8 ? -1.0 : 1.0, code & 16 ? -1.0 : 1.0, 1};
+  const int* perm = kPerm[code / 4];
+  const double sign[3] = {code & 1 ? -1.0 : 1.0, code & 2 ? -1.0 : 1.0, 1};
   Eigen::Matrix3d r = Eigen::Matrix3d::Zero();
   for (int k = 0; k < 3; ++k) r(k, perm[k]) = sign[k];
-  if (r.determinant() < 0) r.col(2) = -r.col(2);  // a proper rotation
+  if (r.determinant() < 0) r.row(2) = -r.row(2);  // a proper rotation
   return r;
 }
 
