@@ -7,3 +7,4 @@
 #include <minksum/query.hpp>
 #include <minksum/shape.hpp>
 #include <minksum/sum.hpp>
+#include <minksum/version.hpp>
