@@ -6,7 +6,9 @@
 // 3 to 5 drive the coherent entry points (box pairs, box-triangle, prepared shapes) along a
 // sequence of poses from the input (first byte 128, 129, 130), small steps and jumps, with one cache: the same status
 // and verdict as the cold query at every step, and the same distance and depth to rounding;
-// kind 5 also checks the contact patch at every step.
+// kind 5 also checks the contact patch at every step, and the time of impact of every motion,
+// convex and against A's surface as a mesh: hits within the tolerance, misses by the band's
+// contract (no pass within half the tolerance: sampled, confirmed by the exact distance).
 #include "fuzz_common.hpp"
 #include "exact_distance.hpp"
 
