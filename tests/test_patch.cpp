@@ -15,6 +15,7 @@
 #include <random>
 
 #include "checks.hpp"
+#include "ties.hpp"
 #include "support/shapes.hpp"
 
 namespace minksum {
@@ -498,6 +499,43 @@ TEST(ContactPatch, MarginAndBadInput) {
   // Any margin, however large: the patch of the nearest sets.
   ASSERT_EQ(contact_patch(A, Isometry3d::Identity(), B, apart, HUGE_VAL, p), Status::Ok);
   EXPECT_EQ(p.size, 4);
+}
+
+}  // namespace
+}  // namespace minksum
+
+namespace minksum {
+namespace {
+
+// Ties (tests/ties.hpp): boxes in exact contact (face on face, edge, corner; quarter-turned) and
+// a box with a triangle touching it. The patch at margin 0 exists (an edge on an edge along an
+// irrational normal once rounded to a gap of 4e-16 and lost it), its depth is the exact query's
+// and never negative (they touch: rounding may not part them), its normal unit, A's and B's
+// supporting planes along it the same plane to rounding, and every point on it.
+TEST(ContactPatch, TouchingTiesHaveAPatchAtDepthZero) {
+  std::mt19937_64 rng(5354);
+  const int pairs = test::scaled(300, 30);
+  for (int k = 0; k < pairs; ++k) {
+    ConvexShape A, B;
+    test::ties::touching_shapes(rng, k % 2 == 0, A, B);
+    ASSERT_FALSE(A.empty() || B.empty());
+    const std::string where = "pair " + std::to_string(k);
+    ContactPatch patch;
+    ASSERT_EQ(contact_patch(A, Isometry3d::Identity(), B, Isometry3d::Identity(), 0, patch), Status::Ok) << where;
+    ASSERT_GT(patch.size, 0) << where;
+    Proximity p;
+    ASSERT_EQ(proximity(A, Isometry3d::Identity(), B, Isometry3d::Identity(), p), Status::Ok) << where;
+    ASSERT_TRUE(p.intersecting) << where;  // (exact: tests/test_ties.cpp)
+    EXPECT_GE(patch.depth, 0) << where;
+    EXPECT_LE(patch.depth, 1e-15 * 16) << where;  // (lattice coordinates within 8)
+    EXPECT_NEAR(patch.normal.norm(), 1, 1e-12) << where;
+    // Each point on A's supporting plane along the normal, and on B's (they are the same plane).
+    double top_a = -INFINITY, bottom_b = INFINITY;
+    for (const auto& v : A.polytope().vertices) top_a = std::max(top_a, patch.normal.dot(v));
+    for (const auto& v : B.polytope().vertices) bottom_b = std::min(bottom_b, patch.normal.dot(v));
+    EXPECT_NEAR(top_a, bottom_b, 1e-12 * (1 + std::abs(top_a))) << where;
+    for (int p = 0; p < patch.size; ++p) EXPECT_NEAR(patch.normal.dot(patch.points[p]), top_a, 1e-12 * (1 + std::abs(top_a))) << where;
+  }
 }
 
 }  // namespace

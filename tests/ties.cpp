@@ -32,6 +32,16 @@ Eigen::Matrix3d quarter_turn(std::mt19937_64& rng) {
   return r;
 }
 
+void touching_shapes(std::mt19937_64& rng, bool boxes, ConvexShape& a, ConvexShape& b) {
+  if (boxes) {
+    const auto [x, y] = touching_boxes(rng);
+    shape_from_box(x, a), shape_from_box(y, b);
+  } else {
+    const auto [x, t] = touching_box_triangle(rng);
+    shape_from_box(x, a), shape_from_triangle(t, b);
+  }
+}
+
 Box lattice_box(std::mt19937_64& rng, int range, int bits) {
   Box b;
   b.center = lattice_point(rng, range, bits);

@@ -39,6 +39,10 @@ std::pair<Box, Triangle> touching_box_triangle(std::mt19937_64& rng);
 /// (the rest on one side), coplanar and overlapping, or an edge through the midpoint of an edge.
 std::pair<Triangle, Triangle> touching_triangles(std::mt19937_64& rng);
 
+/// A pair in exact contact as prepared shapes, in world coordinates: touching_boxes, or with
+/// `boxes` false touching_box_triangle.
+void touching_shapes(std::mt19937_64& rng, bool boxes, ConvexShape& a, ConvexShape& b);
+
 /// 4 to 12 points of lattice coordinates (within +-range, steps 2^-bits), not all in one plane.
 std::vector<Eigen::Vector3d> lattice_solid_points(std::mt19937_64& rng, int range, int bits);
 

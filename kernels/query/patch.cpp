@@ -271,7 +271,9 @@ BoxPatch box_pair_patch(const Box& a, const Box& b, double margin, ContactPatch&
   overlap_of_sets(P, Q, tau, O);
   if (O.size == 0) return BoxPatch::Undecided;  // the distance is not this axis's: an edge or a vertex of A (-) B
   tidy(O, tau);
-  out.normal = m, out.depth = top - bottom, out.size = O.size;
+  // The depth is the axis test's own (-best, the same number that decided the verdict): the
+  // levels' top - bottom may round to the other side of 0 on a touching pair.
+  out.normal = m, out.depth = -best, out.size = O.size;
   out.feature_a = fa, out.feature_b = fb;
   for (int k = 0; k < O.size; ++k) out.points[k] = O.p[k].x() * u + O.p[k].y() * w + top * m;
   return BoxPatch::Done;
@@ -330,7 +332,9 @@ BoxPatch box_triangle_patch(const Box& a, const Triangle& t, double margin, Cont
   overlap_of_sets(P, Q, tau, O);
   if (O.size == 0) return BoxPatch::Undecided;
   tidy(O, tau);
-  out.normal = m, out.depth = top - bottom, out.size = O.size;
+  // The depth is the axis test's own (-best, the same number that decided the verdict): the
+  // levels' top - bottom may round to the other side of 0 on a touching pair.
+  out.normal = m, out.depth = -best, out.size = O.size;
   out.feature_a = fa, out.feature_b = fb;
   for (int k = 0; k < O.size; ++k) out.points[k] = O.p[k].x() * u + O.p[k].y() * w + top * m;
   return BoxPatch::Done;

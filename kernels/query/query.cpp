@@ -1688,6 +1688,9 @@ bool own_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const Conv
     decided = detail::box_triangle_patch(x, y, margin, out);
     if (decided == BoxPatch::Apart && proximity(x, y, p, Want::Contact) != Status::Ok) return false;
   }
+  // Apart by the axes but within the margin by the exact query (a touching pair whose axis
+  // rounds to a gap): the general path, which follows the exact verdict.
+  if (decided == BoxPatch::Apart && (p.intersecting || p.distance <= margin)) return false;
   if (decided == BoxPatch::Undecided) return false;
   if (decided == BoxPatch::Apart) {  // no patch; the normal from the box's witness to the other's
     out.size = 0, out.depth = -p.distance, out.normal = (p.point_b - p.point_a).normalized();
