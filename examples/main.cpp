@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "commands.hpp"
-#include "support/io.hpp"
+#include <minksum/io.hpp>
 #include "support/shapes.hpp"
 
 namespace minksum::cli {
@@ -143,7 +143,7 @@ double now_us() {
 bool load(const std::string& path, ConvexShape& p) {
   std::vector<Eigen::Vector3d> pts;
   std::string error;
-  if (!tools::read_points(path, pts, error)) {
+  if (!read_points(path, pts, error)) {
     std::fprintf(stderr, "minksum: %s\n", error.c_str());
     return false;
   }
@@ -402,7 +402,7 @@ int cmd_sum(int argc, char** argv) {
   }
   if (!out_path.empty()) {
     std::string error;
-    if (!tools::write_mesh(out_path, m, error)) {
+    if (!write_mesh(out_path, m, error)) {
       std::fprintf(stderr, "minksum: %s\n", error.c_str());
       return 2;
     }

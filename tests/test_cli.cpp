@@ -16,7 +16,7 @@
 #include <minksum/kernels.hpp>
 
 #include "checks.hpp"
-#include "support/io.hpp"
+#include <minksum/io.hpp>
 #include "support/shapes.hpp"
 
 namespace minksum {
@@ -142,7 +142,7 @@ TEST(Cli, WritesTheSumAsAMesh) {
     ASSERT_EQ(r.code, 0) << r.err;
     std::vector<Vector3d> pts;
     std::string error;
-    ASSERT_TRUE(tools::read_points(out, pts, error)) << error;
+    ASSERT_TRUE(read_points(out, pts, error)) << error;
     EXPECT_EQ(pts.size(), 32u) << ext;
   }
 }

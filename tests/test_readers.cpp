@@ -6,6 +6,8 @@
 #include <assimp/scene.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <random>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -13,7 +15,7 @@
 #include <unistd.h>
 
 #include "checks.hpp"
-#include "support/io.hpp"
+#include <minksum/io.hpp>
 #include "support/mesh_io.hpp"
 
 namespace minksum {
@@ -169,6 +171,64 @@ TEST(Readers, BunnyAsAssimpReadsIt) {
   EXPECT_EQ(m.triangles.size(), 3851u);
   Corners want = assimp_corners(path.string());
   expect_same(corners(m.vertices, m.triangles), want, path.string());
+}
+
+// STL, binary and ASCII (the library's own reader since it is installed: assimp is only the
+// oracle now): the same triangles as assimp reads, three vertices each; malformed STL gets a
+// line naming the problem.
+TEST(Readers, StlAsAssimpReadsIt) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-2, 2);
+  Corners want;
+  for (int k = 0; k < 40; ++k) want.push_back({Vector3d(u(rng), u(rng), u(rng)), Vector3d(u(rng), u(rng), u(rng)),
+                                              Vector3d(u(rng), u(rng), u(rng))});
+  std::string binary(80, ' '), ascii = "solid test\n";
+  const uint32_t n = uint32_t(want.size());
+  binary.append(reinterpret_cast<const char*>(&n), 4);
+  char number[80];
+  for (const auto& t : want) {
+    const float zero[3] = {0, 0, 0};
+    binary.append(reinterpret_cast<const char*>(zero), 12);
+    ascii += "  facet normal 0 0 0\n    outer loop\n";
+    for (const auto& x : t) {
+      const float f[3] = {float(x.x()), float(x.y()), float(x.z())};
+      binary.append(reinterpret_cast<const char*>(f), 12);
+      std::snprintf(number, sizeof number, "%.17g %.17g %.17g", f[0], f[1], f[2]);  // (the floats exactly)
+      ascii += std::string("      vertex ") + number + "\n";
+    }
+    binary.append(2, '\0');
+    ascii += "    endloop\n  endfacet\n";
+  }
+  ascii += "endsolid test\n";
+  for (const auto& [name, text] : {std::pair{"b.stl", binary}, std::pair{"a.stl", ascii}}) {
+    const std::string path = write_text(name, text);
+    tools::Mesh m;
+    std::string error;
+    ASSERT_TRUE(tools::read_mesh(path, m, error)) << error;
+    EXPECT_EQ(m.vertices.size(), 3 * want.size()) << name;
+    expect_same(corners(m.vertices, m.triangles), want, name);
+    expect_same(assimp_corners(path), want, std::string(name) + " (assimp)", 1e-6);
+  }
+  const std::string facet = "facet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n";
+  const struct {
+    const char* name;
+    std::string text;
+    const char* message;
+  } cases[] = {
+      {"open.stl", "solid x\n" + facet, ": the file ends without \"endsolid\""},
+      {"nan.stl", "solid x\nfacet normal 0 0 0\nouter loop\nvertex 0 nan 0\n", ":4: a vertex needs three finite"},
+      {"two.stl", "solid x\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\nendloop\n", ":5: expected \"vertex\""},
+      {"after.stl", "solid x\n" + facet + "endsolid x\nsolid y\n", ":10: more data after \"endsolid\""},
+      {"binary_nan.stl", binary.substr(0, 84 + 12) + std::string("\xff\xff\xff\x7f", 4) + binary.substr(100),
+       ": triangle 0: a coordinate is NaN or Inf"},
+  };
+  for (const auto& c : cases) {
+    tools::Mesh m;
+    std::string error;
+    const std::string path = write_text(c.name, c.text);
+    EXPECT_FALSE(tools::read_mesh(path, m, error)) << c.name;
+    EXPECT_NE(error.find(c.message), std::string::npos) << c.name << ": got \"" << error << "\"";
+  }
 }
 
 // Each kind of malformed file, and the start of the message it gets.

@@ -1,4 +1,5 @@
-// File input and output of the command-line tools (the library itself does no I/O).
+// File input and output: the strict readers the command-line program uses (OFF, OBJ, PLY, STL
+// and plain "x y z" text), and a sum written as a mesh. Not on a real-time path: they allocate.
 #pragma once
 
 #include <minksum/sum.hpp>
@@ -8,10 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace minksum::tools {
-
-/// False with "path: is a directory, not a file" for a directory (which opens, then reads as empty).
-bool readable_file(const std::string& path, std::string& error);
+namespace minksum {
 
 /// Reads the vertices of an OFF, OBJ, PLY or plain "x y z" text file (by its extension, else
 /// by its content), checking its faces too: read_polygons on the file.
@@ -25,7 +23,15 @@ bool read_points(const std::string& path, std::vector<Eigen::Vector3d>& points, 
 bool read_polygons(std::istream& in, const std::string& name, std::string format, std::vector<Eigen::Vector3d>& points,
                    std::vector<std::array<int, 3>>* triangles, std::string& error);
 
+/// Reads a triangle mesh from an OFF, OBJ, PLY (read_polygons) or STL file (binary or ASCII;
+/// three vertices per triangle, as written), chosen by the extension, else by the content.
+/// With `cloud_ok`, a file of vertices without faces is a point cloud (no triangles). False
+/// with a one-line `error` ("path:line: what is wrong") for a directory, a malformed file, a
+/// NaN or Inf coordinate, an index out of range, or no triangles.
+bool read_mesh(const std::string& path, std::vector<Eigen::Vector3d>& vertices,
+               std::vector<std::array<int, 3>>& triangles, std::string& error, bool cloud_ok = false);
+
 /// Writes a sum as an OFF, OBJ or PLY mesh, chosen by the file extension.
 bool write_mesh(const std::string& path, const MinkowskiSum& sum, std::string& error);
 
-}  // namespace minksum::tools
+}  // namespace minksum

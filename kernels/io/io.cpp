@@ -1,4 +1,6 @@
-#include "support/io.hpp"
+// The strict file readers and the sum writer (minksum/io.hpp): every count, number and index
+// checked, each error one line naming the file and its line.
+#include <minksum/io.hpp>
 
 #include <algorithm>
 #include <cctype>
@@ -10,7 +12,7 @@
 #include <fstream>
 #include <sstream>
 
-namespace minksum::tools {
+namespace minksum {
 
 using Eigen::Vector3d;
 
@@ -358,7 +360,7 @@ bool ply_row(PlyLines& lines, Reader r, const std::string& format, const PlyElem
 }
 
 bool read_ply(std::istream& in, Reader r, std::vector<Vector3d>& pts, Faces& faces) {
-  PlyLines lines{in};
+  PlyLines lines{in, {}, 0};
   if (!lines.next() || lines.line != "ply") return r.fail(1, "expected the ply header");
   std::string format;
   std::vector<PlyElement> elements;
@@ -374,6 +376,75 @@ bool read_ply(std::istream& in, Reader r, std::vector<Vector3d>& pts, Faces& fac
     }
   if (ascii ? lines.next() && lines.line.find_first_not_of(" \t") != std::string::npos : in.peek() != EOF)
     return r.fail(ascii ? lines.number : 0, "more data after the last element");
+  return true;
+}
+
+// A directory opens as a stream, then reads as empty: say what it is.
+bool readable_file(const std::string& path, std::string& error) {
+  std::error_code code;
+  if (std::filesystem::is_directory(path, code)) return error = path + ": is a directory, not a file", false;
+  return true;
+}
+
+// STL, binary (80 bytes of header, a count n, then n records of 50 bytes: a normal and three
+// corners as little-endian floats, two attribute bytes) when the file is exactly 84 + 50 n
+// bytes, else ASCII ("solid", then "facet normal ..., outer loop, vertex x y z (three times),
+// endloop, endfacet", "endsolid"). Three vertices per triangle, as written (no welding).
+bool read_stl(std::istream& in, Reader r, std::vector<Vector3d>& pts, std::vector<std::array<int, 3>>& triangles) {
+  char head[84] = {};
+  in.read(head, 84);
+  const auto got = in.gcount();
+  in.clear();
+  in.seekg(0, std::ios::end);
+  const long long bytes = static_cast<long long>(in.tellg());
+  uint32_t n = 0;
+  std::memcpy(&n, head + 80, 4);  // (x86-64 and every target of the library: little-endian)
+  if (got == 84 && bytes == 84 + 50LL * n) {
+    in.seekg(84);
+    for (uint32_t t = 0; t < n; ++t) {
+      char record[50];
+      if (!in.read(record, 50)) return r.fail(0, "triangle " + std::to_string(t) + ": the file ends");
+      for (int v = 0; v < 3; ++v) {
+        float xyz[3];
+        std::memcpy(xyz, record + 12 + 12 * v, 12);
+        if (!std::isfinite(xyz[0]) || !std::isfinite(xyz[1]) || !std::isfinite(xyz[2]))
+          return r.fail(0, "triangle " + std::to_string(t) + ": a coordinate is NaN or Inf");
+        pts.emplace_back(xyz[0], xyz[1], xyz[2]);
+      }
+      const int base = int(pts.size()) - 3;
+      triangles.push_back({base, base + 1, base + 2});
+    }
+    return true;
+  }
+  in.seekg(0);
+  Lines lines{in};
+  std::string line, word;
+  const auto expect = [&](const char* what) {
+    if (!lines.next(line)) return r.fail(lines.number, std::string("the file ends where \"") + what + "\" belongs");
+    std::istringstream ss(line);
+    ss >> word;
+    return word == what || r.fail(lines.number, std::string("expected \"") + what + "\", found \"" + word + "\"");
+  };
+  if (!expect("solid")) return r.fail(lines.number, "not an STL file (neither \"solid\" nor 84 + 50 n bytes)");
+  while (lines.next(line)) {
+    std::istringstream ss(line);
+    ss >> word;
+    if (word == "endsolid") break;
+    if (word != "facet") return r.fail(lines.number, "expected \"facet\" or \"endsolid\", found \"" + word + "\"");
+    if (!expect("outer")) return false;
+    for (int v = 0; v < 3; ++v) {
+      if (!expect("vertex")) return false;
+      double xyz[3];
+      if (!parse_numbers(line.substr(line.find("vertex") + 6), 3, xyz, false))
+        return r.fail(lines.number, "a vertex needs three finite coordinates");
+      pts.emplace_back(xyz[0], xyz[1], xyz[2]);
+    }
+    if (!expect("endloop") || !expect("endfacet")) return false;
+    const int base = int(pts.size()) - 3;
+    triangles.push_back({base, base + 1, base + 2});
+  }
+  if (word != "endsolid") return r.fail(lines.number, "the file ends without \"endsolid\"");
+  if (lines.next(line)) return r.fail(lines.number, "more data after \"endsolid\"");
   return true;
 }
 
@@ -402,16 +473,28 @@ bool read_polygons(std::istream& in, const std::string& name, std::string format
   return true;
 }
 
-bool readable_file(const std::string& path, std::string& error) {
-  std::error_code code;
-  if (std::filesystem::is_directory(path, code)) return error = path + ": is a directory, not a file", false;
-  return true;
-}
-
 bool read_points(const std::string& path, std::vector<Vector3d>& points, std::string& error) {
-  if (!readable_file(path, error)) return false;  // (a directory opens, then reads as empty)
+  if (!readable_file(path, error)) return false;
   std::ifstream in(path, std::ios::binary);
   return read_polygons(in, path, lower_extension(path), points, nullptr, error);
+}
+
+bool read_mesh(const std::string& path, std::vector<Vector3d>& vertices, std::vector<std::array<int, 3>>& triangles,
+               std::string& error, bool cloud_ok) {
+  vertices.clear(), triangles.clear();
+  if (!readable_file(path, error)) return false;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return error = path + ": cannot open file", false;
+  const std::string ext = lower_extension(path);
+  if (ext == "stl") {
+    Reader r{path, error};
+    if (!read_stl(in, r, vertices, triangles)) return false;
+  } else if (!read_polygons(in, path, ext, vertices, &triangles, error)) {
+    return false;
+  }
+  if (triangles.empty() && !(cloud_ok && !vertices.empty()))
+    return error = path + (cloud_ok ? ": no points in the file" : ": no triangles in the file"), false;
+  return true;
 }
 
 bool write_mesh(const std::string& path, const MinkowskiSum& sum, std::string& error) {
@@ -447,4 +530,4 @@ bool write_mesh(const std::string& path, const MinkowskiSum& sum, std::string& e
   return true;
 }
 
-}  // namespace minksum::tools
+}  // namespace minksum

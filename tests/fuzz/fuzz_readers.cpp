@@ -9,7 +9,7 @@
 #include <string>
 #include <unistd.h>
 
-#include "support/io.hpp"
+#include <minksum/io.hpp>
 #include "support/mesh_io.hpp"
 
 using namespace minksum;
@@ -26,7 +26,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::ofstream(file, std::ios::binary) << body;
   if (data[0] % 2 == 0) {
     std::vector<Eigen::Vector3d> points;
-    if (tools::read_points(file, points, error)) {
+    if (read_points(file, points, error)) {
       for (const auto& p : points)
         if (!fuzz::finite(p)) fuzz::fail("the vertex reader returned a non-finite point");
       ConvexPolytope P;

@@ -1,13 +1,9 @@
-// Mesh input (STL through assimp, the others through the strict reader of io.cpp); the libcgal-demo fallback reads one
-// member of a .tar.gz with zlib.
+// Mesh input through the library's readers (minksum/io.hpp); libcgal-demo's meshes are read
+// from one member of its .tar.gz with zlib.
 #include "support/mesh_io.hpp"
 
-#include "support/io.hpp"
+#include <minksum/io.hpp>
 
-#include <assimp/DefaultLogger.hpp>
-#include <assimp/Importer.hpp>
-#include <assimp/LogStream.hpp>
-#include <assimp/scene.h>
 #include <Eigen/Geometry>
 #include <zlib.h>
 
@@ -24,113 +20,8 @@
 
 namespace minksum::tools {
 
-namespace {
-
-bool from_scene(const aiScene* scene, Mesh& mesh, std::string& error) {
-  mesh = Mesh{};
-  if (!scene || scene->mNumMeshes == 0) {
-    error = "no mesh in the file";
-    return false;
-  }
-  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
-    const aiMesh* part = scene->mMeshes[m];
-    const int base = int(mesh.vertices.size());
-    for (unsigned v = 0; v < part->mNumVertices; ++v)
-      mesh.vertices.emplace_back(part->mVertices[v].x, part->mVertices[v].y, part->mVertices[v].z);
-    for (unsigned f = 0; f < part->mNumFaces; ++f) {
-      const aiFace& face = part->mFaces[f];
-      // Points and lines are not surfaces; polygons are fanned into triangles.
-      for (unsigned k = 0; k < face.mNumIndices; ++k)
-        if (face.mIndices[k] >= part->mNumVertices) {
-          error = "a face index is out of range";
-          return false;
-        }
-      for (unsigned k = 1; k + 1 < face.mNumIndices; ++k)
-        mesh.triangles.push_back(
-            {base + int(face.mIndices[0]), base + int(face.mIndices[k]), base + int(face.mIndices[k + 1])});
-    }
-  }
-  if (mesh.triangles.empty()) {
-    error = "no triangles in the file";
-    return false;
-  }
-  return true;
-}
-
-// No assimp post-processing: its steps abort the process on some malformed files (found by
-// fuzzing), and an STL file has one mesh and no transforms.
-// Polygons are fanned above; vertices are kept as they are (no welding), so a mesh's own
-// unused or duplicated vertices pass through unchanged.
-constexpr unsigned kFlags = 0;
-
-// Assimp reports some malformed input only in its log and carries on (an OFF face index out of
-// range is clamped): listen to the log's errors while reading, and fail on the first one.
-class ErrorLog : public Assimp::LogStream {
- public:
-  ErrorLog() {
-    if (!Assimp::DefaultLogger::isNullLogger() || Assimp::DefaultLogger::create("", Assimp::Logger::NORMAL, 0))
-      Assimp::DefaultLogger::get()->attachStream(this, Assimp::Logger::Err);
-  }
-  ~ErrorLog() override { Assimp::DefaultLogger::get()->detachStream(this, Assimp::Logger::Err); }
-  void write(const char* message) override {
-    if (!first.empty()) return;
-    first = message;
-    if (first.rfind("Error, T", 0) == 0 && first.find(": ") != std::string::npos)  // "Error, T0: "
-      first = first.substr(first.find(": ") + 2);
-    while (!first.empty() && (first.back() == '\n' || first.back() == '\r')) first.pop_back();
-  }
-  std::string first;  // the first error message, if any
-};
-
-}  // namespace
-
 bool read_mesh(const std::string& path, Mesh& mesh, std::string& error, bool cloud_ok) {
-  // OFF, OBJ and PLY go through the strict reader (by extension, else by content): assimp
-  // 5.2.5 crashes, hangs or aborts on some malformed OFF and PLY files (found by fuzzing) and
-  // gives no line numbers. STL goes to assimp once it is shaped like an STL file.
-  mesh = Mesh{};
-  if (!readable_file(path, error)) return false;
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    error = path + ": cannot open file";
-    return false;
-  }
-  if (ext != ".stl") {
-    if (!read_polygons(in, path, ext.empty() ? ext : ext.substr(1), mesh.vertices, &mesh.triangles, error))
-      return false;
-    if (mesh.triangles.empty() && !(cloud_ok && !mesh.vertices.empty())) {
-      error = path + (cloud_ok ? ": no points in the file" : ": no triangles in the file");
-      return false;
-    }
-    return true;
-  }
-  char head[84] = {};
-  in.read(head, 84);
-  const auto got = in.gcount();
-  in.clear();
-  in.seekg(0, std::ios::end);
-  const auto bytes = static_cast<long long>(in.tellg());
-  uint32_t n = 0;
-  std::memcpy(&n, head + 80, 4);
-  const bool binary = got == 84 && bytes == 84 + 50LL * n;
-  if (!binary && std::string(head, size_t(std::max<std::streamsize>(got, 0))).rfind("solid", 0) != 0) {
-    error = path + ": not an STL file (neither \"solid\" nor 84 + 50 n bytes)";
-    return false;
-  }
-  Assimp::Importer importer;
-  ErrorLog log;
-  const aiScene* scene = importer.ReadFile(path, kFlags);
-  if (!scene || !log.first.empty()) {
-    error = path + ": " + (scene ? log.first : std::string(importer.GetErrorString()));
-    return false;
-  }
-  if (!from_scene(scene, mesh, error)) {
-    error = path + ": " + error;
-    return false;
-  }
-  return true;
+  return minksum::read_mesh(path, mesh.vertices, mesh.triangles, error, cloud_ok);
 }
 
 namespace {
@@ -342,7 +233,7 @@ MeshDistance brute_cloud_distance(const Mesh& a, const Mesh& b, const Eigen::Iso
   return out;
 }
 
-MeshDistance brute_distance(const Mesh& a_in, const Mesh& b_in, const Eigen::Isometry3d& pose) {
+MeshDistance brute_distance(const Mesh& a_in, const Mesh& b_in, const Eigen::Isometry3d& pose, ExactDistance exact) {
   using Eigen::Vector3d;
   if (a_in.triangles.empty() && b_in.triangles.empty()) return brute_cloud_distance(a_in, b_in, pose);
   const auto as_mesh = [](const Mesh& m) {
@@ -370,23 +261,60 @@ MeshDistance brute_distance(const Mesh& a_in, const Mesh& b_in, const Eigen::Iso
   // B's spheres in flat arrays: the skip test (squared: |c| > best + ra + rb) runs n^2 times.
   std::vector<double> bx(cb.size()), by(cb.size()), bz(cb.size());
   for (size_t j = 0; j < cb.size(); ++j) bx[j] = cb[j].x(), by[j] = cb[j].y(), bz[j] = cb[j].z();
+  // With `exact`, pairs within `margin` of the least double distance are kept as candidates
+  // and the answer is the least exact distance among them (the double distance only prunes).
+  double margin = 0;
+  if (exact) {
+    for (const auto& v : a.vertices) margin = std::max(margin, v.cwiseAbs().maxCoeff());
+    for (const auto& v : moved) margin = std::max(margin, v.cwiseAbs().maxCoeff());
+    margin *= 1e-7;
+  }
+  struct Candidate {
+    double d;
+    size_t i, j;
+    Vector3d p, q;
+  };
+  std::vector<Candidate> candidates;
   MeshDistance out;
   out.distance = std::numeric_limits<double>::infinity();
+  const auto corners_a = [&](size_t i, Vector3d (&s)[3]) {
+    for (int k = 0; k < 3; ++k) s[k] = a.vertices[size_t(a.triangles[i][k])];
+  };
+  const auto corners_b = [&](size_t j, Vector3d (&t)[3]) {
+    for (int k = 0; k < 3; ++k) t[k] = moved[size_t(b.triangles[j][k])];
+  };
   for (size_t i = 0; i < a.triangles.size() && out.distance > 0; ++i) {
-    const Vector3d s[3] = {a.vertices[a.triangles[i][0]], a.vertices[a.triangles[i][1]], a.vertices[a.triangles[i][2]]};
+    Vector3d s[3];
+    corners_a(i, s);
     for (size_t j = 0; j < b.triangles.size(); ++j) {
       const double dx = bx[j] - ca[i].x(), dy = by[j] - ca[i].y(), dz = bz[j] - ca[i].z(),
-                   reach = out.distance + ra[i] + rb[j];
+                   reach = out.distance + margin + ra[i] + rb[j];
       if (dx * dx + dy * dy + dz * dz > reach * reach) continue;
-      const Vector3d t[3] = {moved[b.triangles[j][0]], moved[b.triangles[j][1]], moved[b.triangles[j][2]]};
-      Vector3d p, q;
+      Vector3d t[3], p, q;
+      corners_b(j, t);
       ++out.stats.triangle_pairs;
       const double d = triangle_distance(s, t, p, q);
-      if (d < out.distance) {
+      const bool met = d == 0 && (!exact || exact(s, t) == 0);  // (they meet: nothing is nearer)
+      if (exact && !met && d <= out.distance + margin) candidates.push_back({d, i, j, p, q});
+      if (d < out.distance || met) {
         out.distance = d, out.point_a = p, out.point_b = q;
         out.triangle_a = int(i), out.triangle_b = int(j);
-        if (d == 0) break;
+        if (met) {
+          candidates.clear();
+          break;
+        }
       }
+    }
+  }
+  if (exact && out.distance > 0) {
+    const double least = out.distance;  // (of the double distances)
+    out.distance = std::numeric_limits<double>::infinity();
+    for (const Candidate& c : candidates) {
+      if (c.d > least + margin) continue;
+      Vector3d s[3], t[3];
+      corners_a(c.i, s), corners_b(c.j, t);
+      if (const double e = exact(s, t); e < out.distance)
+        out.distance = e, out.point_a = c.p, out.point_b = c.q, out.triangle_a = int(c.i), out.triangle_b = int(c.j);
     }
   }
   out.intersecting = out.distance == 0;

@@ -14,10 +14,7 @@ struct Mesh {
   std::vector<std::array<int, 3>> triangles;  ///< vertex indices
 };
 
-/// Reads a PLY, OBJ, OFF or STL mesh (polygons are triangulated; points and lines dropped;
-/// vertices kept as they are: no welding). STL is read by assimp, the others by read_polygons.
-/// With `cloud_ok`, a PLY, OFF, OBJ or XYZ text file of vertices without faces is a point cloud
-/// (no triangles). On failure returns false and sets `error` to "path: what is wrong".
+/// minksum::read_mesh into a Mesh.
 bool read_mesh(const std::string& path, Mesh& mesh, std::string& error, bool cloud_ok = false);
 
 /// The octree of a mesh, or of a point cloud (a Mesh without triangles).
@@ -75,6 +72,10 @@ Mesh tilted(Mesh m);
 /// All-pairs triangle distance (for checking mesh_distance): every pair is enumerated, a pair
 /// is skipped only if its bounding spheres are already farther apart than the best distance.
 /// A point cloud's points are zero-area triangles; two clouds: plain point-point distances.
-MeshDistance brute_distance(const Mesh& a, const Mesh& b, const Eigen::Isometry3d& pose);
+/// With `exact` (the tests pass test::exact_triangle_distance, GMP rationals: not the library),
+/// the distance is the least exact one over the pairs whose double distance is within 1e-7 of
+/// the coordinates' reach of the least: the library's triangle_distance only prunes.
+using ExactDistance = double (*)(const Eigen::Vector3d (&)[3], const Eigen::Vector3d (&)[3]);
+MeshDistance brute_distance(const Mesh& a, const Mesh& b, const Eigen::Isometry3d& pose, ExactDistance exact = nullptr);
 
 }  // namespace minksum::tools
