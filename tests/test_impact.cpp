@@ -13,6 +13,7 @@
 #include <random>
 
 #include "checks.hpp"
+#include "ties.hpp"
 #include "support/mesh_io.hpp"
 #include "support/shapes.hpp"
 
@@ -521,6 +522,143 @@ TEST(TimeOfImpact, TheBandHasOneContractConvexAndMesh) {
   EXPECT_EQ(checked, 1200);
   EXPECT_GT(hits_below, 600 / 7 * 3 * 2 - 10);  // the passes below half the tolerance, both kinds
   EXPECT_GT(misses_above, 600 / 7 * 2 * 2 - 10);
+}
+
+}  // namespace
+}  // namespace minksum
+
+namespace minksum {
+namespace {
+
+// Whether B, moving with at most `speed` per unit time (|v| + angle r over the tick), stays at
+// least `floor` from A at every time of [lo, hi], given the brute-force distances at its ends
+// (test::brute_force: not the library): d is Lipschitz with that speed, so an interval whose
+// ends are far enough apart proves itself, and the others are halved. An interval that cannot
+// be proven down to 1e-12 of the tick stands if its middle is at least the floor less 1e-5 of
+// it (rounding). False where the distance dips below: a pass the contract says must hit.
+bool stays_apart(const ConvexShape& A, const ConvexShape& B, const Isometry3d& b0, const Isometry3d& b1, double lo,
+                 double hi, double dlo, double dhi, double speed, double floor, int depth = 0) {
+  if (dlo + dhi - speed * (hi - lo) >= 2 * floor) return true;
+  const double mid = 0.5 * (lo + hi);
+  const test::Oracle o = oracle(A, kIdentity, B, at(b0, b1, mid));
+  const double dmid = o.overlap ? 0.0 : o.distance;
+  if (dmid < floor * (1 - 1e-5)) return false;
+  if (hi - lo < 1e-12 || depth > 60) return true;
+  return stays_apart(A, B, b0, b1, lo, mid, dlo, dmid, speed, floor, depth + 1) &&
+         stays_apart(A, B, b0, b1, mid, hi, dmid, dhi, speed, floor, depth + 1);
+}
+
+// Bodies that turn about a point far from their centre (a lever arm of 10 to 100 times their
+// size) swing past A: a wrong rotational bound (one taken about the centre, or missing the
+// arm) steps over the pass. Against brute force with a Lipschitz bound between samples: no pass
+// within half the tolerance before a hit (nor anywhere on a miss), and within the tolerance at
+// the hit; the same against A's surface as a mesh.
+TEST(TimeOfImpact, ALongLeverArmNeverStepsOverAPass) {
+  std::mt19937_64 rng(10053);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  ConvexShape A;
+  ASSERT_EQ(shape_from_points(tools::sphere_points(14, 7), A), Status::Ok);
+  std::vector<std::array<int, 3>> faces;
+  for (const auto& f : A.polytope().faces)
+    for (size_t k = 1; k + 1 < f.loop.size(); ++k) faces.push_back({f.loop[0], f.loop[k], f.loop[k + 1]});
+  Octree surface;
+  ASSERT_EQ(build_octree(A.polytope().vertices, faces, surface), Status::Ok);
+  int hits = 0, misses = 0;
+  const int motions = test::scaled(60, 12);
+  for (int k = 0; k < motions; ++k) {
+    const double arm = k % 3 == 0 ? 5 : k % 3 == 1 ? 20 : 50;  // B is 0.5 across: 10 to 100 sizes
+    std::vector<Vector3d> body = tools::scaled(tools::sphere_points(8 + k % 5, 300 + k), 0.25);
+    for (auto& v : body) v.x() += arm;
+    ConvexShape B;
+    ASSERT_EQ(shape_from_points(body, B), Status::Ok);
+    // B's origin about `arm` from A, its body swinging through A's neighbourhood by 0.2 rad,
+    // offset across the swing by up to 1.5 (hits and misses).
+    const double swing = 0.2, offset = 1.5 * unit(rng);
+    const Isometry3d b0 = Eigen::Translation3d(-arm + offset, 0.3 * unit(rng), 0.8 * unit(rng)) *
+                          Eigen::AngleAxisd(-swing / 2, Vector3d::UnitZ());
+    const Isometry3d b1 = Eigen::Translation3d(b0.translation() + 0.05 * Vector3d(unit(rng), unit(rng), 0)) *
+                          Eigen::AngleAxisd(swing / 2, Vector3d::UnitZ());
+    double radius = 0;
+    for (const auto& v : B.polytope().vertices) radius = std::max(radius, v.norm());
+    const double speed = (b1.translation() - b0.translation()).norm() + swing * radius * (1 + 1e-9);
+    const test::Oracle start = oracle(A, kIdentity, B, b0), end = oracle(A, kIdentity, B, b1);
+    if (start.overlap) continue;
+    for (int kind = 0; kind < 2; ++kind) {
+      const std::string where = std::string(kind ? "mesh" : "convex") + " motion " + std::to_string(k);
+      TimeOfImpact toi;
+      ASSERT_EQ(kind == 0 ? time_of_impact(A, kIdentity, kIdentity, B, b0, b1, toi)
+                          : time_of_impact(surface, kIdentity, B, b0, b1, toi, 1e-6 * (2 * arm + 2)),
+                Status::Ok)
+          << where;
+      ASSERT_TRUE(toi.converged) << where;
+      const double tol = toi.tolerance, until = toi.hit ? toi.time : 1.0;
+      const test::Oracle last = toi.hit ? oracle(A, kIdentity, B, at(b0, b1, until)) : end;
+      const double dlast = last.overlap ? 0.0 : last.distance;
+      if (toi.hit) EXPECT_LE(dlast, tol * (1 + 1e-9)) << where << ": a hit farther than the tolerance";
+      if (toi.hit && toi.time == 0) continue;
+      EXPECT_TRUE(stays_apart(A, B, b0, b1, 0, until, start.distance, dlast, speed, 0.5 * tol))
+          << where << (toi.hit ? ": a pass within half the tolerance before the hit" : ": a missed pass");
+      (toi.hit ? hits : misses) += kind == 0;
+    }
+  }
+  EXPECT_GT(hits, motions / 5);
+  EXPECT_GT(misses, motions / 5);
+}
+
+}  // namespace
+}  // namespace minksum
+
+namespace minksum {
+namespace {
+
+// Ties (tests/ties.hpp): box pairs in exact contact, face on face, along an edge or at a corner,
+// each quarter-turned, and box-triangle pairs likewise. B moves through its touching pose at the
+// middle of the tick along a lattice direction that separates them at the start: the answer is
+// a hit no later than 1/2, within the tolerance there, with no overlap before it (brute force);
+// and the same against A as a mesh.
+TEST(TimeOfImpact, TouchingTiesAreHitAtTheirContact) {
+  std::mt19937_64 rng(5353);
+  const int pairs = test::scaled(200, 40);
+  int checked = 0;
+  for (int k = 0; k < pairs; ++k) {
+    ConvexShape A, B;
+    test::ties::touching_shapes(rng, k % 2 == 0, A, B);
+    ASSERT_FALSE(A.empty() || B.empty());
+    // Away from A: from A's centroid towards B's, kept on the lattice (sums of lattice points
+    // times counts, scaled by a power of two: every pose of the motion's middle is exact).
+    Vector3d sa = Vector3d::Zero(), sb = Vector3d::Zero();
+    for (const auto& v : A.polytope().vertices) sa += v;
+    for (const auto& v : B.polytope().vertices) sb += v;
+    const Vector3d dir = double(A.polytope().vertices.size()) * sb - double(B.polytope().vertices.size()) * sa;
+    if (dir.isZero()) continue;
+    int exponent = 0;
+    std::frexp(dir.cwiseAbs().maxCoeff(), &exponent);
+    const Vector3d away = std::ldexp(1.0, -exponent - 1) * dir;  // (largest component in [1/4, 1/2))
+    const Isometry3d b0{Eigen::Translation3d(away)}, b1{Eigen::Translation3d(-away)};  // (the contact at 1/2)
+    if (oracle(A, kIdentity, B, b0).overlap) continue;  // (a triangle lying in a face: no side to come from)
+    std::vector<std::array<int, 3>> faces;
+    for (const auto& f : A.polytope().faces)
+      for (size_t c = 1; c + 1 < f.loop.size(); ++c) faces.push_back({f.loop[0], f.loop[c], f.loop[c + 1]});
+    Octree surface;
+    ASSERT_EQ(build_octree(A.polytope().vertices, faces, surface), Status::Ok);
+    for (int kind = 0; kind < 2; ++kind) {
+      const std::string where = std::string(kind ? "mesh" : "convex") + " pair " + std::to_string(k);
+      TimeOfImpact toi;
+      ASSERT_EQ(kind == 0 ? time_of_impact(A, kIdentity, kIdentity, B, b0, b1, toi)
+                          : time_of_impact(surface, kIdentity, B, b0, b1, toi),
+                Status::Ok)
+          << where;
+      ASSERT_TRUE(toi.converged) << where;
+      ASSERT_TRUE(toi.hit) << where;
+      EXPECT_LE(toi.time, 0.5) << where;
+      const test::Oracle o = oracle(A, kIdentity, B, at(b0, b1, toi.time));
+      EXPECT_LE(o.overlap ? 0.0 : o.distance, toi.tolerance * (1 + 1e-9)) << where;
+      for (int s = 0; s < 50; ++s)
+        EXPECT_FALSE(oracle(A, kIdentity, B, at(b0, b1, toi.time * s / 50)).overlap) << where << " sample " << s;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, pairs);  // both kinds, on most pairs
 }
 
 }  // namespace

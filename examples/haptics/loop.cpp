@@ -27,7 +27,7 @@ using Eigen::Vector3d;
 
 // The proxy rests this far above a surface it met, so that the next sweep starts apart (a time
 // of impact from touching is 0, whatever the motion); the sweeps stop within a quarter of it.
-constexpr double kSkin = 5e-5;  // m
+constexpr double kSkin = 4 * kProxyTolerance;  // m
 constexpr int kPasses = 3;      // sweeps a tick: the motion, then sliding along one or two surfaces
 // Resting on a surface, the proxy follows the device into it by at most this much a tick: far
 // enough to stay on a surface that curves away as it slides, and the sweep stays short (its
@@ -146,7 +146,8 @@ struct Setup {
 
 bool set_up(const Options& options, Setup& s, Report& report, std::string& error) {
   if (options.scene.empty() || options.scene == "bunny_full") {
-    s.scene = tools::demo_mesh(options.scene.empty() ? "bun_zipper_res2.ply" : "bun_zipper.ply", report.scene_source);
+    report.scene_mesh = options.scene.empty() ? "bun_zipper_res2.ply" : "bun_zipper.ply";
+    s.scene = tools::demo_mesh(report.scene_mesh, report.scene_source);
   } else if (options.scene == "sheet") {
     s.scene = tools::box_mesh(Vector3d(-0.03, -0.0005, -0.03), Vector3d(0.03, 0, 0.03), 12);
     report.scene_source = "a sheet 60 x 60 x 0.5 mm";
@@ -215,10 +216,10 @@ int sweep_proxy(Setup& s, Isometry3d goal, bool sliding) {
   int met = 0;
   for (int pass = 0; pass < kPasses; ++pass) {
     TimeOfImpact toi;
-    const Status st = time_of_impact(s.scene_tree, Isometry3d::Identity(), s.tool.hull, proxy, goal, toi, kSkin / 4);
+    const Status st = time_of_impact(s.scene_tree, Isometry3d::Identity(), s.tool.hull, proxy, goal, toi, kProxyTolerance);
     if (st != Status::Ok) return pass + 1;  // (poses and shapes are checked at set-up)
     if (!toi.hit) {  // (no contact within the tolerance up to the goal)
-      proxy = goal, s.clearance = kSkin / 4;
+      proxy = goal, s.clearance = kProxyTolerance / 2;  // (a miss: never within half the tolerance)
       return pass + 1;
     }
     // At time 0 the proxy touches already (a back-off that met another surface): it backs off
@@ -314,7 +315,7 @@ void tick(const Options& options, Setup& s, const Isometry3d& device, const Vect
   report.distance[k] = distance, report.depth[k] = depth, report.force[k] = force.norm();
   report.torque[k] = torque.norm(), report.force_dot_normal[k] = touching ? force.dot(c.penetration_direction) : 0;
   report.force_up[k] = force.y(), report.device_y[k] = device.translation().y();
-  report.proxy_y[k] = s.proxy.translation().y();
+  report.proxy_y[k] = s.proxy.translation().y(), report.proxy[k] = s.proxy;
 }
 
 // The latency percentiles of a finished run.
@@ -342,6 +343,7 @@ bool run(const Options& options, long (*allocations)(), Report& report, std::str
   for (auto* v : {&report.time, &report.distance, &report.depth, &report.force, &report.latency_us, &report.cpu_us,
                   &report.force_dot_normal, &report.force_up, &report.torque, &report.device_y, &report.proxy_y})
     v->assign(size_t(n), 0.0);
+  report.proxy.assign(size_t(n), Isometry3d::Identity());
   const double dt = 1 / options.rate;
   using clock = std::chrono::steady_clock;
   if (options.realtime) ask_for_realtime(report);

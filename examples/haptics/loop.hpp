@@ -3,6 +3,7 @@
 // contact patch at the proxy, and the force and torque that patch transmits.
 #pragma once
 
+#include <Eigen/Geometry>
 #include <string>
 #include <vector>
 
@@ -53,7 +54,13 @@ struct Report {
   std::vector<double> cpu_us;                                    ///< per tick: its thread CPU time
   std::vector<double> force_dot_normal;                          ///< force . push-out direction (>= 0)
   std::vector<double> force_up;                                  ///< force . +y (the press is straight down along -y)
+  std::vector<Eigen::Isometry3d> proxy;                          ///< per tick: the proxy's pose after its move
+  std::string scene_mesh;  ///< the scene's mesh file as demo_mesh names it ("" for a file or the sheet)
 };
+
+/// How far the proxy may come into the scene: the tolerance of its sweeps (time_of_impact's band
+/// contract: no hit farther than it), a quarter of the skin it rests at.
+constexpr double kProxyTolerance = 5e-5 / 4;
 
 /// Heap allocations of this executable so far, counted by alloc_count.cpp (which replaces
 /// malloc and operator new when linked in), or -1 where they are not counted (sanitizer builds).
