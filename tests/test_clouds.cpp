@@ -5,6 +5,7 @@
 #include <minksum/minksum.hpp>
 
 #include "checks.hpp"
+#include "exact_distance.hpp"
 #include "ties.hpp"
 #include "support/mesh_io.hpp"
 
@@ -27,7 +28,7 @@ void expect_brute(const tools::Mesh& ma, const Octree& A, const tools::Mesh& mb,
                   const Eigen::Isometry3d& pose, MeshWorkspace& ws, const std::string& what) {
   MeshDistance got;
   ASSERT_EQ(mesh_distance(A, Eigen::Isometry3d::Identity(), B, pose, ws, got), Status::Ok) << what;
-  const MeshDistance want = tools::brute_distance(ma, mb, pose);
+  const MeshDistance want = tools::brute_distance(ma, mb, pose, test::exact_triangle_distance);
   const double tol = 1e-12 * (1 + diagonal(ma) + pose.translation().norm());
   ASSERT_NEAR(got.distance, want.distance, tol) << what;
   ASSERT_EQ(got.intersecting, want.intersecting) << what;
@@ -201,7 +202,7 @@ TEST(PointCloud, EqualsBruteForce) {
     pose.translation() = test::ties::lattice_point(rng, 1 + k % 4, 3);
     expect_brute(cloud(la), LA, cloud(lb), LB, pose, lws, "lattice clouds pose " + std::to_string(k));
     if (HasFatalFailure()) return;
-    ++(tools::brute_distance(cloud(la), cloud(lb), pose).intersecting ? meet : apart);
+    ++(tools::brute_distance(cloud(la), cloud(lb), pose, test::exact_triangle_distance).intersecting ? meet : apart);
   }
   EXPECT_GT(meet, 0);
   EXPECT_GT(apart, 0);

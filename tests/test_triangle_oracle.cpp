@@ -8,12 +8,31 @@
 
 #include <minksum/kernels.hpp>
 
+#include <algorithm>
 #include <random>
 
 namespace minksum {
 namespace {
 
 using Eigen::Vector3d;
+
+// Whether x lies on triangle t within `slack`: within it of t's plane and inside each edge's
+// line (a degenerate triangle: within it of one of its edges' segments).
+bool on_triangle(const Vector3d& x, const Vector3d (&t)[3], double slack) {
+  const Vector3d n = (t[1] - t[0]).cross(t[2] - t[0]);
+  const auto near_segment = [&](const Vector3d& a, const Vector3d& b) {
+    const double l = (b - a).squaredNorm(), u = l > 0 ? std::clamp((x - a).dot(b - a) / l, 0.0, 1.0) : 0.0;
+    return (a + u * (b - a) - x).norm() <= slack;
+  };
+  if (near_segment(t[0], t[1]) || near_segment(t[1], t[2]) || near_segment(t[2], t[0])) return true;
+  const double area = n.norm();
+  if (!(area > 0)) return false;
+  if (std::abs(n.dot(x - t[0])) / area > slack) return false;
+  for (int e = 0; e < 3; ++e)
+    if ((t[(e + 1) % 3] - t[e]).cross(x - t[e]).dot(n) / (area * (t[(e + 1) % 3] - t[e]).norm()) < -slack)
+      return false;  // (the signed distance from the edge's line, inward positive)
+  return true;
+}
 
 // The scalar path and the batched kernel (16 pairs a call) on n pairs; each distance is
 // checked against the exact one within tol(pair) and the scalar one must realise its
@@ -34,6 +53,8 @@ void check_pairs(int n, Make make, Tol tol, const char* what, int* meet = nullpt
     const double got = triangle_distance(s, t, p, q);
     ASSERT_NEAR(got, want, slack) << what << " pair " << k;
     ASSERT_NEAR((p - q).norm(), got, slack) << what << " pair " << k;
+    ASSERT_TRUE(on_triangle(p, s, slack)) << what << " pair " << k << ": the witness on s is off it";
+    ASSERT_TRUE(on_triangle(q, t, slack)) << what << " pair " << k << ": the witness on t is off it";
     const int lane = k % 16;
     S->set(lane, Triangle{s[0], s[1], s[2]}), T->set(lane, Triangle{t[0], t[1], t[2]});
     exact[lane] = want, slacks[lane] = slack;
