@@ -41,7 +41,7 @@ bool same(const MeshDistance& x, const MeshDistance& y) {
 class Determinism : public testing::TestWithParam<Isa> {
  protected:
   void SetUp() override {
-    if (!isa_supported(GetParam())) GTEST_SKIP();
+    if (!isa_supported(GetParam())) GTEST_SKIP() << "NOT TESTED: this CPU lacks " << to_string(GetParam());
     force_isa(GetParam());
   }
   void TearDown() override { force_isa(best_); }

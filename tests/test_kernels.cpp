@@ -176,7 +176,7 @@ std::vector<std::pair<Box, Box>> hard_box_pairs() {
 class Kernels : public testing::TestWithParam<Isa> {
  protected:
   void SetUp() override {
-    if (!isa_supported(GetParam())) GTEST_SKIP() << "this CPU lacks " << to_string(GetParam());
+    if (!isa_supported(GetParam())) GTEST_SKIP() << "NOT TESTED: this CPU lacks " << to_string(GetParam());
   }
   void TearDown() override { force_isa(Isa::Scalar), force_isa(best_); }
   Isa best_ = active_isa();

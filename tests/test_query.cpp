@@ -578,7 +578,7 @@ void check_batched_proximity(Isa isa, unsigned seed, double spread) {
 class BatchedProximity : public testing::TestWithParam<Isa> {
  protected:
   void SetUp() override {
-    if (!isa_supported(GetParam())) GTEST_SKIP();
+    if (!isa_supported(GetParam())) GTEST_SKIP() << "NOT TESTED: this CPU lacks " << to_string(GetParam());
   }
   void TearDown() override { force_isa(best_); }
   Isa best_ = active_isa();
@@ -794,7 +794,7 @@ void check_fused(Isa isa, unsigned seed) {
 class FusedSat : public testing::TestWithParam<Isa> {
  protected:
   void SetUp() override {
-    if (!isa_supported(GetParam())) GTEST_SKIP();
+    if (!isa_supported(GetParam())) GTEST_SKIP() << "NOT TESTED: this CPU lacks " << to_string(GetParam());
   }
   void TearDown() override { force_isa(best_); }
   Isa best_ = active_isa();
