@@ -65,6 +65,54 @@ bool inside(const Box& b, const Eigen::Vector3d& x, double tol) {
   return ((b.rotation.transpose() * (x - b.center)).cwiseAbs() - b.half_extents).maxCoeff() <= tol;
 }
 
+// An operand's corners, and its edge directions and face normals (the candidate axes).
+int corners(const Box& b, Eigen::Vector3d* out) {
+  for (int k = 0; k < 8; ++k) out[k] = box_corner(b, k);
+  return 8;
+}
+int corners(const Triangle& t, Eigen::Vector3d* out) {
+  out[0] = t.a, out[1] = t.b, out[2] = t.c;
+  return 3;
+}
+int directions(const Box& b, Eigen::Vector3d* edges, Eigen::Vector3d* normals, int& faces) {
+  for (int k = 0; k < 3; ++k) edges[k] = normals[k] = b.rotation.col(k);
+  faces = 3;
+  return 3;
+}
+int directions(const Triangle& t, Eigen::Vector3d* edges, Eigen::Vector3d* normals, int& faces) {
+  edges[0] = t.b - t.a, edges[1] = t.c - t.b, edges[2] = t.a - t.c;
+  normals[0] = edges[0].cross(edges[1]);
+  faces = 1;
+  return 3;
+}
+
+// The penetration depth by the separating axis theorem: the least overlap of the two corner
+// sets' projections over the face normals of both and the crosses of their edges (the facet
+// normals of A (-) B: the minimum translation is along one of them).
+template <class A, class B>
+double sat_depth(const A& a, const B& b) {
+  Eigen::Vector3d ca[8], cb[8], ea[3], eb[3], axes[3 + 3 + 9];
+  int fa = 0, fb = 0;
+  const int na = corners(a, ca), nb = corners(b, cb);
+  directions(a, ea, axes, fa);
+  directions(b, eb, axes + fa, fb);
+  int n = fa + fb;
+  for (const auto& x : ea)
+    for (const auto& y : eb)
+      if (x.cross(y).norm() > 1e-9 * x.norm() * y.norm()) axes[n++] = x.cross(y);  // (parallel edges: no axis)
+  double depth = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < n; ++k) {
+    const double length = axes[k].norm();
+    if (!(length > 0)) continue;
+    const Eigen::Vector3d u = axes[k] / length;
+    double lo_a = INFINITY, hi_a = -INFINITY, lo_b = INFINITY, hi_b = -INFINITY;
+    for (int i = 0; i < na; ++i) lo_a = std::min(lo_a, u.dot(ca[i])), hi_a = std::max(hi_a, u.dot(ca[i]));
+    for (int i = 0; i < nb; ++i) lo_b = std::min(lo_b, u.dot(cb[i])), hi_b = std::max(hi_b, u.dot(cb[i]));
+    depth = std::min(depth, std::min(hi_a - lo_b, hi_b - lo_a));
+  }
+  return depth;
+}
+
 // Brute force on an Ok answer of kinds 0 to 2: the distance is the least exact distance over
 // pairs of surface triangles (when apart, the closest points lie on the surfaces); a verdict
 // of intersecting needs surfaces that meet or a corner of one inside the other (a box holds
@@ -96,6 +144,16 @@ void brute(const A& a, const B& b, const Proximity& p) {
     std::fprintf(stderr, "query: intersecting %d distance %.17g; brute force: meet %d least %.17g (tol %.3g)\n",
                  int(p.intersecting), p.distance, int(meet), least, tol);
     fuzz::fail("the query differs from brute force");
+  }
+  // The depth against the separating axes (rounding: the projections carry eps of the reach,
+  // the axes' directions eps of their edges' lengths, times the reach again).
+  if (p.intersecting) {
+    const double want = sat_depth(a, b);
+    if (std::isfinite(want) && std::abs(p.penetration_depth - std::max(want, 0.0)) > 1e-9 * reach) {
+      std::fprintf(stderr, "query: depth %.17g; separating axes: %.17g (reach %.3g)\n", p.penetration_depth, want,
+                   reach);
+      fuzz::fail("the query's penetration depth differs from the separating axes'");
+    }
   }
 }
 
@@ -232,22 +290,22 @@ double exact_gap(const ConvexShape& A, const ConvexShape& B, const Eigen::Isomet
 }
 
 // The band's contract (TimeOfImpact) on a motion that `hit` says never brings A and B within
-// tolerance / 2: 32 sampled times by the query, and any sample inside that confirmed by the
+// tolerance / 2: 16 sampled times by the query, and any sample inside that confirmed by the
 // exact distance (exact_gap). (The sweeps may differ in the band: between tolerance / 2 and
 // the tolerance either answer holds.)
 void no_pass_within_half(const ConvexShape& A, const ConvexShape& B, const Eigen::Isometry3d& from,
                          const Eigen::Isometry3d& to, double tolerance, double reach, const char* which) {
   const Eigen::AngleAxisd turn(Eigen::Matrix3d(from.linear().transpose() * to.linear()));
   const double slack = 1e-9 * (1 + reach);
-  for (int k = 0; k <= 32; ++k) {
+  for (int k = 0; k <= 16; ++k) {
     Eigen::Isometry3d at = Eigen::Isometry3d::Identity();
-    at.linear() = from.linear() * Eigen::AngleAxisd(k / 32.0 * turn.angle(), turn.axis()).toRotationMatrix();
-    at.translation() = (1 - k / 32.0) * from.translation() + k / 32.0 * to.translation();
+    at.linear() = from.linear() * Eigen::AngleAxisd(k / 16.0 * turn.angle(), turn.axis()).toRotationMatrix();
+    at.translation() = (1 - k / 16.0) * from.translation() + k / 16.0 * to.translation();
     Proximity p;
     if (proximity(A, Eigen::Isometry3d::Identity(), B, at, p, Want::Contact) != Status::Ok) continue;
     if (!(p.intersecting || p.distance < 0.5 * tolerance - slack)) continue;
     if (const double d = exact_gap(A, B, at); d < 0.5 * tolerance - slack && !p.intersecting) {
-      std::fprintf(stderr, "%s: no hit, but at %d/32 of the motion the shapes are %.17g apart (tolerance %.17g)\n",
+      std::fprintf(stderr, "%s: no hit, but at %d/16 of the motion the shapes are %.17g apart (tolerance %.17g)\n",
                    which, k, d, tolerance);
       fuzz::fail("a time of impact misses a pass within half its tolerance");
     } else if (p.intersecting) {
