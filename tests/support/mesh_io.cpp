@@ -333,7 +333,7 @@ Mesh bumpy_sphere(int rings) {
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < 2 * n; ++j) {
       const int a = i * 2 * n + j, b = i * 2 * n + (j + 1) % (2 * n), c = a + 2 * n, d = b + 2 * n;
-      m.triangles.push_back({a, b, d}), m.triangles.push_back({a, d, c});
+      m.triangles.push_back({a, d, b}), m.triangles.push_back({a, c, d});  // (wound outward)
     }
   return m;
 }

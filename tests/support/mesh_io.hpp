@@ -28,7 +28,8 @@ std::vector<Eigen::Vector3d> sample_surface(const Mesh& mesh, int count, unsigne
 /// across), never a larger mesh. `source` says which one was used.
 Mesh demo_mesh(const std::string& name, std::string& source);
 
-/// A bumpy sphere 0.19 across: `rings` rings of 2 `rings` quads, 4 rings^2 triangles.
+/// A bumpy sphere 0.19 across: `rings` rings of 2 `rings` quads, 4 rings^2 triangles, wound
+/// counter-clockwise seen from outside (a haptic tool's contact reads the outside from it).
 Mesh bumpy_sphere(int rings);
 
 /// A mesh of Debian's libcgal-demo, data/meshes/`name` in its data.tar.gz (e.g. "camel.off"),
