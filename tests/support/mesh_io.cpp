@@ -267,7 +267,7 @@ MeshDistance brute_distance(const Mesh& a_in, const Mesh& b_in, const Eigen::Iso
   if (exact) {
     for (const auto& v : a.vertices) margin = std::max(margin, v.cwiseAbs().maxCoeff());
     for (const auto& v : moved) margin = std::max(margin, v.cwiseAbs().maxCoeff());
-    margin *= 1e-7;
+    margin *= 1e-11;  // (the double distance is within 64 eps of the coordinates: TriangleOracle)
   }
   struct Candidate {
     double d;

@@ -74,8 +74,9 @@ Mesh tilted(Mesh m);
 /// is skipped only if its bounding spheres are already farther apart than the best distance.
 /// A point cloud's points are zero-area triangles; two clouds: plain point-point distances.
 /// With `exact` (the tests pass test::exact_triangle_distance, GMP rationals: not the library),
-/// the distance is the least exact one over the pairs whose double distance is within 1e-7 of
-/// the coordinates' reach of the least: the library's triangle_distance only prunes.
+/// the distance is the least exact one over the pairs whose double distance is within 1e-11 of
+/// the coordinates' reach of the least: the library's triangle_distance (within 64 eps of the
+/// coordinates, tests/test_triangle_oracle.cpp) only prunes.
 using ExactDistance = double (*)(const Eigen::Vector3d (&)[3], const Eigen::Vector3d (&)[3]);
 MeshDistance brute_distance(const Mesh& a, const Mesh& b, const Eigen::Isometry3d& pose, ExactDistance exact = nullptr);
 
