@@ -442,11 +442,6 @@ TEST(TimeOfImpact, BadInputAndOverlapAtTheStart) {
   EXPECT_EQ(time_of_impact(none, kIdentity, B, far, far, toi), Status::TooFewPoints);
 }
 
-}  // namespace
-}  // namespace minksum
-
-namespace minksum {
-namespace {
 
 // The distance from x to the box [-1, 1]^3, in closed form (the band's oracle: not the library).
 double box_distance(const Vector3d& x) { return (x.cwiseAbs() - Vector3d::Ones()).cwiseMax(0.0).norm(); }
@@ -524,11 +519,6 @@ TEST(TimeOfImpact, TheBandHasOneContractConvexAndMesh) {
   EXPECT_GT(misses_above, 600 / 7 * 2 * 2 - 10);
 }
 
-}  // namespace
-}  // namespace minksum
-
-namespace minksum {
-namespace {
 
 // Whether B, moving with at most `speed` per unit time (|v| + angle r over the tick), stays at
 // least `floor` from A at every time of [lo, hi], given the brute-force distances at its ends
@@ -605,11 +595,6 @@ TEST(TimeOfImpact, ALongLeverArmNeverStepsOverAPass) {
   EXPECT_GT(misses, motions / 5);
 }
 
-}  // namespace
-}  // namespace minksum
-
-namespace minksum {
-namespace {
 
 // Ties (tests/ties.hpp): box pairs in exact contact, face on face, along an edge or at a corner,
 // each quarter-turned, and box-triangle pairs likewise. B moves through its touching pose at the

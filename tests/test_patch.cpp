@@ -501,11 +501,6 @@ TEST(ContactPatch, MarginAndBadInput) {
   EXPECT_EQ(p.size, 4);
 }
 
-}  // namespace
-}  // namespace minksum
-
-namespace minksum {
-namespace {
 
 // Ties (tests/ties.hpp): boxes in exact contact (face on face, edge, corner; quarter-turned) and
 // a box with a triangle touching it. The patch at margin 0 exists (an edge on an edge along an

@@ -177,11 +177,6 @@ TEST(Status, EveryStatusHasAMessage) {
   for (int s = 0; s <= int(Status::HullFailed); ++s) EXPECT_STRNE(to_string(Status(s)), "unknown status");
 }
 
-}  // namespace
-}  // namespace minksum
-
-namespace minksum {
-namespace {
 
 // Sizes at both ends of double's range get the status that names them: a tetrahedron 1e-200
 // across is OutOfRange (it was "collinear": its cross products underflow), one of edge 1e80 is

@@ -85,11 +85,6 @@ TEST(Ties, ExactContactIsIntersectingAtDistanceZero) {
   }
 }
 
-}  // namespace
-}  // namespace minksum
-
-namespace minksum {
-namespace {
 
 // Brute force on lattice operands: the least exact distance between their surfaces (the
 // distance when apart; 0 when the surfaces meet) and whether a corner of one lies in the other
@@ -170,11 +165,6 @@ TEST(Ties, LatticeQueriesEqualTheExactDistance) {
   }
 }
 
-}  // namespace
-}  // namespace minksum
-
-namespace minksum {
-namespace {
 
 // "Meshes" of lattice triangles (a soup: the octree does not need a closed surface), 30 each,
 // under lattice motions (quarter turns, 1/8 steps) that keep every coordinate exact: the
@@ -235,11 +225,6 @@ TEST(Ties, OctreeOnLatticeTrianglesEqualsTheExactDistance) {
   std::printf("lattice soups that meet / are apart: %d / %d\n", meet, apart);
 }
 
-}  // namespace
-}  // namespace minksum
-
-namespace minksum {
-namespace {
 
 // ties::quarter_turn draws every one of the 24 rotations of the cube (the header's promise; it
 // gave 14 before), each a proper rotation with entries in {-1, 0, 1}.
