@@ -83,13 +83,13 @@ Status polytope_from_points(const std::vector<Vector3d>& points, ConvexPolytope&
 
   std::vector<Vector3d> pts;
   for (int id : unique_ids) pts.push_back(points[id]);
-  if (!(diagonal(pts) >= kMinExtent)) return Status::OutOfRange;  // (1e-200 across: every cross product is 0)
+  const double extent = diagonal(pts);
+  if (!(extent >= kMinExtent)) return Status::OutOfRange;  // (1e-200 across: every cross product is 0)
   // The shape tests and Qhull see the points scaled by a power of two to about 1 across (exact):
   // Qhull's determinants overflow from coordinates of about 1e77, where 1e100 is accepted.
-  const double unit = detail::scale_to_one(diagonal(pts));
+  const double unit = detail::scale_to_one(extent), D = unit * extent;
   std::vector<Vector3d> scaled;
   for (const Vector3d& p : pts) scaled.push_back(unit * p);
-  const double D = diagonal(scaled);
   // Two far-apart points, then the point farthest from their line, then from their plane.
   auto farthest = [&](auto dist) {
     int best = 0;
