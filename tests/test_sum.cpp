@@ -385,7 +385,8 @@ TEST(HardCases, CrossingOfAShortArcWithAParallelEdge) {
 // Fuzz finding (fuzz_sum, seed 32): a sliver tetrahedron whose adjacent faces nearly oppose
 // (dihedral angle 2.6e-10), so the poles rounded from its normals are off by 4e-6 rad, and a
 // triangle's normal 7e-8 rad inside one cell was placed in its neighbour: a support off by 1e-7
-// of the size. Such maps (ShapeData::support_error) have their results certified.
+// of the size. A sign on rounded normals that needs the exact predicate marks the result for
+// the support check (a near tie).
 TEST(HardCases, SliverWithNearlyOpposedFaces) {
   const double L = 4.2525583765009148e+71;
   check_fast({{256, 8.3885719050467071e-308, -4}, {0, 0.03125, 0}, {-L, -200, 0}, {-L, -197.640625, -L}},
@@ -394,6 +395,46 @@ TEST(HardCases, SliverWithNearlyOpposedFaces) {
               {-L, -4.2525587812305062e+71, -196.78125},
               {0, 1.8699346191297772e-307, -L}},
              false);
+}
+
+// Fuzz finding (fuzz_sum, seed 53102, after 313,889 inputs): 20 points flat to 4e-12 of their
+// size, a triangle 4.1e13 across, turned, on a small polytope whose top edge is level to
+// 6.5e-12 rad. The triangle's normal leaned on a point 246 off its plane (1.2e-11 rad), and
+// within the poles' rounding the map put it in the wrong cell of B's; A's arc crosses B's at
+// 0.004 rad, so the crossing moved 1.7e-9 rad along it: a facet that does not exist, a pairwise
+// sum 68,000 (1.65e-9 of the size) outside it, and no certificate asked for. The structure
+// must be the exact hull's.
+TEST(HardCases, NearTieThroughAShallowCrossing) {
+  const std::vector<Vector3d> a = {{1, 3, 1},
+                                   {10, 0, 1},
+                                   {9, 4, -0.015625},
+                                   {0, 0, 0.015625},
+                                   {0.03125, 0.015625, 0},
+                                   {0, 1, 0},
+                                   {0, 0, 0.03125},
+                                   {-41255782948253.609, -244.96875, -245.96875},
+                                   {-244.96875, -244.96875, -244.96875},
+                                   {-244.96875, -244.96875, -512},
+                                   {2, 0, 0},
+                                   {-200, -41212452817309.609, -244.96875},
+                                   {-245.96875, -244.96875, 64.25},
+                                   {0, -512, 256},
+                                   {256, 256, -512},
+                                   {0, 256, 0}};
+  const std::vector<Vector3d> b = {{256, 0, 0},           {0, 424, 425.65625},       {425.65625, 425.65625, 425.65625},
+                                   {0.765625, 0.03125, 0}, {0.015625, 0.03125, 0}, {0.015625, 0.015625, 0.03125}};
+  ConvexShape SA, SB;
+  ASSERT_EQ(shape_from_points(a, SA), Status::Ok);
+  ASSERT_EQ(shape_from_points(b, SB), Status::Ok);
+  Eigen::Isometry3d pa = Eigen::Isometry3d::Identity(), pb = pa;
+  pa.linear() = pb.linear() = Vector3d(-1, 1, -1).asDiagonal();
+  pa.translation() = Vector3d(0.015625, 0.03125, 0), pb.translation() = Vector3d(0.015625, 0, 0.03125);
+  std::vector<Vector3d> wa, wb;
+  for (const auto& p : SA.polytope().vertices) wa.push_back(pa * p);
+  for (const auto& q : SB.polytope().vertices) wb.push_back(pb * q);
+  MinkowskiSum m;
+  ASSERT_EQ(minkowski_sum(SA, pa, SB, pb, m), Status::Ok);
+  EXPECT_TRUE(test::equals_exact_hull(wa, wb, 1, m, 0));  // (every input and sum here is a double)
 }
 
 TEST(HardCases, NonFiniteInputIsRejected) {

@@ -109,8 +109,13 @@ Status polytope_from_points(const std::vector<Vector3d>& points, ConvexPolytope&
     for (int k = 0; k < int(scaled.size()); ++k) all[k] = k;
     std::vector<int> loop = detail::planar_hull(scaled, all, n, kLineTol * D * D);
     if (loop.size() < 3) return Status::Collinear;
+    // The polygon's own normal (its loop's exact Newell normal, rounded), not n: n leans on
+    // the first point, which may lie off the polygon by the flatness tolerance (a 4e13-long
+    // triangle's normal tilted 1.2e-11 rad by a point 246 off its plane).
+    const Vector3d newell = detail::exact_newell(scaled, loop);
+    const Vector3d normal = newell.dot(n) > 0 ? Vector3d(newell.normalized()) : n;
     for (int& id : loop) id = unique_ids[id];
-    return make_flat(points, loop, n, out);
+    return make_flat(points, loop, normal, out);
   }
 
   std::vector<detail::HullFacet> facets;
