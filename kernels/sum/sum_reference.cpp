@@ -69,12 +69,13 @@ void sum_reference(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSu
   std::map<std::vector<int>, std::pair<size_t, double>> seen;  // corners -> facet, spread
   std::vector<FacetLoop> facets;
   std::vector<double> da(a.vertices.size()), db(b.vertices.size());
+  std::vector<int> extreme;  // (reused: most of the E_A E_B candidates find two pairs or fewer)
   for (const auto& n : normals) {
     for (size_t i = 0; i < da.size(); ++i) da[i] = n.dot(a.vertices[i]);
     for (size_t j = 0; j < db.size(); ++j) db[j] = n.dot(b.vertices[j]);
     const double ha = *std::max_element(da.begin(), da.end());
     const double hb = *std::max_element(db.begin(), db.end());
-    std::vector<int> extreme;
+    extreme.clear();
     for (int i = 0; i < int(da.size()); ++i) {
       if (da[i] < ha - push_tol) continue;
       for (int j = 0; j < nb; ++j)
