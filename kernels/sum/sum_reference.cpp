@@ -68,13 +68,17 @@ void sum_reference(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSu
   // which keeps the test suite's thousands of random pairs affordable.
   std::map<std::vector<int>, std::pair<size_t, double>> seen;  // corners -> facet, spread
   std::vector<FacetLoop> facets;
-  std::vector<double> da(a.vertices.size()), db(b.vertices.size());
+  // The vertices as 3 x n matrices (a vector of Vector3d is packed), so that each candidate's
+  // heights are one product and their maximum a vectorised reduction.
+  using Points = Eigen::Map<const Eigen::Matrix<double, 3, Eigen::Dynamic>>;
+  const Points pa(a.vertices[0].data(), 3, Eigen::Index(a.vertices.size()));
+  const Points pb(b.vertices[0].data(), 3, Eigen::Index(nb));
+  Eigen::RowVectorXd da(pa.cols()), db(pb.cols());
   std::vector<int> extreme;  // (reused: most of the E_A E_B candidates find two pairs or fewer)
   for (const auto& n : normals) {
-    for (size_t i = 0; i < da.size(); ++i) da[i] = n.dot(a.vertices[i]);
-    for (size_t j = 0; j < db.size(); ++j) db[j] = n.dot(b.vertices[j]);
-    const double ha = *std::max_element(da.begin(), da.end());
-    const double hb = *std::max_element(db.begin(), db.end());
+    da.noalias() = n.transpose() * pa;
+    db.noalias() = n.transpose() * pb;
+    const double ha = da.maxCoeff(), hb = db.maxCoeff();
     extreme.clear();
     for (int i = 0; i < int(da.size()); ++i) {
       if (da[i] < ha - push_tol) continue;
