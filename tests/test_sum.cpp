@@ -385,8 +385,7 @@ TEST(HardCases, CrossingOfAShortArcWithAParallelEdge) {
 // Fuzz finding (fuzz_sum, seed 32): a sliver tetrahedron whose adjacent faces nearly oppose
 // (dihedral angle 2.6e-10), so the poles rounded from its normals are off by 4e-6 rad, and a
 // triangle's normal 7e-8 rad inside one cell was placed in its neighbour: a support off by 1e-7
-// of the size. A sign on rounded normals that needs the exact predicate marks the result for
-// the support check (a near tie).
+// of the size. Such maps (ShapeData::support_error) have their results certified.
 TEST(HardCases, SliverWithNearlyOpposedFaces) {
   const double L = 4.2525583765009148e+71;
   check_fast({{256, 8.3885719050467071e-308, -4}, {0, 0.03125, 0}, {-L, -200, 0}, {-L, -197.640625, -L}},
@@ -399,11 +398,11 @@ TEST(HardCases, SliverWithNearlyOpposedFaces) {
 
 // Fuzz finding (fuzz_sum, seed 53102, after 313,889 inputs): 20 points flat to 4e-12 of their
 // size, a triangle 4.1e13 across, turned, on a small polytope whose top edge is level to
-// 6.5e-12 rad. The triangle's normal leaned on a point 246 off its plane (1.2e-11 rad), and
-// within the poles' rounding the map put it in the wrong cell of B's; A's arc crosses B's at
-// 0.004 rad, so the crossing moved 1.7e-9 rad along it: a facet that does not exist, a pairwise
-// sum 68,000 (1.65e-9 of the size) outside it, and no certificate asked for. The structure
-// must be the exact hull's.
+// 6.5e-12 rad. The triangle's normal leaned on a point 246 off its plane (1.2e-11 rad), which
+// put it in the wrong cell of B's map; A's arc crosses B's at 0.004 rad, so the crossing moved
+// 1.7e-9 rad along it: a facet that does not exist, a pairwise sum 68,000 (1.65e-9 of the size)
+// outside it. A flat polygon's normal is now its loop's own. The structure must be the exact
+// hull's.
 TEST(HardCases, NearTieThroughAShallowCrossing) {
   const std::vector<Vector3d> a = {{1, 3, 1},
                                    {10, 0, 1},

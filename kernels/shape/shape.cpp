@@ -70,7 +70,6 @@ Status prepare_flat(const ConvexPolytope& p, ShapeData& s, double extent, Topolo
   if (!(g.dot(n) > 0)) return Status::InvalidMesh;
   g = canonical_direction(exact ? g : own_normal(n, g), exact);  // (as a solid's faces)
   set_normal(0, g), set_normal(1, -g);
-  s.rounded_normals = !exact;
   for (int k = 0; k < K; ++k) {
     const Vector3d &a = p.vertices[top[k]], &b = p.vertices[top[(k + 1) % K]];
     bool side_exact = exact;
@@ -78,7 +77,6 @@ Status prepare_flat(const ConvexPolytope& p, ShapeData& s, double extent, Topolo
     const Vector3d side = canonical_direction(exact_edge_cross(a, b, g, &side_exact), side_exact);
     if (side == Vector3d::Zero()) return Status::InvalidMesh;
     set_normal(2 + k, side);
-    s.rounded_normals |= !side_exact;
   }
   s.cell_vertex.resize(size_t(s.cells)), s.vertex_cell.resize(size_t(V));
   for (int c = 0; c < 2 * K; ++c) s.cell_vertex[c] = top[c % K];
@@ -117,7 +115,6 @@ Status prepare_solid(const ConvexPolytope& p, ShapeData& s, Topology& t) {
   if (V < 4 || F < 4 || V - E + F != 2) return Status::InvalidMesh;
   s.faces = F, s.arcs = E, s.cells = V;
   s.gauss.resize(size_t(F));
-  s.rounded_normals = false;
   t.loop_start.assign(1, 0), t.loop_cell.clear();
   for (int f = 0; f < F; ++f) {
     const Face& face = p.faces[f];
@@ -129,7 +126,6 @@ Status prepare_solid(const ConvexPolytope& p, ShapeData& s, Topology& t) {
     if (!(g.dot(face.normal) > 0)) return Status::InvalidMesh;  // a loop against its normal
     const Vector3d c = canonical_direction(exact ? g : own_normal(face.normal, g), exact);
     s.gauss[f] = c;
-    s.rounded_normals |= !exact;
     t.loop_cell.insert(t.loop_cell.end(), face.loop.begin(), face.loop.end());
     t.loop_start.push_back(int(t.loop_cell.size()));
   }
@@ -292,10 +288,13 @@ Status prepare(const ConvexPolytope& p, ShapeData& s, bool negated_layout) {
     const int u = s.cell_vertex[s.map[0].arc[e].u], v = s.cell_vertex[s.map[0].arc[e].v];
     s.ex[e] = s.px[v] - s.px[u], s.ey[e] = s.py[v] - s.py[u], s.ez[e] = s.pz[v] - s.pz[u];
   }
-  s.pole_error = 0;
+  s.support_error = s.pole_error = 0;
   for (int e = 0; e < s.arcs; ++e) {
     const MapLayout::Arc& a = s.map[0].arc[e];
-    s.pole_error = std::max(s.pole_error, pole_error_bound(s.gauss[a.L], s.gauss[a.R], s.pole[0][e]));
+    const double d = std::sqrt(s.ex[e] * s.ex[e] + s.ey[e] * s.ey[e] + s.ez[e] * s.ez[e]);
+    const double angle = pole_error_bound(s.gauss[a.L], s.gauss[a.R], s.pole[0][e]);
+    s.pole_error = std::max(s.pole_error, angle);
+    if (d > 0) s.support_error = std::max(s.support_error, angle * d);
   }
   s.nx.resize(size_t(s.faces)), s.ny.resize(size_t(s.faces)), s.nz.resize(size_t(s.faces));
   for (int f = 0; f < s.faces; ++f) {

@@ -73,11 +73,11 @@ struct ShapeData {
   /// 1e-16 / |G_L x G_R|), or faces planar only to a tolerance (Qhull's merged facets, a
   /// flat polygon's points within 1e-10 of its plane).
   double pole_slack = 0;
-  /// Some Gauss normal is rounded (its face's exact Newell normal is not a double): a sign on
-  /// it that needs the exact predicate is the sign of the rounded map, maybe not the shape's.
-  bool rounded_normals = false;
-  /// The largest pole_error_bound over the arcs (large on a sliver whose adjacent faces nearly
-  /// coincide or nearly oppose).
+  /// A bound on what a normal placed on the wrong side of an arc can cost a sum's support
+  /// value: per arc, pole_error_bound (large on a sliver whose adjacent faces nearly coincide or
+  /// nearly oppose) times its edge's length; the largest over the arcs.
+  double support_error = 0;
+  /// The largest of those angles (pole_error_bound) over the arcs.
   double pole_error = 0;
   std::vector<Eigen::Vector3d> dir;  // prepare's: per arc p_v - p_u (a prism's zero-length arcs: -normal x width)
 };

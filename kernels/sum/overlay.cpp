@@ -53,17 +53,6 @@ namespace {
 // so c . G is within 192 ulp(1) ~ 2.2e-14 of det(G, G_L, G_R); 1e-13 leaves a margin.
 constexpr double kFilter = 1e-13;
 
-// The exact predicate of a sign the filter left open. On rounded normals (each within about
-// 1e-15 of the shape's own, so within the filter a sign is also the shape's) a nonzero sign
-// there is rounding's, not surely the shape's: a near tie, whose result the caller certifies
-// (one of a thin sliver's faces a normal 1e-8 rad inside a cell, placed in its neighbour
-// through a shallow crossing: a facet 1.7e-9 rad off, 1.65e-9 of the size out).
-inline int exact_side(const Placed& X, int e, const Placed& Y, const Vector3d& g) {
-  const int s = orient(g, X.g[X.L(e)], X.g[X.R(e)]);
-  if (s != 0 && (X.rounded || Y.rounded)) *X.near_tie = true;
-  return s;
-}
-
 // The exact side of X's arc e (its pole) on which Y's normal f lies: sign det(G_f, G_L, G_R):
 // the filter, then a zero for want of terms (no component of G_f meets a nonzero one of the
 // pole's), then the exact predicate.
@@ -73,7 +62,7 @@ inline int side(const Placed& X, int e, const Placed& Y, int f) {
   if (v > kFilter) return 1;
   if (v < -kFilter) return -1;
   if ((Y.g_nonzero[f] & ~X.c_zero[e]) == 0) return 0;
-  return exact_side(X, e, Y, g);
+  return orient(g, X.g[X.L(e)], X.g[X.R(e)]);
 }
 
 // Whether Y's normal f lies beyond the side of X's cell at `slot` (the cell across is higher
@@ -195,7 +184,7 @@ bool walk(const Placed& A, const Placed& B, int ea, int from, const Loc& start, 
     if (v > kFilter) return 1;
     if (v < -kFilter) return -1;
     if ((B.g_nonzero[g] & ~A.c_zero[ea]) == 0) return 0;
-    return tsign * exact_side(A, ea, B, x);
+    return tsign * orient(x, A.g[A.L(ea)], A.g[A.R(ea)]);
   };
   // Whether the far end lies beyond a side of a cell (at `slot`).
   const auto past = [&](int slot) { return beyond(B, m.cell_slot[slot].arc, A, to); };
@@ -347,8 +336,6 @@ void place(const ShapeData& s, const Eigen::Isometry3d& pose, const Eigen::Matri
   const double sign = negate ? -1.0 : 1.0;
   out.s = &s, out.m = &s.map[negate], out.negate = negate;
   out.world = Rigid(sign * pose.linear(), sign * pose.translation()), out.frame = sign * frame;
-  // A turn other than a signed permutation rounds the normals it turns.
-  out.rounded = s.rounded_normals || !frame.unaryExpr([](double x) { return x == 0 || std::abs(x) == 1; }).all();
   if (frame == Eigen::Matrix3d::Identity()) {  // the prepared normals and poles (-B's negated)
     if (negate) {
       buf.g.resize(s.gauss.size());

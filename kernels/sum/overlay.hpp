@@ -31,8 +31,6 @@ struct Placed {
   const double *px, *py, *pz;     ///< vertices in the world frame
   Rigid world;                    ///< body -> world pose (negated for -B)
   Eigen::Matrix3d frame;          ///< body -> overlay frame rotation (negated for -B)
-  bool rounded = false;           ///< g is rounded: the shape's rounded_normals, or turned
-  bool* near_tie = nullptr;       ///< set when a sign on rounded normals needed the exact predicate
   int L(int e) const { return m->arc[e].L; }
   int R(int e) const { return m->arc[e].R; }
   const Eigen::Vector3d& gauss(int f) const { return g[f]; }
