@@ -111,7 +111,7 @@ const char* kHelp =
     "      each search seeded by the last answer, the same distances); --brute checks by all\n"
     "      pairs. No meshes: two bunnies (../shared/data beside the source tree, else a generated\n"
     "      mesh of the same size).\n"
-    "  haptics [--tool box|icosa|MESH] [--scene MESH|bunny_full|sheet] [--seconds S] [--rate HZ]\n"
+    "  haptics [--tool box|icosa|MESH] [--scene MESH|bunny_full|bumpy_full|sheet] [--seconds S] [--rate HZ]\n"
     "          [--press MM] [--speed M/S] [--realtime] [--plot out.png] [--trace out.csv] [--json]\n"
     "      A 1 kHz 6-DOF haptic loop: a device approaches, presses MM (default 2) into and slides\n"
     "      (--tool MESH: the mesh's convex hull, centred and scaled to 30 mm across, is the tool)\n"

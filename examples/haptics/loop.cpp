@@ -147,6 +147,9 @@ bool set_up(const Options& options, Setup& s, Report& report, std::string& error
   if (options.scene.empty() || options.scene == "bunny_full") {
     report.scene_mesh = options.scene.empty() ? "bun_zipper_res2.ply" : "bun_zipper.ply";
     s.scene = tools::demo_mesh(report.scene_mesh, report.scene_source);
+  } else if (options.scene == "bumpy_full") {  // (the instruction budgets' scene: the same on every host)
+    s.scene = tools::bumpy_sphere(132);
+    report.scene_source = "a generated bumpy sphere of 69,696 triangles";
   } else if (options.scene == "sheet") {
     s.scene = tools::box_mesh(Vector3d(-0.03, -0.0005, -0.03), Vector3d(0.03, 0, 0.03), 12);
     report.scene_source = "a sheet 60 x 60 x 0.5 mm";

@@ -13,7 +13,7 @@ namespace minksum::haptics {
 struct Options {
   std::string tool = "box";  ///< "box", "icosa", or a mesh file (its convex hull is the tool)
   /// mesh file; empty: bunny res2; "bunny_full": the full bunny (or their fallbacks); "sheet":
-  /// a 60 mm square sheet 0.5 mm thick
+  /// a 60 mm square sheet 0.5 mm thick; "bumpy_full": the full bunny's generated stand-in always
   std::string scene;
   double seconds = 60;       ///< simulated time
   double press = 0.002;      ///< how far the device is pressed below touching the scene [m]

@@ -1,0 +1,207 @@
+// The operations of the instruction budgets (tests/budgets.tsv), on fixed inputs, for callgrind.
+// Run under `valgrind --tool=callgrind --collect-atstart=no` (tests/budgets.py does): each
+// operation's calls are collected between two client requests and dumped under its name, and
+// this program prints "<name> <calls>" for each, so instructions per call = the dump's total /
+// calls. Everything else (building shapes, trees, poses) is not collected. The kernels run at
+// AVX2, which every supported host has and valgrind decodes (it does not run AVX-512), so the
+// counts are the same on every host. Without valgrind the client requests do nothing: the
+// program then only checks that every operation succeeds.
+#include <minksum/minksum.hpp>
+#include <valgrind/callgrind.h>
+
+#include <cstdio>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "haptics/loop.hpp"
+#include "support/mesh_io.hpp"
+#include "support/shapes.hpp"
+
+namespace {
+
+using namespace minksum;
+using Eigen::Isometry3d;
+using Eigen::Vector3d;
+
+bool g_ok = true;
+
+// Counts `calls` calls of op(k), k = 0 .. calls - 1, under `name`. op returns false on a failure.
+void measure(const char* name, int calls, const std::function<bool(int)>& op) {
+  bool ok = true;
+  CALLGRIND_TOGGLE_COLLECT;
+  for (int k = 0; k < calls; ++k) ok &= op(k);
+  CALLGRIND_TOGGLE_COLLECT;
+  CALLGRIND_DUMP_STATS_AT(name);
+  if (!ok) std::fprintf(stderr, "budgets: %s failed\n", name), g_ok = false;
+  std::printf("%s %d\n", name, calls);
+}
+
+Isometry3d pose_of(const Box& b) { return Eigen::Translation3d(b.center) * Isometry3d(b.rotation); }
+
+// A box moving about a box along the trajectory benchmark's path (in and out of contact), as
+// boxes and as prepared shapes.
+void box_pairs() {
+  Box a, body;
+  a.half_extents = Vector3d(0.5, 0.35, 0.25), body.half_extents = Vector3d(0.3, 0.4, 0.2);
+  a.rotation = tools::axis_angle(Vector3d(1, 2, 3), 0.4), a.center = Vector3d(0.1, -0.2, 0.3);
+  const auto path = tools::trajectory(7, 1000, 0.7, 1.6, 0.02 * body.half_extents.norm());
+  std::vector<Box> b(path.size(), body);
+  for (size_t k = 0; k < path.size(); ++k) {
+    const Isometry3d p = pose_of(a) * path[k];
+    b[k].center = p.translation(), b[k].rotation = p.linear();
+  }
+  const int n = int(path.size());
+  Proximity p;
+  measure("box_box.cold", n, [&](int k) { return proximity(a, b[size_t(k)], p) == Status::Ok; });
+  ProximityCache cache;
+  measure("box_box.coherent", n, [&](int k) { return proximity(a, b[size_t(k)], cache, p) == Status::Ok; });
+  ConvexShape A, B;  // (A keeps its box's pose, B is placed by each call)
+  shape_from_box(a, A), shape_from_box(body, B);
+  ProximityCache shape_cache;
+  measure("box_box_shapes.coherent", n, [&](int k) {
+    return proximity(A, Isometry3d::Identity(), B, pose_of(b[size_t(k)]), shape_cache, p) == Status::Ok;
+  });
+}
+
+// Table 1's icosahedron about its dodecahedron (prepared shapes), in and out of contact.
+void convex_pairs() {
+  ConvexShape A, B;
+  shape_from_points(tools::dodecahedron_points(), A), shape_from_points(tools::icosahedron_points(), B);
+  const Isometry3d pose_a(Eigen::Translation3d(0.3, -0.2, 0.1) * Eigen::AngleAxisd(0.4, Vector3d::UnitY()));
+  const double r = std::sqrt(3.0) + std::sqrt(1 + 1.618034 * 1.618034);
+  const auto path = tools::trajectory(11, 1000, 0.85 * r, 1.5 * r, 0.02 * std::sqrt(3.0));
+  Proximity p;
+  const int n = int(path.size());
+  measure("convex.cold", n, [&](int k) { return proximity(A, pose_a, B, pose_a * path[size_t(k)], p) == Status::Ok; });
+  ProximityCache cache;
+  measure("convex.coherent", n,
+          [&](int k) { return proximity(A, pose_a, B, pose_a * path[size_t(k)], cache, p) == Status::Ok; });
+}
+
+// 16-gon prisms resting face on face and sliding (touching), and their contact patch.
+void face_to_face() {
+  for (const auto& f : tools::face_pairs()) {
+    if (f.name != "prisms16" && f.name != "boxes") continue;
+    ConvexShape A, B;
+    if (f.a_is_box ? shape_from_box(f.box_a, A) != Status::Ok : shape_from_points(f.a, A) != Status::Ok) g_ok = false;
+    if (f.b_is_box ? shape_from_box(f.box_b, B) != Status::Ok : shape_from_points(f.b, B) != Status::Ok) g_ok = false;
+    constexpr int n = 200;
+    std::vector<Isometry3d> pose(n);
+    for (int k = 0; k < n; ++k) pose[size_t(k)] = tools::face_pose(f, k, n, 0, true);
+    const Isometry3d I = Isometry3d::Identity();
+    Proximity p;
+    ProximityCache cache;
+    ContactPatch patch;
+    const std::string name = f.name;
+    if (f.name == "prisms16") {
+      measure("face.prisms16.touching.cold", n,
+              [&](int k) { return proximity(A, I, B, pose[size_t(k)], p) == Status::Ok; });
+      measure("face.prisms16.touching.coherent", n,
+              [&](int k) { return proximity(A, I, B, pose[size_t(k)], cache, p) == Status::Ok; });
+    }
+    measure(("patch." + name + ".touching").c_str(), n,
+            [&](int k) { return contact_patch(A, I, B, pose[size_t(k)], 0, patch) == Status::Ok && patch.size > 0; });
+  }
+}
+
+// An icosahedron crossing a box within a tick, translating and turning.
+void impacts() {
+  ConvexShape A, B;
+  shape_from_box(Box{}, A), shape_from_points(tools::scaled(tools::icosahedron_points(), 0.5), B);
+  const Isometry3d I = Isometry3d::Identity();
+  constexpr int n = 64;
+  TimeOfImpact t;
+  const auto motion = [](int k, bool turning, Isometry3d& b0, Isometry3d& b1) {
+    const double s = 2 * M_PI * k / n;
+    const Vector3d u = Vector3d(std::cos(s), std::sin(s), 0.3 * std::sin(2 * s)).normalized();
+    b0 = Eigen::Translation3d(4 * u) * Isometry3d::Identity(), b1 = Eigen::Translation3d(-4 * u) * Isometry3d::Identity();
+    if (turning) b1.linear() = tools::axis_angle(Vector3d(std::sin(s), 1, std::cos(s)), 0.5);
+  };
+  for (bool turning : {false, true})
+    measure(turning ? "time_of_impact.turning" : "time_of_impact.translating", n, [&](int k) {
+      Isometry3d b0, b1;
+      motion(k, turning, b0, b1);
+      return time_of_impact(A, I, I, B, b0, b1, t) == Status::Ok && t.hit;
+    });
+}
+
+// A 20 x 16 x 12 mm box against a generated bumpy sphere the size of the full bunny (the same
+// mesh on every host), cold, at poses near and far.
+void meshes() {
+  const tools::Mesh scene = tools::bumpy_sphere(132);
+  tools::Mesh tool;
+  for (const Vector3d& p : tools::cube_points()) tool.vertices.emplace_back(0.01 * p.x(), 0.008 * p.y(), 0.006 * p.z());
+  tool.triangles = {{0, 1, 3}, {0, 3, 2}, {4, 6, 7}, {4, 7, 5}, {0, 4, 5}, {0, 5, 1},
+                    {2, 3, 7}, {2, 7, 6}, {0, 2, 6}, {0, 6, 4}, {1, 5, 7}, {1, 7, 3}};
+  Octree A, B;
+  OctreeOptions one_leaf;
+  one_leaf.max_depth = 0;
+  if (build_octree(scene.vertices, scene.triangles, A) != Status::Ok ||
+      build_octree(tool.vertices, tool.triangles, B, one_leaf) != Status::Ok)
+    g_ok = false;
+  MeshWorkspace ws;
+  make_workspace(A, B, ws);
+  const auto path = tools::trajectory(13, 100, 0.1, 0.2, 0.002);
+  MeshDistance d;
+  measure("mesh_distance.cold", int(path.size()), [&](int k) {
+    return mesh_distance(A, Isometry3d::Identity(), B, path[size_t(k)], ws, d) == Status::Ok;
+  });
+}
+
+// The haptic loop on the full bunny's stand-in (box tool, 6-DOF, coherent): a run of 4,001 ticks
+// (one cycle of the path: approach, press, slide turning, leave) less a run of 1, per tick.
+void haptics_loop() {
+  haptics::Options o;
+  o.scene = "bumpy_full", o.warmup = 0;
+  haptics::Report report;
+  std::string error;
+  for (double seconds : {0.001, 4.001}) {
+    o.seconds = seconds;
+    CALLGRIND_TOGGLE_COLLECT;
+    const bool ok = haptics::run(o, [] { return -1L; }, report, error);
+    CALLGRIND_TOGGLE_COLLECT;
+    CALLGRIND_DUMP_STATS_AT(seconds < 1 ? "haptic_tick.setup" : "haptic_tick.setup_and_4000");
+    if (!ok) std::fprintf(stderr, "budgets: haptics: %s\n", error.c_str()), g_ok = false;
+  }
+  std::printf("haptic_tick 4000 = haptic_tick.setup_and_4000 - haptic_tick.setup\n");
+}
+
+// The sum of each Table 1 pair (prepared shapes, B turned), and the box-box kernel's whole
+// polytopes of 32 box pairs.
+void sums() {
+  std::vector<std::pair<ConvexShape, ConvexShape>> shapes;
+  for (const auto& t : tools::table1_pairs()) {
+    shapes.emplace_back();
+    if (shape_from_points(t.a, shapes.back().first) != Status::Ok ||
+        shape_from_points(t.b, shapes.back().second) != Status::Ok)
+      g_ok = false;
+  }
+  MinkowskiSum m;
+  const Isometry3d I = Isometry3d::Identity();
+  for (const auto& [a, b] : shapes) minkowski_sum(a, I, b, I, m);  // (grows m to its size first)
+  measure("sum.table1", int(shapes.size()), [&](int k) {
+    return minkowski_sum(shapes[size_t(k)].first, I, shapes[size_t(k)].second, I, m) == Status::Ok;
+  });
+  static BoxBatch<double, 32> A, B;
+  static BoxBoxSum<double, 32> out;
+  tools::fill_table1_cubes(A, B);
+  measure("box_box_kernel.sum_of_32", 1, [&](int) { return box_box_sum(A, B, out), true; });
+}
+
+}  // namespace
+
+int main() {
+  if (!force_isa(Isa::Avx2)) {
+    std::fprintf(stderr, "budgets: this CPU has no AVX2 (the budgets are counted at AVX2)\n");
+    return 2;
+  }
+  box_pairs();
+  convex_pairs();
+  face_to_face();
+  impacts();
+  meshes();
+  haptics_loop();
+  sums();
+  return g_ok ? 0 : 1;
+}
