@@ -6,7 +6,7 @@
 //   FaceToFace/<family>/<apart|touching|pressed>/<minksum_cold|minksum_coherent|fcl_gjk|bullet_gjk_warm>
 // Counters: searched_share (queries that needed the exhaustive search) and, for the coherent
 // rows, warm_share. FCL's GJK answers its distance, Bullet its signed distance (EPA on
-// contact) from its cached separating axis; minksum the distance, or the depth (Want::Contact).
+// contact) from its cached separating axis; minksum the distance, or the depth (Want::Witnesses).
 #include <benchmark/benchmark.h>
 #include <minksum/minksum.hpp>
 
@@ -65,10 +65,10 @@ void FaceToFace(benchmark::State& state, const tools::FacePair& pair, double gap
     const int i = int(ticks++ % kPoses);
     switch (method) {
       case Method::Cold:
-        proximity(A, pose_a, B, pose_b[i], p, Want::Contact), searched += p.searched;
+        proximity(A, pose_a, B, pose_b[i], p, Want::Witnesses), searched += p.searched;
         break;
       case Method::Coherent:
-        proximity(A, pose_a, B, pose_b[i], cache, p, Want::Contact);
+        proximity(A, pose_a, B, pose_b[i], cache, p, Want::Witnesses);
         break;
       case Method::FclGjk:
         if (boxes)

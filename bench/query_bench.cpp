@@ -3,7 +3,7 @@
 // (every other pair overlapping; minksum answers penetration there, FCL's distance call only
 // reports the collision), PolytopeDistance/<pair>/<method> and PolytopePenetration/<pair>/<method>
 // (one separated and one overlapping pose of each Table 1 pair, and of two hulls of 64 and of
-// 256 points on a sphere). minksum skips the farthest pair (Want::Contact) as FCL has none,
+// 256 points on a sphere). minksum skips the farthest pair (Want::Witnesses) as FCL has none,
 // except in BoxBoxDistance/minksum_with_max. Distance runs use 256 box pairs, half of them
 // overlapping; penetration runs use overlapping pairs only. IsaKernels/box_box_query_single,
 // box_box_distance_1024 and triangle_distance_256 run the same bodies on every ISA.
@@ -74,7 +74,7 @@ void BoxPenetrationMinksum(benchmark::State& state) {
   size_t k = 0;
   for (auto _ : state) {
     const auto& [a, b] = ps[k++ & 255];
-    proximity(a, b, p, Want::Contact);
+    proximity(a, b, p, Want::Witnesses);
     benchmark::DoNotOptimize(p.penetration_depth);
   }
 }
@@ -158,9 +158,9 @@ void SmallDistance(benchmark::State& state, bool two_triangles, bool fcl) {
       benchmark::DoNotOptimize(answer.distance);
     } else {
       if (two_triangles)
-        proximity(ps.s[i], ps.t[i], p, Want::Contact);
+        proximity(ps.s[i], ps.t[i], p, Want::Witnesses);
       else
-        proximity(ps.boxes[i], ps.t[i], p, Want::Contact);
+        proximity(ps.boxes[i], ps.t[i], p, Want::Witnesses);
       benchmark::DoNotOptimize(p.distance);
     }
   }
@@ -225,14 +225,14 @@ void PolytopeQuery(benchmark::State& state, int row, bool fcl, bool overlapping)
     }
   } else {
     for (auto _ : state) {
-      proximity(A, B, p, Want::Contact);
+      proximity(A, B, p, Want::Witnesses);
       benchmark::DoNotOptimize(p.distance);
     }
   }
 }
 
 const int kRegistered = [] {
-  benchmark::RegisterBenchmark("BoxBoxDistance/minksum", BoxDistanceMinksum, Want::Contact);
+  benchmark::RegisterBenchmark("BoxBoxDistance/minksum", BoxDistanceMinksum, Want::Witnesses);
   benchmark::RegisterBenchmark("BoxBoxDistance/minksum_with_max", BoxDistanceMinksum, Want::All);
   benchmark::RegisterBenchmark("BoxBoxDistance/fcl_gjk", BoxDistanceFcl, peers::FclSolver::Gjk);
   benchmark::RegisterBenchmark("BoxBoxDistance/fcl_libccd", BoxDistanceFcl, peers::FclSolver::Libccd);
@@ -249,7 +249,7 @@ const int kRegistered = [] {
   benchmark::RegisterBenchmark("TriangleExactDistance/batch", TriangleDistanceOnly, true);
   // The same kernels on every ISA (the report's per-ISA table).
   bench::register_per_isa("box_box_query_single", "double",
-                          [](benchmark::State& state) { BoxDistanceMinksum(state, Want::Contact); });
+                          [](benchmark::State& state) { BoxDistanceMinksum(state, Want::Witnesses); });
   bench::register_per_isa("box_box_distance_1024", "float", BoxDistanceBatch<float>);
   bench::register_per_isa("box_box_distance_1024", "double", BoxDistanceBatch<double>);
   bench::register_per_isa("triangle_distance_256", "double",

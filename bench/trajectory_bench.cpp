@@ -8,7 +8,7 @@
 //   20 x 16 x 12 mm box tool against the full bunny (exact mesh-mesh distance); the last row
 //   seeds every query with the answer at the far side of the path (the seeded search's worst
 //   case; that refill is not timed).
-// minksum answers the distance, or the depth when they overlap (Want::Contact); FCL's GJK
+// minksum answers the distance, or the depth when they overlap (Want::Witnesses); FCL's GJK
 // answers its distance (a negative or zero value on contact), Bullet its signed distance with
 // EPA, from the detector's cached separating axis.
 #include <benchmark/benchmark.h>
@@ -91,8 +91,8 @@ void BoxBox(benchmark::State& state, Method method) {
   peers::FclAnswer answer;
   peers::BulletPair bullet(a.half_extents, body.half_extents);
   along(
-      state, method, path.size(), [&](size_t i, Proximity& p) { proximity(a, b[i], p, Want::Contact); },
-      [&](size_t i, ProximityCache& cache, Proximity& p) { proximity(a, b[i], cache, p, Want::Contact); },
+      state, method, path.size(), [&](size_t i, Proximity& p) { proximity(a, b[i], p, Want::Witnesses); },
+      [&](size_t i, ProximityCache& cache, Proximity& p) { proximity(a, b[i], cache, p, Want::Witnesses); },
       [&](size_t i) { return fcl.set_boxes(a, b[i]), fcl.proximity(peers::FclSolver::Gjk, answer), answer.distance; },
       [&](size_t i) { return bullet.distance(pose_a, pose_b[i]); });
 }
@@ -117,9 +117,9 @@ void Shapes(benchmark::State& state, std::vector<Vector3d> pa, std::vector<Vecto
   peers::FclAnswer answer;
   peers::BulletPair bullet(A.polytope(), B.polytope());
   along(
-      state, method, path.size(), [&](size_t i, Proximity& p) { proximity(A, pose_a, B, pose_b[i], p, Want::Contact); },
+      state, method, path.size(), [&](size_t i, Proximity& p) { proximity(A, pose_a, B, pose_b[i], p, Want::Witnesses); },
       [&](size_t i, ProximityCache& cache, Proximity& p) {
-        proximity(A, pose_a, B, pose_b[i], cache, p, Want::Contact);
+        proximity(A, pose_a, B, pose_b[i], cache, p, Want::Witnesses);
       },
       [&](size_t i) {
         return fcl.set_poses(pose_a, pose_b[i]), fcl.proximity(peers::FclSolver::Gjk, answer), answer.distance;

@@ -40,7 +40,7 @@ void measure(const char* name, int calls, const std::function<bool(int)>& op) {
 Isometry3d pose_of(const Box& b) { return Eigen::Translation3d(b.center) * Isometry3d(b.rotation); }
 
 // A box moving about a box along the trajectory benchmark's path (in and out of contact), as
-// boxes and as prepared shapes.
+// boxes and as prepared shapes; the default level (Want::Witnesses) unless named.
 void box_pairs() {
   Box a, body;
   a.half_extents = Vector3d(0.5, 0.35, 0.25), body.half_extents = Vector3d(0.3, 0.4, 0.2);
@@ -56,6 +56,10 @@ void box_pairs() {
   measure("box_box.cold", n, [&](int k) { return proximity(a, b[size_t(k)], p) == Status::Ok; });
   ProximityCache cache;
   measure("box_box.coherent", n, [&](int k) { return proximity(a, b[size_t(k)], cache, p) == Status::Ok; });
+  measure("box_box.verdict", n, [&](int k) { return proximity(a, b[size_t(k)], p, Want::Verdict) == Status::Ok; });
+  ProximityCache patch_cache;
+  measure("box_box.coherent.patch", n,
+          [&](int k) { return proximity(a, b[size_t(k)], patch_cache, p, Want::Patch) == Status::Ok; });
   ConvexShape A, B;  // (A keeps its box's pose, B is placed by each call)
   shape_from_box(a, A), shape_from_box(body, B);
   ProximityCache shape_cache;

@@ -150,9 +150,9 @@ TEST_P(Coherence, ShapesAlongTrajectories) {
     for (size_t k = 0; k < path.size(); ++k) {
       const Isometry3d pose_b = pose_a * path[k];
       Proximity cold, hot;
-      ASSERT_EQ(proximity(A, pose_a, B, pose_b, cold, Want::Contact), Status::Ok);
-      ASSERT_EQ(proximity(A, pose_a, B, pose_b, cache, hot, Want::Contact), Status::Ok);
-      expect_same(cold, hot, 4, false, "pair " + std::to_string(i) + " tick " + std::to_string(k), Want::Contact);
+      ASSERT_EQ(proximity(A, pose_a, B, pose_b, cold, Want::Patch), Status::Ok);
+      ASSERT_EQ(proximity(A, pose_a, B, pose_b, cache, hot, Want::Patch), Status::Ok);
+      expect_same(cold, hot, 4, false, "pair " + std::to_string(i) + " tick " + std::to_string(k), Want::Patch);
       if (testing::Test::HasFailure()) return;
     }
     warm += cache.warm, ticks += long(path.size());
@@ -167,8 +167,8 @@ TEST_P(Coherence, ShapesAlongTrajectories) {
   for (size_t k = 0; k < path.size(); ++k) {
     const Triangle t{path[k] * body.a, path[k] * body.b, path[k] * body.c};
     Proximity cold, hot;
-    ASSERT_EQ(proximity(box, t, cold), Status::Ok);
-    ASSERT_EQ(proximity(box, t, cache, hot), Status::Ok);
+    ASSERT_EQ(proximity(box, t, cold, Want::All), Status::Ok);
+    ASSERT_EQ(proximity(box, t, cache, hot, Want::All), Status::Ok);
     expect_same(cold, hot, 2, false, "box-triangle tick " + std::to_string(k));
     if (testing::Test::HasFailure()) return;
   }
@@ -195,10 +195,10 @@ void Coherence::lattice_walks() {
       const std::string where = "lattice walk " + std::to_string(walk) + " tick " + std::to_string(k);
       lattice_step(rng, k, 4, pose_b);
       Proximity cold, hot;
-      ASSERT_EQ(proximity(A, pose_a, B, pose_b, cold, Want::Contact), Status::Ok);
-      ASSERT_EQ(proximity(A, pose_a, B, pose_b, cache, hot, Want::Contact), Status::Ok);
+      ASSERT_EQ(proximity(A, pose_a, B, pose_b, cold, Want::Patch), Status::Ok);
+      ASSERT_EQ(proximity(A, pose_a, B, pose_b, cache, hot, Want::Patch), Status::Ok);
       const ConvexPolytope TA = test::transformed(A.polytope(), pose_a), TB = test::transformed(B.polytope(), pose_b);
-      expect_same(cold, hot, 8, false, where, Want::Contact, TA.vertices, TB.vertices);
+      expect_same(cold, hot, 8, false, where, Want::Patch, TA.vertices, TB.vertices);
       if (cold.intersecting && cold.penetration_depth == 0) {
         EXPECT_EQ(hot.distance, 0.0) << where;
         ++touching;
@@ -219,8 +219,8 @@ void Coherence::lattice_walks() {
     lattice_step(rng, k, 3, pose);
     const Triangle t{pose * body.a, pose * body.b, pose * body.c};
     Proximity cold, hot;
-    ASSERT_EQ(proximity(box, t, cold), Status::Ok);
-    ASSERT_EQ(proximity(box, t, cache, hot), Status::Ok);
+    ASSERT_EQ(proximity(box, t, cold, Want::All), Status::Ok);
+    ASSERT_EQ(proximity(box, t, cache, hot, Want::All), Status::Ok);
     expect_same(cold, hot, 8, false, "lattice box-triangle tick " + std::to_string(k), Want::All,
                 test::ties::corners(box), test::ties::corners(t));
     if (cold.intersecting && cold.penetration_depth == 0) {
@@ -269,8 +269,8 @@ TEST(CoherenceAdversarial, BoxesAndShapes) {
   for (size_t k = 0; k < poses.size(); ++k) {
     const Box b = placed(body, poses[k]);
     Proximity cold, hot;
-    ASSERT_EQ(proximity(a, b, cold), Status::Ok);
-    ASSERT_EQ(proximity(a, b, cache, hot), Status::Ok);
+    ASSERT_EQ(proximity(a, b, cold, Want::All), Status::Ok);
+    ASSERT_EQ(proximity(a, b, cache, hot, Want::All), Status::Ok);
     expect_same(cold, hot, 2, false, "box pose " + std::to_string(k));
     if (k % 5 == 3) EXPECT_TRUE(hot.intersecting) << k;  // touching counts as intersecting
   }
@@ -286,15 +286,15 @@ TEST(CoherenceAdversarial, BoxesAndShapes) {
     spoiled.kind = unsigned(k % 4), spoiled.active = unsigned(rng());
     for (int j = 0; j < 3; ++j) spoiled.a[j] = int(rng() % 300) - 20, spoiled.b[j] = int(rng() % 300) - 20;
     Proximity cold, hot, from_spoiled;
-    ASSERT_EQ(proximity(A, Isometry3d::Identity(), other, poses[k], cold), Status::Ok);
-    ASSERT_EQ(proximity(A, Isometry3d::Identity(), other, poses[k], shared, hot), Status::Ok);
-    ASSERT_EQ(proximity(A, Isometry3d::Identity(), other, poses[k], spoiled, from_spoiled), Status::Ok);
+    ASSERT_EQ(proximity(A, Isometry3d::Identity(), other, poses[k], cold, Want::All), Status::Ok);
+    ASSERT_EQ(proximity(A, Isometry3d::Identity(), other, poses[k], shared, hot, Want::All), Status::Ok);
+    ASSERT_EQ(proximity(A, Isometry3d::Identity(), other, poses[k], spoiled, from_spoiled, Want::All), Status::Ok);
     expect_same(cold, hot, 2, false, "shared cache, pose " + std::to_string(k));
     expect_same(cold, from_spoiled, 2, false, "spoiled cache, pose " + std::to_string(k));
     // And a box query handed the shape query's cache.
     Proximity box_cold, box_hot;
-    ASSERT_EQ(proximity(a, placed(body, poses[k]), box_cold), Status::Ok);
-    ASSERT_EQ(proximity(a, placed(body, poses[k]), shared, box_hot), Status::Ok);
+    ASSERT_EQ(proximity(a, placed(body, poses[k]), box_cold, Want::All), Status::Ok);
+    ASSERT_EQ(proximity(a, placed(body, poses[k]), shared, box_hot, Want::All), Status::Ok);
     expect_same(box_cold, box_hot, 2, false, "box after shape, pose " + std::to_string(k));
     if (testing::Test::HasFailure()) return;
   }
@@ -308,7 +308,7 @@ TEST(CoherenceAdversarial, BadInputKeepsTheCacheHarmless) {
   Proximity p;
   Isometry3d far = Isometry3d::Identity();
   far.translation() = Vector3d(5, 0, 0);
-  ASSERT_EQ(proximity(A, Isometry3d::Identity(), A, far, cache, p), Status::Ok);
+  ASSERT_EQ(proximity(A, Isometry3d::Identity(), A, far, cache, p, Want::All), Status::Ok);
   Isometry3d scaled = far;
   scaled.linear() *= 2;
   EXPECT_EQ(proximity(A, Isometry3d::Identity(), A, scaled, cache, p), Status::InvalidPose);
@@ -318,8 +318,8 @@ TEST(CoherenceAdversarial, BadInputKeepsTheCacheHarmless) {
   EXPECT_EQ(proximity(bad, Box{}, cache, p), Status::InvalidBox);
   Proximity cold, hot;
   far.translation() = Vector3d(1.5, 0.2, 0);
-  ASSERT_EQ(proximity(A, Isometry3d::Identity(), A, far, cold), Status::Ok);
-  ASSERT_EQ(proximity(A, Isometry3d::Identity(), A, far, cache, hot), Status::Ok);
+  ASSERT_EQ(proximity(A, Isometry3d::Identity(), A, far, cold, Want::All), Status::Ok);
+  ASSERT_EQ(proximity(A, Isometry3d::Identity(), A, far, cache, hot, Want::All), Status::Ok);
   expect_same(cold, hot, 2, false, "after bad input");
 }
 

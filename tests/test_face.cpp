@@ -47,8 +47,8 @@ TEST(FaceToFace, EveryFamilyEqualsBruteForceWithoutTheSearch) {
               pair.name + (rocking ? " rocking" : "") + " gap " + std::to_string(gap) + " tick " + std::to_string(k);
           const Isometry3d pose_b = kPoseA * tools::face_pose(pair, k, 64, gap, rocking);
           Proximity cold, warm;
-          ASSERT_EQ(proximity(A, kPoseA, B, pose_b, cold, Want::Contact), Status::Ok);
-          ASSERT_EQ(proximity(A, kPoseA, B, pose_b, cache, warm, Want::Contact), Status::Ok);
+          ASSERT_EQ(proximity(A, kPoseA, B, pose_b, cold, Want::Patch), Status::Ok);
+          ASSERT_EQ(proximity(A, kPoseA, B, pose_b, cache, warm, Want::Patch), Status::Ok);
           const ConvexPolytope TB = test::transformed(B.polytope(), pose_b);
           const test::Oracle o = test::brute_force(TA, TB);
           const double tol = 1e-12 * 2;  // of the size (about 2)
@@ -89,7 +89,7 @@ TEST(FaceToFace, WitnessesSlideWithoutJumps) {
       for (int k = 0; k < 400; ++k) {
         const Isometry3d pose_b = kPoseA * tools::face_pose(pair, k, 1024, gap, false);
         Proximity p;
-        ASSERT_EQ(proximity(A, kPoseA, B, pose_b, p, Want::Contact), Status::Ok);
+        ASSERT_EQ(proximity(A, kPoseA, B, pose_b, p, Want::Patch), Status::Ok);
         if (k > 0) {
           const double step = (pose_b.translation() - last_pose.translation()).norm();
           const std::string where = pair.name + " gap " + std::to_string(gap) + " tick " + std::to_string(k);

@@ -192,10 +192,10 @@ TEST(VersusBullet, WarmGjkAlongATrajectory) {
       if (pair == 0) {
         Box b = body;
         b.center = path[k].translation(), b.rotation = path[k].linear();
-        ASSERT_EQ(proximity(a, b, box_cache, ours, Want::Contact), Status::Ok);
+        ASSERT_EQ(proximity(a, b, box_cache, ours, Want::Patch), Status::Ok);
         theirs = boxes.distance(Eigen::Isometry3d::Identity(), path[k]);
       } else {
-        ASSERT_EQ(proximity(A, Eigen::Isometry3d::Identity(), B, path[k], shape_cache, ours, Want::Contact),
+        ASSERT_EQ(proximity(A, Eigen::Isometry3d::Identity(), B, path[k], shape_cache, ours, Want::Patch),
                   Status::Ok);
         theirs = shapes.distance(Eigen::Isometry3d::Identity(), path[k]);
       }

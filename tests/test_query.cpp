@@ -83,7 +83,7 @@ TEST_P(RandomQueries, BoxBoxAgreesWithBruteForce) {
     else if (lattice_case(k))
       a = test::ties::lattice_box(rng, 2, 1), b = test::ties::lattice_box(rng, 2, 1);
     Proximity got;
-    ASSERT_EQ(proximity(a, b, got), Status::Ok);
+    ASSERT_EQ(proximity(a, b, got, Want::All), Status::Ok);
     ConvexPolytope A, B;
     polytope_from_box(a, A), polytope_from_box(b, B);
     expect_agrees(A, B, got, "box-box pair " + std::to_string(k),
@@ -102,7 +102,7 @@ TEST_P(RandomQueries, BoxTriangleAgreesWithBruteForce) {
     else if (lattice_case(k))
       a = test::ties::lattice_box(rng, 2, 1), t = test::ties::lattice_triangle(rng, 2, 1);
     Proximity got;
-    ASSERT_EQ(proximity(a, t, got), Status::Ok);
+    ASSERT_EQ(proximity(a, t, got, Want::All), Status::Ok);
     ConvexPolytope A, B;
     polytope_from_box(a, A), polytope_from_triangle(t, B);
     expect_agrees(A, B, got, "box-triangle pair " + std::to_string(k),
@@ -120,7 +120,7 @@ TEST_P(RandomQueries, TriangleTriangleAgreesWithBruteForce) {
     else if (lattice_case(k))
       s = test::ties::lattice_triangle(rng, 2, 1), t = test::ties::lattice_triangle(rng, 2, 1);
     Proximity got;
-    ASSERT_EQ(proximity(s, t, got), Status::Ok);
+    ASSERT_EQ(proximity(s, t, got, Want::All), Status::Ok);
     ConvexPolytope A, B;
     polytope_from_triangle(s, A), polytope_from_triangle(t, B);
     expect_agrees(A, B, got, "triangle-triangle pair " + std::to_string(k),
@@ -147,7 +147,7 @@ TEST_P(RandomQueries, PolytopePolytopeAgreesWithBruteForce) {
       ASSERT_EQ(polytope_from_points(pts, *P), Status::Ok);
     }
     Proximity got;
-    ASSERT_EQ(proximity(A, B, got), Status::Ok);
+    ASSERT_EQ(proximity(A, B, got, Want::All), Status::Ok);
     expect_agrees(A, B, got, "polytope pair " + std::to_string(k),
                   lattice_polytopes(k) ? test::ties::exact_surface_gap(A, B) : -1);
     if (testing::Test::HasFailure()) return;
@@ -156,18 +156,25 @@ TEST_P(RandomQueries, PolytopePolytopeAgreesWithBruteForce) {
 
 INSTANTIATE_TEST_SUITE_P(Shards, RandomQueries, testing::Range(0, 10));
 
-// `want` selects what is computed: the contact fields alone (Want::Contact) equal those of
-// Want::All and leave the farthest pair at its defaults, and the other way round.
+// `want` selects what is computed: each level's fields equal Want::All's (bit for bit: the
+// box pair's verdict, depth and distance come from the same separating axis test and walk) and
+// the fields past it keep their defaults; the farthest pair alone likewise. The patch's
+// witnesses may differ from the plain witnesses (either is a closest pair), so Witnesses is
+// checked against Patch on the distance, and its points for being a closest pair.
 TEST(Query, WantSelectsTheFields) {
   std::mt19937_64 rng(91);
-  const auto same_contact = [](const Proximity& got, const Proximity& all) {
-    return got.intersecting == all.intersecting && got.distance == all.distance && got.point_a == all.point_a &&
-           got.point_b == all.point_b && got.penetration_depth == all.penetration_depth &&
+  const auto same_verdict = [](const Proximity& got, const Proximity& all) { return got.intersecting == all.intersecting; };
+  const auto same_distance = [](const Proximity& got, const Proximity& all) {
+    return got.distance == all.distance && got.penetration_depth == all.penetration_depth &&
            got.penetration_direction == all.penetration_direction;
+  };
+  const auto same_points = [](const Proximity& got, const Proximity& all) {
+    return got.point_a == all.point_a && got.point_b == all.point_b;
   };
   const auto same_far = [](const Proximity& got, const Proximity& all) {
     return got.max_distance == all.max_distance && got.far_a == all.far_a && got.far_b == all.far_b;
   };
+  const Proximity none;
   int overlapping = 0;
   for (int k = 0; k < 400; ++k) {
     const Box box = tools::random_box(rng, 1.0), other = tools::random_box(rng, 1.0);
@@ -176,14 +183,29 @@ TEST(Query, WantSelectsTheFields) {
     ASSERT_EQ(polytope_from_box(box, A), Status::Ok);
     ASSERT_EQ(polytope_from_box(other, B), Status::Ok);
     const auto check = [&](const auto& query, const char* what) {
-      Proximity all, contact, far;
+      Proximity all, verdict, distance, witnesses, patch, far, plain;
       ASSERT_EQ(query(all, Want::All), Status::Ok);
-      ASSERT_EQ(query(contact, Want::Contact), Status::Ok);
+      ASSERT_EQ(query(verdict, Want::Verdict), Status::Ok);
+      ASSERT_EQ(query(distance, Want::Distance), Status::Ok);
+      ASSERT_EQ(query(witnesses, Want::Witnesses), Status::Ok);
+      ASSERT_EQ(query(patch, Want::Patch), Status::Ok);
       ASSERT_EQ(query(far, Want::MaxDistance), Status::Ok);
-      const Proximity none;
-      EXPECT_TRUE(same_contact(contact, all) && same_far(contact, none)) << what << " pair " << k;
-      EXPECT_TRUE(same_far(far, all) && same_contact(far, none)) << what << " pair " << k;
-      EXPECT_GT(all.max_distance, 0) << what << " pair " << k;
+      ASSERT_EQ(query(plain, Want::Witnesses | Want::MaxDistance), Status::Ok);
+      const std::string where = std::string(what) + " pair " + std::to_string(k);
+      EXPECT_TRUE(same_verdict(verdict, all) && same_distance(verdict, none) && same_points(verdict, none) &&
+                  same_far(verdict, none)) << where;
+      EXPECT_TRUE(same_verdict(distance, all) && same_distance(distance, all) && same_points(distance, none) &&
+                  same_far(distance, none)) << where;
+      EXPECT_TRUE(same_verdict(witnesses, all) && same_distance(witnesses, all) && same_far(witnesses, none)) << where;
+      EXPECT_TRUE(same_verdict(patch, all) && same_distance(patch, all) && same_points(patch, all) &&
+                  same_far(patch, none)) << where;
+      EXPECT_TRUE(same_far(far, all) && same_verdict(far, none) && same_distance(far, none) && same_points(far, none))
+          << where;
+      EXPECT_TRUE(same_far(plain, all) && same_distance(plain, all) && same_points(plain, witnesses)) << where;
+      // The plain witnesses are a closest pair: as far apart as the distance (apart), on the
+      // boxes' surfaces either way (within rounding of their coordinates).
+      if (!all.intersecting) EXPECT_NEAR((witnesses.point_b - witnesses.point_a).norm(), all.distance, 1e-12) << where;
+      EXPECT_GT(all.max_distance, 0) << where;
       overlapping += all.intersecting;
     };
     check([&](Proximity& p, Want w) { return proximity(box, other, p, w); }, "box-box");
@@ -656,7 +678,7 @@ TEST_P(BatchedProximity, SinglePairActiveSetAgreesWithAllFacets) {
       detail::BoxPair<double> pair;
       detail::PairAnswer<double> got;
       unsigned cold = 0;
-      detail::box_pair_proximity(a, b, true, cold, pair, got);
+      detail::box_pair_proximity(a, b, detail::PairLevel::Witnesses, cold, pair, got);
       ASSERT_TRUE(got.converged) << "pair " << k;
       const double scale = 1e-9 * std::max({1.0, a.center.cwiseAbs().maxCoeff(), b.center.cwiseAbs().maxCoeff()});
       EXPECT_NEAR(got.distance, all->distance[k], scale) << "pair " << k;

@@ -239,7 +239,7 @@ TEST(RealTime, UncachedShapeQueriesAndMeshContactDoNotAllocate) {
   int failed = 0, intersecting = 0, separated = 0, touched = 0;
   EXPECT_EQ(allocations([&] {
               for (const Eigen::Isometry3d& pose : path)
-                for (Want want : {Want::All, Want::Contact, Want::MaxDistance}) {
+                for (Want want : {Want::All, Want::Verdict, Want::Distance, Want::Witnesses, Want::Patch, Want::MaxDistance}) {
                   failed += proximity(A, Eigen::Isometry3d::Identity(), B, pose, p, want) != Status::Ok;
                   (p.intersecting ? intersecting : separated) += 1;
                 }
@@ -312,8 +312,8 @@ TEST(RealTime, FaceToFaceQueriesDoNotAllocate) {
         EXPECT_EQ(allocations([&] {
                     for (int k = 0; k < 64; ++k) {
                       const Eigen::Isometry3d pose_b = pose_a * tools::face_pose(pair, k, 64, gap, rocking);
-                      proximity(A, pose_a, B, pose_b, p, Want::Contact);
-                      proximity(A, pose_a, B, pose_b, cache, p, Want::Contact);
+                      proximity(A, pose_a, B, pose_b, p, Want::Witnesses);
+                      proximity(A, pose_a, B, pose_b, cache, p, Want::Witnesses);
                       contact_patch(A, pose_a, B, pose_b, 2e-3, patch);
                       contact_patch(A, pose_a, B, pose_b, 2e-3, patch_cache, patch);
                       reduce_contact_patch(patch);

@@ -44,8 +44,8 @@ void expect_contact_as_shapes(const std::vector<Vector3d>& a, const std::vector<
     expect_contact(proximity(A, B, p), p, what + " as polytopes");
   if (shape_from_points(a, SA) != Status::Ok || shape_from_points(b, SB) != Status::Ok) return;  // (a flat triangle)
   const Eigen::Isometry3d m = lattice_motion(rng);
-  expect_contact(proximity(SA, m, SB, m, p, Want::Contact), p, what + " as shapes");
-  expect_contact(proximity(SA, m, SB, m, cache, p, Want::Contact), p, what + " as shapes, coherent");
+  expect_contact(proximity(SA, m, SB, m, p, Want::Patch), p, what + " as shapes");
+  expect_contact(proximity(SA, m, SB, m, cache, p, Want::Patch), p, what + " as shapes, coherent");
 }
 
 TEST(Ties, ExactContactIsIntersectingAtDistanceZero) {
@@ -151,7 +151,7 @@ TEST(Ties, LatticeQueriesEqualTheExactDistance) {
     ASSERT_EQ(shape_from_box(b, SB), Status::Ok);
     Proximity p;
     const Eigen::Isometry3d m = lattice_motion(rng);
-    ASSERT_EQ(proximity(SA, m, SB, m, p, Want::Contact), Status::Ok);
+    ASSERT_EQ(proximity(SA, m, SB, m, p, Want::Patch), Status::Ok);
     EXPECT_EQ(p.intersecting, cases[0].p.intersecting) << "shapes case " << k;
     EXPECT_NEAR(p.distance, cases[0].p.distance, 64 * std::numeric_limits<double>::epsilon() * 16)
         << "shapes case " << k;

@@ -24,13 +24,37 @@ struct Proximity {
   bool searched = false;
 };
 
-/// What a proximity call computes, as a bit mask; the fields it does not ask for keep their
-/// defaults. Contact: intersecting, distance and closest points, penetration depth and
-/// direction. MaxDistance: max_distance, far_a, far_b.
-enum class Want : unsigned { Contact = 1, MaxDistance = 2, All = 3 };
+/// What a proximity call computes, as a bit mask: each level includes the ones above it, and
+/// the fields a call does not ask for keep their defaults. Combine with `|`
+/// (`Want::Witnesses | Want::MaxDistance`). The costs are callgrind's, per call, from
+/// tests/budgets.tsv's operations (box pairs; prepared convex shapes pay the same for the
+/// first four levels: their certificate reads what the witnesses need).
+enum class Want : unsigned {
+  /// `intersecting` alone (touching counts). Boxes: the separating axis test, about 300
+  /// instructions, and the cold query's verdict exactly.
+  Verdict = 1,
+  /// And the distance, or the penetration depth and direction. Overlapping boxes skip the walk
+  /// that finds the deepest points' preimages.
+  Distance = 3,
+  /// And the witnesses point_a, point_b: a closest (or deepest) pair, where several are, any
+  /// one of them (the default, as FCL and Bullet give).
+  Witnesses = 7,
+  /// Witnesses on the contact patch: where the nearest (or deepest) sets are a face or an edge
+  /// across from each other (resting, sliding), a point of their overlap, so that the
+  /// witnesses do not jump between corners and the coherent query's equal the cold one's. Box
+  /// pairs: about 1,100 instructions more where they rest face or edge on face.
+  Patch = 15,
+  /// max_distance, far_a, far_b: the farthest pair, which reads every vertex pair of polytopes.
+  MaxDistance = 16,
+  /// Everything: the patch's witnesses and the farthest pair (the CLI's).
+  All = 31,
+};
 
-/// True if `want` asks for `part`.
-constexpr bool has(Want want, Want part) { return (unsigned(want) & unsigned(part)) != 0; }
+/// Both sets of fields.
+constexpr Want operator|(Want a, Want b) { return Want(unsigned(a) | unsigned(b)); }
+
+/// True if `want` asks for all of `part` (a level includes the levels above it).
+constexpr bool has(Want want, Want part) { return (unsigned(want) & unsigned(part)) == unsigned(part); }
 
 /// What a query keeps from one call to the next on one pair of objects (coherence: a 1 kHz
 /// loop moves them little per tick, so the nearest features rarely change). Caller-owned,
@@ -61,30 +85,29 @@ bool contains(const MinkowskiSum& m, const Eigen::Vector3d& p);
 /// m; InvalidMesh when m's support pairs index past a's or b's vertices (m is not their sum).
 Status proximity(const MinkowskiSum& m, const ConvexPolytope& a, const ConvexPolytope& b, Proximity& out);
 
-/// The proximity of two convex polytopes (exact). The farthest pair (Want::MaxDistance) looks at
-/// every vertex pair: skip it with Want::Contact when the polytopes are large.
-Status proximity(const ConvexPolytope& a, const ConvexPolytope& b, Proximity& out, Want want = Want::All);
+/// The proximity of two convex polytopes (exact), to the fields `want` asks for.
+Status proximity(const ConvexPolytope& a, const ConvexPolytope& b, Proximity& out, Want want = Want::Witnesses);
 /// The proximity of two prepared shapes, each placed by its rigid pose inside the call (the
 /// same exact query as for polytopes; points in the world frame). TooFewPoints for an empty
 /// shape, InvalidPose for a pose that is not rigid (check_pose).
 Status proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
-                 const Eigen::Isometry3d& pose_b, Proximity& out, Want want = Want::All);
+                 const Eigen::Isometry3d& pose_b, Proximity& out, Want want = Want::Witnesses);
 /// Two posed shapes, starting from the last answer's features (see ProximityCache): GJK from
 /// the cached simplex, then the same certificate as the cold query.
 Status proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
-                 const Eigen::Isometry3d& pose_b, ProximityCache& cache, Proximity& out, Want want = Want::All);
+                 const Eigen::Isometry3d& pose_b, ProximityCache& cache, Proximity& out, Want want = Want::Witnesses);
 /// The proximity of two boxes, exact without building A (-) B: the separating axis test, then
 /// an active-set walk on A (-) B's generators from the nearest facet.
-Status proximity(const Box& a, const Box& b, Proximity& out, Want want = Want::All);
+Status proximity(const Box& a, const Box& b, Proximity& out, Want want = Want::Witnesses);
 /// The two boxes' proximity starting from the last answer's active set (see ProximityCache):
 /// the same answer as the cold query, at a fraction of its cost while the boxes stay apart.
-Status proximity(const Box& a, const Box& b, ProximityCache& cache, Proximity& out, Want want = Want::All);
+Status proximity(const Box& a, const Box& b, ProximityCache& cache, Proximity& out, Want want = Want::Witnesses);
 /// The proximity of a box and a triangle.
-Status proximity(const Box& a, const Triangle& b, Proximity& out, Want want = Want::All);
+Status proximity(const Box& a, const Triangle& b, Proximity& out, Want want = Want::Witnesses);
 /// A box and a triangle, starting from the last answer's features (see ProximityCache).
-Status proximity(const Box& a, const Triangle& b, ProximityCache& cache, Proximity& out, Want want = Want::All);
+Status proximity(const Box& a, const Triangle& b, ProximityCache& cache, Proximity& out, Want want = Want::Witnesses);
 /// The proximity of two triangles (coplanar triangles included).
-Status proximity(const Triangle& a, const Triangle& b, Proximity& out, Want want = Want::All);
+Status proximity(const Triangle& a, const Triangle& b, Proximity& out, Want want = Want::Witnesses);
 
 /// Where two convex shapes touch, or would within a margin: the overlap, seen along the contact
 /// normal, of A's supporting set (its points highest along the normal) and B's (lowest). Both

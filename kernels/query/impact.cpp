@@ -245,7 +245,7 @@ class ShapeAnswers final : public detail::ExactAnswers {
  public:
   ShapeAnswers(const ConvexShape& a, const ConvexShape& b) : a_(a), b_(b) {}
   bool query(const Isometry3d& pa, const Isometry3d& pb, Proximity& out) const override {
-    return proximity(a_, pa, b_, pb, out, Want::Contact) == Status::Ok;
+    return proximity(a_, pa, b_, pb, out) == Status::Ok;
   }
   bool normal(const Isometry3d& pa, const Isometry3d& pb, double margin, Vector3d& out) const override {
     ContactPatch patch;  // (a patch past its capacity still has its normal)

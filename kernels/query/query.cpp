@@ -223,25 +223,29 @@ namespace {
 // The box pair query on valid boxes whose lengths are near 1, from the active set `active`
 // (0: cold); returns whether the answer came from it, and leaves the answer's active set there.
 bool box_box_proximity(const Box& a, const Box& b, Proximity& out, Want want, unsigned& active) {
+  using detail::PairLevel;
+  const PairLevel level = has(want, Want::Witnesses)  ? PairLevel::Witnesses
+                          : has(want, Want::Distance) ? PairLevel::Distance
+                          : has(want, Want::Verdict)  ? PairLevel::Verdict
+                                                      : PairLevel::Load;
   detail::BoxPair<double> pair;
   detail::PairAnswer<double> r;
-  if (!has(want, Want::Contact)) active = 0;
-  detail::box_pair_proximity(a, b, has(want, Want::Contact), active, pair, r);
-  if (has(want, Want::Contact)) {
-    if (!r.converged) {
-      box_box_exhaustive(a, b, out);
-    } else {
-      out.intersecting = r.intersecting;
+  detail::box_pair_proximity(a, b, level, active, pair, r);
+  if (level != PairLevel::Load && !r.converged) {
+    box_box_exhaustive(a, b, out);
+  } else if (level != PairLevel::Load) {
+    out.intersecting = r.intersecting;
+    if (level >= PairLevel::Distance) {
       out.distance = r.distance;
       out.penetration_depth = r.depth;
       out.penetration_direction = Vector3d(r.direction);
-      out.point_a = Vector3d(r.point_a), out.point_b = Vector3d(r.point_b);
     }
+    if (level == PairLevel::Witnesses) out.point_a = Vector3d(r.point_a), out.point_b = Vector3d(r.point_b);
   }
   if (has(want, Want::MaxDistance) && r.warm) {  // the warm path loaded only part of the pair
     unsigned none = 0;
     detail::PairAnswer<double> unused;
-    detail::box_pair_proximity(a, b, false, none, pair, unused);
+    detail::box_pair_proximity(a, b, PairLevel::Load, none, pair, unused);
   }
   if (has(want, Want::MaxDistance)) box_box_farthest(pair, out);
   return r.warm;
@@ -294,7 +298,7 @@ Status proximity(const Box& a, const Box& b, Proximity& out, Want want) {
   unsigned cold = 0;
   bool warm = false;
   const Status s = box_query(a, b, out, want, cold, warm);
-  if (s == Status::Ok && has(want, Want::Contact)) box_patch(a, b, out);
+  if (s == Status::Ok && has(want, Want::Patch)) box_patch(a, b, out);
   return s;
 }
 
@@ -302,7 +306,7 @@ Status proximity(const Box& a, const Box& b, ProximityCache& cache, Proximity& o
   unsigned active = cache.kind == kCacheBoxBox ? cache.active : 0u;
   bool warm = false;
   const Status s = box_query(a, b, out, want, active, warm);
-  if (s == Status::Ok && has(want, Want::Contact)) box_patch(a, b, out);
+  if (s == Status::Ok && has(want, Want::Patch)) box_patch(a, b, out);
   cache.kind = kCacheBoxBox, cache.active = s == Status::Ok ? active : 0u;
   ++(warm ? cache.warm : cache.cold);
   return s;
@@ -1376,7 +1380,7 @@ void exact_proximity(const A& a, const B& b, Proximity& out, Want want, Features
   out = Proximity{};
   const Tolerances t = tolerances(a, b);
   if (has(want, Want::MaxDistance)) farthest_pair(a, b, t.k, out);
-  if (!has(want, Want::Contact)) return;
+  if (!has(want, Want::Verdict)) return;
   int fa[4], fb[4];
   double weight[3];
   const int first = 0;
@@ -1423,7 +1427,7 @@ bool warm_depth(const A& a, const B& b, const ProximityCache& cache, const Toler
 template <class A, class B>
 MINKSUM_FLATTEN bool warm_proximity(const A& a, const B& b, const ProximityCache& cache, Proximity& out, Want want,
                                     Features& f) {
-  if (cache.kind != kCacheConvex || !has(want, Want::Contact)) return false;
+  if (cache.kind != kCacheConvex || !has(want, Want::Verdict)) return false;
   for (int j = 0; j < 3; ++j)
     if (cache.a[j] < 0 || cache.a[j] >= a.size() || cache.b[j] < 0 || cache.b[j] >= b.size()) return false;
   const Tolerances t = tolerances(a, b);
@@ -1602,13 +1606,21 @@ Status patch_of(const A& a, const B& b, const Proximity& p, const Features& f, d
   return Status::Ok;
 }
 
+// The fields `want` did not ask for, back at their defaults: the general path computes the
+// first four levels together (its certificate reads what the witnesses need).
+Status keep_asked(Want want, Proximity& out) {
+  if (!has(want, Want::Witnesses)) out.point_a.setZero(), out.point_b.setZero();
+  if (!has(want, Want::Distance)) out.distance = out.penetration_depth = 0, out.penetration_direction.setZero();
+  return Status::Ok;
+}
+
 }  // namespace
 
 Status proximity(const ConvexPolytope& a, const ConvexPolytope& b, Proximity& out, Want want) {
   out = Proximity{};
   if (a.vertices.empty() || b.vertices.empty() || a.faces.empty() || b.faces.empty()) return Status::TooFewPoints;
   exact_proximity(PolytopeShape{a}, PolytopeShape{b}, out, want);
-  return Status::Ok;
+  return keep_asked(want, out);
 }
 
 Status proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
@@ -1619,7 +1631,7 @@ Status proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const Co
     if (const Status s = check_pose(*pose); s != Status::Ok) return s;
   if (!own_form(a, pose_a, b, pose_b, nullptr, out, want))
     exact_proximity(posed(a, pose_a), posed(b, pose_b), out, want);
-  return Status::Ok;
+  return keep_asked(want, out);
 }
 
 Status proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
@@ -1630,7 +1642,7 @@ Status proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const Co
     if (const Status s = check_pose(*pose); s != Status::Ok) return s;
   if (!own_form(a, pose_a, b, pose_b, &cache, out, want))
     cached_proximity(posed(a, pose_a), posed(b, pose_b), cache, out, want);
-  return Status::Ok;
+  return keep_asked(want, out);
 }
 
 Status proximity(const Box& a, const Triangle& b, Proximity& out, Want want) {
@@ -1638,7 +1650,7 @@ Status proximity(const Box& a, const Triangle& b, Proximity& out, Want want) {
   if (const Status s = check_box(a); s != Status::Ok) return s;
   if (const Status s = check_triangle(b); s != Status::Ok) return s;
   exact_proximity(shape_of(a), shape_of(b), out, want);
-  return Status::Ok;
+  return keep_asked(want, out);
 }
 
 Status proximity(const Box& a, const Triangle& b, ProximityCache& cache, Proximity& out, Want want) {
@@ -1646,7 +1658,7 @@ Status proximity(const Box& a, const Triangle& b, ProximityCache& cache, Proximi
   if (const Status s = check_box(a); s != Status::Ok) return s;
   if (const Status s = check_triangle(b); s != Status::Ok) return s;
   cached_proximity(shape_of(a), shape_of(b), cache, out, want);
-  return Status::Ok;
+  return keep_asked(want, out);
 }
 
 Status proximity(const Triangle& a, const Triangle& b, Proximity& out, Want want) {
@@ -1654,7 +1666,7 @@ Status proximity(const Triangle& a, const Triangle& b, Proximity& out, Want want
   for (const Triangle* t : {&a, &b})
     if (const Status s = check_triangle(*t); s != Status::Ok) return s;
   exact_proximity(shape_of(a), shape_of(b), out, want);
-  return Status::Ok;
+  return keep_asked(want, out);
 }
 
 namespace {
@@ -1679,14 +1691,14 @@ bool own_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const Conv
     const Box y = placed_box(db, pose_b);
     if (check_box(y) != Status::Ok) return false;
     decided = detail::box_pair_patch(x, y, margin, out);
-    if (decided == BoxPatch::Apart && proximity(x, y, p, Want::Contact) != Status::Ok) return false;
+    if (decided == BoxPatch::Apart && proximity(x, y, p) != Status::Ok) return false;
   } else {
     const detail::ShapeData& dt = swap ? da : db;
     const Eigen::Isometry3d& pose = swap ? pose_a : pose_b;
     const Triangle y{pose * dt.triangle.a, pose * dt.triangle.b, pose * dt.triangle.c};
     if (check_triangle(y) != Status::Ok) return false;
     decided = detail::box_triangle_patch(x, y, margin, out);
-    if (decided == BoxPatch::Apart && proximity(x, y, p, Want::Contact) != Status::Ok) return false;
+    if (decided == BoxPatch::Apart && proximity(x, y, p) != Status::Ok) return false;
   }
   // Apart by the axes but within the margin by the exact query (a touching pair whose axis
   // rounds to a gap): the general path, which follows the exact verdict.
@@ -1720,9 +1732,9 @@ Status posed_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const 
   Proximity p;
   Features f;
   if (cache)
-    cached_proximity(pa, pb, *cache, p, Want::Contact, &f);
+    cached_proximity(pa, pb, *cache, p, Want::Patch, &f);
   else
-    exact_proximity(pa, pb, p, Want::Contact, &f);
+    exact_proximity(pa, pb, p, Want::Patch, &f);
   const Status s = patch_of(pa, pb, p, f, margin, out);
   if (s != Status::Ok) out.size = 0, out.feature_a = out.feature_b = {};
   return s;

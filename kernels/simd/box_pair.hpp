@@ -208,19 +208,20 @@ struct BoxPairQuery {
     return false;
   }
 
-  /// Loads the pair and, if `answer`, answers: from the active set `active` if it is one
+  /// Loads the pair and answers to `level`: from the active set `active` if it is one
   /// (kActiveSet) and proves optimal for separated boxes (out.warm; then p holds only what
   /// that path reads), else cold. `active` returns the answer's active set (0 when the boxes
-  /// overlap: the next query starts cold).
-  MINKSUM_SCALAR_CODE static void box_pair(const BoxLanes<double>& a, const BoxLanes<double>& b, bool answer,
+  /// overlap: the next query starts cold; unchanged by a verdict, which the separating axis
+  /// test decides at once).
+  MINKSUM_SCALAR_CODE static void box_pair(const BoxLanes<double>& a, const BoxLanes<double>& b, PairLevel level,
                                            unsigned& active, BoxPair<T>& p, PairAnswer<T>& out) {
     out.warm = false;
-    if (answer && (active & kActiveSet)) {
+    if (level >= PairLevel::Distance && (active & kActiveSet)) {
       load_generators(a, b, p);
       if (warm(p, active, out)) return;  // (p holds c, ca, h and g only)
     }
     load(a, b, p);
-    if (answer) run(p, out, active);
+    if (level != PairLevel::Load) run(p, level, out, active);
   }
 
   // What the warm path reads of the pair: c, ca, h and the generators (not C nor u . c).
@@ -274,9 +275,9 @@ struct BoxPairQuery {
     return true;
   }
 
-  /// The exact proximity of one box pair, written field by field into out (a struct copy
-  /// would read back the fields just stored, with wide loads that stall).
-  MINKSUM_SCALAR_CODE static void run(const BoxPair<T>& p, PairAnswer<T>& out, unsigned& active) {
+  /// The exact proximity of one box pair to `level`, written field by field into out (a struct
+  /// copy would read back the fields just stored, with wide loads that stall).
+  MINKSUM_SCALAR_CODE static void run(const BoxPair<T>& p, PairLevel level, PairAnswer<T>& out, unsigned& active) {
     out.distance = out.depth = 0;
     for (int d = 0; d < 3; ++d) out.direction[d] = 0;
     const SatResult<T> sat = separating_axis(p);
@@ -289,10 +290,13 @@ struct BoxPairQuery {
     for (int k = 0; k < 6; ++k) reach += p.h[k];
     for (int d = 0; d < 3; ++d) reach += std::abs(p.ca[d]);
     out.intersecting = !(sat.separation > 64 * std::numeric_limits<T>::epsilon() * reach);
+    out.converged = true;
+    if (level == PairLevel::Verdict) return;
     if (out.intersecting) {
       // The deepest point: the origin's projection onto the nearest facet, depth * normal.
       out.depth = std::max(T(0), -sat.separation);
       for (int d = 0; d < 3; ++d) out.direction[d] = sat.normal[d], target[d] = out.depth * sat.normal[d];
+      if (level == PairLevel::Distance) return void(active = 0);  // (its preimage gives the witnesses only)
     }
     unsigned free_mask = sat.free_mask;
     out.converged = nearest_point(p, target, t, free_mask, true);

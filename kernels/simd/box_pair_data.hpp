@@ -34,9 +34,14 @@ struct PairAnswer {
 /// generators in bits 0-5, the signs of the fixed parameters (1: +1) in bits 8-13.
 constexpr unsigned kActiveSet = 1u << 31;
 
-/// The box-pair query of the active ISA: loads the pair and, if `answer`, answers, starting
-/// from the active set `active` (see BoxPairQuery::box_pair; 0: cold).
-void box_pair_proximity(const Box& a, const Box& b, bool answer, unsigned& active, BoxPair<double>& pair,
+/// How far the box-pair query goes: the pair loaded only (the farthest pair reads it), the
+/// verdict (the separating axis test alone), the distance or depth and direction (overlapping
+/// pairs skip the active-set walk), or the witnesses too.
+enum class PairLevel : int { Load, Verdict, Distance, Witnesses };
+
+/// The box-pair query of the active ISA: loads the pair and answers to `level`, starting from
+/// the active set `active` (see BoxPairQuery::box_pair; 0: cold).
+void box_pair_proximity(const Box& a, const Box& b, PairLevel level, unsigned& active, BoxPair<double>& pair,
                         PairAnswer<double>& out);
 
 }  // namespace minksum::detail

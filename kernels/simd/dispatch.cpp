@@ -173,9 +173,9 @@ void pack_box_pair(const Box& a, const Box& b, double (&in)[30]) {
   for (int e = 0; e < 9; ++e) in[6 + e] = a.rotation.data()[e], in[15 + e] = b.rotation.data()[e];
 }
 
-void box_pair_proximity(const Box& a, const Box& b, bool answer, unsigned& active, BoxPair<double>& pair,
+void box_pair_proximity(const Box& a, const Box& b, PairLevel level, unsigned& active, BoxPair<double>& pair,
                         PairAnswer<double>& out) {
-  dispatch().box_pair_d(one_lane(a), one_lane(b), answer, active, pair, out);
+  dispatch().box_pair_d(one_lane(a), one_lane(b), level, active, pair, out);
 }
 
 }  // namespace detail

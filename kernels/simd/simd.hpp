@@ -113,6 +113,7 @@ template <class T>
 struct BoxPair;
 template <class T>
 struct PairAnswer;
+enum class PairLevel : int;
 
 /// The kernels of one ISA, as plain function pointers (one table per ISA translation unit).
 struct KernelTable {
@@ -131,7 +132,7 @@ struct KernelTable {
   void (*box_box_separation_d)(BoxLanes<double>, BoxLanes<double>, int, int, double*, std::int64_t*);
   void (*box_triangle_overlap_f)(BoxLanes<float>, const float*, int, int, std::int32_t*);
   void (*box_triangle_overlap_d)(BoxLanes<double>, const double*, int, int, std::int64_t*);
-  void (*box_pair_d)(const BoxLanes<double>&, const BoxLanes<double>&, bool, unsigned&, BoxPair<double>&,
+  void (*box_pair_d)(const BoxLanes<double>&, const BoxLanes<double>&, PairLevel, unsigned&, BoxPair<double>&,
                      PairAnswer<double>&);
   void (*tri_tri_f)(const float*, const float*, int, int, float*, float*, float*);
   void (*tri_tri_d)(const double*, const double*, int, int, double*, double*, double*);

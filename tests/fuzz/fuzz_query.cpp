@@ -314,7 +314,7 @@ void no_pass_within_half(const ConvexShape& A, const ConvexShape& B, const Eigen
     at.linear() = from.linear() * Eigen::AngleAxisd(k / 16.0 * turn.angle(), turn.axis()).toRotationMatrix();
     at.translation() = (1 - k / 16.0) * from.translation() + k / 16.0 * to.translation();
     Proximity p;
-    if (proximity(A, Eigen::Isometry3d::Identity(), B, at, p, Want::Contact) != Status::Ok) continue;
+    if (proximity(A, Eigen::Isometry3d::Identity(), B, at, p, Want::Patch) != Status::Ok) continue;
     if (!(p.intersecting || p.distance < 0.5 * tolerance - slack)) continue;
     if (const double d = exact_gap(A, B, at); d < 0.5 * tolerance - slack && !p.intersecting) {
       std::fprintf(stderr, "%s: no hit, but at %d/16 of the motion the shapes are %.17g apart (tolerance %.17g)\n",
@@ -339,7 +339,7 @@ void impact(const ConvexShape& A, const Octree& surface, const ConvexShape& B, c
   if (s != Status::Ok) return;
   if (!(toi.time >= 0 && toi.time <= 1)) fuzz::fail("a time of impact outside [0, 1]");
   Proximity start;
-  if (proximity(A, identity, B, from, start, Want::Contact) != Status::Ok) return;
+  if (proximity(A, identity, B, from, start, Want::Patch) != Status::Ok) return;
   if (start.intersecting && (!toi.hit || toi.time != 0)) fuzz::fail("overlapping at the start, not time 0");
   // (B's pose at a time as time_of_impact moves it: the origin along the segment, the rotation
   // about one axis.)
@@ -355,7 +355,7 @@ void impact(const ConvexShape& A, const Octree& surface, const ConvexShape& B, c
     at.linear() = from.linear() * Eigen::AngleAxisd(t * turn.angle(), turn.axis()).toRotationMatrix();
     at.translation() = (1 - t) * from.translation() + t * to.translation();
     Proximity p;
-    if (proximity(A, identity, B, at, p, Want::Contact) == Status::Ok && p.intersecting &&
+    if (proximity(A, identity, B, at, p, Want::Patch) == Status::Ok && p.intersecting &&
         p.penetration_depth > 1e-9 * (1 + reach))
       fuzz::fail("overlapping before the time of impact");
   }
@@ -374,7 +374,7 @@ void impact(const ConvexShape& A, const Octree& surface, const ConvexShape& B, c
   at.linear() = from.linear() * Eigen::AngleAxisd(mesh.time * turn.angle(), turn.axis()).toRotationMatrix();
   at.translation() = (1 - mesh.time) * from.translation() + mesh.time * to.translation();
   Proximity p;
-  if (proximity(A, identity, B, at, p, Want::Contact) == Status::Ok && !p.intersecting &&
+  if (proximity(A, identity, B, at, p, Want::Patch) == Status::Ok && !p.intersecting &&
       p.distance > mesh.tolerance * (1 + 1e-6) + 1e-12 * (1 + reach))
     fuzz::fail("a mesh time of impact farther apart than its tolerance");
 }
@@ -422,8 +422,8 @@ void sequence(fuzz::Bytes& in, int kind) {
       sc = proximity(a, t, cold), sw = proximity(a, t, cache, warm);
       reach = largest({a.center, t.a, t.b, t.c}) + a.half_extents.cwiseAbs().sum();
     } else {
-      sc = proximity(A, Eigen::Isometry3d::Identity(), B, pose, cold, Want::Contact);
-      sw = proximity(A, Eigen::Isometry3d::Identity(), B, pose, cache, warm, Want::Contact);
+      sc = proximity(A, Eigen::Isometry3d::Identity(), B, pose, cold, Want::Patch);
+      sw = proximity(A, Eigen::Isometry3d::Identity(), B, pose, cache, warm, Want::Patch);
       for (const auto& v : A.polytope().vertices) reach = std::max(reach, largest({v}));
       for (const auto& v : B.polytope().vertices) reach = std::max(reach, largest({pose * v}));
     }
