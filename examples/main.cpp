@@ -309,7 +309,7 @@ int cmd_query(int argc, char** argv) {
     Box a, b;
     if (!parse_box(boxes[0], a, error) || !parse_box(boxes[1], b, error)) return usage_error(error);
     if (posed || !poses.empty()) return usage_error("--pose-b and --poses are for vertex files");
-    s = proximity(a, b, p);
+    s = proximity(a, b, p, Want::All);
     if (s == Status::Ok && with_patch && (s = shape_from_box(a, A)) == Status::Ok &&
         (s = shape_from_box(b, B)) == Status::Ok)
       s = contact_patch(A, identity, B, identity, margin, patch);
@@ -318,7 +318,8 @@ int cmd_query(int argc, char** argv) {
     if (!poses.empty()) {                 // one JSON line per pose; consecutive poses share one cache
       ProximityCache cache, patch_cache;  // (one per kind of query)
       for (const Eigen::Isometry3d& pose : poses) {
-        s = coherent ? proximity(A, identity, B, pose, cache, p) : proximity(A, identity, B, pose, p);
+        s = coherent ? proximity(A, identity, B, pose, cache, p, Want::All)  // (the CLI prints every field)
+                     : proximity(A, identity, B, pose, p, Want::All);
         if (s == Status::Ok && with_patch)
           s = coherent ? contact_patch(A, identity, B, pose, margin, patch_cache, patch)
                        : contact_patch(A, identity, B, pose, margin, patch);
@@ -330,7 +331,7 @@ int cmd_query(int argc, char** argv) {
       }
       return 0;
     }
-    s = proximity(A, identity, B, pose_b, p);
+    s = proximity(A, identity, B, pose_b, p, Want::All);
     if (s == Status::Ok && with_patch) s = contact_patch(A, identity, B, pose_b, margin, patch);
   } else {
     return usage_error("query needs two vertex files or two --box");
