@@ -251,12 +251,10 @@ bool box_box_proximity(const Box& a, const Box& b, Proximity& out, Want want, un
   return r.warm;
 }
 
-// Both box queries: checks, then the pair query, scaled when the lengths are far from 1.
-Status box_query(const Box& a, const Box& b, Proximity& out, Want want, unsigned& active, bool& warm) {
+// The box pair query on checked boxes, scaled when the lengths are far from 1.
+void box_query(const Box& a, const Box& b, Proximity& out, Want want, unsigned& active, bool& warm) {
   out = Proximity{};
   warm = false;
-  for (const Box* x : {&a, &b})
-    if (const Status s = check_box(*x); s != Status::Ok) return s;
   // Lengths far from 1 over- or underflow in the products of the pair computation (NaN for a
   // box of 1e-312 next to one of 200): then it works relative to A's
   // centre, scaled by a power of two (exact), with half extents below 2^-100 (1e-30) of the
@@ -267,7 +265,7 @@ Status box_query(const Box& a, const Box& b, Proximity& out, Want want, unsigned
   const double speck = big * 0x1p-100;  // exact (big is normal here or the test fails anyway)
   if (big > 1e-60 && big < 1e60 && a.half_extents.minCoeff() >= speck && b.half_extents.minCoeff() >= speck) {
     warm = box_box_proximity(a, b, out, want, active);
-    return Status::Ok;
+    return;
   }
   // Such pairs are answered cold.
   const double k = detail::scale_to_one(big);
@@ -279,7 +277,6 @@ Status box_query(const Box& a, const Box& b, Proximity& out, Want want, unsigned
   active = 0;
   out.distance /= k, out.penetration_depth /= k, out.max_distance /= k;
   for (Vector3d* p : {&out.point_a, &out.point_b, &out.far_a, &out.far_b}) *p = *p / k + o;
-  return Status::Ok;
 }
 
 using detail::kCacheBoxBox;
@@ -292,24 +289,39 @@ constexpr unsigned kFaceNormal = 2;
 
 void box_patch(const Box& a, const Box& b, Proximity& out);
 
+// Both box queries on boxes already checked (a prepared box placed by a checked pose is: its
+// rotation is the product of two checked ones), through the active set of `cache` if given;
+// the patch's witnesses where asked.
+void box_answer(const Box& a, const Box& b, ProximityCache* cache, Proximity& out, Want want) {
+  unsigned active = cache && cache->kind == kCacheBoxBox ? cache->active : 0u;
+  bool warm = false;
+  box_query(a, b, out, want, active, warm);
+  if (has(want, Want::Patch)) box_patch(a, b, out);
+  if (!cache) return;
+  cache->kind = kCacheBoxBox, cache->active = active;
+  ++(warm ? cache->warm : cache->cold);
+}
+
+// check_box of both.
+Status check_boxes(const Box& a, const Box& b) {
+  const Status s = check_box(a);
+  return s != Status::Ok ? s : check_box(b);
+}
+
 }  // namespace
 
 Status proximity(const Box& a, const Box& b, Proximity& out, Want want) {
-  unsigned cold = 0;
-  bool warm = false;
-  const Status s = box_query(a, b, out, want, cold, warm);
-  if (s == Status::Ok && has(want, Want::Patch)) box_patch(a, b, out);
-  return s;
+  const Status s = check_boxes(a, b);
+  if (s != Status::Ok) return out = Proximity{}, s;
+  box_answer(a, b, nullptr, out, want);
+  return Status::Ok;
 }
 
 Status proximity(const Box& a, const Box& b, ProximityCache& cache, Proximity& out, Want want) {
-  unsigned active = cache.kind == kCacheBoxBox ? cache.active : 0u;
-  bool warm = false;
-  const Status s = box_query(a, b, out, want, active, warm);
-  if (s == Status::Ok && has(want, Want::Patch)) box_patch(a, b, out);
-  cache.kind = kCacheBoxBox, cache.active = s == Status::Ok ? active : 0u;
-  ++(warm ? cache.warm : cache.cold);
-  return s;
+  const Status s = check_boxes(a, b);
+  if (s != Status::Ok) return out = Proximity{}, cache.kind = kCacheBoxBox, cache.active = 0, ++cache.cold, s;
+  box_answer(a, b, &cache, out, want);
+  return Status::Ok;
 }
 
 namespace {
@@ -1490,8 +1502,9 @@ Box placed_box(const detail::ShapeData& d, const Eigen::Isometry3d& pose) {
 
 // Shapes built from boxes and triangles answer in their own form, placed by their poses: the
 // box-box, box-triangle and triangle-triangle paths (and their caches), B before A swapped
-// back (witnesses exchanged, direction negated). False if either is general (or a placed box
-// fails check_box by the rounding of its rotation): the general path answers.
+// back (witnesses exchanged, direction negated). Two boxes are not checked again (their
+// preparation and the poses were). False if either is general (or a placed box or triangle
+// fails its check by the rounding of the pose): the general path answers.
 bool own_form(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
               const Eigen::Isometry3d& pose_b, ProximityCache* cache, Proximity& out, Want want) {
   using Kind = detail::ShapeData::Kind;
@@ -1502,8 +1515,7 @@ bool own_form(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const Conve
   };
   Status s = Status::Ok;
   if (da.kind == Kind::Box && db.kind == Kind::Box) {
-    const Box x = placed_box(da, pose_a), y = placed_box(db, pose_b);
-    s = cache ? proximity(x, y, *cache, out, want) : proximity(x, y, out, want);
+    box_answer(placed_box(da, pose_a), placed_box(db, pose_b), cache, out, want);
   } else if (da.kind == Kind::Triangle && db.kind == Kind::Triangle) {
     const Triangle x = triangle(da, pose_a), y = triangle(db, pose_b);
     if (!cache) {
