@@ -62,6 +62,8 @@ void box_pairs() {
           [&](int k) { return proximity(a, b[size_t(k)], patch_cache, p, Want::Patch) == Status::Ok; });
   ConvexShape A, B;  // (A keeps its box's pose, B is placed by each call)
   shape_from_box(a, A), shape_from_box(body, B);
+  measure("box_box_shapes.cold", n,
+          [&](int k) { return proximity(A, Isometry3d::Identity(), B, pose_of(b[size_t(k)]), p) == Status::Ok; });
   ProximityCache shape_cache;
   measure("box_box_shapes.coherent", n, [&](int k) {
     return proximity(A, Isometry3d::Identity(), B, pose_of(b[size_t(k)]), shape_cache, p) == Status::Ok;
@@ -83,29 +85,32 @@ void convex_pairs() {
           [&](int k) { return proximity(A, pose_a, B, pose_a * path[size_t(k)], cache, p) == Status::Ok; });
 }
 
-// 16-gon prisms resting face on face and sliding (touching), and their contact patch.
+// Face on face, sliding and rocking: boxes (shape_from_box), 16-gon prisms and a box on a
+// prism's cap, apart (1e-3), touching and pressed (1e-3 deep), cold and coherent; and the
+// contact patch of the touching boxes and prisms.
 void face_to_face() {
   for (const auto& f : tools::face_pairs()) {
-    if (f.name != "prisms16" && f.name != "boxes") continue;
+    if (f.name != "prisms16" && f.name != "boxes" && f.name != "box_on_prism") continue;
     ConvexShape A, B;
     if (f.a_is_box ? shape_from_box(f.box_a, A) != Status::Ok : shape_from_points(f.a, A) != Status::Ok) g_ok = false;
     if (f.b_is_box ? shape_from_box(f.box_b, B) != Status::Ok : shape_from_points(f.b, B) != Status::Ok) g_ok = false;
     constexpr int n = 200;
-    std::vector<Isometry3d> pose(n);
-    for (int k = 0; k < n; ++k) pose[size_t(k)] = tools::face_pose(f, k, n, 0, true);
     const Isometry3d I = Isometry3d::Identity();
-    Proximity p;
-    ProximityCache cache;
-    ContactPatch patch;
-    const std::string name = f.name;
-    if (f.name == "prisms16") {
-      measure("face.prisms16.touching.cold", n,
-              [&](int k) { return proximity(A, I, B, pose[size_t(k)], p) == Status::Ok; });
-      measure("face.prisms16.touching.coherent", n,
+    for (const auto& [band, gap] : {std::pair{"apart", 1e-3}, {"touching", 0.0}, {"pressed", -1e-3}}) {
+      std::vector<Isometry3d> pose(n);
+      for (int k = 0; k < n; ++k) pose[size_t(k)] = tools::face_pose(f, k, n, gap, true);
+      const std::string name = "face." + f.name + "." + band;
+      Proximity p;
+      ProximityCache cache;
+      measure((name + ".cold").c_str(), n, [&](int k) { return proximity(A, I, B, pose[size_t(k)], p) == Status::Ok; });
+      measure((name + ".coherent").c_str(), n,
               [&](int k) { return proximity(A, I, B, pose[size_t(k)], cache, p) == Status::Ok; });
+      ContactPatch patch;
+      if (gap == 0 && f.name != "box_on_prism")
+        measure(("patch." + f.name + ".touching").c_str(), n, [&](int k) {
+          return contact_patch(A, I, B, pose[size_t(k)], 0, patch) == Status::Ok && patch.size > 0;
+        });
     }
-    measure(("patch." + name + ".touching").c_str(), n,
-            [&](int k) { return contact_patch(A, I, B, pose[size_t(k)], 0, patch) == Status::Ok && patch.size > 0; });
   }
 }
 

@@ -1310,7 +1310,6 @@ bool certified(const A& a, const B& b, int found, const int (&fa)[4], const int 
   if (f && !f->depth) {
     std::copy(fa, fa + 3, f->a), std::copy(fb, fb + 3, f->b);
     f->valid = true;
-    face_normal_of(a, b, c.n, *f);
   }
   return true;
 }
@@ -1477,6 +1476,9 @@ void cached_proximity(const A& a, const B& b, ProximityCache& cache, Proximity& 
   // that it is never slower than cold.)
   const double clear = 1e-9 * std::max(a.reach(), b.reach());
   if (!(out.intersecting ? out.penetration_depth > clear : out.distance > clear)) f.valid = false;
+  // Which face the proof's normal is, for the next query's probe: only for an answer kept
+  // (a touching one is not, and costs no face search).
+  if (f.valid && !f.depth && f.face < 0 && f.normal.squaredNorm() > 0) face_normal_of(a, b, f.normal, f);
   ++(warm ? cache.warm : cache.cold);
   cache.searched += out.searched;
   cache.kind = f.valid ? kCacheConvex : 0u;
