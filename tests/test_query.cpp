@@ -160,7 +160,8 @@ INSTANTIATE_TEST_SUITE_P(Shards, RandomQueries, testing::Range(0, 10));
 // box pair's verdict, depth and distance come from the same separating axis test and walk) and
 // the fields past it keep their defaults; the farthest pair alone likewise. The patch's
 // witnesses may differ from the plain witnesses (either is a closest pair), so Witnesses is
-// checked against Patch on the distance, and its points for being a closest pair.
+// checked against Patch on the distance, and its points for being a closest pair. Random and
+// tie-heavy pairs.
 TEST(Query, WantSelectsTheFields) {
   std::mt19937_64 rng(91);
   const auto same_verdict = [](const Proximity& got, const Proximity& all) { return got.intersecting == all.intersecting; };
@@ -177,8 +178,12 @@ TEST(Query, WantSelectsTheFields) {
   const Proximity none;
   int overlapping = 0;
   for (int k = 0; k < 400; ++k) {
-    const Box box = tools::random_box(rng, 1.0), other = tools::random_box(rng, 1.0);
-    const Triangle s = tools::random_triangle(rng, 1.0), t = tools::random_triangle(rng, 1.0);
+    // Every fourth pair on the integer lattice (tests/ties.hpp): faces on faces, exact touching.
+    const bool tie = k % 4 == 3;
+    const Box box = tie ? test::ties::lattice_box(rng, 2, 1) : tools::random_box(rng, 1.0);
+    const Box other = tie ? test::ties::lattice_box(rng, 2, 1) : tools::random_box(rng, 1.0);
+    const Triangle s = tie ? test::ties::lattice_triangle(rng, 2, 1) : tools::random_triangle(rng, 1.0);
+    const Triangle t = tie ? test::ties::lattice_triangle(rng, 2, 1) : tools::random_triangle(rng, 1.0);
     ConvexPolytope A, B;
     ASSERT_EQ(polytope_from_box(box, A), Status::Ok);
     ASSERT_EQ(polytope_from_box(other, B), Status::Ok);

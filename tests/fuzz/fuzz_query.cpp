@@ -445,6 +445,23 @@ void sequence(fuzz::Bytes& in, int kind) {
   }
 }
 
+// The lower levels of a query (Want): the same status, verdict and (Distance) distance, depth
+// and direction as the answer with witnesses, bit for bit, and the fields past them unset.
+template <class A, class B>
+void levels(const A& a, const B& b, Status s, const Proximity& p) {
+  Proximity verdict, distance;
+  if (proximity(a, b, verdict, Want::Verdict) != s || proximity(a, b, distance, Want::Distance) != s)
+    fuzz::fail("a level's status differs from the witnesses'");
+  if (s != Status::Ok) return;
+  if (verdict.intersecting != p.intersecting || distance.intersecting != p.intersecting)
+    fuzz::fail("a level's verdict differs from the witnesses'");
+  if (!(distance.distance == p.distance && distance.penetration_depth == p.penetration_depth &&
+        distance.penetration_direction == p.penetration_direction))
+    fuzz::fail("Want::Distance's distance or depth differs from the witnesses'");
+  if (verdict.distance != 0 || verdict.penetration_depth != 0 || !distance.point_a.isZero() || !distance.point_b.isZero())
+    fuzz::fail("a level set a field it was not asked for");
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -460,10 +477,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (kind == 0) {
     const Box a = box(in), b = box(in);
     if ((s = proximity(a, b, p)) == Status::Ok) fuzz::check(p), brute(a, b, p);
+    levels(a, b, s, p);
   } else if (kind == 1) {
     const Box a = box(in);
     const Triangle t = triangle(in);
     if ((s = proximity(a, t, p)) == Status::Ok) fuzz::check(p), brute(a, t, p);
+    levels(a, t, s, p);
   } else {
     const Triangle a = triangle(in), b = triangle(in);
     if ((s = proximity(a, b, p)) == Status::Ok) fuzz::check(p), brute(a, b, p);
