@@ -156,6 +156,19 @@ void meshes() {
   measure("mesh_distance.cold", int(path.size()), [&](int k) {
     return mesh_distance(A, Isometry3d::Identity(), B, path[size_t(k)], ws, d) == Status::Ok;
   });
+  // A tool the size of the mesh (an icosahedron 0.18 across) swept through it: starting across
+  // its surface (time 0), and starting clear, 0.15 above it.
+  ConvexShape tool_shape;
+  if (shape_from_points(tools::scaled(tools::icosahedron_points(), 0.09 / 1.902), tool_shape) != Status::Ok) g_ok = false;
+  TimeOfImpact toi;
+  const Isometry3d I = Isometry3d::Identity();
+  for (const auto& [name, lift] : {std::pair{"mesh_sweep.starting_in_contact", 0.09}, {"mesh_sweep.starting_clear", 0.25}})
+    measure(name, 16, [&](int k) {
+      const double s = 2 * M_PI * k / 16;
+      const Vector3d u = Vector3d(std::cos(s), std::sin(s), 0.3).normalized();
+      const Isometry3d t0 = Eigen::Translation3d(lift * u) * I, t1 = Eigen::Translation3d(-0.1 * u) * I;
+      return time_of_impact(A, I, tool_shape, t0, t1, toi) == Status::Ok && toi.hit;
+    });
 }
 
 // The haptic loop on the full bunny's stand-in (box tool, 6-DOF, coherent): a run of 4,001 ticks

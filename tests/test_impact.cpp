@@ -314,6 +314,38 @@ TEST(TimeOfImpact, AMeshEqualsTheEarliestOfItsTriangles) {
   EXPECT_GT(misses, 0);
 }
 
+TEST(TimeOfImpact, AMeshSweepThatStartsInContactStopsAtOnce) {
+  // A tool about the size of the mesh, starting across its surface (so in contact with
+  // hundreds of its triangles), translating or turning: time 0, at a triangle the tool meets
+  // at the start (exact distance within the tolerance), after the advancement of a few
+  // triangles, not of every one the tool covers (the iterations count them: GJK steps, no
+  // clock). Turning in place, the triangles it reaches later in the tick can fill the heap
+  // before the walk opens the leaf it touches at once: those are advanced first.
+  const tools::Mesh ball = tools::bumpy_sphere(40);  // 6,400 triangles, 0.19 across
+  Octree mesh;
+  ASSERT_EQ(build_octree(ball.vertices, ball.triangles, mesh), Status::Ok);
+  ConvexShape tool;
+  ASSERT_EQ(shape_from_points(tools::scaled(tools::icosahedron_points(), 0.05), tool), Status::Ok);
+  const Isometry3d I = Isometry3d::Identity();
+  for (int k = 0; k < 8; ++k) {
+    const double s = 2 * M_PI * k / 8;
+    const Vector3d at = 0.09 * Vector3d(std::cos(s), std::sin(s), 0.3 * std::sin(3 * s)).normalized();
+    const Isometry3d t0 = Eigen::Translation3d(at) * I;  // (odd k translating through, even k turning in place)
+    const Isometry3d t1 = k % 2 ? Eigen::Translation3d(-at) * I : t0 * Eigen::AngleAxisd(1.0, Vector3d::UnitZ());
+    TimeOfImpact toi;
+    ASSERT_EQ(time_of_impact(mesh, I, tool, t0, t1, toi), Status::Ok) << k;
+    ASSERT_TRUE(toi.hit && toi.converged) << k;
+    EXPECT_EQ(toi.time, 0) << k;
+    ASSERT_GE(toi.triangle, 0) << k;
+    const auto& t = ball.triangles[size_t(toi.triangle)];
+    ConvexShape piece;
+    ASSERT_EQ(shape_from_triangle({ball.vertices[t[0]], ball.vertices[t[1]], ball.vertices[t[2]]}, piece), Status::Ok);
+    const test::Oracle o = oracle(piece, I, tool, t0);
+    EXPECT_TRUE(o.overlap || o.distance <= toi.tolerance) << k;
+    EXPECT_LT(toi.iterations, 300) << k;  // (4-5 on 7 of these poses, 201 on one; 4,357-4,977 before the walk stopped at a hit at 0)
+  }
+}
+
 TEST(TimeOfImpact, NoTunnellingThroughAThinSheetMesh) {
   // The 0.5 mm sheet of NoTunnellingThroughAThinSheet as a mesh (its top and bottom split into
   // a 10 x 10 grid, and its four sides), swept by the same 0.3 mm tool at 1, 3 and 10 m/s.

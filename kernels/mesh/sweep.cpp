@@ -245,10 +245,13 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
   Entry heap[kHeapTriangles];
   int waiting = 0;
   const auto later = [](const Entry& x, const Entry& y) { return x.time > y.time; };
+  // A hit at the start: none can come sooner, so the walk ends (a tool that starts in contact
+  // pays for the triangles it met first, not for every one it covers).
+  const auto settled = [&] { return out.hit && earliest <= 0; };
   const auto advance_next = [&] {
     std::pop_heap(heap, heap + waiting, later);
     const Entry c = heap[--waiting];
-    if (c.time > earliest) return;
+    if (c.time > earliest || settled()) return;
     const Vector3d* corners = &a.item_corners[size_t(3) * c.node];
     if (out.hit && at_hit.apart_until(corners, earliest)) return;
     const detail::Mover still(corners, 3, Isometry3d::Identity(), Isometry3d::Identity());
@@ -266,7 +269,7 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
                             std::max(0.5 * tolerance - 1e-12 * reach, 1e-12 * reach));
     }
   };
-  while (top > 0) {
+  while (top > 0 && !settled()) {
     const Entry e = stack[--top];
     while (waiting > 0 && heap[0].time <= e.time && heap[0].time <= earliest) advance_next();
     const Octree::Node& n = a.nodes[e.node];
@@ -289,12 +292,15 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
       const Vector3d* corners = &a.item_corners[size_t(3) * x];
       if (s > earliest || planes.out_of_reach(corners, earliest, last_plane)) continue;  // (the cheap tests first)
       if ((s = std::max(s, planes.reach_time(corners))) > earliest) continue;
+      // Of the triangles in reach at the start, those deepest in the tool's sphere first
+      // (a key in [-1, 0)): the likeliest to be met at once, which ends the walk.
+      if (s == 0) s = -std::max(0.0, 1 - (c0 - sphere.head<3>()).norm() / (sphere[3] + r));
       if (waiting == kHeapTriangles) advance_next();
       heap[waiting++] = {x, s};
       std::push_heap(heap, heap + waiting, later);
     }
   }
-  while (waiting > 0 && heap[0].time <= earliest) advance_next();
+  while (waiting > 0 && heap[0].time <= earliest && !settled()) advance_next();
   out.iterations = iterations, out.tolerance = tolerance;
   if (out.hit || !out.converged) {  // back to the world frame
     out.normal = pose_a.linear() * out.normal, out.point_a = pose_a * out.point_a, out.point_b = pose_a * out.point_b;
