@@ -295,8 +295,8 @@ TEST(RealTime, CoherentQueriesDoNotAllocate) {
 
 // Face to face (tools::face_pairs: boxes, prisms, a box on a prism, a flat face on a box, an
 // edge along a face), apart, touching and pressed, flat and rocking, cold and coherent: the
-// patch witnesses, the touching certificate, the face probe and the contact patch (cold,
-// coherent and reduced) work in fixed buffers.
+// verdict, the plain and the patch witnesses, the touching certificate, the face probe and the
+// contact patch (cold, coherent and reduced) work in fixed buffers.
 TEST(RealTime, FaceToFaceQueriesDoNotAllocate) {
   SKIP_UNLESS_COUNTING();
   const Eigen::Isometry3d pose_a(Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 3).normalized()));
@@ -312,8 +312,10 @@ TEST(RealTime, FaceToFaceQueriesDoNotAllocate) {
         EXPECT_EQ(allocations([&] {
                     for (int k = 0; k < 64; ++k) {
                       const Eigen::Isometry3d pose_b = pose_a * tools::face_pose(pair, k, 64, gap, rocking);
-                      proximity(A, pose_a, B, pose_b, p, Want::Witnesses);
-                      proximity(A, pose_a, B, pose_b, cache, p, Want::Witnesses);
+                      for (Want want : {Want::Verdict, Want::Witnesses, Want::Patch}) {
+                        proximity(A, pose_a, B, pose_b, p, want);
+                        proximity(A, pose_a, B, pose_b, cache, p, want);
+                      }
                       contact_patch(A, pose_a, B, pose_b, 2e-3, patch);
                       contact_patch(A, pose_a, B, pose_b, 2e-3, patch_cache, patch);
                       reduce_contact_patch(patch);

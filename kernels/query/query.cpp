@@ -1622,10 +1622,9 @@ Status patch_of(const A& a, const B& b, const Proximity& p, const Features& f, d
 
 // The fields `want` did not ask for, back at their defaults: the general path computes the
 // first four levels together (its certificate reads what the witnesses need).
-Status keep_asked(Want want, Proximity& out) {
+void keep_asked(Want want, Proximity& out) {
   if (!has(want, Want::Witnesses)) out.point_a.setZero(), out.point_b.setZero();
   if (!has(want, Want::Distance)) out.distance = out.penetration_depth = 0, out.penetration_direction.setZero();
-  return Status::Ok;
 }
 
 }  // namespace
@@ -1634,7 +1633,8 @@ Status proximity(const ConvexPolytope& a, const ConvexPolytope& b, Proximity& ou
   out = Proximity{};
   if (a.vertices.empty() || b.vertices.empty() || a.faces.empty() || b.faces.empty()) return Status::TooFewPoints;
   exact_proximity(PolytopeShape{a}, PolytopeShape{b}, out, want);
-  return keep_asked(want, out);
+  keep_asked(want, out);
+  return Status::Ok;
 }
 
 Status proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
@@ -1645,7 +1645,8 @@ Status proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const Co
     if (const Status s = check_pose(*pose); s != Status::Ok) return s;
   if (!own_form(a, pose_a, b, pose_b, nullptr, out, want))
     exact_proximity(posed(a, pose_a), posed(b, pose_b), out, want);
-  return keep_asked(want, out);
+  keep_asked(want, out);
+  return Status::Ok;
 }
 
 Status proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
@@ -1656,7 +1657,8 @@ Status proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const Co
     if (const Status s = check_pose(*pose); s != Status::Ok) return s;
   if (!own_form(a, pose_a, b, pose_b, &cache, out, want))
     cached_proximity(posed(a, pose_a), posed(b, pose_b), cache, out, want);
-  return keep_asked(want, out);
+  keep_asked(want, out);
+  return Status::Ok;
 }
 
 Status proximity(const Box& a, const Triangle& b, Proximity& out, Want want) {
@@ -1664,7 +1666,8 @@ Status proximity(const Box& a, const Triangle& b, Proximity& out, Want want) {
   if (const Status s = check_box(a); s != Status::Ok) return s;
   if (const Status s = check_triangle(b); s != Status::Ok) return s;
   exact_proximity(shape_of(a), shape_of(b), out, want);
-  return keep_asked(want, out);
+  keep_asked(want, out);
+  return Status::Ok;
 }
 
 Status proximity(const Box& a, const Triangle& b, ProximityCache& cache, Proximity& out, Want want) {
@@ -1672,7 +1675,8 @@ Status proximity(const Box& a, const Triangle& b, ProximityCache& cache, Proximi
   if (const Status s = check_box(a); s != Status::Ok) return s;
   if (const Status s = check_triangle(b); s != Status::Ok) return s;
   cached_proximity(shape_of(a), shape_of(b), cache, out, want);
-  return keep_asked(want, out);
+  keep_asked(want, out);
+  return Status::Ok;
 }
 
 Status proximity(const Triangle& a, const Triangle& b, Proximity& out, Want want) {
@@ -1680,7 +1684,8 @@ Status proximity(const Triangle& a, const Triangle& b, Proximity& out, Want want
   for (const Triangle* t : {&a, &b})
     if (const Status s = check_triangle(*t); s != Status::Ok) return s;
   exact_proximity(shape_of(a), shape_of(b), out, want);
-  return keep_asked(want, out);
+  keep_asked(want, out);
+  return Status::Ok;
 }
 
 namespace {

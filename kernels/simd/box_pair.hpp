@@ -281,8 +281,6 @@ struct BoxPairQuery {
     out.distance = out.depth = 0;
     for (int d = 0; d < 3; ++d) out.direction[d] = 0;
     const SatResult<T> sat = separating_axis(p);
-    T t[6];
-    for (int k = 0; k < 6; ++k) t[k] = dot3(sat.normal, p.g[k]) >= 0 ? T(1) : T(-1);
     T target[3] = {0, 0, 0};
     // Touching within rounding (64 eps of the coordinates, as the general path) counts as
     // intersecting: a box resting on a box, posed, is apart or pressed by a few ulps.
@@ -298,6 +296,8 @@ struct BoxPairQuery {
       for (int d = 0; d < 3; ++d) out.direction[d] = sat.normal[d], target[d] = out.depth * sat.normal[d];
       if (level == PairLevel::Distance) return void(active = 0);  // (its preimage gives the witnesses only)
     }
+    T t[6];  // the facet's vertex, where the walk starts
+    for (int k = 0; k < 6; ++k) t[k] = dot3(sat.normal, p.g[k]) >= 0 ? T(1) : T(-1);
     unsigned free_mask = sat.free_mask;
     out.converged = nearest_point(p, target, t, free_mask, true);
     T m[3];
