@@ -20,7 +20,10 @@
 #include <benchmark/benchmark.h>
 #include <minksum/minksum.hpp>
 
+#include <array>
 #include <cmath>
+#include <cstdio>
+#include <map>
 #include <memory>
 
 #include "bullet_peer.hpp"
@@ -205,7 +208,89 @@ void MeshImpact(benchmark::State& state, bool turning, Method method) {
   tally.report(state, method, double(iterations) / double(motions.size()));
 }
 
+// Tools of every size on the full bunny (diagonal D): an icosahedron of radius 0.5 D (the
+// mesh's own size), 0.1 D and 0.02 D; 64 surface points (triangle centres p, normals n), one
+// motion each: starting in contact (centre at p, half the tool below the surface; the answer
+// is time 0), and starting clear (the tool's surface 0.1 D above p, moving 0.2 D down along
+// -n; starts where the tool already meets the non-convex bunny are left out), with the same
+// tool's mesh distance at the clear start for scale (the tool's hull as a mesh).
+//   TimeOfImpact/bunny_mesh/tool_<0.5|0.1|0.02>/<in_contact|clear|distance_at_clear_start>
+struct ToolScene {
+  ConvexShape tool;
+  Octree tool_tree;
+  std::vector<Motion> in_contact, clear;
+};
+
+const ToolScene& tool_scene(double fraction) {
+  static std::map<double, ToolScene> scenes;
+  auto [it, fresh] = scenes.try_emplace(fraction);
+  ToolScene& s = it->second;
+  if (!fresh) return s;
+  const MeshScene& m = mesh_scene();
+  Vector3d lo = m.mesh.vertices[0], hi = lo;
+  for (const auto& v : m.mesh.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+  const double D = (hi - lo).norm(), R = fraction * D;
+  const std::vector<Vector3d> points = tools::scaled(tools::icosahedron_points(), R / tools::icosahedron_points()[0].norm());
+  shape_from_points(points, s.tool);
+  std::vector<std::array<int, 3>> fan;
+  for (const auto& f : s.tool.polytope().faces)
+    for (size_t k = 1; k + 1 < f.loop.size(); ++k) fan.push_back({f.loop[0], f.loop[k], f.loop[k + 1]});
+  build_octree(s.tool.polytope().vertices, fan, s.tool_tree);
+  MeshWorkspace ws;
+  make_workspace(m.tree, s.tool_tree, ws);
+  for (size_t k = 0; s.in_contact.size() < 64 && k < 4096; ++k) {
+    const auto& t = m.mesh.triangles[k * 7919 % m.mesh.triangles.size()];
+    const Vector3d p[3] = {m.mesh.vertices[t[0]], m.mesh.vertices[t[1]], m.mesh.vertices[t[2]]};
+    const Vector3d c = (p[0] + p[1] + p[2]) / 3, n = (p[1] - p[0]).cross(p[2] - p[0]).normalized();
+    const Isometry3d start(Eigen::Translation3d(c + (R + 0.1 * D) * n));
+    MeshDistance d;
+    if (mesh_distance(m.tree, Isometry3d::Identity(), s.tool_tree, start, ws, d) != Status::Ok || d.intersecting)
+      continue;
+    s.in_contact.push_back({Isometry3d(Eigen::Translation3d(c)), Isometry3d(Eigen::Translation3d(c - 0.2 * D * n))});
+    s.clear.push_back({start, Isometry3d(Eigen::Translation3d(c + (R - 0.1 * D) * n))});
+  }
+  return s;
+}
+
+enum class ToolRow { InContact, Clear, Distance };
+
+void ToolSweep(benchmark::State& state, double fraction, ToolRow row) {
+  const MeshScene& m = mesh_scene();
+  const ToolScene& s = tool_scene(fraction);
+  const std::vector<Motion>& motions = row == ToolRow::InContact ? s.in_contact : s.clear;
+  if (motions.empty()) return state.SkipWithError("no clear start");
+  const Isometry3d still = Isometry3d::Identity();
+  MeshWorkspace ws;
+  make_workspace(m.tree, s.tool_tree, ws);
+  long ticks = 0, hits = 0, iterations = 0;
+  for (auto _ : state) {
+    const Motion& x = motions[size_t(ticks++) % motions.size()];
+    if (row == ToolRow::Distance) {
+      MeshDistance d;
+      mesh_distance(m.tree, still, s.tool_tree, x.b0, ws, d);
+      benchmark::DoNotOptimize(d.distance);
+    } else {
+      TimeOfImpact toi;
+      time_of_impact(m.tree, still, s.tool, x.b0, x.b1, toi);
+      hits += toi.hit, iterations += toi.iterations;
+      benchmark::DoNotOptimize(toi.time);
+    }
+  }
+  state.counters["motions"] = double(motions.size());
+  if (row != ToolRow::Distance) {
+    state.counters["hits"] = double(hits) / double(std::max(1L, ticks));
+    state.counters["iterations"] = double(iterations) / double(std::max(1L, ticks));
+  }
+}
+
 const int registered = [] {
+  for (double fraction : {0.5, 0.1, 0.02})
+    for (const auto& [row, label] : {std::pair{ToolRow::InContact, "in_contact"}, {ToolRow::Clear, "clear"},
+                                     {ToolRow::Distance, "distance_at_clear_start"}}) {
+      char base[96];
+      std::snprintf(base, sizeof base, "TimeOfImpact/bunny_mesh/tool_%g/%s", fraction, label);
+      benchmark::RegisterBenchmark(base, ToolSweep, fraction, row);
+    }
   for (bool turning : {false, true})
     for (Method method : {Method::Minksum, Method::Fcl})
       benchmark::RegisterBenchmark(

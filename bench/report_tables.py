@@ -221,8 +221,18 @@ def impact_markdown(directory):
     mesh = ["", "Against a mesh (FCL's naive solver: 10 sampled poses, not conservative):", "",
             "| scene | motion | minksum [ns] | fcl_ccd [ns] | fcl_ccd / minksum | hits: minksum, fcl |"
             " minksum iterations | dt_max: fcl |", "|---|---|---|---|---|---|---|---|"]
+    tools = ["", "Tools of every size against the mesh (radius as a share of its diagonal): starting in contact"
+             " (target <= 50 us) and starting clear, against the same tool's mesh distance at the clear start"
+             " (target: the sweep within 2x of it):", "",
+             "| tool | in contact [us] | clear [us] | distance at the clear start [us] | clear / distance |"
+             " iterations: in contact, clear |", "|---|---|---|---|---|---|"]
     for key in order:
         m = t[key]
+        if key[1].startswith("tool_") and len(m) == 3:
+            c, s, d = (float(m[k]["ns_per_motion"]) / 1e3 for k in ("in_contact", "clear", "distance_at_clear_start"))
+            tools.append(f"| {key[1][5:]} | {c:.1f} | {s:.1f} | {d:.1f} | {s / d:.2f}x |"
+                         f" {float(m['in_contact']['iterations']):.1f}, {float(m['clear']['iterations']):.1f} |")
+            continue
         if "bullet_ccd" not in m and len(m) == 2:
             a, f = (float(m[k]["ns_per_motion"]) for k in ("minksum", "fcl_ccd"))
             mesh.append(f"| {key[0]} | {key[1]} | {a:.0f} | {f:.0f} | {f / a:.2f}x | {float(m['minksum']['hits']):.3f},"
@@ -237,6 +247,8 @@ def impact_markdown(directory):
                    f" {float(m['fcl_ccd']['dt_max']):.1e} |")
     if len(mesh) > 5:
         out += mesh
+    if len(tools) > 5:
+        out += tools
     with open(f"{directory}/time_of_impact.md", "w") as f:
         f.write("\n".join(out) + "\n")
 
