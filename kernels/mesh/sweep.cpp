@@ -213,8 +213,7 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
   if (const Status s = detail::relative_pose(pose_a, t0, q0); s != Status::Ok) return s;
   if (const Status s = detail::relative_pose(pose_a, t1, q1); s != Status::Ok) return s;
   if (!(tolerance >= 0) || !std::isfinite(tolerance)) return Status::InvalidArgument;
-  const auto& vertices = tool.polytope().vertices;
-  const detail::Mover moving(vertices.data(), int(vertices.size()), q0, q1);
+  const detail::Mover moving(tool, q0, q1);
   const Octree::Node& root = a.nodes[0];
   const double reach = std::max(q0.translation().norm(), q1.translation().norm()) + moving.radius +
                        root.box_center.norm() + root.box_half.norm();

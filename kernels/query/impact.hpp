@@ -18,8 +18,11 @@ struct Mover {
   Eigen::Vector3d omega = Eigen::Vector3d::Zero();   ///< the angular velocity, world frame (fixed)
   double radius = 0;                                 ///< the largest |x| of the vertices
   double across = 0;                                 ///< the largest distance of one from the axis
+  const double *x = nullptr, *y = nullptr, *z = nullptr;  ///< the vertices as arrays, if any: a SIMD scan
   /// The body of `size` vertices moving from p0 to p1 (rigid poses, checked by the caller).
   Mover(const Eigen::Vector3d* vertices, int size, const Eigen::Isometry3d& p0, const Eigen::Isometry3d& p1);
+  /// A prepared shape moving from p0 to p1, scanned from its vertex arrays.
+  Mover(const ConvexShape& shape, const Eigen::Isometry3d& p0, const Eigen::Isometry3d& p1);
   /// Its pose at time t of the tick.
   Eigen::Isometry3d at(double t) const;
 };
