@@ -476,6 +476,7 @@ struct PosedShape {
   // At least the largest |coordinate|, without a pass over the vertices.
   double reach() const { return pose.t.cwiseAbs().maxCoeff() + radius; }
   const double radius = 0;  // at least the largest |x| in the body frame
+  const double *x = nullptr, *y = nullptr, *z = nullptr;  // the body-frame vertices as arrays
   // The body frame, where a pass over vertices or faces reads the polytope as stored.
   Vector3d to_body(const Vector3d& d) const { return pose.to_body(d); }
   Vector3d body_point(const Vector3d& x) const { return pose.body_point(x); }
@@ -488,13 +489,27 @@ struct PosedShape {
 
 // The support of a posed shape with the direction turned into the body frame (one product
 // per vertex instead of a pose per vertex).
+// From this many vertices on, the SIMD support kernel scans the shape (below it, its set-up
+// and lane reduction cost more than the plain loop: callgrind, AVX2).
+constexpr int kWideScan = 24;
+
+// The first highest vertex along nb (body frame) by the SIMD kernel. (Out of line: the plain
+// loop of a small shape stays lean.)
+[[gnu::noinline]] void wide_scan(const PosedShape& s, double nx, double ny, double nz, double& value, int& best) {
+  support_push(s.x, s.y, s.z, s.size(), &nx, &ny, &nz, 1, &value, &best);
+}
+
 [[gnu::flatten]] int highest(const PosedShape& s, const Vector3d& n, double& value) {
   const Vector3d nb = s.to_body(n);
   int best = 0;
-  value = -std::numeric_limits<double>::infinity();
-  for (int k = 0; k < s.size(); ++k)
-    if (const double x = nb.dot(s.p.vertices[k]); x > value) value = x, best = k;
-  value += s.shift(n);
+  double top = -std::numeric_limits<double>::infinity();  // (a local: not re-read through `value`)
+  if (s.size() >= kWideScan) {
+    wide_scan(s, nb.x(), nb.y(), nb.z(), top, best);
+  } else {
+    for (int k = 0; k < s.size(); ++k)
+      if (const double x = nb.dot(s.p.vertices[k]); x > top) top = x, best = k;
+  }
+  value = top + s.shift(n);
   return best;
 }
 
@@ -1506,7 +1521,8 @@ void cached_proximity(const A& a, const B& b, ProximityCache& cache, Proximity& 
 // A prepared shape placed by a pose.
 PosedShape posed(const ConvexShape& s, const Eigen::Isometry3d& pose) {
   const detail::ShapeData* d = detail::ShapeAccess::data(s);
-  return PosedShape{s.polytope(), {pose.linear(), pose.translation()}, !s.polytope().flat, std::sqrt(3.0) * d->size};
+  return PosedShape{s.polytope(),  {pose.linear(), pose.translation()}, !s.polytope().flat, std::sqrt(3.0) * d->size,
+                    d->px.data(), d->py.data(),                        d->pz.data()};
 }
 
 // A box shape's box placed by a pose.
