@@ -1732,15 +1732,14 @@ bool own_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const Conv
   const bool boxes = da.kind == Kind::Box && db.kind == Kind::Box;
   const bool swap = da.kind == Kind::Triangle && db.kind == Kind::Box;
   if (!boxes && !swap && !(da.kind == Kind::Box && db.kind == Kind::Triangle)) return false;
+  // (A placed box is not checked again: its preparation and the pose were, as in box_answer.)
   const Box x = swap ? placed_box(db, pose_b) : placed_box(da, pose_a);
-  if (check_box(x) != Status::Ok) return false;
   BoxPatch decided;
   Proximity p;
   if (boxes) {
     const Box y = placed_box(db, pose_b);
-    if (check_box(y) != Status::Ok) return false;
     decided = detail::box_pair_patch(x, y, margin, out);
-    if (decided == BoxPatch::Apart && proximity(x, y, p) != Status::Ok) return false;
+    if (decided == BoxPatch::Apart) box_answer(x, y, nullptr, p, Want::Witnesses);
   } else {
     const detail::ShapeData& dt = swap ? da : db;
     const Eigen::Isometry3d& pose = swap ? pose_a : pose_b;
