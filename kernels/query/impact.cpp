@@ -12,12 +12,11 @@
 // application to continuous collision detection", 2004), where a pure translation's steps land
 // on the supporting plane the ray of the relative motion meets: exact to the tolerance.
 #include "query/impact.hpp"
+#include "query/wide_scan.hpp"
 
 #include "core/scale.hpp"
 #include "geometry/closest.hpp"
 #include "shape/shape_data.hpp"
-
-#include <minksum/kernels.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -73,16 +72,6 @@ using detail::Mover;
 // vertices, the highest (sign 1) or lowest (sign -1) of h + delta h', and that vertex's rate
 // into `rate` and index into `arg` (of exact ties at delta 0, the one that leads: the line of
 // an actual vertex).
-// From this many vertices on, a translating body is scanned by the SIMD support kernel (below
-// it, its set-up and lane reduction cost more than the plain loop: callgrind, AVX2).
-constexpr int kWideScan = 24;
-
-// The first highest of m's vertices along k, by the SIMD kernel. (Out of line: the plain loop
-// of a small body stays lean.)
-[[gnu::noinline]] void wide_scan(const Mover& m, const Vector3d& k, double& best, int& arg) {
-  support_push(m.x, m.y, m.z, m.size, &k.x(), &k.y(), &k.z(), 1, &best, &arg);
-}
-
 double extreme(const Mover& m, const Isometry3d& p, const Vector3d& n, double delta, double sign, double& rate,
                int& arg) {
   const Vector3d nb = p.linear().transpose() * n;  // body frame
@@ -90,8 +79,8 @@ double extreme(const Mover& m, const Isometry3d& p, const Vector3d& n, double de
   arg = 0;
   if (m.angle == 0) {  // (no turn: every vertex's rate is v . n; the first highest)
     const Vector3d k = sign * nb;
-    if (m.x && m.size >= kWideScan) {
-      wide_scan(m, k, best, arg);
+    if (m.x && m.size >= detail::kWideScan) {  // (a large translating body: the SIMD kernel)
+      detail::wide_scan(m.x, m.y, m.z, m.size, k.x(), k.y(), k.z(), best, arg);
     } else {
       for (int i = 0; i < m.size; ++i)
         if (const double h = k.dot(m.vertices[i]); h > best) best = h, arg = i;

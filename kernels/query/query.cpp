@@ -14,6 +14,7 @@
 #include "query/patch.hpp"
 #include "shape/shape_data.hpp"
 #include "query/triangle_pairs.hpp"
+#include "query/wide_scan.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -487,24 +488,23 @@ struct PosedShape {
   double body_offset(int f) const { return p.faces[f].offset; }
 };
 
-// The support of a posed shape with the direction turned into the body frame (one product
-// per vertex instead of a pose per vertex).
-// From this many vertices on, the SIMD support kernel scans the shape (below it, its set-up
-// and lane reduction cost more than the plain loop: callgrind, AVX2).
-constexpr int kWideScan = 24;
+}  // namespace
 
-// The first highest vertex along nb (body frame) by the SIMD kernel. (Out of line: the plain
-// loop of a small shape stays lean.)
-[[gnu::noinline]] void wide_scan(const PosedShape& s, double nx, double ny, double nz, double& value, int& best) {
-  support_push(s.x, s.y, s.z, s.size(), &nx, &ny, &nz, 1, &value, &best);
+[[gnu::noinline]] void detail::wide_scan(const double* x, const double* y, const double* z, int n, double nx,
+                                         double ny, double nz, double& top, int& arg) {
+  support_push(x, y, z, n, &nx, &ny, &nz, 1, &top, &arg);
 }
 
+namespace {
+
+// The support of a posed shape with the direction turned into the body frame (one product
+// per vertex instead of a pose per vertex; a large shape's by the SIMD kernel).
 [[gnu::flatten]] int highest(const PosedShape& s, const Vector3d& n, double& value) {
   const Vector3d nb = s.to_body(n);
   int best = 0;
   double top = -std::numeric_limits<double>::infinity();  // (a local: not re-read through `value`)
-  if (s.size() >= kWideScan) {
-    wide_scan(s, nb.x(), nb.y(), nb.z(), top, best);
+  if (s.size() >= detail::kWideScan) {
+    detail::wide_scan(s.x, s.y, s.z, s.size(), nb.x(), nb.y(), nb.z(), top, best);
   } else {
     for (int k = 0; k < s.size(); ++k)
       if (const double x = nb.dot(s.p.vertices[k]); x > top) top = x, best = k;
