@@ -1148,10 +1148,6 @@ Tolerances tolerances(const A& a, const B& b) {
   return t;
 }
 
-// Within the inner half of the touching band: a gap (bottom - top along a normal) that every
-// certificate, cold or coherent, calls touching.
-inline bool inner_touching(double gap, const Tolerances& t) { return std::abs(gap) <= t.touching / 2; }
-
 // The barycentric weights of the origin in the tetrahedron w[0..4) (scaled by k); false if it
 // is flat to rounding.
 bool origin_weights(const Vector3d (&w)[4], double (&l)[4]) {
@@ -1221,12 +1217,9 @@ void face_normal_of(const A& a, const B& b, const Vector3d& n, Features& f) {
 }
 
 // The coherent probe of the last answer's face normal n (A's, or B's negated): where A's top
-// and B's bottom along n are apart (or touching) and their level sets meet, the planes prove
-// the distance bottom - top (or touching) and the patch gives the witnesses at that distance:
-// no GJK. Touching counts only within the inner half of the touching band, where every cold
-// certificate answers touching too (the distance and the depth certificates both need more
-// than `touching`); nearer the band's edges, or pressed, false: GJK or the expanding polytope
-// answers.
+// and B's bottom along n are apart (or within `touching`) and their level sets meet, the
+// planes prove the distance bottom - top (or touching) and the patch gives the witnesses at
+// that distance: no GJK. False otherwise (pressed: the expanding polytope answers).
 template <class A, class B>
 bool face_probe(const A& a, const B& b, int face, bool of_b, const Tolerances& t, Proximity& out, Features& f) {
   if (face >= (of_b ? b.faces() : a.faces())) return false;
@@ -1234,7 +1227,7 @@ bool face_probe(const A& a, const B& b, int face, bool of_b, const Tolerances& t
   const Contact c = heights(a, b, n, t.tau);
   const double gap = c.bottom - c.top;
   Vector3d pa, pb;
-  if (!(gap > t.touching || inner_touching(gap, t)) || !contact_witnesses(a, b, c, t.tau, pa, pb, false)) return false;
+  if (!(gap >= -t.touching) || !contact_witnesses(a, b, c, t.tau, pa, pb, false)) return false;
   out = Proximity{};
   if (gap > t.touching) {
     out.distance = gap;
@@ -1394,11 +1387,7 @@ void searched_proximity(const A& a, const B& b, int found, const Tolerances& t, 
   if (guess == Guess::Overlapping) deepest();
   if (guess == Guess::Separated || !(depth > tol)) {
     const double best = surface_distance(a, b, Vector3d::Zero(), 1e-9 * size, out.point_a, out.point_b);
-    // Apart beyond touching + slack only, as the distance certificate asks: one band on every
-    // cold path, so that the face probe's touching (its inner half) is the cold answer too (a
-    // fuzz finding at coordinates of 1e86: apart by 1.04 touching searched, pressed by 0.49
-    // touching probed).
-    if (best > tol + t.slack && !inside(a, b.vertex(0)) && !inside(b, a.vertex(0))) {
+    if (best > tol && !inside(a, b.vertex(0)) && !inside(b, a.vertex(0))) {
       out.distance = best;
       return;
     }
@@ -1479,14 +1468,13 @@ MINKSUM_FLATTEN bool warm_proximity(const A& a, const B& b, const ProximityCache
     const int found = gjk_features(a, b, t.k, cache.a, cache.b, 3, fa, fb, weight);
     ok = certified(a, b, found, fa, fb, weight, t, out, &f);
   }
-  // Apart or overlapping by less than 1e-9 of the coordinates, the verdict rests on the
-  // touching tolerance, which the cold query may reach from other features (at coordinates of
-  // 1e86: 1e74 apart cold and touching warm, and the reverse): the cold query answers. Except
-  // touching proven by the face probe (the only answer here with a face), in the inner half of
-  // the band, which the cold query calls touching too (a resting contact stays warm).
+  // Apart or overlapping by less than 1e-9 of the coordinates (touching included), the verdict
+  // rests on the touching tolerance, which the cold query may reach from other features (at
+  // coordinates of 1e86: 1e74 apart cold and touching warm, and the reverse; and a touching
+  // face probe against a search that found them apart by just over touching): the cold query
+  // answers.
   const double clear = 1e-9 * t.reach;
-  ok = ok &&
-       ((out.intersecting && f.face >= 0) || (out.intersecting ? out.penetration_depth > clear : out.distance > clear));
+  ok = ok && (out.intersecting ? out.penetration_depth > clear : out.distance > clear);
   if (!ok) return out = Proximity{}, f = Features{}, false;
   if (has(want, Want::MaxDistance)) farthest_pair(a, b, t.k, out);
   return true;
@@ -1500,14 +1488,13 @@ void cached_proximity(const A& a, const B& b, ProximityCache& cache, Proximity& 
   Features f;
   const bool warm = warm_proximity(a, b, cache, out, want, f);
   if (!warm) exact_proximity(a, b, out, want, &f);
-  // Which face the proof's normal is, for the next query's probe.
-  if (f.valid && !f.depth && f.face < 0 && f.normal.squaredNorm() > 0) face_normal_of(a, b, f.normal, f);
   // (An answer the coherent path would leave to the cold one: the next query starts cold, so
-  // that it is never slower than cold. A touching answer on a face is kept: the probe answers
-  // it.)
+  // that it is never slower than cold.)
   const double clear = 1e-9 * std::max(a.reach(), b.reach());
-  const bool resting = out.intersecting && f.face >= 0 && !f.depth;
-  if (!(resting || (out.intersecting ? out.penetration_depth > clear : out.distance > clear))) f.valid = false;
+  if (!(out.intersecting ? out.penetration_depth > clear : out.distance > clear)) f.valid = false;
+  // Which face the proof's normal is, for the next query's probe: only for an answer kept
+  // (a touching one is not, and costs no face search).
+  if (f.valid && !f.depth && f.face < 0 && f.normal.squaredNorm() > 0) face_normal_of(a, b, f.normal, f);
   ++(warm ? cache.warm : cache.cold);
   cache.searched += out.searched;
   cache.kind = f.valid ? kCacheConvex : 0u;
