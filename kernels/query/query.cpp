@@ -1281,10 +1281,12 @@ bool depth_from_faces(const A& a, const B& b, int found, const int (&fa)[4], con
 
 // GJK's features proven (see the certificates): the distance (3 pairs), the depth (a
 // tetrahedron around the origin), or touching (either); then the witnesses from the contact
-// frame, and the features kept for the next query. False if no certificate holds.
+// frame, and the features kept for the next query. False if no certificate holds. Apart, the
+// features' nearest pair is a closest pair already: the contact frame's (the point of the
+// level sets' overlap, which slides with the shapes) only where the caller asks for the patch.
 template <class A, class B>
 bool certified(const A& a, const B& b, int found, const int (&fa)[4], const int (&fb)[4], const double (&weight)[3],
-               const Tolerances& t, Proximity& out, Features* f) {
+               const Tolerances& t, Want want, Proximity& out, Features* f) {
   if (found != 3 && found != 4) return false;
   Vector3d s[4], u[4];
   for (int j = 0; j < found; ++j) s[j] = a.vertex(fa[j]), u[j] = b.vertex(fb[j]);
@@ -1316,11 +1318,17 @@ bool certified(const A& a, const B& b, int found, const int (&fa)[4], const int 
     ok = ok || depth(depth_from_faces(a, b, 4, fa, fb, t, out, f));
   }
   if (!ok) return false;
-  // (Apart, the witnesses' distance, bottom - top, is within the slack of d; the answer is
-  // the one they realise: at coordinates of 1e86 the slack is 1e-4 of a distance of 1e74.)
-  if ((!touching || c.a_single || c.b_single) && contact_witnesses(a, b, c, t.tau, out.point_a, out.point_b) &&
-      !out.intersecting)
+  // Apart, B's witness is A's moved along n by the planes' gap bottom - top (within the slack
+  // of d), and the answer is the distance they realise (at coordinates of 1e86 the slack is
+  // 1e-4 of a distance of 1e74). A's is GJK's point, or with the patch the point of the level
+  // sets' overlap (the two levels' distances then differ by the rounding of the points).
+  if (!out.intersecting) {
+    if (!has(want, Want::Patch) || !contact_witnesses(a, b, c, t.tau, out.point_a, out.point_b))
+      out.point_b = out.point_a + (c.bottom - c.top) * c.n;
     out.distance = length(out.point_b - out.point_a);
+  } else if (!touching || c.a_single || c.b_single) {
+    contact_witnesses(a, b, c, t.tau, out.point_a, out.point_b);
+  }
   if (f) f->normal = c.n;
   if (f && !f->depth) {
     std::copy(fa, fa + 3, f->a), std::copy(fb, fb + 3, f->b);
@@ -1411,7 +1419,7 @@ void exact_proximity(const A& a, const B& b, Proximity& out, Want want, Features
   double weight[3];
   const int first = 0;
   int found = gjk_features(a, b, t.k, &first, &first, 1, fa, fb, weight);
-  if (certified(a, b, found, fa, fb, weight, t, out, features)) return;
+  if (certified(a, b, found, fa, fb, weight, t, want, out, features)) return;
   // Once more from the supports along the line between the first vertices: rounding stalls GJK
   // on needles and slivers from one start and not from another (a triangle 1e10 long, where
   // the search below also misjudges).
@@ -1419,7 +1427,7 @@ void exact_proximity(const A& a, const B& b, Proximity& out, Want want, Features
   const Vector3d d = b.vertex(0) - a.vertex(0);
   const int sa = highest(a, d, unused), sb = highest(b, Vector3d(-d), unused);
   found = gjk_features(a, b, t.k, &sa, &sb, 1, fa, fb, weight);
-  if (certified(a, b, found, fa, fb, weight, t, out, features)) return;
+  if (certified(a, b, found, fa, fb, weight, t, want, out, features)) return;
   if (features && (found == 3 || found == 4)) {
     std::copy(fa, fa + 3, features->a), std::copy(fb, fb + 3, features->b);
     features->valid = true;
@@ -1435,7 +1443,8 @@ void exact_proximity(const A& a, const B& b, Proximity& out, Want want, Features
 // support point on the other side of the origin make a tetrahedron around it, from which the
 // expanding polytope's certificate usually holds at once (the facet is still M's nearest).
 template <class A, class B>
-bool warm_depth(const A& a, const B& b, const ProximityCache& cache, const Tolerances& t, Proximity& out, Features& f) {
+bool warm_depth(const A& a, const B& b, const ProximityCache& cache, const Tolerances& t, Want want, Proximity& out,
+                Features& f) {
   Vector3d w[3];
   for (int j = 0; j < 3; ++j) w[j] = a.vertex(cache.a[j]) - b.vertex(cache.b[j]);
   Vector3d n = (w[1] - w[0]).cross(w[2] - w[0]);
@@ -1444,7 +1453,7 @@ bool warm_depth(const A& a, const B& b, const ProximityCache& cache, const Toler
   const int ka = highest(a, -n, unused), kb = highest(b, n, unused);
   int ta[4] = {cache.a[0], cache.a[1], cache.a[2], ka}, tb[4] = {cache.b[0], cache.b[1], cache.b[2], kb};
   const double none[3] = {0, 0, 0};  // (a tetrahedron: no nearest point)
-  if (certified(a, b, 4, ta, tb, none, t, out, &f)) return true;
+  if (certified(a, b, 4, ta, tb, none, t, want, out, &f)) return true;
   out = Proximity{}, f = Features{};
   return false;
 }
@@ -1461,12 +1470,12 @@ MINKSUM_FLATTEN bool warm_proximity(const A& a, const B& b, const ProximityCache
   out = Proximity{};
   bool ok =
       (cache.active & kFaceNormal) && face_probe(a, b, int(cache.active >> 3), (cache.active & 4) != 0, t, out, f);
-  ok = ok || (cache.active == kDepthFacet && warm_depth(a, b, cache, t, out, f));
+  ok = ok || (cache.active == kDepthFacet && warm_depth(a, b, cache, t, want, out, f));
   if (!ok) {
     int fa[4], fb[4];
     double weight[3];
     const int found = gjk_features(a, b, t.k, cache.a, cache.b, 3, fa, fb, weight);
-    ok = certified(a, b, found, fa, fb, weight, t, out, &f);
+    ok = certified(a, b, found, fa, fb, weight, t, want, out, &f);
   }
   // Apart or overlapping by less than 1e-9 of the coordinates (touching included), the verdict
   // rests on the touching tolerance, which the cold query may reach from other features (at
