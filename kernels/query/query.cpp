@@ -852,6 +852,9 @@ bool certified_distance(const A& a, const B& b, const Vector3d* s, const Vector3
     q = weight[0] * t[0] + weight[1] * t[1] + weight[2] * t[2];
     d = length(q - p);
     if (distance_by_planes(a, b, s, t, slack, touching, tau, p, q, d, out, c)) return true;
+    // (p and q lie on A and B, so the features' nearest pair is no farther apart: within
+    // touching + slack, no plane proves a distance from it either.)
+    if (!(d > touching + slack)) return false;
   }
   const Vector3d s3[3] = {s[0], s[1], s[2]}, t3[3] = {t[0], t[1], t[2]};
   d = triangle_distance(s3, t3, p, q);
