@@ -2,8 +2,9 @@
 """Instruction budgets: runs tests/budgets.cpp's program under callgrind and compares each
 operation's instructions per call with tests/budgets.tsv. Fails when one exceeds its budget by
 more than 3 %, when one has no budget or a budget has no operation, and when a coherent query
-(X.coherent) costs more than the same cold one (X.cold) and its cache's bookkeeping (1 %: on a
-touching tick, where the cache is not used, about 170 instructions of 22,000). Says so
+(X.coherent) costs more than the same cold one (X.cold) and its cache's bookkeeping (1 % or
+200 instructions, the larger: on a touching tick, where the cache is not used, about 150 of
+12,700). Says so
 when one is more than 10 % under (lower the budget in the same commit, saying why). --update
 rewrites the table from this run.
 
@@ -74,7 +75,7 @@ def main():
             failed.append(f"{op}: {measured[op]:.0f} instructions per call, budget {budget[op]} (+3 % allowed)")
     for op in sorted(measured):
         cold = op[: -len(".coherent")] + ".cold"
-        if op.endswith(".coherent") and cold in measured and measured[op] > 1.01 * measured[cold]:
+        if op.endswith(".coherent") and cold in measured and measured[op] > max(1.01 * measured[cold], measured[cold] + 200):
             failed.append(f"{op}: {measured[op]:.0f} instructions per call, more than cold ({measured[cold]:.0f})")
     if failed:
         sys.exit("budgets: failed:\n  " + "\n  ".join(failed))

@@ -664,58 +664,101 @@ struct Features {
 // Its answer is a guess, rounding and all: certified_distance, certified_depth and
 // certified_touching prove it, or the caller does the exhaustive search. M's points are scaled
 // by `scale`, a power of two near 1 / the coordinates' magnitude, so that their products
-// neither overflow nor underflow.
+// neither overflow nor underflow. It runs in steps (run), so that a caller can look at its
+// direction part way (see face_first).
 template <class A, class B>
-int gjk_features(const A& a, const B& b, double scale, const int* start_a, const int* start_b, int start, int (&fa)[4],
-                 int (&fb)[4], double (&weight)[3]) {
-  Vector3d w[4];
-  int ia[4], ib[4], n = 0;
-  double l[4] = {0, 0, 0, 0};  // the weights of the nearest point of w[0, n) (0: not yet weighed)
-  weight[0] = weight[1] = weight[2] = 0;
-  for (int j = 0; j < start; ++j) {
-    bool repeat = false;
-    for (int m = 0; m < n; ++m) repeat |= ia[m] == start_a[j] && ib[m] == start_b[j];
-    if (!repeat)
-      w[n] = scale * (a.vertex(start_a[j]) - b.vertex(start_b[j])), ia[n] = start_a[j], ib[n] = start_b[j], ++n;
-  }
-  double vv = std::numeric_limits<double>::infinity();
-  int best_a[3] = {}, best_b[3] = {}, best_n = 0;  // the nearest simplex so far (ties can stall)
-  double best_l[3] = {};
-  for (int iter = 0; iter < 64; ++iter) {
-    double lambda[4];
-    if (!detail::nearest_on_simplex(w, n, lambda)) {
-      std::copy(ia, ia + 4, fa), std::copy(ib, ib + 4, fb);
-      return 4;
+class Gjk {
+ public:
+  Gjk(const A& a, const B& b, double scale, const int* start_a, const int* start_b, int start)
+      : a_(a), b_(b), scale_(scale) {
+    for (int j = 0; j < start; ++j) {
+      bool repeat = false;
+      for (int m = 0; m < n_; ++m) repeat |= ia_[m] == start_a[j] && ib_[m] == start_b[j];
+      if (!repeat) add(start_a[j], start_b[j]);
     }
+  }
+
+  /// Iterates until GJK ends (true) or `limit` iterations in all have passed (false).
+  bool run(int limit = kIterations) {
+    while (!ended_ && iter_ < std::min(limit, kIterations)) ended_ = step(), ++iter_;
+    return ended_ || iter_ == kIterations;
+  }
+
+  /// M's nearest point so far (scaled; from B towards A), 0 before the first step.
+  const Vector3d& nearest() const { return v_; }
+
+  /// The answer (see above): 3, 4 or 0, with the features and weights.
+  int features(int (&fa)[4], int (&fb)[4], double (&weight)[3]) const {
+    weight[0] = weight[1] = weight[2] = 0;
+    if (result_ != 3) {
+      std::copy(ia_, ia_ + 4, fa), std::copy(ib_, ib_ + 4, fb);
+      return result_;
+    }
+    for (int j = 0; j < 3; ++j) fa[j] = ia_[std::min(j, n_ - 1)], fb[j] = ib_[std::min(j, n_ - 1)];
+    for (int j = 0; j < 3; ++j) weight[j] = j < n_ && n_ < 4 ? l_[j] : 0.0;
+    return 3;
+  }
+
+ private:
+  static constexpr int kIterations = 64;
+
+  void add(int ka, int kb) {
+    w_[n_] = scale_ * (a_.vertex(ka) - b_.vertex(kb)), ia_[n_] = ka, ib_[n_] = kb, l_[n_] = 0, ++n_;
+  }
+
+  // One iteration; true when GJK ends.
+  bool step() {
+    double lambda[4];
+    if (!detail::nearest_on_simplex(w_, n_, lambda)) return result_ = 4, true;
     // Keep the nearest feature's points only.
     Vector3d v = Vector3d::Zero();
     int m = 0;
-    for (int j = 0; j < n; ++j)
-      if (lambda[j] > 0) v += lambda[j] * w[j], w[m] = w[j], ia[m] = ia[j], ib[m] = ib[j], l[m] = lambda[j], ++m;
-    if (m == 0) return 0;  // no weight left (NaN from a degenerate simplex)
-    n = m;
-    if (!(v.squaredNorm() < vv)) {  // no progress: rounding has the last word; the best one stands
-      n = best_n;
-      std::copy(best_a, best_a + 3, ia), std::copy(best_b, best_b + 3, ib), std::copy(best_l, best_l + 3, l);
-      break;
+    for (int j = 0; j < n_; ++j)
+      if (lambda[j] > 0)
+        v += lambda[j] * w_[j], w_[m] = w_[j], ia_[m] = ia_[j], ib_[m] = ib_[j], l_[m] = lambda[j], ++m;
+    if (m == 0) return result_ = 0, true;  // no weight left (NaN from a degenerate simplex)
+    n_ = m;
+    if (!(v.squaredNorm() < vv_)) {  // no progress: rounding has the last word; the best one stands
+      n_ = best_n_;
+      std::copy(best_a_, best_a_ + 3, ia_), std::copy(best_b_, best_b_ + 3, ib_), std::copy(best_l_, best_l_ + 3, l_);
+      return true;
     }
-    vv = v.squaredNorm();
-    best_n = n;
-    std::copy(ia, ia + 3, best_a), std::copy(ib, ib + 3, best_b), std::copy(l, l + 3, best_l);
+    vv_ = v.squaredNorm(), v_ = v;
+    best_n_ = n_;
+    std::copy(ia_, ia_ + 3, best_a_), std::copy(ib_, ib_ + 3, best_b_), std::copy(l_, l_ + 3, best_l_);
     // M's support point in -v: A's lowest vertex along v minus B's highest.
     double lo, hi;
-    const int ka = highest(a, -v, lo), kb = highest(b, v, hi);
+    const int ka = highest(a_, -v, lo), kb = highest(b_, v, hi);
     lo = -lo;
     // Stop when M reaches no further towards the origin than v does (to rounding), or repeats.
-    if (!(vv - scale * (lo - hi) > 1e-13 * vv)) break;
+    if (!(vv_ - scale_ * (lo - hi) > 1e-13 * vv_)) return true;
     bool repeat = false;
-    for (int j = 0; j < n; ++j) repeat |= ia[j] == ka && ib[j] == kb;
-    if (repeat || n == 4) break;
-    w[n] = scale * (a.vertex(ka) - b.vertex(kb)), ia[n] = ka, ib[n] = kb, l[n] = 0, ++n;
+    for (int j = 0; j < n_; ++j) repeat |= ia_[j] == ka && ib_[j] == kb;
+    if (repeat || n_ == 4) return true;
+    add(ka, kb);
+    return false;
   }
-  for (int j = 0; j < 3; ++j) fa[j] = ia[std::min(j, n - 1)], fb[j] = ib[std::min(j, n - 1)];
-  for (int j = 0; j < 3; ++j) weight[j] = j < n && n < 4 ? l[j] : 0.0;
-  return 3;
+
+  const A& a_;
+  const B& b_;
+  double scale_;
+  Vector3d w_[4], v_ = Vector3d::Zero();
+  int ia_[4] = {}, ib_[4] = {}, n_ = 0;
+  double l_[4] = {0, 0, 0, 0};  // the weights of the nearest point of w[0, n) (0: not yet weighed)
+  double vv_ = std::numeric_limits<double>::infinity();
+  int best_a_[3] = {}, best_b_[3] = {}, best_n_ = 0;  // the nearest simplex so far (ties can stall)
+  double best_l_[3] = {};
+  int iter_ = 0, result_ = 3;
+  bool ended_ = false;
+};
+
+// GJK from the start to its end (see Gjk).
+template <class A, class B>
+int gjk_features(const A& a, const B& b, double scale, const int* start_a, const int* start_b, int start, int (&fa)[4],
+                 int (&fb)[4], double (&weight)[3]) {
+  Gjk<A, B> gjk(a, b, scale, start_a, start_b, start);
+  gjk.run();
+  return gjk.features(fa, fb, weight);
 }
 
 // The frame of a certified answer: the unit normal n (from A towards B) of the planes that
@@ -1412,16 +1455,58 @@ void searched_proximity(const A& a, const B& b, int found, const Tolerances& t, 
 
 // Exact proximity of two shapes: GJK's answer where a certificate proves it, else the
 // exhaustive search.
+// GJK crawls where a face meets a face or an edge (apart by little, touching or nearly): the
+// origin lies on or near a facet of M whose vertices tie, and each step gains little (6 to 10
+// steps on the face-to-face budgets' rows, each a support of both shapes). After kFaceFirst
+// steps its direction v (M's nearest point so far, from B towards A) names the face of A and
+// of B most nearly facing the other; the more aligned one is probed (face_probe, the
+// coherent query's certificate) where its normal is within 0.8 degrees of v. The budgets'
+// rows: touching face to face 38-43 % fewer instructions, 16-gon prisms 1e-3 apart 16 %
+// fewer; Table 1's generic pair pays the passes over the faces and the probes (about 1,000
+// of 11,300), a box 1e-3 above a prism's cap the probe's level sets (7 %).
+constexpr int kFaceFirst = 4;
+
+template <class S>
+int facing(const S& s, const Vector3d& n, double& align) {
+  const Vector3d nb = s.to_body(n);
+  int best = -1;
+  align = -2;
+  for (int f = 0; f < s.faces(); ++f)
+    if (const double x = s.body_normal(f).dot(nb); x > align) align = x, best = f;
+  return best;
+}
+
 template <class A, class B>
-void exact_proximity(const A& a, const B& b, Proximity& out, Want want, Features* features = nullptr) {
-  out = Proximity{};
-  const Tolerances t = tolerances(a, b);
-  if (has(want, Want::MaxDistance)) farthest_pair(a, b, t.k, out);
-  if (!has(want, Want::Verdict)) return;
+bool face_first(const A& a, const B& b, const Vector3d& v, const Tolerances& t, Proximity& out, Features& f) {
+  if (!a.solid || !b.solid) return false;
+  const double len = v.norm();
+  if (!(len > 0)) return false;
+  const Vector3d n = -v / len;  // from A towards B
+  double align_a, align_b;
+  const int face_a = facing(a, n, align_a), face_b = facing(b, Vector3d(-n), align_b);
+  const bool of_b = align_b > align_a;
+  if (!(std::max(align_a, align_b) > 0.9999)) return false;
+  return face_probe(a, b, of_b ? face_b : face_a, of_b, t, out, f);
+}
+
+// The cold query's verdict, distance or depth and witnesses: GJK's features under a
+// certificate, else the exhaustive search.
+template <class A, class B>
+void proven_proximity(const A& a, const B& b, const Tolerances& t, Proximity& out, Want want, Features* features) {
   int fa[4], fb[4];
   double weight[3];
   const int first = 0;
-  int found = gjk_features(a, b, t.k, &first, &first, 1, fa, fb, weight);
+  Gjk<A, B> gjk(a, b, t.k, &first, &first, 1);
+  if (!gjk.run(kFaceFirst)) {
+    Features f;
+    if (face_first(a, b, gjk.nearest(), t, out, f)) {
+      if (features) *features = f;
+      return;
+    }
+    out = Proximity{};
+    gjk.run();
+  }
+  int found = gjk.features(fa, fb, weight);
   if (certified(a, b, found, fa, fb, weight, t, want, out, features)) return;
   // Once more from the supports along the line between the first vertices: rounding stalls GJK
   // on needles and slivers from one start and not from another (a triangle 1e10 long, where
@@ -1436,6 +1521,14 @@ void exact_proximity(const A& a, const B& b, Proximity& out, Want want, Features
     features->valid = true;
   }
   searched_proximity(a, b, found, t, out);
+}
+
+template <class A, class B>
+void exact_proximity(const A& a, const B& b, Proximity& out, Want want, Features* features = nullptr) {
+  out = Proximity{};
+  const Tolerances t = tolerances(a, b);
+  if (has(want, Want::Verdict)) proven_proximity(a, b, t, out, want, features);
+  if (has(want, Want::MaxDistance)) farthest_pair(a, b, t.k, out);
 }
 
 // The coherent path (ProximityCache): GJK from the last answer's support pairs, which along a
