@@ -476,7 +476,7 @@ struct PosedShape {
   }
   // At least the largest |coordinate|, without a pass over the vertices.
   double reach() const { return pose.t.cwiseAbs().maxCoeff() + radius; }
-  const double radius = 0;  // at least the largest |x| in the body frame
+  const double radius = 0;                                // at least the largest |x| in the body frame
   const double *x = nullptr, *y = nullptr, *z = nullptr;  // the body-frame vertices as arrays
   // The body frame, where a pass over vertices or faces reads the polytope as stored.
   Vector3d to_body(const Vector3d& d) const { return pose.to_body(d); }
@@ -490,8 +490,8 @@ struct PosedShape {
 
 }  // namespace
 
-[[gnu::noinline]] void detail::wide_scan(const double* x, const double* y, const double* z, int n, double nx,
-                                         double ny, double nz, double& top, int& arg) {
+[[gnu::noinline]] void detail::wide_scan(const double* x, const double* y, const double* z, int n, double nx, double ny,
+                                         double nz, double& top, int& arg) {
   support_push(x, y, z, n, &nx, &ny, &nz, 1, &top, &arg);
 }
 
@@ -1589,8 +1589,8 @@ MINKSUM_FLATTEN bool warm_proximity(const A& a, const B& b, const ProximityCache
   const Tolerances t = tolerances(a, b);
   if (!(t.reach > 0 && t.reach <= kMaxCoordinate)) return false;
   out = Proximity{};
-  bool ok =
-      (cache.active & kFaceNormal) && face_probe(a, b, int(cache.active >> 3), (cache.active & 4) != 0, t, want, out, f);
+  bool ok = (cache.active & kFaceNormal) &&
+            face_probe(a, b, int(cache.active >> 3), (cache.active & 4) != 0, t, want, out, f);
   ok = ok || (cache.active == kDepthFacet && warm_depth(a, b, cache, t, want, out, f));
   if (!ok) {
     int fa[4], fb[4];
@@ -1638,8 +1638,9 @@ void cached_proximity(const A& a, const B& b, ProximityCache& cache, Proximity& 
 // A prepared shape placed by a pose.
 PosedShape posed(const ConvexShape& s, const Eigen::Isometry3d& pose) {
   const detail::ShapeData* d = detail::ShapeAccess::data(s);
-  return PosedShape{s.polytope(),  {pose.linear(), pose.translation()}, !s.polytope().flat, std::sqrt(3.0) * d->size,
-                    d->px.data(), d->py.data(),                        d->pz.data()};
+  const ConvexPolytope& p = s.polytope();
+  const double radius = std::sqrt(3.0) * d->size;
+  return PosedShape{p, {pose.linear(), pose.translation()}, !p.flat, radius, d->px.data(), d->py.data(), d->pz.data()};
 }
 
 // A box shape's box placed by a pose.
