@@ -41,7 +41,7 @@ TEST(FaceToFace, EveryFamilyEqualsBruteForceWithoutTheSearch) {
     const ConvexPolytope TA = test::transformed(A.polytope(), kPoseA);
     for (bool rocking : {false, true})
       for (double gap : kGaps) {
-        ProximityCache cache;
+        ProximityCache cache, plain_cache;
         int ticks = 0;
         for (int k = 0; k < 64; k += stride) {
           const std::string where =
@@ -71,6 +71,22 @@ TEST(FaceToFace, EveryFamilyEqualsBruteForceWithoutTheSearch) {
           EXPECT_NEAR(warm.penetration_depth, cold.penetration_depth, tol) << where;
           EXPECT_LE((warm.point_a - cold.point_a).norm(), 1e-9) << where;
           EXPECT_LE((warm.point_b - cold.point_b).norm(), 1e-9) << where;
+          // At the default level (GJK's witnesses, the face probe's vertex over the face): the
+          // same oracle, cold and coherent, witnesses on the shapes and realising the answer.
+          Proximity plain[2];
+          ASSERT_EQ(proximity(A, kPoseA, B, pose_b, plain[0]), Status::Ok);
+          ASSERT_EQ(proximity(A, kPoseA, B, pose_b, plain_cache, plain[1]), Status::Ok);
+          for (const Proximity& p : plain) {
+            EXPECT_EQ(p.intersecting, gap <= 0) << where;
+            EXPECT_NEAR(p.distance, o.distance, tol) << where;
+            EXPECT_NEAR(p.penetration_depth, o.depth, tol) << where;
+            EXPECT_LE(outside(TA, p.point_a), tol) << where;
+            EXPECT_LE(outside(TB, p.point_b), tol) << where;
+            if (p.intersecting)
+              EXPECT_LE((p.point_a - p.point_b - p.penetration_depth * p.penetration_direction).norm(), tol) << where;
+            else
+              EXPECT_NEAR((p.point_a - p.point_b).norm(), p.distance, tol) << where;
+          }
           ++checked;
           ++ticks;
         }

@@ -1478,8 +1478,6 @@ void searched_proximity(const A& a, const B& b, int found, const Tolerances& t, 
   contact_witnesses(a, b, heights(a, b, dir, t.tau), t.tau, out.point_a, out.point_b);
 }
 
-// Exact proximity of two shapes: GJK's answer where a certificate proves it, else the
-// exhaustive search.
 // GJK crawls where a face meets a face or an edge (apart by little, touching or nearly): the
 // origin lies on or near a facet of M whose vertices tie, and each step gains little (6 to 10
 // steps on the face-to-face budgets' rows, each a support of both shapes). After kFaceFirst
@@ -1490,6 +1488,7 @@ void searched_proximity(const A& a, const B& b, int found, const Tolerances& t, 
 // generic pair pays the passes over the faces and the probes (about 1,000 of 11,300).
 constexpr int kFaceFirst = 4;
 
+// The face of s whose outward normal is nearest n, and the cosine between them.
 template <class S>
 int facing(const S& s, const Vector3d& n, double& align) {
   const Vector3d nb = s.to_body(n);
@@ -1548,6 +1547,8 @@ void proven_proximity(const A& a, const B& b, const Tolerances& t, Proximity& ou
   searched_proximity(a, b, found, t, out);
 }
 
+// Exact proximity of two shapes: GJK's answer where a certificate proves it, else the
+// exhaustive search; the farthest pair where asked.
 template <class A, class B>
 void exact_proximity(const A& a, const B& b, Proximity& out, Want want, Features* features = nullptr) {
   out = Proximity{};
