@@ -53,30 +53,9 @@ TEST(FaceToFace, EveryFamilyEqualsBruteForceWithoutTheSearch) {
           const ConvexPolytope TB = test::transformed(B.polytope(), pose_b);
           const test::Oracle o = test::brute_force(TA, TB);
           const double tol = 1e-12 * 2;  // of the size (about 2)
-          EXPECT_FALSE(cold.searched) << where;
-          EXPECT_EQ(cold.intersecting, gap <= 0) << where;
-          EXPECT_NEAR(cold.distance, o.distance, tol) << where;
-          EXPECT_NEAR(cold.penetration_depth, o.depth, tol) << where;
-          EXPECT_LE(outside(TA, cold.point_a), tol) << where;
-          EXPECT_LE(outside(TB, cold.point_b), tol) << where;
-          if (cold.intersecting)
-            EXPECT_LE((cold.point_a - cold.point_b - cold.penetration_depth * cold.penetration_direction).norm(), tol)
-                << where;
-          else
-            EXPECT_NEAR((cold.point_a - cold.point_b).norm(), cold.distance, tol) << where;
-          // The coherent query: the same answer.
-          EXPECT_FALSE(warm.searched) << where;
-          EXPECT_EQ(warm.intersecting, cold.intersecting) << where;
-          EXPECT_NEAR(warm.distance, cold.distance, tol) << where;
-          EXPECT_NEAR(warm.penetration_depth, cold.penetration_depth, tol) << where;
-          EXPECT_LE((warm.point_a - cold.point_a).norm(), 1e-9) << where;
-          EXPECT_LE((warm.point_b - cold.point_b).norm(), 1e-9) << where;
-          // At the default level (GJK's witnesses, the face probe's vertex over the face): the
-          // same oracle, cold and coherent, witnesses on the shapes and realising the answer.
-          Proximity plain[2];
-          ASSERT_EQ(proximity(A, kPoseA, B, pose_b, plain[0]), Status::Ok);
-          ASSERT_EQ(proximity(A, kPoseA, B, pose_b, plain_cache, plain[1]), Status::Ok);
-          for (const Proximity& p : plain) {
+          // The oracle's answer, with witnesses on the shapes that realise it.
+          const auto matches_oracle = [&](const Proximity& p) {
+            EXPECT_FALSE(p.searched) << where;
             EXPECT_EQ(p.intersecting, gap <= 0) << where;
             EXPECT_NEAR(p.distance, o.distance, tol) << where;
             EXPECT_NEAR(p.penetration_depth, o.depth, tol) << where;
@@ -86,7 +65,21 @@ TEST(FaceToFace, EveryFamilyEqualsBruteForceWithoutTheSearch) {
               EXPECT_LE((p.point_a - p.point_b - p.penetration_depth * p.penetration_direction).norm(), tol) << where;
             else
               EXPECT_NEAR((p.point_a - p.point_b).norm(), p.distance, tol) << where;
-          }
+          };
+          matches_oracle(cold);
+          // The coherent query: the same answer.
+          EXPECT_FALSE(warm.searched) << where;
+          EXPECT_EQ(warm.intersecting, cold.intersecting) << where;
+          EXPECT_NEAR(warm.distance, cold.distance, tol) << where;
+          EXPECT_NEAR(warm.penetration_depth, cold.penetration_depth, tol) << where;
+          EXPECT_LE((warm.point_a - cold.point_a).norm(), 1e-9) << where;
+          EXPECT_LE((warm.point_b - cold.point_b).norm(), 1e-9) << where;
+          // At the default level (GJK's witnesses, the face probe's vertex over the face): the
+          // same oracle, cold and coherent.
+          Proximity plain[2];
+          ASSERT_EQ(proximity(A, kPoseA, B, pose_b, plain[0]), Status::Ok);
+          ASSERT_EQ(proximity(A, kPoseA, B, pose_b, plain_cache, plain[1]), Status::Ok);
+          for (const Proximity& p : plain) matches_oracle(p);
           ++checked;
           ++ticks;
         }
