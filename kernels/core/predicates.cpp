@@ -27,23 +27,26 @@ int orient_exact(const Vector3d& p, const Vector3d& q, const Vector3d& r) {
 
 namespace {
 
-// A growing expansion, compressed when it passes 60 components (it then holds at most one
-// component per 53 bits of exponent range: fewer than 45), in two buffers used in turn.
+// A growing expansion in two buffers used in turn, compressed (Shewchuk's compress: the same
+// value in as few components as possible) when it would pass its capacity N. Compressed, it
+// holds at most one component per 53 bits of exponent range: fewer than 45 in the range the
+// callers keep (products of at most three terms within [2^-300, 2^300]).
+template <int N>
 struct Accumulator {
-  double buf[2][72];
+  double buf[2][N];
   double* e = buf[0];
   int n = 0;
-  // Adds the expansion x of k <= 4 components.
+  // Adds the expansion x of k <= N / 2 components.
   void add(const double* x, int k) {
+    if (k == 0) return;
+    if (n + k > N) compress();
     double* h = e == buf[0] ? buf[1] : buf[0];
     n = n ? expansion::sum(n, e, k, x, h) : (std::copy(x, x + k, h), k);
     e = h;
-    if (n > 60) compress();
   }
-  // Shewchuk's compress: the same value in as few components as possible.
   void compress() {
     if (n == 0) return;
-    double g[128];
+    double g[N];
     int bottom = n - 1;
     double q = e[bottom];
     for (int k = n - 2; k >= 0; --k) {
@@ -62,8 +65,9 @@ struct Accumulator {
       if (small != 0) e[top++] = small;
       q = qnew;
     }
-    e[top++] = q;
+    if (q != 0 || top == 0) e[top++] = q;
     n = top;
+    if (n == 1 && e[0] == 0) n = 0;
   }
   // The value rounded (the largest component dominates a compressed expansion), and whether
   // that is exact (one component).
@@ -72,9 +76,54 @@ struct Accumulator {
     exact &= n <= 1;
     return n ? e[n - 1] : 0.0;
   }
+  // Adds the exact product of the expansions x (k terms) and y (m terms), one term of y at a
+  // time (expansion::scale), times `sign`.
+  void add_product(const double* x, int k, const double* y, int m, double sign) {
+    double part[2 * kMaxProductTerms];
+    for (int j = 0; j < m && k > 0; ++j) add(part, expansion::scale(k, x, sign * y[j], part));
+  }
+  static constexpr int kMaxProductTerms = N / 4;
 };
 
 }  // namespace
+
+namespace {
+
+// The exact minor x_a y_b - x_b y_a of two exact vectors into acc.
+void exact_minor(const ExactVector& x, const ExactVector& y, int a, int b, Accumulator<256>& acc) {
+  acc.n = 0;
+  acc.add_product(x.terms[a], x.count[a], y.terms[b], y.count[b], x.sign * y.sign);
+  acc.add_product(x.terms[b], x.count[b], y.terms[a], y.count[a], -x.sign * y.sign);
+  acc.compress();
+}
+
+}  // namespace
+
+int orient_exact(const ExactVector& p, const ExactVector& q, const ExactVector& r) {
+  // det = sum_k p_k (q x r)_k, each minor compressed before it is scaled by p_k's terms.
+  Accumulator<256> minor, det;
+  for (int k = 0; k < 3; ++k) {
+    if (p.count[k] == 0) continue;
+    exact_minor(q, r, (k + 1) % 3, (k + 2) % 3, minor);
+    if (minor.n > Accumulator<256>::kMaxProductTerms) return 0;  // (beyond the callers' range)
+    det.add_product(minor.e, minor.n, p.terms[k], p.count[k], p.sign);
+  }
+  det.compress();
+  return det.n ? expansion::sign(det.n, det.e) : 0;
+}
+
+bool same_direction_exact(const ExactVector& p, const ExactVector& q) {
+  Accumulator<256> minor;
+  for (int k = 0; k < 3; ++k) {
+    exact_minor(p, q, (k + 1) % 3, (k + 2) % 3, minor);
+    if (minor.n != 0) return false;
+  }
+  // Parallel: the same way where some component has the same sign in both.
+  for (int k = 0; k < 3; ++k)
+    if (p.count[k] && q.count[k])
+      return p.sign * p.terms[k][p.count[k] - 1] * q.sign * q.terms[k][q.count[k] - 1] > 0;
+  return false;
+}
 
 namespace {
 
@@ -114,19 +163,16 @@ bool small_integer_newell(const std::vector<Vector3d>& points, const std::vector
 
 }  // namespace
 
-Vector3d exact_newell(const std::vector<Vector3d>& points, const std::vector<int>& loop, bool* exact) {
-  Vector3d v;
-  if (small_integer_newell(points, loop, v)) {
-    if (exact) *exact = true;
-    return v;
-  }
-  // The loop scaled by a power of two to a largest coordinate near 1 (exact, and the products
-  // neither underflow nor overflow): the normal's direction is the same.
+namespace {
+
+// The exact Newell normal of a loop scaled by a power of two to a largest coordinate near 1
+// (exact, and the products neither underflow nor overflow: the direction is the same), into
+// n[0..2]; false if a product underflowed (subnormal coordinates: then it is not exact).
+bool newell_expansions(const std::vector<Vector3d>& points, const std::vector<int>& loop, Accumulator<72> n[3]) {
   double top = 0;
   for (int i : loop) top = std::max(top, points[i].cwiseAbs().maxCoeff());
   const int e = top >= 0x1p-1000 ? exponent_of(top) : -1000;
   const double scale = power_of_two(-e / 2) * power_of_two(-e - (-e / 2));
-  Accumulator n[3];
   bool ok = true;
   for (size_t k = 0; k < loop.size(); ++k) {
     const Vector3d a = points[loop[k]] * scale;
@@ -135,63 +181,96 @@ Vector3d exact_newell(const std::vector<Vector3d>& points, const std::vector<int
       const int e = (d + 1) % 3, f = (d + 2) % 3;
       double m[4];
       expansion::minor2(a[e], b[f], a[f], b[e], m);
-      // A product that underflows is not exact (subnormal coordinates).
-      const double scale = std::abs(a[e] * b[f]) + std::abs(a[f] * b[e]);
-      if (scale != 0 && scale < 0x1p-900) ok = false;
+      const double size = std::abs(a[e] * b[f]) + std::abs(a[f] * b[e]);
+      if (size != 0 && size < 0x1p-900) ok = false;
       n[d].add(m, 4);
     }
   }
+  return ok;
+}
+
+}  // namespace
+
+Vector3d exact_newell(const std::vector<Vector3d>& points, const std::vector<int>& loop, bool* exact) {
+  Vector3d v;
+  if (small_integer_newell(points, loop, v)) {
+    if (exact) *exact = true;
+    return v;
+  }
+  Accumulator<72> n[3];
+  bool ok = newell_expansions(points, loop, n);
   v = Vector3d(n[0].value(ok), n[1].value(ok), n[2].value(ok));
   if (exact) *exact = ok;
   return v;
 }
 
-Vector3d newell_normal(const std::vector<Vector3d>& points, const std::vector<int>& loop, bool& exact) {
-  Vector3d v;
-  if ((exact = small_integer_newell(points, loop, v))) return v;
-  // In double, kept when every component is surely nonzero (it clears its error bound: 2 m + 2
-  // rounding errors of the sum of its 2 m products' magnitudes) or surely 0 (every product is
-  // 0): its signs and its zeros are then the exact ones. Else the exact Newell normal, rounded.
-  v.setZero();
-  Vector3d magnitude = Vector3d::Zero();
-  for (size_t k = 0; k < loop.size(); ++k) {
-    const Vector3d& a = points[loop[k]];
-    const Vector3d& b = points[loop[(k + 1) % loop.size()]];
-    v += a.cross(b);
-    for (int d = 0; d < 3; ++d) {
-      const int e = (d + 1) % 3, f = (d + 2) % 3;
-      magnitude[d] += std::abs(a[e] * b[f]) + std::abs(a[f] * b[e]);
+namespace {
+
+// The canonical direction of the exact vector n[0..2] (compressed expansions; `ok` false if
+// they are not exact), and where it is not a double vector, its terms scaled alike (appended
+// to `terms`, counts in count[k]); `exact` tells which.
+template <int N>
+Vector3d canonical_terms(Accumulator<N> n[3], bool ok, std::vector<double>& terms, int count[3], bool& exact) {
+  count[0] = count[1] = count[2] = 0;
+  exact = true;
+  const Vector3d v(n[0].value(exact), n[1].value(exact), n[2].value(exact));
+  exact = exact && ok;
+  const Vector3d w = canonical_direction(v, exact);
+  // (A product that underflowed leaves no exact expansion: the rounded normal stands for it.)
+  if (exact || !ok || w == Vector3d::Zero()) return w;
+  // The expansions scaled as canonical_direction scaled v (a power of two, in two steps).
+  const int e = exponent_of(v.cwiseAbs().maxCoeff());
+  const double half = power_of_two(-e / 2), rest = power_of_two(-e - (-e / 2));
+  for (int k = 0; k < 3; ++k) {
+    if (w[k] == 0) continue;  // (flushed: below kTinyComponent)
+    const int first = std::max(0, n[k].n - kMaxGaussTerms);  // the largest terms
+    for (int t = first; t < n[k].n; ++t) {
+      const double x = n[k].e[t] * half * rest;
+      if (std::abs(x) >= kTinyComponent) terms.push_back(x), ++count[k];
     }
   }
-  const double relative = (2.0 * double(loop.size()) + 2) * 0x1p-52;
-  for (int d = 0; d < 3; ++d)
-    if (magnitude[d] != 0 && !(std::abs(v[d]) > relative * magnitude[d] && magnitude[d] > 0x1p-900))
-      return exact_newell(points, loop, &exact);
-  return v;
+  return w;
 }
 
-Vector3d exact_edge_cross(const Vector3d& p, const Vector3d& q, const Vector3d& n, bool* exact) {
+}  // namespace
+
+Vector3d gauss_normal(const std::vector<Vector3d>& points, const std::vector<int>& loop, std::vector<double>& terms,
+                      int count[3], bool& exact) {
+  Vector3d v;
+  if (small_integer_newell(points, loop, v)) {
+    count[0] = count[1] = count[2] = 0;
+    exact = true;
+    return canonical_direction(v, true);
+  }
+  Accumulator<72> n[3];
+  const bool ok = newell_expansions(points, loop, n);
+  return canonical_terms(n, ok, terms, count, exact);
+}
+
+Vector3d gauss_side_normal(const Vector3d& p, const Vector3d& q, const ExactVector& n, std::vector<double>& terms,
+                           int count[3], bool& exact) {
   // q - p exactly (a rounded difference and its error, per coordinate), the points scaled by a
-  // power of two to a largest coordinate near 1 (as in exact_newell).
+  // power of two to a largest coordinate near 1 (the products neither underflow nor overflow).
   const double top = std::max(p.cwiseAbs().maxCoeff(), q.cwiseAbs().maxCoeff());
   const int e = top >= 0x1p-1000 ? exponent_of(top) : -1000;
   const double scale = power_of_two(-e / 2) * power_of_two(-e - (-e / 2));
   double d[3][2];
-  for (int k = 0; k < 3; ++k) expansion::two_diff(q[k] * scale, p[k] * scale, d[k][0], d[k][1]);
-  bool ok = true;
-  Vector3d out;
+  int dn[3];
+  for (int k = 0; k < 3; ++k) {
+    double hi, lo;
+    expansion::two_diff(q[k] * scale, p[k] * scale, hi, lo);
+    dn[k] = 0;  // (increasing magnitude, zeros dropped)
+    if (lo != 0) d[k][dn[k]++] = lo;
+    if (hi != 0) d[k][dn[k]++] = hi;
+  }
+  Accumulator<256> c[3];  // d_a n_b - d_b n_a
   for (int k = 0; k < 3; ++k) {
     const int a = (k + 1) % 3, b = (k + 2) % 3;
-    Accumulator acc;  // d_a n_b - d_b n_a over both parts of each difference
-    for (int h = 0; h < 2; ++h) {
-      double m[4];
-      expansion::minor2(d[a][h], n[b], d[b][h], n[a], m);
-      acc.add(m, 4);
-    }
-    out[k] = acc.value(ok);
+    c[k].add_product(n.terms[b], n.count[b], d[a], dn[a], n.sign);
+    c[k].add_product(n.terms[a], n.count[a], d[b], dn[b], -n.sign);
+    c[k].compress();
   }
-  if (exact) *exact = ok;
-  return out;
+  return canonical_terms(c, true, terms, count, exact);
 }
 
 Vector3d canonical_direction(const Vector3d& v, bool exact) {

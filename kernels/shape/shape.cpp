@@ -42,14 +42,6 @@ struct Topology {
   std::vector<int> loop_start, loop_cell;
 };
 
-// Where a face's exact Newell normal g is not a double, its own unit normal n stands for it (a
-// moved polytope's is turned from an exact one, while its loop's rounded vertices would tilt it
-// by their rounding), with the components g proves zero set to zero: a face exactly parallel to
-// an axis stays so, and its ties with the faces of other shapes stay exact.
-Vector3d own_normal(const Vector3d& n, const Vector3d& g) {
-  return Vector3d(g.x() == 0 ? 0.0 : n.x(), g.y() == 0 ? 0.0 : n.y(), g.z() == 0 ? 0.0 : n.z());
-}
-
 // A flat polygon: the thin prism of ShapeData's comment.
 Status prepare_flat(const ConvexPolytope& p, ShapeData& s, double extent, Topology& t) {
   if (p.faces.size() != 2) return Status::InvalidMesh;
@@ -64,19 +56,35 @@ Status prepare_flat(const ConvexPolytope& p, ShapeData& s, double extent, Topolo
       return Status::InvalidMesh;
   s.faces = K + 2, s.arcs = 3 * K, s.cells = 2 * K;
   s.gauss.resize(size_t(s.faces));
-  const auto set_normal = [&s](int f, const Vector3d& m) { s.gauss[f] = m; };
+  s.gauss_terms.clear(), s.gauss_term_start.assign(1, 0);
+  std::vector<double>& terms = s.gauss_terms;
+  const auto set_normal = [&s](int f, const Vector3d& m, const int count[3]) {
+    s.gauss[f] = m;
+    for (int k = 0; k < 3; ++k) s.gauss_term_start.push_back(s.gauss_term_start.back() + count[k]);
+  };
+  // The top face's exact normal, the bottom's its negation (the same terms negated), and each
+  // side's (b - a) x that normal, exactly: outward in the polygon's plane (its loop is
+  // counter-clockwise about n).
   bool exact = true;
-  Vector3d g = newell_normal(p.vertices, top, exact);
+  int count[3];
+  const Vector3d g = gauss_normal(p.vertices, top, terms, count, exact);
   if (!(g.dot(n) > 0)) return Status::InvalidMesh;
-  g = canonical_direction(exact ? g : own_normal(n, g), exact);  // (as a solid's faces)
-  set_normal(0, g), set_normal(1, -g);
+  set_normal(0, g, count);
+  const size_t top_terms = terms.size();
+  for (size_t t = 0; t < top_terms; ++t) terms.push_back(-terms[t]);
+  set_normal(1, -g, count);
+  // (The top's exact normal held apart: the sides append to the terms it lives in.)
+  double held_terms[3 * kMaxGaussTerms];
+  ExactVector held = s.exact_normal(0);
+  for (int c = 0, at = 0; c < 3; at += held.count[c++])
+    held.terms[c] = std::copy(held.terms[c], held.terms[c] + held.count[c], held_terms + at) - held.count[c];
   for (int k = 0; k < K; ++k) {
     const Vector3d &a = p.vertices[top[k]], &b = p.vertices[top[(k + 1) % K]];
-    bool side_exact = exact;
-    // Outward in the polygon's plane (its loop is counter-clockwise about n).
-    const Vector3d side = canonical_direction(exact_edge_cross(a, b, g, &side_exact), side_exact);
+    int side_count[3];
+    bool side_exact = true;
+    const Vector3d side = gauss_side_normal(a, b, held, terms, side_count, side_exact);
     if (side == Vector3d::Zero()) return Status::InvalidMesh;
-    set_normal(2 + k, side);
+    set_normal(2 + k, side, side_count);
   }
   s.cell_vertex.resize(size_t(s.cells)), s.vertex_cell.resize(size_t(V));
   for (int c = 0; c < 2 * K; ++c) s.cell_vertex[c] = top[c % K];
@@ -115,6 +123,7 @@ Status prepare_solid(const ConvexPolytope& p, ShapeData& s, Topology& t) {
   if (V < 4 || F < 4 || V - E + F != 2) return Status::InvalidMesh;
   s.faces = F, s.arcs = E, s.cells = V;
   s.gauss.resize(size_t(F));
+  s.gauss_terms.clear(), s.gauss_term_start.assign(1, 0);
   t.loop_start.assign(1, 0), t.loop_cell.clear();
   for (int f = 0; f < F; ++f) {
     const Face& face = p.faces[f];
@@ -122,10 +131,11 @@ Status prepare_solid(const ConvexPolytope& p, ShapeData& s, Topology& t) {
     for (int v : face.loop)
       if (v < 0 || v >= V) return Status::InvalidMesh;
     bool exact = true;
-    const Vector3d g = newell_normal(p.vertices, face.loop, exact);
+    int count[3];
+    const Vector3d g = gauss_normal(p.vertices, face.loop, s.gauss_terms, count, exact);
     if (!(g.dot(face.normal) > 0)) return Status::InvalidMesh;  // a loop against its normal
-    const Vector3d c = canonical_direction(exact ? g : own_normal(face.normal, g), exact);
-    s.gauss[f] = c;
+    s.gauss[f] = g;
+    for (int k = 0; k < 3; ++k) s.gauss_term_start.push_back(s.gauss_term_start.back() + count[k]);
     t.loop_cell.insert(t.loop_cell.end(), face.loop.begin(), face.loop.end());
     t.loop_start.push_back(int(t.loop_cell.size()));
   }
@@ -240,7 +250,12 @@ Status check_map(ShapeData& s) {
     for (int k = 0; k < n; ++k) {
       const int f0 = m.cell_slot[begin + (k + n - 1) % n].face, f1 = m.cell_slot[begin + k].face,
                 f2 = m.cell_slot[begin + (k + 1) % n].face;
-      if (orient(g(f0), g(f1), g(f2)) <= 0) return Status::InvalidMesh;
+      int turn = 0;
+      if (!s.rounded_normal(f0) && !s.rounded_normal(f1) && !s.rounded_normal(f2))
+        turn = orient(g(f0), g(f1), g(f2));
+      else if (!(turn = orient_rounded_filter(g(f0), g(f1), g(f2))))
+        turn = orient_exact(s.exact_normal(f0), s.exact_normal(f1), s.exact_normal(f2));
+      if (turn <= 0) return Status::InvalidMesh;
     }
   }
   return Status::Ok;

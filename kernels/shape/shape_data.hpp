@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/predicates.hpp"
+
 namespace minksum::detail {
 
 /// The adjacency of a Gauss map (Barki et al. 2009; Fogel & Halperin 2007): face normals are
@@ -54,9 +56,25 @@ struct ShapeData {
   int faces = 0, arcs = 0, cells = 0;
   /// Gauss normals, the only input of the map's predicates: each face's exact Newell normal
   /// made canonical (canonical_direction), so that exactly parallel faces of any two shapes
-  /// have the same vector; rounded once where it is not representable.
+  /// have the same vector where it is a double vector; else rounded once, its exact value in
+  /// gauss_terms (gauss_normal).
   std::vector<Eigen::Vector3d> gauss;
   std::vector<std::uint8_t> gauss_nonzero;  // per face: bit k set iff component k of its Gauss normal is not 0
+  /// Where a face's exact normal is not a double vector (rounded coordinates), the predicates
+  /// read it exactly: component k of face f is the expansion gauss_terms[gauss_term_start[3f +
+  /// k] ... gauss_term_start[3f + k + 1]), scaled as gauss[f] is (gauss_normal). A face with
+  /// no terms is exact as gauss[f] stores it.
+  std::vector<double> gauss_terms;
+  std::vector<int> gauss_term_start;  // 3 faces + 1 entries
+  /// The exact normal of face f (the doubles of gauss[f] where it has no terms).
+  ExactVector exact_normal(int f) const {
+    const int* at = &gauss_term_start[size_t(3 * f)];
+    if (at[0] == at[3]) return exact_vector(gauss[size_t(f)]);
+    const double* t = gauss_terms.data();
+    return {{t + at[0], t + at[1], t + at[2]}, {at[1] - at[0], at[2] - at[1], at[3] - at[2]}, 1.0};
+  }
+  /// Whether face f's exact normal has terms (is not gauss[f] itself).
+  bool rounded_normal(int f) const { return gauss_term_start[size_t(3 * f)] != gauss_term_start[size_t(3 * f + 3)]; }
   std::vector<double> nx, ny, nz;           // unit face normals (the sums' planes)
   MapLayout map[2];                         // [0] the shape's own, [1] that of -B
   std::vector<Eigen::Vector3d> pole[2];     // per arc, in each layout: G_L x G_R (for -B: -G_R x -G_L)

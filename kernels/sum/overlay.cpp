@@ -8,12 +8,15 @@
 //  - likewise each face normal of B that is not also one of A;
 //  - each proper crossing of an arc e_A with an arc e_B: the parallelogram e_A (+) e_B.
 // Arc e lies on the great circle of pole c = G_L x G_R (a positive multiple of its edge), so the
-// side of it a normal G lies on is the sign of det(G, G_L, G_R). The Gauss normals G are exact
-// (shape_data.hpp: canonical, so parallel faces of two shapes have the same vector), and every
-// sign is the exact one, zero included: a double evaluation decides it when it clears kFilter
-// (a static filter, Shewchuk 1997), exact expansions on the stack when it does not
-// (predicates.hpp). The overlay computed is therefore the exact overlay of the two maps as
-// stored, ties and all; no perturbation and no rational arithmetic.
+// side of it a normal G lies on is the sign of det(G, G_L, G_R). The Gauss normals G are the
+// faces' exact Newell normals (shape_data.hpp): a canonical double vector where the normal is
+// one (so parallel faces of two shapes have the same vector), else a rounded vector plus the
+// exact normal's expansions (rounded coordinates: cos/sin prisms, decimals). Every sign is the
+// exact one, zero included: a double evaluation decides it when it clears kFilter (a static
+// filter, Shewchuk 1997, that also covers a rounded normal's own rounding), exact expansions on
+// the stack when it does not (predicates.hpp). The overlay computed is therefore the exact
+// overlay of the two maps, ties and all; no perturbation and no rational arithmetic. (A map
+// turned against A's, B's under a rotation, is the exact overlay of its turned normals.)
 //
 // The algorithm (O(|E_A| + |E_B| + output) after one linear scan for the first support):
 //  1. Every arc of A is walked through B's map, breadth first over A's faces from the first,
@@ -53,16 +56,36 @@ namespace {
 // so c . G is within 192 ulp(1) ~ 2.2e-14 of det(G, G_L, G_R); 1e-13 leaves a margin.
 constexpr double kFilter = 1e-13;
 
+// The exact sign of det(G_p, G_q, G_r) for normals of placed shapes: orient on the doubles
+// where all three are exact as stored; else the doubles past a filter that covers their
+// rounding, then the exact terms.
+int orient_normals(const Placed& P, int p, const Placed& Q, int q, const Placed& R, int r) {
+  if (!P.rounded_normal(p) && !Q.rounded_normal(q) && !R.rounded_normal(r)) return orient(P.g[p], Q.g[q], R.g[r]);
+  if (const int s = orient_rounded_filter(P.g[p], Q.g[q], R.g[r])) return s;
+  return orient_exact(P.exact(p), Q.exact(q), R.exact(r));
+}
+
 // The exact side of X's arc e (its pole) on which Y's normal f lies: sign det(G_f, G_L, G_R):
 // the filter, then a zero for want of terms (no component of G_f meets a nonzero one of the
-// pole's), then the exact predicate.
+// pole's), then the exact predicate. (kFilter also covers rounded normals' own rounding: at
+// most 3 x 2^-52 of each of the six products, 1.6e-14 in all.)
 inline int side(const Placed& X, int e, const Placed& Y, int f) {
   const Vector3d &c = X.c[e], &g = Y.g[f];
   const double v = c.x() * g.x() + c.y() * g.y() + c.z() * g.z();
   if (v > kFilter) return 1;
   if (v < -kFilter) return -1;
   if ((Y.g_nonzero[f] & ~X.c_zero[e]) == 0) return 0;
-  return orient(g, X.g[X.L(e)], X.g[X.R(e)]);
+  return orient_normals(Y, f, X, X.L(e), X, X.R(e));
+}
+
+// Whether normal f of X and normal g of Y point exactly the same way: equal vectors where both
+// are exact as stored; else (rounded normals, parallel or a true sliver apart) their terms.
+bool same_normal(const Placed& X, int f, const Placed& Y, int g) {
+  const Vector3d &a = X.g[f], &b = Y.g[g];
+  if (!X.rounded_normal(f) && !Y.rounded_normal(g)) return a == b;
+  // Canonical vectors have components within [0.5, 1) at most; each within 2^-52 of exact.
+  if (!(a.dot(b) > 0) || a.cross(b).cwiseAbs().maxCoeff() > 1e-14) return false;
+  return same_direction_exact(X.exact(f), Y.exact(g));
 }
 
 // Whether Y's normal f lies beyond the side of X's cell at `slot` (the cell across is higher
@@ -135,11 +158,14 @@ bool climb(const Placed& X, const Placed& Y, int f, int cell, Loc& out) {
 // circle of e and an arc of A from `from` to `to`: two points of a great circle are on the same
 // side of the plane through `from` and an axis off the circle iff they lie within the same half
 // turn from it.
-bool right_end_ahead(const Placed& X, int e, const Vector3d& from, const Vector3d& to) {
+bool right_end_ahead(const Placed& X, int e, const Placed& A, int from, int to) {
   const Vector3d c = X.pole(e).cwiseAbs();
   const int k = c.x() >= c.y() && c.x() >= c.z() ? 0 : c.y() >= c.z() ? 1 : 2;
   const Vector3d axis = Vector3d::Unit(k);
-  return orient(axis, from, X.gauss(X.R(e))) == orient(axis, from, to);
+  if (!A.rounded_normal(from) && !A.rounded_normal(to) && !X.rounded_normal(X.R(e)))
+    return orient(axis, A.g[from], X.g[X.R(e)]) == orient(axis, A.g[from], A.g[to]);
+  const ExactVector u = exact_vector(axis), f = A.exact(from);
+  return orient_exact(u, f, X.exact(X.R(e))) == orient_exact(u, f, A.exact(to));
 }
 
 // The other side of cell `cell` at its corner `corner`, next to the side at `slot`.
@@ -184,7 +210,7 @@ bool walk(const Placed& A, const Placed& B, int ea, int from, const Loc& start, 
     if (v > kFilter) return 1;
     if (v < -kFilter) return -1;
     if ((B.g_nonzero[g] & ~A.c_zero[ea]) == 0) return 0;
-    return tsign * orient(x, A.g[A.L(ea)], A.g[A.R(ea)]);
+    return tsign * orient_normals(B, g, A, A.L(ea), A, A.R(ea));
   };
   // Whether the far end lies beyond a side of a cell (at `slot`).
   const auto past = [&](int slot) { return beyond(B, m.cell_slot[slot].arc, A, to); };
@@ -199,7 +225,7 @@ bool walk(const Placed& A, const Placed& B, int ea, int from, const Loc& start, 
   } else {  // from inside arc e of B: across it, or along it
     const MapLayout::Arc& a = m.arc[id];
     if (sigma(a.L) == 0 && sigma(a.R) == 0) {
-      kind = Along, head = right_end_ahead(B, id, A.gauss(from), A.gauss(to)) ? a.R : a.L;
+      kind = Along, head = right_end_ahead(B, id, A, from, to) ? a.R : a.L;
     } else {
       const int s = side(B, id, A, to);  // the side of e's circle the arc goes to
       if (s == 0) return false;
@@ -343,6 +369,7 @@ void place(const ShapeData& s, const Eigen::Isometry3d& pose, const Eigen::Matri
     }
     out.g = negate ? buf.g.data() : s.gauss.data(), out.g_nonzero = s.gauss_nonzero.data();
     out.c = s.pole[negate].data(), out.c_zero = s.pole_zero.data();
+    out.rounded = !s.gauss_terms.empty();
   } else {
     // Turned, with components below kTinyComponent zeroed (the expansions' range); the poles
     // from the turned normals themselves (not turned): the filter's bound holds against the
@@ -361,6 +388,7 @@ void place(const ShapeData& s, const Eigen::Isometry3d& pose, const Eigen::Matri
       buf.c[e] = l.cross(r), buf.c_zero[e] = pole_zero_mask(l, r);
     }
     out.g = buf.g.data(), out.g_nonzero = buf.g_nonzero.data(), out.c = buf.c.data(), out.c_zero = buf.c_zero.data();
+    out.rounded = false;  // (the turned vectors are the normals the predicates read)
   }
   if (!out.world.turned && out.world.t == Vector3d::Zero()) {
     out.px = s.px.data(), out.py = s.py.data(), out.pz = s.pz.data();
@@ -377,17 +405,18 @@ void place(const ShapeData& s, const Eigen::Isometry3d& pose, const Eigen::Matri
 // points as ref's ray k does, 2k + 2 when it lies strictly between rays k and k + 1. The other
 // rays run counter-clockwise too, so each one's search starts at the sector of the one before
 // (both lists are read about once). False if a ray fits no sector (a map bent by rounding).
-bool Overlay::place_rays(const Vector3d& n, const Placed& R, const std::vector<Ray>& ref, const Placed& O,
+bool Overlay::place_rays(const Placed& N, int nf, const Placed& R, const std::vector<Ray>& ref, const Placed& O,
                          const std::vector<Ray>& other, std::vector<int>& sector) {
+  const Vector3d& n = N.g[nf];
   const int nr = int(ref.size()), no = int(other.size());
   sector.resize(size_t(no));
   // The same rays (copies, aligned shapes, parallel prisms: the same neighbouring normals, which
   // canonical normals make the same vectors): one offset, found by comparing vectors.
   if (nr == no) {
     int k0 = 0;
-    while (k0 < nr && R.gauss(ref[k0].to) != O.gauss(other[0].to)) ++k0;
+    while (k0 < nr && !same_normal(R, ref[k0].to, O, other[0].to)) ++k0;
     bool same = k0 < nr;
-    for (int j = 1; same && j < no; ++j) same = R.gauss(ref[(k0 + j) % nr].to) == O.gauss(other[j].to);
+    for (int j = 1; same && j < no; ++j) same = same_normal(R, ref[(k0 + j) % nr].to, O, other[j].to);
     if (same) {
       for (int j = 0; j < no; ++j) sector[j] = 2 * ((k0 + j) % nr) + 1;
       return true;
@@ -402,20 +431,24 @@ bool Overlay::place_rays(const Vector3d& n, const Placed& R, const std::vector<R
                                      std::abs(n.z() * r.x()) + std::abs(n.x() * r.z()),
                                      std::abs(n.x() * r.y()) + std::abs(n.y() * r.x()))};
   }
-  const auto turn = [&](int k, const Vector3d& o) {
+  // (Rounded normals: the filter also covers their own rounding, as orient_normals' does.)
+  const double filter = N.rounded || R.rounded || O.rounded ? 2e-15 : 1e-15;
+  const auto turn = [&](int k, int oj) {
+    const Vector3d& o = O.g[oj];
     const double det = o.dot(turns[k].c), perm = o.cwiseAbs().dot(turns[k].bound);
-    if (std::abs(det) > 1e-15 * perm) return det > 0 ? 1 : -1;
-    return perm == 0 ? 0 : orient_exact(o, n, R.gauss(ref[k].to));
+    if (std::abs(det) > filter * perm) return det > 0 ? 1 : -1;
+    if (perm == 0) return 0;
+    return filter > 1e-15 ? orient_normals(O, oj, N, nf, R, ref[k].to) : orient_exact(o, n, R.g[ref[k].to]);
   };
   for (int j = 0, k = 0; j < no; ++j) {
-    const Vector3d& o = O.gauss(other[j].to);
+    const int oj = other[j].to;
     for (int tried = 0;; k = (k + 1) % nr) {
-      if (R.gauss(ref[k].to) == o) {  // the same normal (copies, aligned shapes): the same ray
+      if (same_normal(R, ref[k].to, O, oj)) {  // the same normal (copies, aligned shapes): the same ray
         sector[j] = 2 * k + 1;
         break;
       }
-      const int s0 = turn(k, o);
-      if (s0 >= 0 && turn((k + 1) % nr, o) < 0) {
+      const int s0 = turn(k, oj);
+      if (s0 >= 0 && turn((k + 1) % nr, oj) < 0) {
         sector[j] = 2 * k + (s0 == 0 ? 1 : 2);
         break;
       }
@@ -443,7 +476,7 @@ bool Overlay::walk_a_arcs(const Placed& A, const Placed& B) {
     // all of B's rays: two prisms' caps would cost the product of their sides).
     if (here.kind == Loc::Face) {
       rays_of(A, {Loc::Face, f}, rays[1]), rays_of(B, here, rays[0]);
-      if (!place_rays(B.gauss(here.id), B, rays[0], A, rays[1], ray_sector)) return false;
+      if (!place_rays(B, here.id, B, rays[0], A, rays[1], ray_sector)) return false;
       std::copy(ray_sector.begin(), ray_sector.end(), face_sector.begin() + ma.loop_start[f]);
     }
     for (int k = ma.loop_start[f]; k < ma.loop_start[f + 1]; ++k) {
@@ -676,7 +709,7 @@ bool Overlay::merged_facet(const Placed& A, const Loc& fa, const Placed& B, cons
   if (fa.kind == Loc::Face && fb.kind == Loc::Face) {
     const int first = A.m->loop_start[fa.id];
     ray_sector.assign(face_sector.begin() + first, face_sector.begin() + first + no);
-  } else if (!place_rays(normal_of_a ? A.gauss(fa.id) : B.gauss(fb.id), R, ref, O, other, ray_sector)) {
+  } else if (!place_rays(normal_of_a ? A : B, normal_of_a ? fa.id : fb.id, R, ref, O, other, ray_sector)) {
     return false;
   }
   // The cells before the first ray of R: R's cell before it, O's after its last ray (in the

@@ -29,6 +29,7 @@ struct Placed {
   const std::uint8_t* g_nonzero;  ///< per face: ShapeData::gauss_nonzero of g
   const std::uint8_t* c_zero;     ///< per arc: ShapeData::pole_zero of c
   const double *px, *py, *pz;     ///< vertices in the world frame
+  bool rounded = false;           ///< some normal has exact terms (ShapeData::gauss_terms) the predicates read
   Rigid world;                    ///< body -> world pose (negated for -B)
   Eigen::Matrix3d frame;          ///< body -> overlay frame rotation (negated for -B)
   int L(int e) const { return m->arc[e].L; }
@@ -36,6 +37,15 @@ struct Placed {
   const Eigen::Vector3d& gauss(int f) const { return g[f]; }
   const Eigen::Vector3d& pole(int e) const { return c[e]; }
   Eigen::Vector3d point(int v) const { return {px[v], py[v], pz[v]}; }
+  /// Whether normal f is read from its exact terms (not g[f] itself).
+  bool rounded_normal(int f) const { return rounded && s->rounded_normal(f); }
+  /// Normal f exactly: its terms (negated for -B), or g[f].
+  ExactVector exact(int f) const {
+    if (!rounded_normal(f)) return exact_vector(g[f]);
+    ExactVector x = s->exact_normal(f);
+    x.sign = negate ? -1.0 : 1.0;
+    return x;
+  }
   /// Face f's unit normal in the world frame.
   Eigen::Vector3d unit(int f) const { return world.turn(Eigen::Vector3d(s->nx[f], s->ny[f], s->nz[f])); }
   /// Arc e's edge p_v - p_u in the world frame (zero for a prism's zero-length edges), turned
@@ -90,7 +100,7 @@ class Overlay {
   void crossing_facets(const Placed& A, const Placed& B);
   bool merged_facet(const Placed& A, const Location& fa, const Placed& B, const Location& fb, bool normal_of_a);
   bool number_and_write(const Placed& A, const Placed& B, MinkowskiSum& out);
-  bool place_rays(const Eigen::Vector3d& n, const Placed& R, const std::vector<Ray>& ref, const Placed& O,
+  bool place_rays(const Placed& N, int nf, const Placed& R, const std::vector<Ray>& ref, const Placed& O,
                   const std::vector<Ray>& other, std::vector<int>& sector);
   void begin_facet(const Eigen::Vector3d& n, bool loose, int length);
   void add_pair(int i, int j) { codes[size_t(nl++)] = pairs.code(i, j); }
