@@ -3,6 +3,11 @@
 // of Nef polyhedra (minkowski_sum_3), and the exact facet structure of a sum.
 #include "cgal_peer.hpp"
 
+// The oracle and the peers run on one thread each: without this, every lazy exact number of
+// Epeck pays a std::call_once (half the oracle's time on the rounded-tie suites). This is the
+// only translation unit that includes CGAL.
+#define CGAL_HAS_NO_THREADS 1
+
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Gmpzf.h>
 #include <CGAL/Homogeneous.h>
@@ -14,6 +19,8 @@
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/convex_hull_3.h>
 #include <CGAL/minkowski_sum_3.h>
+
+#include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>
@@ -146,12 +153,41 @@ bool sums_are_doubles(const std::vector<Eigen::Vector3d>& a, const std::vector<E
 ExactCounts exact_counts(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b, double s,
                          std::vector<std::vector<Eigen::Vector3d>>* facets) {
   if (sums_are_doubles(a, b, s)) return exact_structure(a, b, s, facets);
-  std::vector<Epeck::Point_3> p;
+  // Only sums that can be on the hull go to the exact kernel: the hull of the rounded sums
+  // (Epick: exact predicates on those doubles) moves each facet by at most their rounding, so a
+  // rounded sum more than 1e-9 of the size inside every one of its facets is inside the exact
+  // hull too (its exact hull is the same set's, each point moved by an ulp).
+  std::vector<Epick::Point_3> rounded;
+  double size = 0;
   for (const auto& u : a)
-    for (const auto& v : b)
-      p.emplace_back(Epeck::FT(u.x()) + Epeck::FT(s) * Epeck::FT(v.x()),
+    for (const auto& v : b) {
+      const Eigen::Vector3d x = u + s * v;
+      rounded.emplace_back(x.x(), x.y(), x.z());
+      size = std::max(size, x.cwiseAbs().maxCoeff());
+    }
+  CGAL::Polyhedron_3<Epick> hull;
+  CGAL::convex_hull_3(rounded.begin(), rounded.end(), hull);
+  std::vector<std::pair<Eigen::Vector3d, double>> planes;  // unit normal, offset
+  const auto point = [](const Epick::Point_3& q) { return Eigen::Vector3d(q.x(), q.y(), q.z()); };
+  for (auto f = hull.facets_begin(); f != hull.facets_end(); ++f) {
+    const auto h = f->halfedge();
+    const Eigen::Vector3d p0 = point(h->vertex()->point()), p1 = point(h->next()->vertex()->point()),
+                          p2 = point(h->next()->next()->vertex()->point());
+    const Eigen::Vector3d n = (p1 - p0).cross(p2 - p0).normalized();
+    planes.push_back({n, n.dot(p0)});
+  }
+  const double margin = 1e-9 * std::max(size, 1e-300);
+  std::vector<Epeck::Point_3> p;
+  for (size_t k = 0; k < rounded.size(); ++k) {
+    const Eigen::Vector3d x = point(rounded[k]);
+    bool inside = hull.size_of_facets() > 0;
+    for (size_t f = 0; f < planes.size() && inside; ++f) inside = planes[f].first.dot(x) < planes[f].second - margin;
+    if (inside) continue;
+    const Eigen::Vector3d &u = a[k / b.size()], &v = b[k % b.size()];
+    p.emplace_back(Epeck::FT(u.x()) + Epeck::FT(s) * Epeck::FT(v.x()),
                      Epeck::FT(u.y()) + Epeck::FT(s) * Epeck::FT(v.y()),
                      Epeck::FT(u.z()) + Epeck::FT(s) * Epeck::FT(v.z()));
+  }
   return hull_structure<Epeck>(p, facets);
 }
 

@@ -237,6 +237,60 @@ std::vector<DegeneratePair> degenerate_pairs() {
   return out;
 }
 
+std::vector<Vector3d> cos_sin_prism(int n, double r, double z0, double z1, double phase) {
+  std::vector<Vector3d> p;
+  for (int k = 0; k < n; ++k) {
+    const double t = 2 * M_PI * k / n + phase;
+    p.emplace_back(r * std::cos(t), r * std::sin(t), z0), p.emplace_back(r * std::cos(t), r * std::sin(t), z1);
+  }
+  return p;
+}
+
+std::vector<Vector3d> turned_box(const Vector3d& h, double angle) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  std::vector<Vector3d> p;
+  for (const auto& q : cube_points()) {
+    const Vector3d x = q.cwiseProduct(h);
+    p.emplace_back(c * x.x() - s * x.y(), s * x.x() + c * x.y(), x.z());
+  }
+  return p;
+}
+
+DegeneratePair rounded_pair(int family, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> size(0.2, 1.5), angle(0.05, 1.5);
+  const auto slab = [&](double h) { return std::pair<double, double>(-h * size(rng), h * size(rng)); };
+  const auto [a0, a1] = slab(0.5);
+  const auto [b0, b1] = slab(0.3);
+  const double r = size(rng);
+  switch (family) {
+    case 0:
+    case 1:
+    case 2:
+    case 3: {
+      const int n = 8 << family;
+      return {"prisms_" + std::to_string(n) + "_rounded", cos_sin_prism(n, r, a0, a1),
+              cos_sin_prism(n, r / 2, b0, b1)};
+    }
+    case 4:
+      return {"prisms_16_turned_rounded", cos_sin_prism(16, r, a0, a1), cos_sin_prism(16, r / 2, b0, b1, angle(rng))};
+    case 5:
+      return {"box_turned_rounded", turned_box(Vector3d(size(rng), size(rng), size(rng)), 0),
+              turned_box(Vector3d(size(rng), size(rng), size(rng)) / 2, angle(rng))};
+    default:
+      return {"prism_box_rounded", turned_box(Vector3d(size(rng), size(rng), 0.3 * size(rng)), 0),
+              cos_sin_prism(16, r / 2, b0, b1, angle(rng))};
+  }
+}
+
+std::vector<DegeneratePair> rounded_pairs() {
+  std::vector<DegeneratePair> out;
+  for (int f = 0; f < kRoundedFamilies; ++f) {
+    std::mt19937_64 rng(1);
+    out.push_back(rounded_pair(f, rng));
+  }
+  return out;
+}
+
 Triangle random_triangle(std::mt19937_64& rng, double spread) {
   std::uniform_real_distribution<double> u(-1, 1);
   const Vector3d c = spread * Vector3d(u(rng), u(rng), u(rng));
@@ -245,16 +299,6 @@ Triangle random_triangle(std::mt19937_64& rng, double spread) {
 }
 
 namespace {
-
-// An n-gon prism of radius r between heights z0 and z1 (its corners).
-std::vector<Vector3d> prism(int n, double r, double z0, double z1) {
-  std::vector<Vector3d> p;
-  for (int k = 0; k < n; ++k) {
-    const double t = 2 * M_PI * k / n;
-    p.emplace_back(r * std::cos(t), r * std::sin(t), z0), p.emplace_back(r * std::cos(t), r * std::sin(t), z1);
-  }
-  return p;
-}
 
 std::vector<Vector3d> corners(const Box& b) {
   std::vector<Vector3d> p;
@@ -278,8 +322,8 @@ std::vector<FacePair> face_pairs() {
   };
   boxes("boxes", box_of(Vector3d(1, 0.8, 0.5)), box_of(Vector3d(0.4, 0.3, 0.25)));
   for (int n : {8, 16, 32, 64})
-    out.push_back({"prisms" + std::to_string(n), prism(n, 1, -0.5, 0.5), prism(n, 0.6, -0.3, 0.3)});
-  FacePair box_on_prism{"box_on_prism", prism(32, 1, -0.5, 0.5), {}, false, true};
+    out.push_back({"prisms" + std::to_string(n), cos_sin_prism(n, 1, -0.5, 0.5), cos_sin_prism(n, 0.6, -0.3, 0.3)});
+  FacePair box_on_prism{"box_on_prism", cos_sin_prism(32, 1, -0.5, 0.5), {}, false, true};
   box_on_prism.box_b = box_of(Vector3d(0.3, 0.2, 0.15)), box_on_prism.b = corners(box_on_prism.box_b);
   out.push_back(box_on_prism);
   // A polytope with a flat bottom: 48 sphere points, those below -0.2 pressed onto that plane.

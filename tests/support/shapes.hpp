@@ -92,6 +92,28 @@ DegeneratePair degenerate_pair(int family, std::mt19937_64& rng);
 /// One fixed member of every family (seed 1): the benchmark's Degenerate rows.
 std::vector<DegeneratePair> degenerate_pairs();
 
+/// The rounded-tie families: shapes of rounded coordinates (cos/sin prisms, boxes turned by a
+/// rounded angle), whose faces' exact normals are not doubles, in poses that keep their ties:
+/// prisms_<n>_rounded (aligned n-gon prisms, n = 8 ... 64, B's polygon A's halved: parallel
+/// sides), prisms_16_turned_rounded (B turned about the shared axis by a rounded angle),
+/// box_turned_rounded (B turned about z by a non-Pythagorean angle) and prism_box_rounded (a
+/// 16-gon prism on a box's face).
+constexpr int kRoundedFamilies = 7;
+
+/// One member of rounded family `family` (0 ... kRoundedFamilies - 1), its sizes and angles
+/// from a seeded generator.
+DegeneratePair rounded_pair(int family, std::mt19937_64& rng);
+
+/// One fixed member of every rounded family (seed 1): the benchmark's Degenerate/*_rounded rows.
+std::vector<DegeneratePair> rounded_pairs();
+
+/// An n-gon prism of radius r between heights z0 and z1, its polygon turned by `phase` (rad):
+/// vertices (r cos t, r sin t, z), rounded as a user computes them.
+std::vector<Eigen::Vector3d> cos_sin_prism(int n, double r, double z0, double z1, double phase = 0);
+
+/// The corners of a box of half extents h turned about z by `angle` (rounded cos and sin).
+std::vector<Eigen::Vector3d> turned_box(const Eigen::Vector3d& h, double angle);
+
 /// Applies R to every point.
 std::vector<Eigen::Vector3d> rotated(const std::vector<Eigen::Vector3d>& pts, const Eigen::Matrix3d& R);
 
