@@ -7,6 +7,9 @@
 // polytopes: finite and consistent.
 #include "fuzz_common.hpp"
 
+#include <gmpxx.h>
+
+#include <array>
 #include <map>
 
 using namespace minksum;
@@ -77,51 +80,136 @@ Eigen::Isometry3d pose(fuzz::Bytes& in, bool raw) {
 // the inner side of every facet, and no two facets across an edge coplanar. A closed convex
 // surface through points of the set that holds the whole set is its hull, with coplanar facets
 // merged: an answer, not only a consistent one.
-using Int3 = Eigen::Matrix<long long, 3, 1>;
+// The exact structure certificate of grid mode and rounded mode, in a number type T that holds
+// every pairwise sum exactly (long long on the grid, GMP rationals otherwise).
+template <class T>
+using Exact3 = std::array<T, 3>;
 
-Int3 exact(const Eigen::Vector3d& v) {
-  return Int3(std::llround(v.x()), std::llround(v.y()), std::llround(v.z()));
+template <class T>
+Exact3<T> minus(const Exact3<T>& p, const Exact3<T>& q) {
+  return {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
+}
+template <class T>
+Exact3<T> cross(const Exact3<T>& p, const Exact3<T>& q) {
+  return {p[1] * q[2] - p[2] * q[1], p[2] * q[0] - p[0] * q[2], p[0] * q[1] - p[1] * q[0]};
+}
+template <class T>
+T dot(const Exact3<T>& p, const Exact3<T>& q) {
+  return p[0] * q[0] + p[1] * q[1] + p[2] * q[2];
+}
+template <class T>
+bool is_zero(const Exact3<T>& p) {
+  return p[0] == 0 && p[1] == 0 && p[2] == 0;
 }
 
-void check_grid_structure(const ConvexPolytope& A, const ConvexPolytope& B, bool diff, const MinkowskiSum& fast) {
-  if (fast.corrected) fuzz::fail("the fast path needed the corrector on a grid input");
-  const long long sign = diff ? -1 : 1;
-  std::vector<Int3> sums;
-  for (const auto& p : A.vertices)
-    for (const auto& q : B.vertices) sums.push_back(exact(p) + sign * exact(q));
-  std::vector<Int3> vertex;
+// Certifies that `fast` is the exact hull of the pairwise sums a_i + s b_j, from its output
+// alone (no other path of the library): a closed surface (every directed edge of a loop has
+// its twin, V - E + F = 2 counted from the loops), each vertex the exact sum its pair names,
+// each facet's loop exactly coplanar with no three consecutive vertices collinear, every
+// pairwise sum exactly on the inner side of every facet, and no two facets across an edge
+// coplanar. A closed convex surface through points of the set that holds the whole set is its
+// hull, with coplanar facets merged: an answer, not only a consistent one.
+template <class T, class Convert>
+void check_exact_structure(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b, bool diff,
+                           const MinkowskiSum& fast, Convert exact) {
+  if (fast.corrected) fuzz::fail("the fast path needed the corrector on a tie input");
+  const T sign = diff ? -1 : 1;
+  const auto sum = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
+    const Exact3<T> x = exact(p), y = exact(q);
+    return Exact3<T>{x[0] + sign * y[0], x[1] + sign * y[1], x[2] + sign * y[2]};
+  };
+  std::vector<Exact3<T>> sums;
+  for (const auto& p : a)
+    for (const auto& q : b) sums.push_back(sum(p, q));
+  std::vector<Exact3<T>> vertex;
   for (const auto& v : fast.vertices) {
-    vertex.push_back(exact(v.point));
-    if (vertex.back().cast<double>() != v.point) fuzz::fail("a grid sum's vertex is not an integer point");
+    if (v.i < 0 || v.i >= int(a.size()) || v.j < 0 || v.j >= int(b.size()))
+      fuzz::fail("a vertex's pair (i, j) out of range");
+    vertex.push_back(sums[size_t(v.i) * b.size() + size_t(v.j)]);
   }
   std::map<std::pair<int, int>, int> edges;  // directed loop edge -> its facet
-  std::vector<Int3> normal(size_t(fast.F));
+  std::vector<Exact3<T>> normal(size_t(fast.F));
   for (int k = 0; k < fast.F; ++k) {
     const Loop loop = fast.facet(k);
     const int n = int(loop.size());
-    Int3 nk = Int3::Zero();  // a normal from the first non-collinear corner
+    Exact3<T> nk{0, 0, 0};  // a normal from the first corner
     for (int c = 0; c < n; ++c) {
-      const Int3 &p = vertex[size_t(loop[c])], &q = vertex[size_t(loop[(c + 1) % n])], &r = vertex[size_t(loop[(c + 2) % n])];
-      const Int3 turn = (q - p).cross(r - q);
-      if (turn.isZero()) fuzz::fail("three consecutive vertices of a grid facet are collinear");
-      if (nk.isZero()) nk = turn;
-      if (turn.dot(nk) <= 0) fuzz::fail("a grid facet's loop is not convex");
+      const Exact3<T>&p = vertex[size_t(loop[c])], &q = vertex[size_t(loop[(c + 1) % n])],
+      &r = vertex[size_t(loop[(c + 2) % n])];
+      const Exact3<T> turn = cross(minus(q, p), minus(r, q));
+      if (is_zero(turn)) fuzz::fail("three consecutive vertices of a facet are collinear");
+      if (is_zero(nk)) nk = turn;
+      if (dot(turn, nk) <= 0) fuzz::fail("a facet's loop is not convex");
       if (!edges.emplace(std::pair{loop[c], loop[(c + 1) % n]}, k).second) fuzz::fail("a directed edge in two loops");
     }
+    const Exact3<T>& o = vertex[size_t(loop[0])];
     for (int c = 0; c < n; ++c)
-      if (nk.dot(vertex[size_t(loop[c])] - vertex[size_t(loop[0])]) != 0) fuzz::fail("a grid facet is not planar");
-    for (const Int3& x : sums)
-      if (nk.dot(x - vertex[size_t(loop[0])]) > 0) fuzz::fail("a pairwise sum lies outside a grid facet");
+      if (dot(nk, minus(vertex[size_t(loop[c])], o)) != 0) fuzz::fail("a facet is not exactly planar");
+    for (const Exact3<T>& x : sums)
+      if (dot(nk, minus(x, o)) > 0) fuzz::fail("a pairwise sum lies outside a facet");
     normal[size_t(k)] = nk;
   }
   for (const auto& [e, k] : edges) {
     const auto twin = edges.find({e.second, e.first});
-    if (twin == edges.end()) fuzz::fail("a grid sum's surface is not closed");
-    if (normal[size_t(k)].cross(normal[size_t(twin->second)]).isZero()) fuzz::fail("two coplanar grid facets not merged");
+    if (twin == edges.end()) fuzz::fail("a sum's surface is not closed");
+    if (is_zero(cross(normal[size_t(k)], normal[size_t(twin->second)]))) fuzz::fail("two coplanar facets not merged");
   }
   const long long E = static_cast<long long>(edges.size()) / 2;
   if (static_cast<long long>(fast.vertices.size()) - E + fast.F != 2 || fast.V != int(fast.vertices.size()) || fast.E != E)
     fuzz::fail("V - E + F is not 2, counted from the loops");
+}
+
+// Grid mode (flag 16): every coordinate snapped to the integers within +-r, r = 1 ... 8, where
+// ties are the rule (parallel faces and edges, coplanar points): the structure certified in
+// integers; every vertex an integer point. (a and b: the vertices the sum's pairs (i, j) index.)
+void check_grid_structure(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b, bool diff,
+                          const MinkowskiSum& fast) {
+  for (const auto& v : fast.vertices)
+    if (v.point != v.point.array().round().matrix()) fuzz::fail("a grid sum's vertex is not an integer point");
+  check_exact_structure<long long>(a, b, diff, fast, [](const Eigen::Vector3d& v) {
+    return Exact3<long long>{std::llround(v.x()), std::llround(v.y()), std::llround(v.z())};
+  });
+}
+
+// Rounded mode (flag 32): cos/sin prisms of 3 to 12 sides (A's; B's the same polygon, halved,
+// of another radius, or turned about the shared axis) or a box turned about z, from the input:
+// ties whose faces' exact normals are not doubles. The structure certified in rationals.
+void check_rounded_structure(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b, bool diff,
+                             const MinkowskiSum& fast) {
+  check_exact_structure<mpq_class>(a, b, diff, fast, [](const Eigen::Vector3d& v) {
+    return Exact3<mpq_class>{mpq_class(v.x()), mpq_class(v.y()), mpq_class(v.z())};
+  });
+}
+
+// An n-gon prism of radius r between heights z0 and z1, turned by `phase` (rad).
+std::vector<Eigen::Vector3d> prism(int n, double r, double z0, double z1, double phase) {
+  std::vector<Eigen::Vector3d> p;
+  for (int k = 0; k < n; ++k) {
+    const double t = 2 * M_PI * k / n + phase;
+    p.emplace_back(r * std::cos(t), r * std::sin(t), z0), p.emplace_back(r * std::cos(t), r * std::sin(t), z1);
+  }
+  return p;
+}
+
+// The rounded-mode operands from the input (sizes in (0, 4], angles in [0, 2 pi)).
+void rounded_operands(fuzz::Bytes& in, std::vector<Eigen::Vector3d>& a, std::vector<Eigen::Vector3d>& b) {
+  const auto size = [&] { return (1 + in.take<uint16_t>()) / 16384.0; };
+  const auto angle = [&] { return in.take<uint16_t>() * (2 * M_PI / 65536); };
+  const int n = 3 + in.take<uint8_t>() % 10, m = 3 + in.take<uint8_t>() % 10, kind = in.take<uint8_t>() % 5;
+  const double r = size(), phase = angle();
+  a = prism(n, r, -size(), size(), phase);
+  if (kind == 0) b = prism(n, r, -size(), size(), phase);        // the same polygon
+  if (kind == 1) b = prism(n, r / 2, -size(), size(), phase);    // halved: parallel sides
+  if (kind == 2) b = prism(n, size(), -size(), size(), phase);   // another radius: slivers
+  if (kind == 3) b = prism(m, size(), -size(), size(), angle()); // turned about the axis
+  if (kind == 4) {  // boxes turned about z
+    const double c = std::cos(phase), s = std::sin(phase), h[3] = {size(), size(), size()};
+    a.clear(), b = prism(4, size(), -size(), size(), angle());
+    for (int k = 0; k < 8; ++k) {
+      const double x = k & 1 ? h[0] : -h[0], y = k & 2 ? h[1] : -h[1];
+      a.emplace_back(c * x - s * y, s * x + c * y, k & 4 ? h[2] : -h[2]);
+    }
+  }
 }
 
 // A signed permutation (one of the 48 rotations and reflections of the cube that are proper:
@@ -145,32 +233,40 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   fuzz::Bytes in{data, size};
   const int na = 1 + in.take<uint8_t>() % 24, nb = 1 + in.take<uint8_t>() % 24;
   const uint8_t flags = in.take<uint8_t>();
-  const bool grid = flags & 16;
+  const bool grid = flags & 16, rounded = !grid && (flags & 32);
   const double r = grid ? 1 + in.take<uint8_t>() % 8 : 0;
   const auto coordinate = [&] {
     const double x = in.number();
     return grid ? std::fmod(std::abs(std::isfinite(x) ? std::round(x) : 0.0), 2 * r + 1) - r : x;
   };
   std::vector<Eigen::Vector3d> a, b;
-  for (int k = 0; k < na; ++k) a.emplace_back(coordinate(), coordinate(), coordinate());
-  for (int k = 0; k < nb; ++k) b.emplace_back(coordinate(), coordinate(), coordinate());
+  if (rounded) {
+    rounded_operands(in, a, b);
+  } else {
+    for (int k = 0; k < na; ++k) a.emplace_back(coordinate(), coordinate(), coordinate());
+    for (int k = 0; k < nb; ++k) b.emplace_back(coordinate(), coordinate(), coordinate());
+  }
   ConvexPolytope A, B;
   if (polytope_from_points(a, A) != Status::Ok || polytope_from_points(b, B) != Status::Ok) return 0;
   Proximity prox;
   if (proximity(A, B, prox) == Status::Ok) fuzz::check(prox);
-  const Method method = grid || flags % 3 == 0 ? Method::Fast : flags % 3 == 1 ? Method::Reference : Method::Hull;
+  const Method method = grid || rounded || flags % 3 == 0 ? Method::Fast : flags % 3 == 1 ? Method::Reference : Method::Hull;
   const bool diff = flags & 4;
   MinkowskiSum m;
   const Status s = diff ? minkowski_difference(A, B, m, method) : minkowski_sum(A, B, m, method);
   if (s != Status::Ok) return 0;  // a status is a clear answer (e.g. DegenerateResult)
   check_planes(m, A.vertices, B.vertices, diff ? -1 : 1);
-  if (grid) check_grid_structure(A, B, diff, m);
+  if (grid) check_grid_structure(A.vertices, B.vertices, diff, m);
+  if (rounded) check_rounded_structure(A.vertices, B.vertices, diff, m);
+  const MinkowskiSum unposed = m;
   // The same operands as prepared shapes under poses read from the rest of the input (a unit
   // quaternion and a translation each; with flag 8, a raw 3x3 matrix for B: rarely a rotation;
   // in grid mode signed permutations and integer translations, which keep every tie exact).
   ConvexShape SA, SB;
   if (shape_from_points(a, SA) != Status::Ok || shape_from_points(b, SB) != Status::Ok) return 0;  // a clear status
-  const Eigen::Isometry3d pa = grid ? grid_pose(in) : pose(in, false), pb = grid ? grid_pose(in) : pose(in, flags & 8);
+  const Eigen::Isometry3d pa = grid ? grid_pose(in) : pose(in, false);
+  Eigen::Isometry3d pb = grid ? grid_pose(in) : pose(in, flags & 8 && !rounded);
+  if (rounded) pb.linear() = pa.linear();  // (one rotation: the ties stay, in A's body frame)
   const Status ps = diff ? minkowski_difference(SA, pa, SB, pb, m) : minkowski_sum(SA, pa, SB, pb, m);
   if (check_pose(pa) != Status::Ok || check_pose(pb) != Status::Ok) {
     if (ps != Status::InvalidPose || m.F != 0) fuzz::fail("a bad pose did not give InvalidPose and an empty result");
@@ -181,11 +277,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   for (const auto& p : SA.polytope().vertices) wa.push_back(pa * p);
   for (const auto& q : SB.polytope().vertices) wb.push_back(pb * q);
   check_planes(m, wa, wb, diff ? -1 : 1);
+  // Under one rotation the structure is the unposed sum's, pair for pair (shape_from_points
+  // numbers the vertices as polytope_from_points does).
+  if (rounded && (m.V != unposed.V || m.F != unposed.F || m.loop_vertex.size() != unposed.loop_vertex.size()))
+    fuzz::fail("a rounded sum under one rotation lost its structure");
   if (grid) {
     ConvexPolytope WA, WB;
     if (polytope_from_points(wa, WA) != Status::Ok || polytope_from_points(wb, WB) != Status::Ok)
       fuzz::fail("a moved grid operand is no longer a polytope");
-    check_grid_structure(WA, WB, diff, m);
+    check_grid_structure(wa, wb, diff, m);
   }
   return 0;
 }
