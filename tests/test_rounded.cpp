@@ -79,8 +79,9 @@ TEST(RoundedTies, PrismOnBox) {
 
 // A random pair that keeps a rounded tie: cos/sin prisms of 3 to 128 sides (aligned with the
 // same polygon, one halved or doubled, one of another radius, or turned about the shared axis
-// by any angle), a prism on a box, boxes turned about z by any angle, each possibly printed
-// to 15-17 digits and read back (a CAD file's coordinates).
+// by any angle), a prism on a box, boxes turned about z by any angle, a generic polytope of
+// rounded points with a copy of itself (times 1, 1/2 or 2), each possibly printed to 15-17
+// digits and read back (a CAD file's coordinates).
 struct RoundedCase {
   std::vector<Vector3d> a, b;
   double sign;
@@ -98,7 +99,7 @@ RoundedCase rounded_case(std::mt19937_64& rng) {
   const double phase = rng() % 2 ? 0.0 : turn(rng);
   RoundedCase c;
   c.sign = rng() % 2 ? 1.0 : -1.0;
-  const int kind = int(rng() % 6);
+  const int kind = int(rng() % 7);
   c.a = cos_sin_prism(n, r, h0, h1, phase);
   switch (kind) {
     case 0:  // the same polygon, another slab
@@ -116,9 +117,18 @@ RoundedCase rounded_case(std::mt19937_64& rng) {
     case 4:  // on a box turned about the axis
       c.b = turned_box(Vector3d(size(rng), size(rng), size(rng)) / 2, rng() % 2 ? 0.0 : turn(rng)), c.what = "box";
       break;
-    default:  // two boxes turned about z
+    case 5:  // two boxes turned about z
       c.a = turned_box(Vector3d(size(rng), size(rng), size(rng)), phase);
       c.b = turned_box(Vector3d(size(rng), size(rng), size(rng)) / 2, turn(rng)), c.what = "boxes";
+      break;
+    default: {  // a generic polytope of rounded points with itself, halved or doubled: every face
+      // has a parallel twin (or an opposite one in the difference), and no axis in sight
+      c.a = tools::sphere_points(4 + int(rng() % 13), unsigned(rng()));
+      const double k = rng() % 3 == 0 ? 1.0 : rng() % 2 ? 0.5 : 2.0;
+      c.b = c.a;
+      for (auto& p : c.b) p *= k;
+      c.what = "a polytope and its copy times " + std::to_string(k);
+    }
   }
   if (rng() % 4 == 0) {
     const int digits = 15 + int(rng() % 3);

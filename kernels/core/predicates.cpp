@@ -112,17 +112,13 @@ int orient_exact(const ExactVector& p, const ExactVector& q, const ExactVector& 
   return det.n ? expansion::sign(det.n, det.e) : 0;
 }
 
-bool same_direction_exact(const ExactVector& p, const ExactVector& q) {
+bool collinear_exact(const ExactVector& p, const ExactVector& q) {
   Accumulator<256> minor;
   for (int k = 0; k < 3; ++k) {
     exact_minor(p, q, (k + 1) % 3, (k + 2) % 3, minor);
     if (minor.n != 0) return false;
   }
-  // Parallel: the same way where some component has the same sign in both.
-  for (int k = 0; k < 3; ++k)
-    if (p.count[k] && q.count[k])
-      return p.sign * p.terms[k][p.count[k] - 1] * q.sign * q.terms[k][q.count[k] - 1] > 0;
-  return false;
+  return true;
 }
 
 namespace {
@@ -165,29 +161,60 @@ bool small_integer_newell(const std::vector<Vector3d>& points, const std::vector
 
 namespace {
 
-// The exact Newell normal of a loop scaled by a power of two to a largest coordinate near 1
-// (exact, and the products neither underflow nor overflow: the direction is the same), into
-// n[0..2]; false if a product underflowed (subnormal coordinates: then it is not exact).
-bool newell_expansions(const std::vector<Vector3d>& points, const std::vector<int>& loop, Accumulator<72> n[3]) {
+// The power of two that scales a loop (n points, point(k)) to a largest coordinate near 1:
+// exact, and the Newell products neither underflow nor overflow (the direction is the same).
+template <class Point>
+double loop_scale(int n, Point point) {
   double top = 0;
-  for (int i : loop) top = std::max(top, points[i].cwiseAbs().maxCoeff());
+  for (int k = 0; k < n; ++k) top = std::max(top, point(k).cwiseAbs().maxCoeff());
   const int e = top >= 0x1p-1000 ? exponent_of(top) : -1000;
-  const double scale = power_of_two(-e / 2) * power_of_two(-e - (-e / 2));
+  return power_of_two(-e / 2) * power_of_two(-e - (-e / 2));
+}
+
+// The exact Newell normal of the loop scaled by loop_scale, into acc[0..2]; false if a product
+// underflowed (subnormal coordinates: then it is not exact).
+template <class Point>
+bool newell_expansions(int n, Point point, Accumulator<72> acc[3]) {
+  const double scale = loop_scale(n, point);
   bool ok = true;
-  for (size_t k = 0; k < loop.size(); ++k) {
-    const Vector3d a = points[loop[k]] * scale;
-    const Vector3d b = points[loop[(k + 1) % loop.size()]] * scale;
+  for (int k = 0; k < n; ++k) {
+    const Vector3d a = point(k) * scale, b = point(k + 1 < n ? k + 1 : 0) * scale;
     for (int d = 0; d < 3; ++d) {
       const int e = (d + 1) % 3, f = (d + 2) % 3;
       double m[4];
       expansion::minor2(a[e], b[f], a[f], b[e], m);
       const double size = std::abs(a[e] * b[f]) + std::abs(a[f] * b[e]);
       if (size != 0 && size < 0x1p-900) ok = false;
-      n[d].add(m, 4);
+      acc[d].add(m, 4);
     }
   }
   return ok;
 }
+
+// The same normal in double, and per component a bound on its error: 2 n + 2 roundings of the
+// sum of its 2 n products' magnitudes.
+template <class Point>
+Vector3d newell_double(int n, Point point, Vector3d& bound) {
+  const double scale = loop_scale(n, point);
+  Vector3d v = Vector3d::Zero(), magnitude = Vector3d::Zero();
+  for (int k = 0; k < n; ++k) {
+    const Vector3d a = point(k) * scale, b = point(k + 1 < n ? k + 1 : 0) * scale;
+    v += a.cross(b);
+    for (int d = 0; d < 3; ++d) {
+      const int e = (d + 1) % 3, f = (d + 2) % 3;
+      magnitude[d] += std::abs(a[e] * b[f]) + std::abs(a[f] * b[e]);
+    }
+  }
+  bound = (2.0 * n + 2) * 0x1p-52 * magnitude;
+  return v;
+}
+
+// A loop of a std::vector of points.
+struct LoopPoints {
+  const std::vector<Vector3d>& points;
+  const std::vector<int>& loop;
+  Vector3d operator()(int k) const { return points[size_t(loop[size_t(k)])]; }
+};
 
 }  // namespace
 
@@ -198,7 +225,7 @@ Vector3d exact_newell(const std::vector<Vector3d>& points, const std::vector<int
     return v;
   }
   Accumulator<72> n[3];
-  bool ok = newell_expansions(points, loop, n);
+  bool ok = newell_expansions(int(loop.size()), LoopPoints{points, loop}, n);
   v = Vector3d(n[0].value(ok), n[1].value(ok), n[2].value(ok));
   if (exact) *exact = ok;
   return v;
@@ -215,9 +242,12 @@ Vector3d canonical_terms(Accumulator<N> n[3], bool ok, std::vector<double>& term
   exact = true;
   const Vector3d v(n[0].value(exact), n[1].value(exact), n[2].value(exact));
   exact = exact && ok;
-  const Vector3d w = canonical_direction(v, exact);
-  // (A product that underflowed leaves no exact expansion: the rounded normal stands for it.)
-  if (exact || !ok || w == Vector3d::Zero()) return w;
+  Vector3d w = canonical_direction(v, exact);
+  // (A product that underflowed leaves no exact expansion: the rounded normal stands for it.
+  // An axis, one nonzero component, is exactly a double direction: a cap or a box's face.)
+  const int nonzero = (w.x() != 0) + (w.y() != 0) + (w.z() != 0);
+  if (nonzero == 1 && !exact) w = canonical_direction(w, exact = true);
+  if (exact || !ok || nonzero == 0) return w;
   // The expansions scaled as canonical_direction scaled v (a power of two, in two steps).
   const int e = exponent_of(v.cwiseAbs().maxCoeff());
   const double half = power_of_two(-e / 2), rest = power_of_two(-e - (-e / 2));
@@ -235,16 +265,52 @@ Vector3d canonical_terms(Accumulator<N> n[3], bool ok, std::vector<double>& term
 }  // namespace
 
 Vector3d gauss_normal(const std::vector<Vector3d>& points, const std::vector<int>& loop, std::vector<double>& terms,
-                      int count[3], bool& exact) {
+                      int count[3], GaussKind& kind, int& exponent) {
+  count[0] = count[1] = count[2] = 0;
   Vector3d v;
-  if (small_integer_newell(points, loop, v)) {
-    count[0] = count[1] = count[2] = 0;
-    exact = true;
-    return canonical_direction(v, true);
+  if (small_integer_newell(points, loop, v)) return kind = GaussKind::Exact, canonical_direction(v, true);
+  // In double where its bound proves every sign (each component clear of its bound, or a sum of
+  // zero products) and keeps the canonical vector within kRoundedNormal of the exact one:
+  // no expansion until a predicate needs one (GaussKind::OnDemand).
+  const LoopPoints point{points, loop};
+  const int n = int(loop.size());
+  Vector3d bound;
+  v = newell_double(n, point, bound);
+  bool proven = v != Vector3d::Zero();
+  for (int d = 0; d < 3; ++d) proven = proven && (bound[d] == 0 ? v[d] == 0 : std::abs(v[d]) > bound[d]);
+  if (proven) {
+    exponent = exponent_of(v.cwiseAbs().maxCoeff());
+    const Vector3d w = canonical_direction(v, false);
+    const int nonzero = (v.x() != 0) + (v.y() != 0) + (v.z() != 0);
+    const bool flushed = (w.x() != 0) + (w.y() != 0) + (w.z() != 0) != nonzero;
+    if (nonzero == 1) return kind = GaussKind::Exact, canonical_direction(w, true);  // an axis
+    if (!flushed && bound.maxCoeff() * power_of_two(-exponent / 2) * power_of_two(-exponent - (-exponent / 2)) <= kRoundedNormal)
+      return kind = GaussKind::OnDemand, w;
   }
-  Accumulator<72> n[3];
-  const bool ok = newell_expansions(points, loop, n);
-  return canonical_terms(n, ok, terms, count, exact);
+  Accumulator<72> acc[3];
+  const bool ok = newell_expansions(n, point, acc);
+  bool exact = true;
+  const Vector3d w = canonical_terms(acc, ok, terms, count, exact);
+  kind = exact || count[0] + count[1] + count[2] == 0 ? GaussKind::Exact : GaussKind::Stored;
+  return w;
+}
+
+ExactVector exact_gauss_normal(const int* loop, int n, const double* px, const double* py, const double* pz,
+                               int exponent, double* local) {
+  const auto point = [&](int k) { return Vector3d(px[loop[k]], py[loop[k]], pz[loop[k]]); };
+  Accumulator<72> acc[3];
+  newell_expansions(n, point, acc);
+  const double half = power_of_two(-exponent / 2), rest = power_of_two(-exponent - (-exponent / 2));
+  ExactVector out{{local, local + kMaxGaussTerms, local + 2 * kMaxGaussTerms}, {0, 0, 0}, 1.0};
+  for (int k = 0; k < 3; ++k) {
+    acc[k].compress();
+    double* t = local + k * kMaxGaussTerms;
+    for (int i = std::max(0, acc[k].n - kMaxGaussTerms); i < acc[k].n; ++i) {
+      const double x = acc[k].e[i] * half * rest;
+      if (std::abs(x) >= kTinyComponent) t[out.count[k]++] = x;
+    }
+  }
+  return out;
 }
 
 Vector3d gauss_side_normal(const Vector3d& p, const Vector3d& q, const ExactVector& n, std::vector<double>& terms,

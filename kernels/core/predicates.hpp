@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 namespace minksum::detail {
@@ -12,6 +13,10 @@ namespace minksum::detail {
 /// Components below this are flushed to zero in the Gauss normals (shape.cpp, overlay.cpp),
 /// so that no product of three components underflows and the expansions stay exact.
 constexpr double kTinyComponent = 0x1p-300;
+
+/// How far a rounded Gauss normal's component (canonical: at most 1) may be from its exact
+/// value: gauss_normal keeps a Newell normal in double only within this bound.
+constexpr double kRoundedNormal = 1e-14;
 
 /// The most terms a Gauss normal's component keeps (gauss_normal; a loop's Newell normal needs
 /// 2 to 4 on coordinates of one scale).
@@ -48,23 +53,24 @@ inline ExactVector exact_vector(const Eigen::Vector3d& v) {
   return {{&v.x(), &v.y(), &v.z()}, {v.x() != 0, v.y() != 0, v.z() != 0}, 1.0};
 }
 
-/// The sign of det[p; q; r] where the doubles prove it though each component may be off its
-/// exact value by 2^-52 of itself (rounded Gauss normals: 3 x 2^-52 of each product, on top
-/// of orient's own 7.8e-16); 0 where they cannot (the exact vectors decide).
+/// The sign of det[p; q; r] where the doubles prove it though each component (at most 1) may
+/// be off its exact value by kRoundedNormal (rounded Gauss normals, gauss_normal): at most 18
+/// kRoundedNormal in all, on top of orient's own 7.8e-16 of the permanent; 0 where they cannot
+/// (the exact vectors decide).
 inline int orient_rounded_filter(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& r) {
   const Eigen::Vector3d c = q.cross(r);
   const double det = p.dot(c);
   const double perm = p.cwiseAbs().dot(Eigen::Vector3d(std::abs(q.y() * r.z()) + std::abs(q.z() * r.y()),
                                                        std::abs(q.z() * r.x()) + std::abs(q.x() * r.z()),
                                                        std::abs(q.x() * r.y()) + std::abs(q.y() * r.x())));
-  return std::abs(det) > 2e-15 * perm ? (det > 0 ? 1 : -1) : 0;
+  return std::abs(det) > 1e-15 * perm + 20 * kRoundedNormal ? (det > 0 ? 1 : -1) : 0;
 }
 
 /// The exact sign of det[p; q; r] for exact vectors (every term 0 or within [2^-300, 2^300]).
 int orient_exact(const ExactVector& p, const ExactVector& q, const ExactVector& r);
 
-/// Whether the exact vectors p and q point exactly the same way (p x q = 0, p . q > 0).
-bool same_direction_exact(const ExactVector& p, const ExactVector& q);
+/// Whether the exact vectors p and q lie on one line (p x q = 0).
+bool collinear_exact(const ExactVector& p, const ExactVector& q);
 
 /// The Newell normal sum_k p_k x p_(k+1) of a closed loop, summed exactly and rounded once:
 /// independent of the loop's start and of translation, and exactly negated for the negated,
@@ -72,14 +78,25 @@ bool same_direction_exact(const ExactVector& p, const ExactVector& q);
 Eigen::Vector3d exact_newell(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& loop,
                              bool* exact = nullptr);
 
-/// A face's Gauss normal: canonical_direction of its loop's exact Newell normal. Where that
-/// normal is not a double vector (rounded coordinates), its three expansions, scaled by the
-/// power of two that made it canonical, are appended to `terms` (component k's count in
-/// count[k]; terms below 2^-300 of the largest dropped) and `exact` is false; else nothing is
-/// appended (counts 0) and `exact` is true. Exactly parallel faces get the same vector where
-/// the normal is exact, or where one loop is the other scaled by a power of two.
+/// How a Gauss normal's exact value is had: it is the stored double vector (Exact), its
+/// expansions are stored beside it (Stored), or they are computed from the face's loop when a
+/// predicate first needs them (OnDemand: exact_gauss_normal).
+enum class GaussKind : std::uint8_t { Exact, Stored, OnDemand };
+
+/// A face's Gauss normal: canonical_direction of its loop's exact Newell normal. Exact where
+/// that normal is a double vector or an axis. Else rounded: OnDemand where the Newell normal in
+/// double proves every sign and lies within kRoundedNormal of the exact one scaled alike (the canonical
+/// scale 2^-exponent, for exact_gauss_normal); else Stored, the exact normal's three
+/// expansions scaled alike appended to `terms` (component k's count in count[k]; terms below
+/// 2^-300 of the largest dropped). Exactly parallel faces get the same vector where the normal
+/// is Exact.
 Eigen::Vector3d gauss_normal(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& loop,
-                             std::vector<double>& terms, int count[3], bool& exact);
+                             std::vector<double>& terms, int count[3], GaussKind& kind, int& exponent);
+
+/// The exact normal of an OnDemand face (its loop of n vertex indices, the shape's vertices,
+/// gauss_normal's exponent), in local[3 * kMaxGaussTerms].
+ExactVector exact_gauss_normal(const int* loop, int n, const double* px, const double* py, const double* pz,
+                               int exponent, double* local);
 
 /// A flat polygon's side normal: canonical_direction of (q - p) x n, exactly (n the
 /// polygon's exact normal; an outward side normal for a counter-clockwise edge p -> q about

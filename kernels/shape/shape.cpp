@@ -56,26 +56,32 @@ Status prepare_flat(const ConvexPolytope& p, ShapeData& s, double extent, Topolo
       return Status::InvalidMesh;
   s.faces = K + 2, s.arcs = 3 * K, s.cells = 2 * K;
   s.gauss.resize(size_t(s.faces));
-  s.gauss_terms.clear(), s.gauss_term_start.assign(1, 0);
+  s.gauss_terms.clear(), s.gauss_term_start.assign(1, 0), s.gauss_kind.resize(size_t(s.faces));
   std::vector<double>& terms = s.gauss_terms;
   const auto set_normal = [&s](int f, const Vector3d& m, const int count[3]) {
     s.gauss[f] = m;
+    s.gauss_kind[f] = count[0] + count[1] + count[2] ? GaussKind::Stored : GaussKind::Exact;
     for (int k = 0; k < 3; ++k) s.gauss_term_start.push_back(s.gauss_term_start.back() + count[k]);
   };
-  // The top face's exact normal, the bottom's its negation (the same terms negated), and each
-  // side's (b - a) x that normal, exactly: outward in the polygon's plane (its loop is
-  // counter-clockwise about n).
-  bool exact = true;
-  int count[3];
-  const Vector3d g = gauss_normal(p.vertices, top, terms, count, exact);
+  // The top face's exact normal (stored: the sides are built from it), the bottom's its
+  // negation (the same terms negated), and each side's (b - a) x that normal, exactly: outward
+  // in the polygon's plane (its loop is counter-clockwise about n).
+  GaussKind kind;
+  int count[3], exponent = 0;
+  const Vector3d g = gauss_normal(p.vertices, top, terms, count, kind, exponent);
   if (!(g.dot(n) > 0)) return Status::InvalidMesh;
+  if (kind == GaussKind::OnDemand) {
+    double local[3 * kMaxGaussTerms];
+    const ExactVector x = exact_gauss_normal(top.data(), K, s.px.data(), s.py.data(), s.pz.data(), exponent, local);
+    for (int c = 0; c < 3; ++c) terms.insert(terms.end(), x.terms[c], x.terms[c] + (count[c] = x.count[c]));
+  }
   set_normal(0, g, count);
   const size_t top_terms = terms.size();
   for (size_t t = 0; t < top_terms; ++t) terms.push_back(-terms[t]);
   set_normal(1, -g, count);
   // (The top's exact normal held apart: the sides append to the terms it lives in.)
   double held_terms[3 * kMaxGaussTerms];
-  ExactVector held = s.exact_normal(0);
+  ExactVector held = s.exact_normal(0, held_terms);
   for (int c = 0, at = 0; c < 3; at += held.count[c++])
     held.terms[c] = std::copy(held.terms[c], held.terms[c] + held.count[c], held_terms + at) - held.count[c];
   for (int k = 0; k < K; ++k) {
@@ -124,15 +130,15 @@ Status prepare_solid(const ConvexPolytope& p, ShapeData& s, Topology& t) {
   s.faces = F, s.arcs = E, s.cells = V;
   s.gauss.resize(size_t(F));
   s.gauss_terms.clear(), s.gauss_term_start.assign(1, 0);
+  s.gauss_kind.resize(size_t(F)), s.gauss_exponent.resize(size_t(F));
   t.loop_start.assign(1, 0), t.loop_cell.clear();
   for (int f = 0; f < F; ++f) {
     const Face& face = p.faces[f];
     if (!unit(face.normal) || face.loop.size() < 3) return Status::InvalidMesh;
     for (int v : face.loop)
       if (v < 0 || v >= V) return Status::InvalidMesh;
-    bool exact = true;
     int count[3];
-    const Vector3d g = gauss_normal(p.vertices, face.loop, s.gauss_terms, count, exact);
+    const Vector3d g = gauss_normal(p.vertices, face.loop, s.gauss_terms, count, s.gauss_kind[f], s.gauss_exponent[f]);
     if (!(g.dot(face.normal) > 0)) return Status::InvalidMesh;  // a loop against its normal
     s.gauss[f] = g;
     for (int k = 0; k < 3; ++k) s.gauss_term_start.push_back(s.gauss_term_start.back() + count[k]);
@@ -245,6 +251,7 @@ Status check_map(ShapeData& s) {
     if (!(s.dir[e].dot(c) > 0)) return Status::InvalidMesh;
     s.pole_slack = std::max(s.pole_slack, s.dir[e].normalized().cross(c.normalized()).norm());
   }
+  double local[3][3 * kMaxGaussTerms];
   for (int c = 0; c < s.cells; ++c) {
     const int begin = m.cell_start[c], n = m.cell_start[c + 1] - begin;
     for (int k = 0; k < n; ++k) {
@@ -254,7 +261,7 @@ Status check_map(ShapeData& s) {
       if (!s.rounded_normal(f0) && !s.rounded_normal(f1) && !s.rounded_normal(f2))
         turn = orient(g(f0), g(f1), g(f2));
       else if (!(turn = orient_rounded_filter(g(f0), g(f1), g(f2))))
-        turn = orient_exact(s.exact_normal(f0), s.exact_normal(f1), s.exact_normal(f2));
+        turn = orient_exact(s.exact_normal(f0, local[0]), s.exact_normal(f1, local[1]), s.exact_normal(f2, local[2]));
       if (turn <= 0) return Status::InvalidMesh;
     }
   }
@@ -277,6 +284,7 @@ Status prepare(const ConvexPolytope& p, ShapeData& s, bool negated_layout) {
   if (!p.flat)
     for (int e = 0; e < s.arcs; ++e)
       if (s.map[0].arc[e].L != p.edges[e].left || s.map[0].arc[e].R != p.edges[e].right) return Status::InvalidMesh;
+  s.any_rounded = std::any_of(s.gauss_kind.begin(), s.gauss_kind.end(), [](GaussKind k) { return k != GaussKind::Exact; });
   if (check_map(s) != Status::Ok) return Status::InvalidMesh;
   // Per face, where its loop has its smallest vertex: the sums' loops start there.
   for (int r = 0; r < 1 + negated_layout; ++r)

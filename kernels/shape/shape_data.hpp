@@ -61,20 +61,31 @@ struct ShapeData {
   std::vector<Eigen::Vector3d> gauss;
   std::vector<std::uint8_t> gauss_nonzero;  // per face: bit k set iff component k of its Gauss normal is not 0
   /// Where a face's exact normal is not a double vector (rounded coordinates), the predicates
-  /// read it exactly: component k of face f is the expansion gauss_terms[gauss_term_start[3f +
-  /// k] ... gauss_term_start[3f + k + 1]), scaled as gauss[f] is (gauss_normal). A face with
-  /// no terms is exact as gauss[f] stores it.
+  /// read it exactly (gauss_normal): Stored, component k of face f is the expansion
+  /// gauss_terms[gauss_term_start[3f + k] ... gauss_term_start[3f + k + 1]); OnDemand, it is
+  /// computed from the face's loop (a solid's: its cells are its vertices) and
+  /// gauss_exponent[f]. Both scaled as gauss[f] is.
+  std::vector<GaussKind> gauss_kind;
   std::vector<double> gauss_terms;
   std::vector<int> gauss_term_start;  // 3 faces + 1 entries
-  /// The exact normal of face f (the doubles of gauss[f] where it has no terms).
-  ExactVector exact_normal(int f) const {
-    const int* at = &gauss_term_start[size_t(3 * f)];
-    if (at[0] == at[3]) return exact_vector(gauss[size_t(f)]);
+  std::vector<int> gauss_exponent;
+  bool any_rounded = false;  ///< some face is not GaussKind::Exact
+  /// The exact normal of face f: the doubles of gauss[f], its stored terms, or computed into
+  /// `local` (3 kMaxGaussTerms doubles).
+  ExactVector exact_normal(int f, double* local) const {
+    const size_t F = size_t(f);
+    if (gauss_kind[F] == GaussKind::Exact) return exact_vector(gauss[F]);
+    if (gauss_kind[F] == GaussKind::OnDemand) {
+      const int first = map[0].loop_start[F], n = map[0].loop_start[F + 1] - first;
+      return exact_gauss_normal(&map[0].loop_cell[size_t(first)], n, px.data(), py.data(), pz.data(),
+                                gauss_exponent[F], local);
+    }
+    const int* at = &gauss_term_start[3 * F];
     const double* t = gauss_terms.data();
     return {{t + at[0], t + at[1], t + at[2]}, {at[1] - at[0], at[2] - at[1], at[3] - at[2]}, 1.0};
   }
-  /// Whether face f's exact normal has terms (is not gauss[f] itself).
-  bool rounded_normal(int f) const { return gauss_term_start[size_t(3 * f)] != gauss_term_start[size_t(3 * f + 3)]; }
+  /// Whether face f's exact normal is not gauss[f] itself.
+  bool rounded_normal(int f) const { return gauss_kind[size_t(f)] != GaussKind::Exact; }
   std::vector<double> nx, ny, nz;           // unit face normals (the sums' planes)
   MapLayout map[2];                         // [0] the shape's own, [1] that of -B
   std::vector<Eigen::Vector3d> pole[2];     // per arc, in each layout: G_L x G_R (for -B: -G_R x -G_L)

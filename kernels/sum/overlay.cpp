@@ -53,22 +53,47 @@ using Eigen::Vector3d;
 namespace {
 
 // The static filter of every sign: |G| components are at most 2 (canonical normals, turned),
-// so c . G is within 192 ulp(1) ~ 2.2e-14 of det(G, G_L, G_R); 1e-13 leaves a margin.
-constexpr double kFilter = 1e-13;
+// so c . G is within 192 ulp(1) ~ 2.2e-14 of det(G, G_L, G_R); a rounded normal's own
+// rounding (kRoundedNormal per component, unturned) adds at most 1.8e-13; 4e-13 leaves a margin.
+constexpr double kFilter = 4e-13;
 
-// The exact sign of det(G_p, G_q, G_r) for normals of placed shapes: orient on the doubles
-// where all three are exact as stored; else the doubles past a filter that covers their
-// rounding, then the exact terms.
+// Whether rounded normals a and b are within their rounding of one line (canonical vectors:
+// components at most 1, each within kRoundedNormal of its exact value).
+inline bool nearly_collinear(const Vector3d& a, const Vector3d& b) {
+  return a.cross(b).cwiseAbs().maxCoeff() <= 10 * kRoundedNormal;
+}
+
+// Whether normal f of X and normal g of Y (of the other operand) lie exactly on one line: their
+// exact terms, once per pair of faces and way (Placed::collinear: a face of A has at most one
+// face of B each way near its line; the aligned prisms' ties ask the same pair many times).
+bool collinear(const Placed& X, int f, const Placed& Y, int g) {
+  const Placed& A = X.is_a ? X : Y;
+  const int fa = X.is_a ? f : g, fb = X.is_a ? g : f;
+  int& memo = A.collinear[2 * fa + (X.g[f].dot(Y.g[g]) > 0)];
+  if (memo >= 0 && memo >> 1 == fb) return memo & 1;
+  double x[3 * kMaxGaussTerms], y[3 * kMaxGaussTerms];
+  const bool on_line = collinear_exact(X.exact(f, x), Y.exact(g, y));
+  memo = 2 * fb + on_line;
+  return on_line;
+}
+
+// The exact sign of det(G_p, G_q, G_r) for normals of placed shapes (Q and R one operand, P
+// the other or the same): orient on the doubles where all three are exact as stored; else the
+// doubles past a filter that covers their rounding; else 0 where G_p lies on the line of G_q
+// or G_r (a face parallel to another: the rounded ties); else the exact terms.
 int orient_normals(const Placed& P, int p, const Placed& Q, int q, const Placed& R, int r) {
   if (!P.rounded_normal(p) && !Q.rounded_normal(q) && !R.rounded_normal(r)) return orient(P.g[p], Q.g[q], R.g[r]);
   if (const int s = orient_rounded_filter(P.g[p], Q.g[q], R.g[r])) return s;
-  return orient_exact(P.exact(p), Q.exact(q), R.exact(r));
+  if (P.is_a != Q.is_a && ((nearly_collinear(P.g[p], Q.g[q]) && collinear(P, p, Q, q)) ||
+                           (nearly_collinear(P.g[p], R.g[r]) && collinear(P, p, R, r))))
+    return 0;
+  double x[3][3 * kMaxGaussTerms];
+  return orient_exact(P.exact(p, x[0]), Q.exact(q, x[1]), R.exact(r, x[2]));
 }
 
 // The exact side of X's arc e (its pole) on which Y's normal f lies: sign det(G_f, G_L, G_R):
 // the filter, then a zero for want of terms (no component of G_f meets a nonzero one of the
-// pole's), then the exact predicate. (kFilter also covers rounded normals' own rounding: at
-// most 3 x 2^-52 of each of the six products, 1.6e-14 in all.)
+// pole's), then the exact predicate.
 inline int side(const Placed& X, int e, const Placed& Y, int f) {
   const Vector3d &c = X.c[e], &g = Y.g[f];
   const double v = c.x() * g.x() + c.y() * g.y() + c.z() * g.z();
@@ -78,14 +103,13 @@ inline int side(const Placed& X, int e, const Placed& Y, int f) {
   return orient_normals(Y, f, X, X.L(e), X, X.R(e));
 }
 
-// Whether normal f of X and normal g of Y point exactly the same way: equal vectors where both
-// are exact as stored; else (rounded normals, parallel or a true sliver apart) their terms.
+// Whether normal f of X and normal g of Y (the other operand) point exactly the same way: equal
+// vectors where both are exact as stored; else (rounded normals, parallel or a true sliver
+// apart) their exact terms.
 bool same_normal(const Placed& X, int f, const Placed& Y, int g) {
   const Vector3d &a = X.g[f], &b = Y.g[g];
   if (!X.rounded_normal(f) && !Y.rounded_normal(g)) return a == b;
-  // Canonical vectors have components within [0.5, 1) at most; each within 2^-52 of exact.
-  if (!(a.dot(b) > 0) || a.cross(b).cwiseAbs().maxCoeff() > 1e-14) return false;
-  return same_direction_exact(X.exact(f), Y.exact(g));
+  return a.dot(b) > 0 && nearly_collinear(a, b) && collinear(X, f, Y, g);
 }
 
 // Whether Y's normal f lies beyond the side of X's cell at `slot` (the cell across is higher
@@ -164,8 +188,12 @@ bool right_end_ahead(const Placed& X, int e, const Placed& A, int from, int to) 
   const Vector3d axis = Vector3d::Unit(k);
   if (!A.rounded_normal(from) && !A.rounded_normal(to) && !X.rounded_normal(X.R(e)))
     return orient(axis, A.g[from], X.g[X.R(e)]) == orient(axis, A.g[from], A.g[to]);
-  const ExactVector u = exact_vector(axis), f = A.exact(from);
-  return orient_exact(u, f, X.exact(X.R(e))) == orient_exact(u, f, A.exact(to));
+  const auto turn = [&](const Placed& P, int g) {
+    if (const int s = orient_rounded_filter(axis, A.g[from], P.g[g])) return s;
+    double x[2][3 * kMaxGaussTerms];
+    return orient_exact(exact_vector(axis), A.exact(from, x[0]), P.exact(g, x[1]));
+  };
+  return turn(X, X.R(e)) == turn(A, to);
 }
 
 // The other side of cell `cell` at its corner `corner`, next to the side at `slot`.
@@ -369,7 +397,7 @@ void place(const ShapeData& s, const Eigen::Isometry3d& pose, const Eigen::Matri
     }
     out.g = negate ? buf.g.data() : s.gauss.data(), out.g_nonzero = s.gauss_nonzero.data();
     out.c = s.pole[negate].data(), out.c_zero = s.pole_zero.data();
-    out.rounded = !s.gauss_terms.empty();
+    out.rounded = s.any_rounded;
   } else {
     // Turned, with components below kTinyComponent zeroed (the expansions' range); the poles
     // from the turned normals themselves (not turned): the filter's bound holds against the
@@ -431,14 +459,14 @@ bool Overlay::place_rays(const Placed& N, int nf, const Placed& R, const std::ve
                                      std::abs(n.z() * r.x()) + std::abs(n.x() * r.z()),
                                      std::abs(n.x() * r.y()) + std::abs(n.y() * r.x()))};
   }
-  // (Rounded normals: the filter also covers their own rounding, as orient_normals' does.)
-  const double filter = N.rounded || R.rounded || O.rounded ? 2e-15 : 1e-15;
+  // (Rounded normals: the filter also covers their own rounding, as orient_rounded_filter's.)
+  const double slack = N.rounded || R.rounded || O.rounded ? 20 * kRoundedNormal : 0.0;
   const auto turn = [&](int k, int oj) {
     const Vector3d& o = O.g[oj];
     const double det = o.dot(turns[k].c), perm = o.cwiseAbs().dot(turns[k].bound);
-    if (std::abs(det) > filter * perm) return det > 0 ? 1 : -1;
+    if (std::abs(det) > 1e-15 * perm + slack) return det > 0 ? 1 : -1;
     if (perm == 0) return 0;
-    return filter > 1e-15 ? orient_normals(O, oj, N, nf, R, ref[k].to) : orient_exact(o, n, R.g[ref[k].to]);
+    return slack > 0 ? orient_normals(O, oj, N, nf, R, ref[k].to) : orient_exact(o, n, R.g[ref[k].to]);
   };
   for (int j = 0, k = 0; j < no; ++j) {
     const int oj = other[j].to;
@@ -546,8 +574,13 @@ bool Overlay::locate_b_normals(const Placed& A, const Placed& B) {
   return tail == F;
 }
 
-bool Overlay::run(const Placed& A, const Placed& B, MinkowskiSum& out) {
+bool Overlay::run(Placed& A, Placed& B, MinkowskiSum& out) {
   const ShapeData &sa = *A.s, &sb = *B.s;
+  A.is_a = true, B.is_a = false;
+  if (A.rounded || B.rounded) {  // (the memo of rounded ties: per face of A and way)
+    collinear.assign(2 * size_t(sa.faces), -1);
+    A.collinear = collinear.data();
+  }
   dedupe_all = sa.polytope_ref->flat || sb.polytope_ref->flat;
   map_normals = std::max(sa.pole_slack, sb.pole_slack) > 1e-10;
   merged = false;

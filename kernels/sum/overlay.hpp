@@ -30,6 +30,11 @@ struct Placed {
   const std::uint8_t* c_zero;     ///< per arc: ShapeData::pole_zero of c
   const double *px, *py, *pz;     ///< vertices in the world frame
   bool rounded = false;           ///< some normal has exact terms (ShapeData::gauss_terms) the predicates read
+  bool is_a = false;              ///< this is A (the overlay's frame)
+  /// A's only: per face and way (2 f + same way), the face of B last found near its line and
+  /// whether it lies exactly on it (2 g + on line; -1: none yet): the overlay's memo of the
+  /// rounded ties (overlay.cpp, collinear).
+  int* collinear = nullptr;
   Rigid world;                    ///< body -> world pose (negated for -B)
   Eigen::Matrix3d frame;          ///< body -> overlay frame rotation (negated for -B)
   int L(int e) const { return m->arc[e].L; }
@@ -39,10 +44,11 @@ struct Placed {
   Eigen::Vector3d point(int v) const { return {px[v], py[v], pz[v]}; }
   /// Whether normal f is read from its exact terms (not g[f] itself).
   bool rounded_normal(int f) const { return rounded && s->rounded_normal(f); }
-  /// Normal f exactly: its terms (negated for -B), or g[f].
-  ExactVector exact(int f) const {
+  /// Normal f exactly: its terms (negated for -B; computed into `local`, 3 kMaxGaussTerms
+  /// doubles, where they are not stored), or g[f].
+  ExactVector exact(int f, double* local) const {
     if (!rounded_normal(f)) return exact_vector(g[f]);
-    ExactVector x = s->exact_normal(f);
+    ExactVector x = s->exact_normal(f, local);
     x.sign = negate ? -1.0 : 1.0;
     return x;
   }
@@ -85,7 +91,7 @@ struct Crossing {
 class Overlay {
  public:
   /// A (+) B into out; false if a step failed (the caller runs the hull corrector).
-  bool run(const Placed& A, const Placed& B, MinkowskiSum& out);
+  bool run(Placed& A, Placed& B, MinkowskiSum& out);
 
   /// A direction leaving a facet normal along an arc towards the normal `to`, and the cell
   /// counter-clockwise after it (seen from outside).
@@ -119,6 +125,7 @@ class Overlay {
   };
   std::vector<Turn> turns;       // place_rays': per ray of the reference, n x r and its permanent
   std::vector<int> face_sector;  // per loop position of A: its ray's sector about B's coincident face (place_rays)
+  std::vector<int> collinear;    // Placed::collinear of A
   bool merged = false;           // some facet merges features (a tie): checked as a closed manifold
   bool dedupe_all = false;       // a flat operand's zero-length arcs repeat vertices
   bool map_normals = false;      // crossing normals from the poles, every offset the loop's largest
