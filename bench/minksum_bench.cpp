@@ -25,7 +25,9 @@
 // Degenerate/<case>/<method>: the degenerate families of tools::degenerate_pairs() (aligned
 // boxes, boxes about a shared axis, aligned prisms of 8 to 64 sides, a box with a prism, two
 // copies, A (-) A, coplanar faces; integer coordinates, every tie exact) by osm_prepared (the
-// shapes in their body frames, identity poses), qhull and bullet_hull.
+// shapes in their body frames, identity poses), qhull and bullet_hull; and the rounded-tie
+// families of tools::rounded_pairs() (cos/sin prisms, boxes turned by rounded angles: the
+// faces' exact normals are not doubles), Degenerate/<case>_rounded.
 // Scaling/<n>/<method>: random polytopes of n points on a sphere per operand (seeded), for
 // n = 8 ... 512, by osm_prepared, qhull and cgal_quickhull, and n = 2048 by osm_prepared alone
 // (4 million pairwise sums are too slow to hull in every report): how the cost grows with
@@ -259,7 +261,9 @@ const int kRegistered = [] {
         ->Unit(benchmark::kMicrosecond);
     benchmark::RegisterBenchmark((base + "cgal_nef").c_str(), Table1Cgal, row, true)->Unit(benchmark::kMillisecond);
   }
-  for (const auto& pair : tools::degenerate_pairs()) {
+  auto degenerate = tools::degenerate_pairs();
+  for (auto& pair : tools::rounded_pairs()) degenerate.push_back(std::move(pair));
+  for (const auto& pair : degenerate) {
     const std::string base = "Degenerate/" + pair.name + "/";
     const double sign = pair.difference ? -1 : 1;
     benchmark::RegisterBenchmark((base + "osm_prepared").c_str(), DegeneratePrepared, pair)
