@@ -228,14 +228,21 @@ DegeneratePair degenerate_pair(int family, std::mt19937_64& rng) {
   }
 }
 
-std::vector<DegeneratePair> degenerate_pairs() {
+namespace {
+
+// The member of each of `families` families that seed 1 gives.
+std::vector<DegeneratePair> first_members(int families, DegeneratePair (*make)(int, std::mt19937_64&)) {
   std::vector<DegeneratePair> out;
-  for (int f = 0; f < kDegenerateFamilies; ++f) {
+  for (int f = 0; f < families; ++f) {
     std::mt19937_64 rng(1);
-    out.push_back(degenerate_pair(f, rng));
+    out.push_back(make(f, rng));
   }
   return out;
 }
+
+}  // namespace
+
+std::vector<DegeneratePair> degenerate_pairs() { return first_members(kDegenerateFamilies, degenerate_pair); }
 
 std::vector<Vector3d> cos_sin_prism(int n, double r, double z0, double z1, double phase) {
   std::vector<Vector3d> p;
@@ -282,14 +289,7 @@ DegeneratePair rounded_pair(int family, std::mt19937_64& rng) {
   }
 }
 
-std::vector<DegeneratePair> rounded_pairs() {
-  std::vector<DegeneratePair> out;
-  for (int f = 0; f < kRoundedFamilies; ++f) {
-    std::mt19937_64 rng(1);
-    out.push_back(rounded_pair(f, rng));
-  }
-  return out;
-}
+std::vector<DegeneratePair> rounded_pairs() { return first_members(kRoundedFamilies, rounded_pair); }
 
 Triangle random_triangle(std::mt19937_64& rng, double spread) {
   std::uniform_real_distribution<double> u(-1, 1);
