@@ -119,7 +119,8 @@ TEST(RealTime, KernelsAndQueriesDoNotAllocate) {
 // Sums and differences with a reused result: once the result and the per-thread scratch have
 // grown to the largest of them, no call allocates, ties or not (aligned boxes, boxes about a
 // shared axis, aligned prisms, a box with a prism, two copies, a mirrored pair, coplanar
-// faces; the generic Table 1 pairs), through prepared shapes under poses and through the
+// faces; the rounded-tie families and copies of rounded points; the generic Table 1 pairs),
+// through prepared shapes under poses and through the
 // polytope entry, which prepares both operands on every call.
 TEST(RealTime, SumsDoNotAllocateOnceTheResultHasGrown) {
   SKIP_UNLESS_COUNTING();
@@ -131,6 +132,9 @@ TEST(RealTime, SumsDoNotAllocateOnceTheResultHasGrown) {
     bool difference, common_pose;
   };
   std::vector<tools::DegeneratePair> inputs = tools::degenerate_pairs();
+  for (auto& r : tools::rounded_pairs()) inputs.push_back(std::move(r));
+  // (and a polytope of rounded points with itself: its normals' exact values come on demand)
+  inputs.push_back({"copies_rounded", tools::sphere_points(12, 3), tools::sphere_points(12, 3), false});
   const size_t degenerate = inputs.size();
   for (const auto& t : tools::table1_pairs()) inputs.push_back({t.name, t.a, t.b, false});
   std::vector<Operands> pairs(inputs.size());
