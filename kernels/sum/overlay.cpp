@@ -577,9 +577,16 @@ bool Overlay::locate_b_normals(const Placed& A, const Placed& B) {
 bool Overlay::run(Placed& A, Placed& B, MinkowskiSum& out) {
   const ShapeData &sa = *A.s, &sb = *B.s;
   A.is_a = true, B.is_a = false;
-  if (A.rounded || B.rounded) {  // (the memo of rounded ties: per face of A and way)
+  if (A.rounded || B.rounded) {  // (the memos of rounded ties: per face of A and way; exact normals)
     collinear.assign(2 * size_t(sa.faces), -1);
     A.collinear = collinear.data();
+    Placed* x[2] = {&A, &B};
+    for (int k = 0; k < 2; ++k) {
+      const size_t faces = size_t(x[k]->s->faces);
+      if (exact_terms[k].size() < faces * 3 * kMaxGaussTerms) exact_terms[k].resize(faces * 3 * kMaxGaussTerms);
+      exact_count[k].assign(3 * faces, -1);
+      x[k]->exact_terms = exact_terms[k].data(), x[k]->exact_count = exact_count[k].data();
+    }
   }
   dedupe_all = sa.polytope_ref->flat || sb.polytope_ref->flat;
   map_normals = std::max(sa.pole_slack, sb.pole_slack) > 1e-10;

@@ -35,6 +35,10 @@ struct Placed {
   /// whether it lies exactly on it (2 g + on line; -1: none yet): the overlay's memo of the
   /// rounded ties (overlay.cpp, collinear).
   int* collinear = nullptr;
+  /// Per face: its exact normal, once computed (GaussKind::OnDemand: 3 kMaxGaussTerms doubles,
+  /// and 3 counts, -1 until then), for the rest of the overlay (its memo; overlay.cpp, run).
+  double* exact_terms = nullptr;
+  std::int8_t* exact_count = nullptr;
   Rigid world;                    ///< body -> world pose (negated for -B)
   Eigen::Matrix3d frame;          ///< body -> overlay frame rotation (negated for -B)
   int L(int e) const { return m->arc[e].L; }
@@ -48,7 +52,19 @@ struct Placed {
   /// doubles, where they are not stored), or g[f].
   ExactVector exact(int f, double* local) const {
     if (!rounded_normal(f)) return exact_vector(g[f]);
-    ExactVector x = s->exact_normal(f, local);
+    ExactVector x;
+    if (s->gauss_kind[size_t(f)] == GaussKind::OnDemand && exact_count) {
+      double* t = exact_terms + size_t(f) * 3 * kMaxGaussTerms;
+      std::int8_t* n = exact_count + 3 * size_t(f);
+      if (n[0] < 0) {
+        x = s->exact_normal(f, t);
+        for (int k = 0; k < 3; ++k) n[k] = std::int8_t(x.count[k]);
+      } else {
+        x = {{t, t + kMaxGaussTerms, t + 2 * kMaxGaussTerms}, {n[0], n[1], n[2]}, 1.0};
+      }
+    } else {
+      x = s->exact_normal(f, local);
+    }
     x.sign = negate ? -1.0 : 1.0;
     return x;
   }
@@ -126,6 +142,8 @@ class Overlay {
   std::vector<Turn> turns;       // place_rays': per ray of the reference, n x r and its permanent
   std::vector<int> face_sector;  // per loop position of A: its ray's sector about B's coincident face (place_rays)
   std::vector<int> collinear;    // Placed::collinear of A
+  std::vector<double> exact_terms[2];  // Placed::exact_terms of A and B
+  std::vector<std::int8_t> exact_count[2];
   bool merged = false;           // some facet merges features (a tie): checked as a closed manifold
   bool dedupe_all = false;       // a flat operand's zero-length arcs repeat vertices
   bool map_normals = false;      // crossing normals from the poles, every offset the loop's largest
