@@ -369,9 +369,11 @@ TEST_P(Kernels, SupportPushMatchesBruteForce) {
 
 // Triangle pairs for the batched distance: random ones (apart and meeting), near-parallel
 // ones (1e-3 ... 1e-9 rad) just apart, coplanar ones, small triangles at 1e6, flat ones
-// (collinear corners, a point), piercing ones, and pairs spanning `huge` and `tiny` (beyond
-// the kernel's range: the scalar path's lanes).
-std::vector<std::pair<Triangle, Triangle>> triangle_pairs(int n, unsigned seed, double huge, double tiny) {
+// (collinear corners, a point), piercing ones, pairs spanning `huge` and `tiny` (beyond the
+// kernel's range: the scalar path's lanes), and pairs just inside the range's ends (`high`,
+// `low`), where products of six coordinates would overflow or underflow.
+std::vector<std::pair<Triangle, Triangle>> triangle_pairs(int n, unsigned seed, double huge, double tiny, double high,
+                                                          double low) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-1, 1);
   const auto vec = [&] { return Vector3d(u(rng), u(rng), u(rng)); };
@@ -413,6 +415,12 @@ std::vector<std::pair<Triangle, Triangle>> triangle_pairs(int n, unsigned seed, 
           *x = {f * x->a, f * x->b, f * x->c};
         }
         break;
+      case 7:  // just inside the kernel's range (the span is at most twice the scale)
+        for (Triangle* x : {&s, &t}) {
+          const double f = k % 2 ? high / 2 : low;
+          *x = {f * x->a, f * x->b, f * x->c};
+        }
+        break;
       default:
         break;
     }
@@ -432,7 +440,9 @@ template <class T>
 void check_triangle_distance(Isa isa, unsigned seed) {
   ASSERT_TRUE(force_isa(isa));
   const bool single = std::is_same_v<T, float>;
-  const auto pairs = triangle_pairs(kN, seed, single ? 1e30 : 1e80, single ? 1e-30 : 1e-70);
+  // (The kernel's range is [kTriLow, kTriHigh] in simd/triangle_distance.hpp.)
+  const auto pairs = triangle_pairs(kN, seed, single ? 1e30 : 1e80, single ? 1e-30 : 1e-70, single ? 1e6 : 1e60,
+                                    single ? 1e-6 : 1e-60);
   auto S = std::make_unique<TriangleBatch<T, kN>>(), U = std::make_unique<TriangleBatch<T, kN>>();
   auto out = std::make_unique<TriangleDistances<T, kN>>();
   for (int k = 0; k < kN; ++k) S->set(k, pairs[k].first), U->set(k, pairs[k].second);

@@ -17,8 +17,8 @@ struct TriangleDistanceKernels : Lanes<T, Arch> {
   // 2005, 5.1.9, with its degenerate cases as selects), the 6 vertex-face distances where the
   // vertex projects into the other (non-flat) triangle, and 0 where an edge pierces the other
   // triangle's interior. Coordinates relative to the first corner of s; a lane whose span is
-  // outside [kTriLow, kTriHigh] (products of four coordinates would leave the float type's
-  // range) or not finite gets NaN, for the caller's scalar path.
+  // outside [kTriLow, kTriHigh] (products of four coordinates, the most any step takes, would
+  // leave the float type's range) or not finite gets NaN, for the caller's scalar path.
   static constexpr T kTriLow = std::is_same_v<T, float> ? T(1e-6) : T(1e-60);
   static constexpr T kTriHigh = std::is_same_v<T, float> ? T(1e6) : T(1e60);
 
@@ -71,7 +71,9 @@ struct TriangleDistanceKernels : Lanes<T, Arch> {
     for (int k = 0; k < 3; ++k) {
       const B h = dot(n, sub(o[k], v[0]));
       const V3 proj = axpy(zero - h / safe(n2), n, o[k]);
-      const B e2 = S::select(solid && inside(v, n, proj), h * h / safe(n2), inf);
+      // h (h / n2), not h^2 / n2: h^2 is a product of six coordinates, which leaves the range
+      // inside [kTriLow, kTriHigh] (at spans of 1e-60 it read 0 for pairs apart, at 1e52 inf).
+      const B e2 = S::select(solid && inside(v, n, proj), h * (h / safe(n2)), inf);
       if (swap)
         best.take(e2, proj, o[k]);
       else
