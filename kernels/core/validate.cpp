@@ -67,8 +67,8 @@ bool proper_rotation(const double* r, int stride) {
   const double det =
       (x[1] * y[2] - x[2] * y[1]) * z[0] + (x[2] * y[0] - x[0] * y[2]) * z[1] + (x[0] * y[1] - x[1] * y[0]) * z[2];
   const double tol = 1e-9;
-  return (std::abs(dot(x, x) - 1) <= tol) & (std::abs(dot(y, y) - 1) <= tol) & (std::abs(dot(z, z) - 1) <= tol) &
-         (std::abs(dot(x, y)) <= tol) & (std::abs(dot(x, z)) <= tol) & (std::abs(dot(y, z)) <= tol) & (det > 0);
+  return std::abs(dot(x, x) - 1) <= tol && std::abs(dot(y, y) - 1) <= tol && std::abs(dot(z, z) - 1) <= tol &&
+         std::abs(dot(x, y)) <= tol && std::abs(dot(x, z)) <= tol && std::abs(dot(y, z)) <= tol && det > 0;
 }
 
 }  // namespace detail
