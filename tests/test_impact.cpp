@@ -147,7 +147,7 @@ TEST(TimeOfImpact, TurningOntoAFaceOnIntegerCoordinates) {
             Status::Ok);
   const Vector3d axes[] = {Vector3d::UnitZ(), Vector3d::UnitX(), Vector3d(1, 1, 0).normalized(),
                            Vector3d(1, 0, 1).normalized(), Vector3d(1, 2, 2).normalized()};
-  const int samples = test::scaled(500, 50);  // (a tenth under the sanitizers)
+  const int samples = test::scaled(500, 50);  // (fewer under the sanitizers)
   for (const ConvexShape* B : {&box, &octahedron})
     for (const Vector3d& axis : axes)
       for (double angle : {0.25, M_PI / 2, 1.0, 3.0})
