@@ -14,6 +14,18 @@ namespace minksum::detail {
 /// Tag of the plain C++ path (one lane, no intrinsics).
 struct ScalarArch {};
 
+/// The error a b - p of p = fl(a b) (lanes V of T), by Dekker's split ("A floating-point
+/// technique for extending the available precision", 1971): exact without overflow, for |a|,
+/// |b| below 2^115 in float and 2^996 in double.
+template <class T, class V>
+V dekker_error(const V& a, const V& b, const V& p) {
+  const V f(T(std::is_same_v<T, float> ? 4097 : 134217729));  // 2^12 + 1, 2^27 + 1
+  const V ca = f * a, cb = f * b;
+  const V ah = ca - (ca - a), bh = cb - (cb - b);
+  const V al = a - ah, bl = b - bh;
+  return ((ah * bh - p) + ah * bl + al * bh) + al * bl;
+}
+
 /// Lanes of T on Arch, with the handful of operations the kernels use.
 template <class T, class Arch>
 struct Simd {
@@ -22,6 +34,16 @@ struct Simd {
   static B load(const T* p) { return B::load_aligned(p); }
   static void store(T* p, const B& v) { v.store_aligned(p); }
   static B fma(const B& a, const B& b, const B& c) { return xsimd::fma(a, b, c); }
+  /// p + e == a b exactly (p the rounded product): by a fused multiply-add where the ISA has
+  /// one, else by Dekker's split ("A floating-point technique for extending the available
+  /// precision", 1971), which xsimd's unfused fma on SSE would break. Same bits on every ISA.
+  static void two_product(const B& a, const B& b, B& p, B& e) {
+    p = a * b;
+    if constexpr (std::is_base_of_v<xsimd::avx512f, Arch> || std::is_base_of_v<xsimd::fma3<xsimd::avx2>, Arch>)
+      e = xsimd::fma(a, b, B(T(0)) - p);
+    else
+      e = dekker_error<T>(a, b, p);
+  }
   static B abs(const B& a) { return xsimd::abs(a); }
   static B sqrt(const B& a) { return xsimd::sqrt(a); }
   static B max(const B& a, const B& b) { return xsimd::max(a, b); }
@@ -98,6 +120,11 @@ struct Simd<T, ScalarArch> {
   // Not std::fma: without FMA hardware flags it is a slow library call; the scalar path is the
   // portable baseline and rounds twice, like SSE.
   static B fma(B a, B b, B c) { return a * b + c; }
+  /// p + e == a b exactly (Simd<T, Arch>::two_product; Dekker's split).
+  static void two_product(B a, B b, B& p, B& e) {
+    p = a * b;
+    e = dekker_error<T>(a, b, p);
+  }
   static B abs(B a) { return std::abs(a); }
   static B sqrt(B a) { return std::sqrt(a); }
   static B max(B a, B b) { return a > b ? a : b; }
