@@ -180,10 +180,14 @@ namespace {
 // The power of two that scales a loop (n points, point(k)) to a largest coordinate near 1:
 // exact, and the Newell products neither underflow nor overflow (the direction is the same).
 template <class Point>
-double loop_scale(int n, Point point) {
+int loop_exponent(int n, Point point) {
   double top = 0;
   for (int k = 0; k < n; ++k) top = std::max(top, point(k).cwiseAbs().maxCoeff());
-  const int e = top >= 0x1p-1000 ? exponent_of(top) : -1000;
+  return top >= 0x1p-1000 ? exponent_of(top) : -1000;
+}
+template <class Point>
+double loop_scale(int n, Point point) {
+  const int e = loop_exponent(n, point);
   return power_of_two(-e / 2) * power_of_two(-e - (-e / 2));
 }
 
@@ -208,21 +212,33 @@ bool newell_expansions(int n, Point point, Accumulator<72> acc[3]) {
 }
 
 // The same normal in double, and per component a bound on its error: 2 n + 2 roundings of the
-// sum of its 2 n products' magnitudes.
+// sum of its 2 n products' magnitudes; false where a product could have underflowed. It is
+// summed relative to the first point: the sum over the loop of (p_k - p_0) x (p_k+1 - p_0) is
+// Newell's normal for any loop (the p_0 terms cancel around it), and its products are of the
+// face's size, not of its distance from the origin, which made the bound too loose to prove an
+// icosahedron's faces (each difference's rounding is one more of the bound's roundings). The
+// normal is scaled as newell_expansions scales it times 2^-shift.
 template <class Point>
-Vector3d newell_double(int n, Point point, Vector3d& bound) {
-  const double scale = loop_scale(n, point);
-  Vector3d v = Vector3d::Zero(), magnitude = Vector3d::Zero();
-  for (int k = 0; k < n; ++k) {
-    const Vector3d a = point(k) * scale, b = point(k + 1 < n ? k + 1 : 0) * scale;
+bool newell_double(int n, Point point, Vector3d& v, Vector3d& bound, int& shift) {
+  const Vector3d o = point(0);
+  const auto rel = [&](int k) { return Vector3d(point(k) - o); };
+  const int e = loop_exponent(n, rel);
+  const double scale = power_of_two(-e / 2) * power_of_two(-e - (-e / 2));
+  shift = 2 * (e - loop_exponent(n, point));
+  v = bound = Vector3d::Zero();
+  double least = 1;  // the least nonzero scaled coordinate
+  for (int k = 1; k + 1 < n; ++k) {
+    const Vector3d a = rel(k) * scale, b = rel(k + 1) * scale;
     v += a.cross(b);
     for (int d = 0; d < 3; ++d) {
-      const int e = (d + 1) % 3, f = (d + 2) % 3;
-      magnitude[d] += std::abs(a[e] * b[f]) + std::abs(a[f] * b[e]);
+      const int x = (d + 1) % 3, y = (d + 2) % 3;
+      bound[d] += std::abs(a[x] * b[y]) + std::abs(a[y] * b[x]);
+      if (a[d] != 0) least = std::min(least, std::abs(a[d]));
+      if (b[d] != 0) least = std::min(least, std::abs(b[d]));
     }
   }
-  bound = (2.0 * n + 2) * 0x1p-52 * magnitude;
-  return v;
+  bound *= (2.0 * n + 2) * 0x1p-52;
+  return least > 0x1p-440;  // (products of two such are above 2^-880: none underflowed)
 }
 
 // A loop of a std::vector of points.
@@ -291,16 +307,17 @@ Vector3d gauss_normal(const std::vector<Vector3d>& points, const std::vector<int
   const LoopPoints point{points, loop};
   const int n = int(loop.size());
   Vector3d bound;
-  v = newell_double(n, point, bound);
-  bool proven = v != Vector3d::Zero();
+  int shift = 0;
+  bool proven = newell_double(n, point, v, bound, shift) && v != Vector3d::Zero();
   for (int d = 0; d < 3; ++d) proven = proven && (bound[d] == 0 ? v[d] == 0 : std::abs(v[d]) > bound[d]);
   if (proven) {
-    exponent = exponent_of(v.cwiseAbs().maxCoeff());
+    const int e = exponent_of(v.cwiseAbs().maxCoeff());
+    exponent = e + shift;  // (the exact normal's, as newell_expansions scales it)
     const Vector3d w = canonical_direction(v, false);
     const int nonzero = (v.x() != 0) + (v.y() != 0) + (v.z() != 0);
     const bool flushed = (w.x() != 0) + (w.y() != 0) + (w.z() != 0) != nonzero;
     if (nonzero == 1) return kind = GaussKind::Exact, canonical_direction(w, true);  // an axis
-    if (!flushed && bound.maxCoeff() * power_of_two(-exponent / 2) * power_of_two(-exponent - (-exponent / 2)) <= kRoundedNormal)
+    if (!flushed && bound.maxCoeff() * power_of_two(-e / 2) * power_of_two(-e - (-e / 2)) <= kRoundedNormal)
       return kind = GaussKind::OnDemand, w;
   }
   Accumulator<72> acc[3];
