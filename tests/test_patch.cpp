@@ -12,6 +12,7 @@
 #include <minksum/minksum.hpp>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "checks.hpp"
@@ -501,6 +502,25 @@ TEST(ContactPatch, MarginAndBadInput) {
   EXPECT_EQ(p.size, 4);
 }
 
+
+// A pose is accepted orthonormal to 1e-9 (proper_rotation): the patch's normal along a face
+// axis is still unit to rounding (it was the posed box's column, 4e-10 long).
+TEST(ContactPatch, NormalIsUnitForPosesOrthonormalToTheirTolerance) {
+  ConvexShape A, B, T;
+  ASSERT_EQ(shape_from_box(Box{}, A), Status::Ok);
+  ASSERT_EQ(shape_from_box(Box{}, B), Status::Ok);
+  ASSERT_EQ(shape_from_triangle(Triangle{{-0.5, -0.5, 0}, {0.5, -0.5, 0}, {0, 0.5, 0}}, T), Status::Ok);
+  Isometry3d loose = Isometry3d::Identity();
+  loose.linear() *= 1 + 4e-10;
+  const Isometry3d above(Eigen::Translation3d(0.2, 0.1, 2.05)), on(Eigen::Translation3d(0.2, 0.1, 1.05));
+  ContactPatch p;
+  ASSERT_EQ(contact_patch(A, loose, B, above, 0.1, p), Status::Ok);
+  EXPECT_EQ(p.size, 4);
+  EXPECT_NEAR(p.normal.norm(), 1.0, 4 * std::numeric_limits<double>::epsilon());
+  ASSERT_EQ(contact_patch(A, loose, T, on, 0.1, p), Status::Ok);
+  EXPECT_EQ(p.size, 3);
+  EXPECT_NEAR(p.normal.norm(), 1.0, 4 * std::numeric_limits<double>::epsilon());
+}
 
 // Ties (tests/ties.hpp): boxes in exact contact (face on face, edge, corner; quarter-turned) and
 // a box with a triangle touching it. The patch at margin 0 exists (an edge on an edge along an

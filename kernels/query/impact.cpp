@@ -228,7 +228,9 @@ Status advance(const Mover& a, const Mover& b, double tolerance, double reach, d
         // gap (the nearest features an edge's end, 1e-11 apart, turned by 1e-6 by rounding),
         // the distance itself: no point moves faster than |v| + |w| r, whatever the
         // direction (Mirtich's bound).
-        bound.n = (near_b - near_a) / apart, g = bound.at(0, &slope, support);
+        // (Unit by its own length: the query's distance and its rounded witnesses' differ, by
+        // 1e-9 of it at 4e-10 apart.)
+        bound.n = (near_b - near_a).normalized(), g = bound.at(0, &slope, support);
         if (!(g > 0.5 * tolerance) && exact.normal(pa, pb, apart, bound.n)) g = bound.at(0, &slope, support);
         if (!(g > 0.5 * tolerance)) {
           const double mu = (a.v - b.v).norm() + a.omega.norm() * a.radius + b.omega.norm() * b.radius;
@@ -247,7 +249,7 @@ Status advance(const Mover& a, const Mover& b, double tolerance, double reach, d
       // after a step by the distance alone, the certified one of the contact.
       if (t > 0 && !n.isZero()) return out.normal = n, Status::Ok;
       if (!exact.normal(pa, pb, tolerance, out.normal))
-        out.normal = apart > 0 ? Vector3d((near_b - near_a) / apart) : Vector3d::UnitZ();  // (none better known)
+        out.normal = apart > 0 ? Vector3d((near_b - near_a).normalized()) : Vector3d::UnitZ();  // (none better known)
       return Status::Ok;
     }
     const bool added = simplex.add(support);  // GJK's next support point: M's along -v

@@ -258,8 +258,10 @@ BoxPatch box_pair_patch(const Box& a, const Box& b, double margin, ContactPatch&
       });
   if (undecided) return BoxPatch::Undecided;
   if (best > margin) return BoxPatch::Apart;
-  Vector3d m = axis < 3   ? Vector3d(a.rotation.col(axis))
-               : axis < 6 ? Vector3d(b.rotation.col(axis - 3))
+  // (A face axis is a column of a rotation accepted as orthonormal to 1e-9, posed: unit to
+  // about that. The patch's normal is unit to rounding, as its users read it.)
+  Vector3d m = axis < 3   ? Vector3d(a.rotation.col(axis)).normalized()
+               : axis < 6 ? Vector3d(b.rotation.col(axis - 3)).normalized()
                           : a.rotation.col((axis - 6) / 3).cross(b.rotation.col((axis - 6) % 3)).normalized();
   if (m.dot(c) > 0) m = -m;  // from A towards B
   const Vector3d u = m.unitOrthogonal(), w = m.cross(u);
@@ -300,7 +302,7 @@ BoxPatch box_triangle_patch(const Box& a, const Triangle& t, double margin, Cont
     const double c = axis.dot(a.center), above = lo - (c + r), below = (c - r) - hi;
     if (std::max(above, below) > best) best = std::max(above, below), m = above >= below ? axis : Vector3d(-axis);
   };
-  for (int k = 0; k < 3; ++k) consider(a.rotation.col(k));
+  for (int k = 0; k < 3; ++k) consider(a.rotation.col(k).normalized());  // (as in box_pair_patch)
   consider(normal.normalized());
   for (int i = 0; i < 3; ++i)
     for (const Vector3d& edge : e) {
