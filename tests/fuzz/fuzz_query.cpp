@@ -1,4 +1,5 @@
-// The proximity queries on boxes and triangles from arbitrary numbers: a clear status, or
+// The proximity queries on boxes and triangles from arbitrary numbers (a first byte of 96 to
+// 127: box pairs with B turned from A by a tiny angle), a clear status, or
 // finite answers that agree with each other (distance >= 0, witnesses that realise it) and
 // with brute force (kinds 0 to 2: the least exact distance over the pairs of surface
 // triangles, test::exact_triangle_distance, and corner containment for a verdict of
@@ -475,7 +476,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   Proximity p;
   Status s;
   if (kind == 0) {
-    const Box a = box(in), b = box(in);
+    const Box a = box(in);
+    Box b = box(in);
+    if (first >= 96) {  // B turned from A by 10^-1 ... 10^-10 rad: nearly parallel edges everywhere
+      const int e = in.take<uint8_t>() % 10;
+      const Eigen::Vector3d axis(in.number(), in.number(), in.number());
+      if (axis.norm() > 0 && std::isfinite(axis.norm()))
+        b.rotation = a.rotation * Eigen::AngleAxisd(std::pow(10.0, -1.0 - e), axis.normalized()).toRotationMatrix();
+    }
     if ((s = proximity(a, b, p)) == Status::Ok) fuzz::check(p), brute(a, b, p);
     levels(a, b, s, p);
   } else if (kind == 1) {
