@@ -53,13 +53,16 @@ struct BoxProximityKernels : Lanes<T, Arch> {
     V3 pa, P;   // closest point of the facet (P, a point of M) and its preimage on A
   };
 
-  // x is g_i x g_j, accurate to a few ulps (PairRegister::generator_cross).
   template <class Role>
   [[gnu::always_inline]] static FacetEval facet(const Role& role, const V3& c, const V3& ca, const V3 (&g)[6],
-                                                const B (&g2)[6], const V3& gi, const V3& gj, const V3& x) {
+                                                const B (&g2)[6], const V3& gi, const V3& gj) {
     const B zero(T(0)), one(T(1)), inf(std::numeric_limits<T>::infinity());
     auto sgn = [&](const B& v) { return S::select(v < zero, -one, one); };
     auto clamp1 = [&](const B& v) { return S::max(-one, S::select(v > one, one, v)); };
+    // The facet's normal, exact to a few ulps for the generators as rounded (the zonotope they
+    // span is within rounding of M): the plain product of two nearly parallel generators
+    // misses its direction by an ulp over the sine of their angle.
+    const V3 x = cross_accurate(gi, gj);
     const B x2 = dot(x, x);
     const B sliver2(kSliverThreshold<T> * kSliverThreshold<T>);
     const auto valid = (x2 > sliver2 * dot(gi, gi) * dot(gj, gj));
@@ -172,15 +175,6 @@ struct BoxProximityKernels : Lanes<T, Arch> {
       c = V3{ca.x - cb.x, ca.y - cb.y, ca.z - cb.z};
       for (int q = 0; q < 6; ++q) g2[q] = dot(g[q], g[q]);
     }
-    const V3& axis(int q) const { return q < 3 ? ua[q] : ub[q - 3]; }
-    const B& half(int q) const { return q < 3 ? ha[q] : hb[q - 3]; }
-    // g_i x g_j (i < j) from the unit axes and half extents (g_q = +-h_q u_q), to a few ulps
-    // (Lanes::cross_accurate): the facet's normal, whose direction the rounded product of two
-    // nearly parallel generators misses by an ulp over their angle's sine.
-    V3 generator_cross(int i, int j) const {
-      const B hh = (i < 3) == (j < 3) ? half(i) * half(j) : B(T(0)) - half(i) * half(j);
-      return scaled(cross_accurate(axis(i), axis(j)), hh);
-    }
   };
 
   template <int P>
@@ -188,8 +182,7 @@ struct BoxProximityKernels : Lanes<T, Arch> {
     // The 15 generator pairs: (0,1) (0,2) (1,2) (3,4) (3,5) (4,5), then (A_i, B_j).
     constexpr int kI[15] = {0, 0, 1, 3, 3, 4, 0, 0, 0, 1, 1, 1, 2, 2, 2};
     constexpr int kJ[15] = {1, 2, 2, 4, 5, 5, 3, 4, 5, 3, 4, 5, 3, 4, 5};
-    fold.add(facet(FixedPair<kI[P], kJ[P]>{}, r.c, r.ca, r.g, r.g2, r.g[kI[P]], r.g[kJ[P]],
-                   r.generator_cross(kI[P], kJ[P])));
+    fold.add(facet(FixedPair<kI[P], kJ[P]>{}, r.c, r.ca, r.g, r.g2, r.g[kI[P]], r.g[kJ[P]]));
   }
   template <int... P>
   static void fold_all(Fold& fold, const PairRegister& r, std::integer_sequence<int, P...>) {
@@ -263,19 +256,13 @@ struct BoxProximityKernels : Lanes<T, Arch> {
           keep(S::select(ok, d * S::rsqrt(S::select(ok, len2, one)), -inf), p);
         });
     LanePair role;
-    V3 gi{zero, zero, zero}, gj = gi, ui = gi, uj = gi;
-    B hi = zero, hj = zero;
+    V3 gi{zero, zero, zero}, gj = gi;
 #pragma GCC unroll 6
     for (int q = 0; q < 6; ++q) {
       role.i[q] = best_i == B(T(q)), role.j[q] = best_j == B(T(q));
       gi = pick3(role.i[q], r.g[q], gi), gj = pick3(role.j[q], r.g[q], gj);
-      ui = pick3(role.i[q], r.axis(q), ui), uj = pick3(role.j[q], r.axis(q), uj);
-      hi = pick(role.i[q], r.half(q), hi), hj = pick(role.j[q], r.half(q), hj);
     }
-    // (As PairRegister::generator_cross: i < j, and the pair is mixed, one generator of each
-    // box, where j >= 3 > i.)
-    const B hh = S::select((best_i < B(T(3))) && (best_j >= B(T(3))), zero - hi * hj, hi * hj);
-    const FacetEval f = facet(role, r.c, r.ca, r.g, r.g2, gi, gj, scaled(cross_accurate(ui, uj), hh));
+    const FacetEval f = facet(role, r.c, r.ca, r.g, r.g2, gi, gj);
     // Rounding scale of the certificates: the sizes of c and of the generators (|g_q|_1 <=
     // sqrt(3) h_q).
     B scale = S::abs(r.c.x) + S::abs(r.c.y) + S::abs(r.c.z);
