@@ -47,7 +47,7 @@ struct BoxPairQuery {
       if constexpr (std::is_base_of_v<xsimd::avx512f, Arch> || std::is_base_of_v<xsimd::fma3<xsimd::avx2>, Arch>)
         e = std::fma(u, v, -p);  // (a hardware instruction in these translation units)
       else
-        e = dekker_error<T>(u, v, p);
+        e = dekker_error<T, Arch>(u, v, p);
     };
     for (int d = 0; d < 3; ++d) {
       const int i = (d + 1) % 3, j = (d + 2) % 3;

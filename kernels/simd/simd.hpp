@@ -16,8 +16,9 @@ struct ScalarArch {};
 
 /// The error a b - p of p = fl(a b) (lanes V of T), by Dekker's split ("A floating-point
 /// technique for extending the available precision", 1971): exact without overflow, for |a|,
-/// |b| below 2^115 in float and 2^996 in double.
-template <class T, class V>
+/// |b| below 2^115 in float and 2^996 in double. Arch keeps each ISA translation unit's copy
+/// its own (see BoxPairQuery).
+template <class T, class Arch, class V>
 V dekker_error(const V& a, const V& b, const V& p) {
   const V f(T(std::is_same_v<T, float> ? 4097 : 134217729));  // 2^12 + 1, 2^27 + 1
   const V ca = f * a, cb = f * b;
@@ -42,7 +43,7 @@ struct Simd {
     if constexpr (std::is_base_of_v<xsimd::avx512f, Arch> || std::is_base_of_v<xsimd::fma3<xsimd::avx2>, Arch>)
       e = xsimd::fma(a, b, B(T(0)) - p);
     else
-      e = dekker_error<T>(a, b, p);
+      e = dekker_error<T, Arch>(a, b, p);
   }
   static B abs(const B& a) { return xsimd::abs(a); }
   static B sqrt(const B& a) { return xsimd::sqrt(a); }
@@ -123,7 +124,7 @@ struct Simd<T, ScalarArch> {
   /// p + e == a b exactly (Simd<T, Arch>::two_product; Dekker's split).
   static void two_product(B a, B b, B& p, B& e) {
     p = a * b;
-    e = dekker_error<T>(a, b, p);
+    e = dekker_error<T, ScalarArch>(a, b, p);
   }
   static B abs(B a) { return std::abs(a); }
   static B sqrt(B a) { return std::sqrt(a); }
