@@ -42,18 +42,9 @@ struct BoxPairQuery {
   // a x b to a few ulps of each component (Lanes::cross_accurate, one value): the plain
   // product of generators sin t apart errs by an ulp of |a| |b|, 1 / sin t of the result's.
   static void cross_accurate(const T* a, const T* b, T (&x)[3]) {
-    const auto product = [](T u, T v, T& p, T& e) {
-      p = u * v;
-      if constexpr (std::is_base_of_v<xsimd::avx512f, Arch> || std::is_base_of_v<xsimd::fma3<xsimd::avx2>, Arch>)
-        e = std::fma(u, v, -p);  // (a hardware instruction in these translation units)
-      else
-        e = dekker_error<T, Arch>(u, v, p);
-    };
     for (int d = 0; d < 3; ++d) {
       const int i = (d + 1) % 3, j = (d + 2) % 3;
-      T p, ep, q, eq;
-      product(a[i], b[j], p, ep), product(a[j], b[i], q, eq);
-      x[d] = (p - q) + (ep - eq);
+      x[d] = minor_accurate<T, Arch>(a[i], b[j], a[j], b[i]);
     }
   }
 

@@ -29,11 +29,7 @@ struct Lanes {
   /// a x b to a few ulps of each component, however nearly parallel a and b are (the plain
   /// product's error is an ulp of |a| |b|: for vectors sin t apart, 1 / sin t of the result's).
   static V3 cross_accurate(const V3& a, const V3& b) {
-    const auto minor = [](const B& p, const B& q, const B& r, const B& s) {  // p q - r s
-      B x, ex, y, ey;
-      S::two_product(p, q, x, ex), S::two_product(r, s, y, ey);
-      return (x - y) + (ex - ey);  // (x - y is exact where they cancel: Sterbenz)
-    };
+    const auto minor = [](const B& p, const B& q, const B& r, const B& s) { return minor_accurate<T, Arch>(p, q, r, s); };
     return {minor(a.y, b.z, a.z, b.y), minor(a.z, b.x, a.x, b.z), minor(a.x, b.y, a.y, b.x)};
   }
   static V3 scaled(const V3& a, const B& s) { return {a.x * s, a.y * s, a.z * s}; }

@@ -27,6 +27,31 @@ V dekker_error(const V& a, const V& b, const V& p) {
   return ((ah * bh - p) + ah * bl + al * bh) + al * bl;
 }
 
+/// p + e == a b exactly, p = fl(a b), for lanes V of T or one T: by a fused multiply-add
+/// where Arch has one, else by Dekker's split (xsimd's fma is unfused on SSE). Same bits on
+/// every ISA.
+template <class T, class Arch, class V>
+void two_product(const V& a, const V& b, V& p, V& e) {
+  p = a * b;
+  if constexpr (std::is_base_of_v<xsimd::avx512f, Arch> || std::is_base_of_v<xsimd::fma3<xsimd::avx2>, Arch>) {
+    if constexpr (std::is_same_v<V, T>)
+      e = std::fma(a, b, -p);  // (a hardware instruction in these translation units)
+    else
+      e = xsimd::fma(a, b, V(T(0)) - p);
+  } else {
+    e = dekker_error<T, Arch>(a, b, p);
+  }
+}
+
+/// p q - r s to a few ulps, however much the products cancel (x - y is exact where they do:
+/// Sterbenz); the plain difference errs by an ulp of |p q|.
+template <class T, class Arch, class V>
+V minor_accurate(const V& p, const V& q, const V& r, const V& s) {
+  V x, ex, y, ey;
+  two_product<T, Arch>(p, q, x, ex), two_product<T, Arch>(r, s, y, ey);
+  return (x - y) + (ex - ey);
+}
+
 /// Lanes of T on Arch, with the handful of operations the kernels use.
 template <class T, class Arch>
 struct Simd {
@@ -35,16 +60,6 @@ struct Simd {
   static B load(const T* p) { return B::load_aligned(p); }
   static void store(T* p, const B& v) { v.store_aligned(p); }
   static B fma(const B& a, const B& b, const B& c) { return xsimd::fma(a, b, c); }
-  /// p + e == a b exactly (p the rounded product): by a fused multiply-add where the ISA has
-  /// one, else by Dekker's split ("A floating-point technique for extending the available
-  /// precision", 1971), which xsimd's unfused fma on SSE would break. Same bits on every ISA.
-  static void two_product(const B& a, const B& b, B& p, B& e) {
-    p = a * b;
-    if constexpr (std::is_base_of_v<xsimd::avx512f, Arch> || std::is_base_of_v<xsimd::fma3<xsimd::avx2>, Arch>)
-      e = xsimd::fma(a, b, B(T(0)) - p);
-    else
-      e = dekker_error<T, Arch>(a, b, p);
-  }
   static B abs(const B& a) { return xsimd::abs(a); }
   static B sqrt(const B& a) { return xsimd::sqrt(a); }
   static B max(const B& a, const B& b) { return xsimd::max(a, b); }
@@ -121,11 +136,6 @@ struct Simd<T, ScalarArch> {
   // Not std::fma: without FMA hardware flags it is a slow library call; the scalar path is the
   // portable baseline and rounds twice, like SSE.
   static B fma(B a, B b, B c) { return a * b + c; }
-  /// p + e == a b exactly (Simd<T, Arch>::two_product; Dekker's split).
-  static void two_product(B a, B b, B& p, B& e) {
-    p = a * b;
-    e = dekker_error<T, ScalarArch>(a, b, p);
-  }
   static B abs(B a) { return std::abs(a); }
   static B sqrt(B a) { return std::sqrt(a); }
   static B max(B a, B b) { return a > b ? a : b; }
