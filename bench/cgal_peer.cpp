@@ -134,6 +134,20 @@ ExactCounts hull_structure(const std::vector<typename K::Point_3>& points,
   return {V, int(adjacent.size()), int(classes.size())};
 }
 
+// The points of x that can be vertices of a sum: the vertices of x's hull by exact predicates
+// on the doubles (Epick; a flat or collinear set gives its polygon's or segment's ends), so that
+// the oracle hulls |vert A| |vert B| sums instead of |A| |B| (integer grids repeat and bury most).
+std::vector<Eigen::Vector3d> hull_vertices(const std::vector<Eigen::Vector3d>& x) {
+  std::vector<Epick::Point_3> p;
+  for (const auto& v : x) p.emplace_back(v.x(), v.y(), v.z());
+  CGAL::Polyhedron_3<Epick> hull;
+  CGAL::convex_hull_3(p.begin(), p.end(), hull);
+  std::vector<Eigen::Vector3d> out;
+  for (auto v = hull.vertices_begin(); v != hull.vertices_end(); ++v)
+    out.emplace_back(v->point().x(), v->point().y(), v->point().z());
+  return out.empty() ? x : out;
+}
+
 // Whether every pairwise sum a + s b is a double exactly (then Epick's exact predicates on the
 // doubles decide the structure; else Epeck computes the sums exactly).
 bool sums_are_doubles(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b, double s) {
@@ -150,9 +164,10 @@ bool sums_are_doubles(const std::vector<Eigen::Vector3d>& a, const std::vector<E
 
 // V, E, F of the exact hull of the pairwise sums a + s b, computed exactly (not rounded to
 // double first), with coplanar triangles merged.
-ExactCounts exact_counts(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b, double s,
+ExactCounts exact_counts(const std::vector<Eigen::Vector3d>& a_in, const std::vector<Eigen::Vector3d>& b_in, double s,
                          std::vector<std::vector<Eigen::Vector3d>>* facets) {
-  if (sums_are_doubles(a, b, s)) return exact_structure(a, b, s, facets);
+  if (sums_are_doubles(a_in, b_in, s)) return exact_structure(a_in, b_in, s, facets);
+  const std::vector<Eigen::Vector3d> a = hull_vertices(a_in), b = hull_vertices(b_in);
   // Only sums that can be on the hull go to the exact kernel: the hull of the rounded sums
   // (Epick: exact predicates on those doubles) moves each facet by at most their rounding, so a
   // rounded sum more than 1e-9 of the size inside every one of its facets is inside the exact
@@ -194,9 +209,10 @@ ExactCounts exact_counts(const std::vector<Eigen::Vector3d>& a, const std::vecto
 ExactCounts exact_structure(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b, double s,
                             std::vector<std::vector<Eigen::Vector3d>>* facets) {
   if (!sums_are_doubles(a, b, s)) return {-1, -1, -1};
+  const std::vector<Eigen::Vector3d> va = hull_vertices(a), vb = hull_vertices(b);
   std::vector<Epick::Point_3> p;
-  for (const auto& u : a)
-    for (const auto& v : b) p.emplace_back(u.x() + s * v.x(), u.y() + s * v.y(), u.z() + s * v.z());
+  for (const auto& u : va)
+    for (const auto& v : vb) p.emplace_back(u.x() + s * v.x(), u.y() + s * v.y(), u.z() + s * v.z());
   return hull_structure<Epick>(p, facets);
 }
 
