@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <functional>
 #include <filesystem>
 #include <map>
 #include <random>
@@ -217,6 +218,58 @@ testing::AssertionResult equals_exact_hull(const std::vector<Vector3d>& a, const
     ours.insert(std::move(ids));
   }
   if (exact != ours) return testing::AssertionFailure() << "a facet has other vertices than the exact one";
+  return testing::AssertionSuccess();
+}
+
+testing::AssertionResult equals_exact_planes(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, double s,
+                                             const MinkowskiSum& m, double tol) {
+  if (m.parts != SumParts::Planes || !m.vertices.empty() || !m.loop_vertex.empty())
+    return testing::AssertionFailure() << "not a planes-only sum";
+  const std::vector<ExactFacet> exact = exact_hull(a, b, s);
+  if (m.F != int(exact.size()) || int(m.planes.size()) != m.F)
+    return testing::AssertionFailure() << "F " << m.F << " (" << m.planes.size() << " planes), exact " << exact.size();
+  double size = 1;
+  for (const auto& f : exact)
+    for (const auto& p : f.points) size = std::max(size, p.cwiseAbs().maxCoeff());
+  const double within = tol * size;
+  // Which planes hold each exact facet's vertices; then a perfect matching of facets to planes
+  // (Kuhn's augmenting paths): the two planes of a sliver and its neighbour, parallel to an ulp
+  // where the operands' sides are rounded from parallel ones, both hold both facets' vertices.
+  std::vector<std::vector<int>> holds(exact.size());
+  for (size_t e = 0; e < exact.size(); ++e) {
+    const ExactFacet& f = exact[e];
+    for (int k = 0; k < m.F; ++k) {
+      const SumPlane& q = m.planes[size_t(k)];
+      bool on = q.normal.dot(f.normal) > 0;
+      for (size_t v = 0; v < f.points.size() && on; ++v) on = std::abs(q.normal.dot(f.points[v]) - q.offset) <= within;
+      if (on) holds[e].push_back(k);
+    }
+    if (holds[e].empty()) return testing::AssertionFailure() << "no plane holds the exact facet at " << f.normal.transpose();
+  }
+  std::vector<int> facet_of(m.planes.size(), -1);
+  std::vector<char> seen;
+  const std::function<bool(int)> augment = [&](int e) {
+    for (int k : holds[size_t(e)]) {
+      if (seen[size_t(k)]) continue;
+      seen[size_t(k)] = 1;
+      if (facet_of[size_t(k)] < 0 || augment(facet_of[size_t(k)])) return facet_of[size_t(k)] = e, true;
+    }
+    return false;
+  };
+  for (int e = 0; e < int(exact.size()); ++e) {
+    seen.assign(m.planes.size(), 0);
+    if (!augment(e)) return testing::AssertionFailure() << "the exact facet at " << exact[size_t(e)].normal.transpose()
+                                                       << " has no plane of its own";
+  }
+  for (int k = 0; k < m.F; ++k) {
+    const SumPlane& q = m.planes[size_t(k)];
+    if (facet_of[size_t(k)] < 0) return testing::AssertionFailure() << "plane " << k << " holds no exact facet";
+    if (std::abs(q.normal.norm() - 1) > 1e-12) return testing::AssertionFailure() << "plane " << k << " is not unit";
+    if (q.i < 0 || q.j < 0 || q.i >= int(a.size()) || q.j >= int(b.size()))
+      return testing::AssertionFailure() << "plane " << k << " has no support pair";
+    if (std::abs(q.normal.dot(a[size_t(q.i)] + s * b[size_t(q.j)]) - q.offset) > within)
+      return testing::AssertionFailure() << "plane " << k << "'s pair (" << q.i << ", " << q.j << ") is off it";
+  }
   return testing::AssertionSuccess();
 }
 

@@ -75,6 +75,12 @@ std::vector<ExactFacet> exact_hull(const std::vector<Eigen::Vector3d>& a, const 
 testing::AssertionResult equals_exact_hull(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
                                            double s, const MinkowskiSum& m, double tol);
 
+/// m is the planes level (SumParts::Planes) of the sum a + s b, a and b the point sets its pairs
+/// index: one plane per facet of CGAL's exact hull, holding the facet's vertices within
+/// tol * size, and each plane's pair a_i + s b_j on it.
+testing::AssertionResult equals_exact_planes(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
+                                             double s, const MinkowskiSum& m, double tol);
+
 /// What brute force says of two convex polytopes.
 struct Oracle {
   bool overlap;         ///< no separating axis among face normals and edge crosses

@@ -190,16 +190,22 @@ std::vector<Vector3d> moved(const std::vector<Vector3d>& pts, const Eigen::Isome
 }
 
 // The posed sums of prepared shapes under exact poses against the exact structure of the moved
-// points.
+// points; with `planes`, the planes level too (SumParts::Planes), within tol of the size.
 void expect_posed_exact(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, const Eigen::Isometry3d& pa,
-                        const Eigen::Isometry3d& pb, double s) {
+                        const Eigen::Isometry3d& pb, double s, bool planes = false, double tol = 0) {
   ConvexShape SA, SB;
   ASSERT_EQ(shape_from_points(a, SA), Status::Ok);
   ASSERT_EQ(shape_from_points(b, SB), Status::Ok);
   MinkowskiSum m;
   ASSERT_EQ(s > 0 ? minkowski_sum(SA, pa, SB, pb, m) : minkowski_difference(SA, pa, SB, pb, m), Status::Ok);
   // The shapes' vertices are their input points in input order less duplicates and interior ones.
-  EXPECT_TRUE(equals_exact(moved(SA.polytope().vertices, pa), moved(SB.polytope().vertices, pb), s, m));
+  const std::vector<Vector3d> va = moved(SA.polytope().vertices, pa), vb = moved(SB.polytope().vertices, pb);
+  if (tol == 0) EXPECT_TRUE(equals_exact(va, vb, s, m));
+  if (tol > 0) EXPECT_TRUE(test::equals_exact_hull(va, vb, s, m, tol));
+  if (!planes) return;
+  const SumParts P = SumParts::Planes;
+  ASSERT_EQ(s > 0 ? minkowski_sum(SA, pa, SB, pb, m, P) : minkowski_difference(SA, pa, SB, pb, m, P), Status::Ok);
+  EXPECT_TRUE(test::equals_exact_planes(va, vb, s, m, std::max(tol, 1e-12))) << "planes level";
 }
 
 TEST_P(IntegerGrids, SumsAndDifferencesAreTheExactHull) {
@@ -230,7 +236,7 @@ TEST_P(IntegerGrids, SumsAndDifferencesAreTheExactHull) {
     }
     if (k % 10 == 0 && !coplanar_flats)
       expect_posed_exact(pts[0], pts[1], signed_permutation_pose(rng), signed_permutation_pose(rng),
-                         k % 20 == 0 ? 1 : -1);
+                         k % 20 == 0 ? 1 : -1, k % 30 == 0);
   }
   EXPECT_GT(checked, test::scaled(5000));
 }
@@ -253,7 +259,7 @@ TEST_P(DegenerateFamilies, HaveTheExactStructure) {
     expect_exact_both_ways(pair.a, pair.b);
     Eigen::Isometry3d pose = signed_permutation_pose(rng), pb = pose;
     pb.translation() = signed_permutation_pose(rng).translation();
-    expect_posed_exact(pair.a, pair.b, pose, pb, pair.difference || k % 2 ? -1 : 1);
+    expect_posed_exact(pair.a, pair.b, pose, pb, pair.difference || k % 2 ? -1 : 1, k % 10 == 0);
     if (pair.name == "identical" || pair.name == "mirrored") {
       // A common generic rotation: the structure of the body-frame pair.
       std::uniform_real_distribution<double> u(-1, 1);
@@ -272,6 +278,34 @@ TEST_P(DegenerateFamilies, HaveTheExactStructure) {
       EXPECT_EQ(m.E, e.E);
       EXPECT_EQ(m.F, e.F);
     }
+  }
+}
+
+// The planes level (SumParts::Planes) of generic posed pairs: random polytopes of 4 to 64
+// points, flat ones (a triangle, which takes the whole path) among them, at random poses,
+// against the exact hull of the moved points.
+TEST(SumParts, PlanesOfPosedPairsAreTheExactHullsFacets) {
+  std::mt19937_64 rng(5501);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::uniform_int_distribution<int> count(4, 64);
+  const auto pose = [&] {
+    Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+    p.linear() = tools::axis_angle(Vector3d(u(rng), u(rng), u(rng)), 3 * u(rng));
+    p.translation() = 5 * Vector3d(u(rng), u(rng), u(rng));
+    return p;
+  };
+  for (int k = 0; k < test::scaled(200, 20); ++k) {
+    SCOPED_TRACE("pair " + std::to_string(k));
+    std::vector<Vector3d> pts[2];
+    for (auto& p : pts) {
+      if (k % 5 == 0 && &p == &pts[1]) {
+        for (int i = 0; i < 3; ++i) p.emplace_back(u(rng), u(rng), u(rng));  // a triangle
+        continue;
+      }
+      p = tools::sphere_points(count(rng), unsigned(rng()));
+      for (auto& x : p) x = x.cwiseProduct(Vector3d(1 + u(rng), 1 + u(rng), 1 + u(rng)).cwiseAbs());
+    }
+    expect_posed_exact(pts[0], pts[1], pose(), pose(), k % 2 ? -1 : 1, true, 1e-9);
   }
 }
 

@@ -209,6 +209,14 @@ TEST_P(RoundedPairs, EqualTheExactHull) {
     ASSERT_EQ(sum(pa, pb, posed), Status::Ok);
     ASSERT_FALSE(posed.corrected);
     ASSERT_TRUE(same_structure(plain, posed)) << "pair " << k << ": " << c.what;
+    if (k % 24 != 0) continue;
+    MinkowskiSum planes;  // the planes level, against the exact hull too
+    const SumParts P = SumParts::Planes;
+    ASSERT_EQ(c.sign > 0 ? minkowski_sum(A, identity, B, identity, planes, P)
+                         : minkowski_difference(A, identity, B, identity, planes, P),
+              Status::Ok);
+    EXPECT_TRUE(test::equals_exact_planes(A.polytope().vertices, B.polytope().vertices, c.sign, planes, 1e-12))
+        << "pair " << k << ": " << c.what;
   }
 }
 

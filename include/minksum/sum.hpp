@@ -23,11 +23,20 @@ struct SumVertex {
   Eigen::Vector3d point = Eigen::Vector3d::Zero();  ///< coordinates
 };
 
+/// Which parts of a sum a call computes (the rest is left empty): what a query or a
+/// configuration-space obstacle needs, or the whole polytope.
+enum class SumParts {
+  Planes,  ///< the facets' planes, each with a support pair: no vertices, loops, V nor E
+  Whole,   ///< planes, vertices and facet loops, certified by Euler's relation (the default)
+};
+
 /// A facet plane n . x <= offset, with one support pair (i, j) lying on it.
 struct SumPlane {
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();  ///< outward unit normal
   double offset = 0;                                 ///< n . x = offset on the facet
-  int i = -1, j = -1;                                ///< a vertex pair of this facet (its loop's first vertex)
+  /// a_i + b_j lies on the facet: its loop's first vertex (the smallest pair), or with
+  /// SumParts::Planes, where the facet merges features of both operands, a pair inside it.
+  int i = -1, j = -1;
 };
 
 /// One facet's vertex loop: indices into MinkowskiSum::vertices, counter-clockwise from outside.
@@ -52,6 +61,7 @@ struct MinkowskiSum {
   bool euler_ok = false;            ///< V - E + F == 2 and every edge has two facets
   bool corrected = false;           ///< the Section 3 hull corrector rebuilt the result
   Method method = Method::Fast;     ///< the path that produced it
+  SumParts parts = SumParts::Whole;  ///< what it holds (the hull corrector's answer is whole)
   /// Facet k's vertex loop, starting at its smallest index (the plane's pair).
   Loop facet(int k) const { return {loop_vertex.data() + loop_start[k], loop_start[k + 1] - loop_start[k]}; }
 };
@@ -59,14 +69,16 @@ struct MinkowskiSum {
 /// (R_A A + t_A) (+) (R_B B + t_B) of two prepared shapes, each placed by its pose inside the
 /// call (the overlay of their Gauss maps, Method::Fast): planes and vertices in the world
 /// frame, support pairs (i, j) indexing a.polytope() and b.polytope(). O(|E_A| + |E_B| +
-/// output) after one linear scan for the first support. TooFewPoints for an empty shape,
-/// InvalidPose for a pose that is not rigid, DegenerateResult for two coplanar flat shapes.
+/// output) after one linear scan for the first support. `parts`: Planes skips the vertices
+/// and loops (certified as Whole is, but for Euler's relation, which needs the loops; a flat
+/// operand takes the whole path). TooFewPoints for an empty shape, InvalidPose for a pose that is not
+/// rigid, DegenerateResult for two coplanar flat shapes.
 Status minkowski_sum(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
-                     const Eigen::Isometry3d& pose_b, MinkowskiSum& out);
+                     const Eigen::Isometry3d& pose_b, MinkowskiSum& out, SumParts parts = SumParts::Whole);
 
 /// (R_A A + t_A) (-) (R_B B + t_B), the configuration-space obstacle of the placed shapes.
 Status minkowski_difference(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
-                            const Eigen::Isometry3d& pose_b, MinkowskiSum& out);
+                            const Eigen::Isometry3d& pose_b, MinkowskiSum& out, SumParts parts = SumParts::Whole);
 
 /// A (+) B of two polytopes (the convenience entry: Method::Fast prepares both, as a
 /// ConvexShape would be, on every call). Facets of coplanar support features are merged into

@@ -574,7 +574,7 @@ bool Overlay::locate_b_normals(const Placed& A, const Placed& B) {
   return tail == F;
 }
 
-bool Overlay::run(Placed& A, Placed& B, MinkowskiSum& out) {
+bool Overlay::run(Placed& A, Placed& B, MinkowskiSum& out, SumParts parts) {
   const ShapeData &sa = *A.s, &sb = *B.s;
   A.is_a = true, B.is_a = false;
   if (A.rounded || B.rounded) {  // (the memos of rounded ties: per face of A and way; exact normals)
@@ -592,6 +592,11 @@ bool Overlay::run(Placed& A, Placed& B, MinkowskiSum& out) {
   map_normals = std::max(sa.pole_slack, sb.pole_slack) > 1e-10;
   merged = false;
   if (!walk_a_arcs(A, B) || !locate_b_normals(A, B)) return false;
+  crossing_slack = map_normals ? 0.0 : sa.pole_slack + sb.pole_slack;  // (crossing_normal's rules)
+  crossing_certain = 4 * (2 * (sa.pole_error + sb.pole_error) + crossing_slack) <= 1e-6;
+  // The planes need no loops; a flat operand's degenerate facets are found as loops that
+  // collapse, so it takes the whole path, and its loops are dropped after.
+  if (parts == SumParts::Planes && !dedupe_all) return write_planes(A, B, out);
   // The facets, written straight into `out`: at most one per face normal and crossing; loops
   // grow as they are written (a merged facet is longer than either face).
   const size_t facets = size_t(sa.faces + sb.faces) + crossings.size();
@@ -603,7 +608,12 @@ bool Overlay::run(Placed& A, Placed& B, MinkowskiSum& out) {
   pairs.reset(int(sa.px.size()), int(sb.px.size()), entries);
   if (!face_facets(A, B)) return false;
   crossing_facets(A, B);
-  return number_and_write(A, B, out);
+  if (!number_and_write(A, B, out)) return false;
+  if (parts == SumParts::Planes) {
+    out.vertices.clear(), out.loop_start.clear(), out.loop_vertex.clear();
+    out.V = out.E = 0, out.euler_ok = false, out.parts = SumParts::Planes;
+  }
+  return true;
 }
 
 inline void Overlay::begin_facet(const Vector3d& n, bool loose_offset, int length) {
@@ -673,6 +683,46 @@ bool Overlay::face_facets(const Placed& A, const Placed& B) {
   return true;
 }
 
+// The unit normal of crossing x's facet; loose_offset set where it is not the edges' own (the
+// offset must then be the largest over the facet). The parallelogram e_A (+) e_B has normal
+// +-(d_A x d_B), the sign from `up` (its crossing point X = a G_L' + b G_R', a, b > 0, has
+// G_L' . (c x d_B) = -|d_B|^2 (d_A . G_L'), so X = -s1 c / |c|). That holds while d_A and d_B
+// lie along their arcs' exact poles, to far less than the angle between them; else their cross
+// product's direction, even its sign, is noise:
+//  - edges within 1e-4 rad of parallel (the cross product cancels);
+//  - a pole rounded from normals that nearly coincide (a short arc): G_L x G_R in double is
+//    off the exact pole, which the walk's predicates follow, by up to pole_error;
+//  - edges that stray from their arcs' poles (faces planar only to a tolerance, see
+//    ShapeData::pole_slack): there the poles stand for the edges (map_normals; in the overlay
+//    frame, A's body frame: a normal from them is turned by A's pose).
+// Where the first rule fails, the circles' crossing from the poles; where that fails too, or
+// the normal found is not on both arcs, near_parallel_normal: a normal in both arcs.
+// Where the shapes' largest pole errors (twice, for a turned map's rounding) are far below
+// 1e-4, the 1e-4 rule alone decides and the sign is certain; else each crossing's own.
+// (Inlined: called out of line, its vector result and spills cost 37 instructions a crossing.)
+[[gnu::always_inline]] inline Vector3d Overlay::crossing_normal(const Placed& A, const Placed& B, const Crossing& x,
+                                                                bool& loose_offset) const {
+  const double slack = crossing_slack;
+  const bool certain = crossing_certain;
+  const double poles = certain ? 0.0 : pole_error(A, x.ea) + pole_error(B, x.eb);
+  const Vector3d da = map_normals ? A.pole(x.ea) : A.edge(x.ea), db = map_normals ? B.pole(x.eb) : B.edge(x.eb);
+  const Vector3d c = da.cross(db);
+  const double c2 = c.squaredNorm(), edges = std::max(1e-4, 4 * (poles + slack));
+  if (c2 > edges * edges * da.squaredNorm() * db.squaredNorm()) {
+    Vector3d n = c * ((x.up ? -1 : 1) / std::sqrt(c2));
+    if (map_normals) n = A.world.turn(n);
+    if (certain || on_arcs(A, x.ea, B, x.eb, n)) return n;
+  }
+  loose_offset = true;
+  const Vector3d pa = A.pole(x.ea), pb = B.pole(x.eb), cp = pa.cross(pb);
+  const double cp2 = cp.squaredNorm(), circles = std::max(1e-4, 4 * poles);
+  if (cp2 > circles * circles * pa.squaredNorm() * pb.squaredNorm()) {
+    const Vector3d n = A.world.turn(cp * ((x.up ? -1 : 1) / std::sqrt(cp2)));
+    if (certain || on_arcs(A, x.ea, B, x.eb, n)) return n;
+  }
+  return near_parallel_normal(A.unit(A.L(x.ea)), A.unit(A.R(x.ea)), B.unit(B.L(x.eb)), B.unit(B.R(x.eb)));
+}
+
 void Overlay::crossing_facets(const Placed& A, const Placed& B) {
   const ShapeData &sa = *A.s, &sb = *B.s;
   // The loops: the cells around the crossing, (v1, p) (v1, q) (v0, q) (v0, p), with p, q =
@@ -689,45 +739,11 @@ void Overlay::crossing_facets(const Placed& A, const Placed& B) {
     end_facet(dedupe_all);
     if (x.facet == nf) x.facet = -1;  // dropped: a flat operand's zero-length edge
   }
-  // The normals, in a loop of their own (its square roots and divisions overlap). The
-  // parallelogram e_A (+) e_B has normal +-(d_A x d_B), the sign from `up` (its crossing point
-  // X = a G_L' + b G_R', a, b > 0, has G_L' . (c x d_B) = -|d_B|^2 (d_A . G_L'), so X = -s1 c /
-  // |c|). That holds while d_A and d_B lie along their arcs' exact poles, to far less than the
-  // angle between them; else their cross product's direction, even its sign, is noise:
-  //  - edges within 1e-4 rad of parallel (the cross product cancels);
-  //  - a pole rounded from normals that nearly coincide (a short arc): G_L x G_R in double is
-  //    off the exact pole, which the walk's predicates follow, by up to pole_error;
-  //  - edges that stray from their arcs' poles (faces planar only to a tolerance, see
-  //    ShapeData::pole_slack): there the poles stand for the edges (map_normals; in the overlay
-  //    frame, A's body frame: a normal from them is turned by A's pose).
-  // Where the first rule fails, the circles' crossing from the poles; where that fails too, or
-  // the normal found is not on both arcs, near_parallel_normal: a normal in both arcs. (A flat
-  // operand's degenerate parallelograms were dropped; their planes are skipped.)
-  // Where the shapes' largest pole errors (twice, for a turned map's rounding) are far below
-  // 1e-4, the 1e-4 rule alone decides and the sign is certain; else each crossing's own.
-  const double slack = map_normals ? 0.0 : sa.pole_slack + sb.pole_slack;
-  const bool certain = 4 * (2 * (sa.pole_error + sb.pole_error) + slack) <= 1e-6;
   for (const Crossing& x : crossings) {
-    if (x.facet < 0) continue;
-    const double poles = certain ? 0.0 : pole_error(A, x.ea) + pole_error(B, x.eb);
-    const Vector3d da = map_normals ? A.pole(x.ea) : A.edge(x.ea), db = map_normals ? B.pole(x.eb) : B.edge(x.eb);
-    const Vector3d c = da.cross(db);
-    const double c2 = c.squaredNorm(), edges = std::max(1e-4, 4 * (poles + slack));
-    Vector3d& n = normal[x.facet];
-    if (c2 > edges * edges * da.squaredNorm() * db.squaredNorm()) {
-      n = c * ((x.up ? -1 : 1) / std::sqrt(c2));
-      if (map_normals) n = A.world.turn(n);
-      if (certain || on_arcs(A, x.ea, B, x.eb, n)) continue;
-    }
-    loose[x.facet] = true;
-    const Vector3d pa = A.pole(x.ea), pb = B.pole(x.eb), cp = pa.cross(pb);
-    const double cp2 = cp.squaredNorm(), circles = std::max(1e-4, 4 * poles);
-    if (cp2 > circles * circles * pa.squaredNorm() * pb.squaredNorm()) {
-      n = cp * ((x.up ? -1 : 1) / std::sqrt(cp2));
-      n = A.world.turn(n);
-      if (certain || on_arcs(A, x.ea, B, x.eb, n)) continue;
-    }
-    n = near_parallel_normal(A.unit(A.L(x.ea)), A.unit(A.R(x.ea)), B.unit(B.L(x.eb)), B.unit(B.R(x.eb)));
+    if (x.facet < 0) continue;  // (a flat operand's degenerate parallelogram: no plane)
+    bool loose_offset = false;
+    normal[x.facet] = crossing_normal(A, B, x, loose_offset);
+    if (loose_offset) loose[x.facet] = true;
   }
 }
 
@@ -806,12 +822,97 @@ bool Overlay::number_and_write(const Placed& A, const Placed& B, MinkowskiSum& o
   out.V = V, out.E = S / 2, out.F = F;
   out.euler_ok = true;
   out.corrected = false;
-  out.method = Method::Fast;
+  out.method = Method::Fast, out.parts = SumParts::Whole;
   // Where features merged under a rotation (whose rounding could have bent a cell of B's map),
   // the result is proven a closed manifold whose planes support A and B. (Unturned maps are
   // the prepared ones, whose cells prepare proved convex, exactly.)
   return !merged || B.frame.cwiseAbs() == Eigen::Matrix3d::Identity() ||
          (closed_manifold(out) && planes_support(A, B, out));
+}
+
+// SumParts::Planes: each facet's plane and support pair from the located normals and the
+// crossings, without loops, in the whole path's order. A facet of a face or a crossing gets
+// the whole path's pair (its loop's smallest) and offset. A merged facet gets the pair of the
+// highest vertices of A's and B's features, and their offset (the whole path's loop maximum,
+// within rounding). It is certified as the whole path is (planes_support where features merged
+// under a rotation), but for Euler's relation: there are no loops to count.
+bool Overlay::write_planes(const Placed& A, const Placed& B, MinkowskiSum& out) {
+  out.vertices.clear(), out.planes.clear(), out.loop_start.clear(), out.loop_vertex.clear();
+  // Offset over the vertex pairs (i, j) the facet's loop would hold: `loose` takes the largest.
+  const auto plane = [&](const Vector3d& n, int i, int j) {
+    out.planes.push_back(SumPlane{n, n.dot(A.point(i) + B.point(j)), i, j});
+  };
+  const auto raise = [&](int i, int j) {
+    SumPlane& p = out.planes.back();
+    p.offset = std::max(p.offset, p.normal.dot(A.point(i) + B.point(j)));
+  };
+  // The vertices of X's face f, from its smallest, through k = 0 ... n - 1.
+  const auto face_vertex = [](const Placed& X, int f, int k) {
+    const MapLayout& m = *X.m;
+    const int first = m.loop_start[f], n = m.loop_start[f + 1] - first;
+    return X.s->cell_vertex[m.loop_cell[first + (m.loop_least[f] + k) % n]];
+  };
+  const auto face_size = [](const Placed& X, int f) { return X.m->loop_start[f + 1] - X.m->loop_start[f]; };
+  // The highest vertex of X's feature l (a face's or an arc's) along n.
+  const auto highest = [&](const Placed& X, const Loc& l, const Vector3d& n) {
+    int best = -1;
+    double top = 0;
+    const auto consider = [&](int v) {
+      const double h = n.dot(X.point(v));
+      if (best < 0 || h > top) best = v, top = h;
+    };
+    if (l.kind == Loc::Face) {
+      for (int k = 0; k < face_size(X, l.id); ++k) consider(face_vertex(X, l.id, k));
+    } else {
+      consider(X.s->cell_vertex[X.m->arc[l.id].u]), consider(X.s->cell_vertex[X.m->arc[l.id].v]);
+    }
+    return best;
+  };
+  for (int f = 0; f < A.s->faces; ++f) {
+    const Loc& l = loc_b[f];
+    const Vector3d n = A.unit(f);
+    if (l.kind != Loc::Cell) {
+      plane(n, highest(A, {Loc::Face, f}, n), highest(B, l, n));
+      merged = true;
+      continue;
+    }
+    const int j = B.s->cell_vertex[l.id];
+    plane(n, face_vertex(A, f, 0), j);
+    if (map_normals)
+      for (int k = 1; k < face_size(A, f); ++k) raise(face_vertex(A, f, k), j);
+  }
+  for (int g = 0; g < B.s->faces; ++g) {
+    const Loc& l = loc_a[g];
+    const Vector3d n = B.unit(g);
+    if (l.kind == Loc::Face) {
+      if (loc_b[l.id].kind != Loc::Face || loc_b[l.id].id != g) return false;  // A's side saw the same
+      continue;
+    }
+    if (l.kind == Loc::Arc) {
+      plane(n, highest(A, l, n), highest(B, {Loc::Face, g}, n));
+      merged = true;
+      continue;
+    }
+    const int i = A.s->cell_vertex[l.id];
+    plane(n, i, face_vertex(B, g, 0));
+    if (map_normals)
+      for (int k = 1; k < face_size(B, g); ++k) raise(i, face_vertex(B, g, k));
+  }
+  for (const Crossing& x : crossings) {  // (crossing_facets' pairs)
+    const MapLayout::Arc &a = A.m->arc[x.ea], &b = B.m->arc[x.eb];
+    const int p = B.s->cell_vertex[x.up ? b.v : b.u], q = B.s->cell_vertex[x.up ? b.u : b.v];
+    const int a0 = A.s->cell_vertex[a.u], a1 = A.s->cell_vertex[a.v];
+    const int pairs[8] = {a1, p, a1, q, a0, q, a0, p};
+    const int first = a1 < a0 ? (p < q ? 0 : 1) : (q < p ? 2 : 3);
+    bool loose_offset = map_normals;
+    plane(crossing_normal(A, B, x, loose_offset), pairs[2 * first], pairs[2 * first + 1]);
+    if (loose_offset)
+      for (int k = 0; k < 4; ++k) raise(pairs[2 * k], pairs[2 * k + 1]);
+  }
+  out.F = int(out.planes.size()), out.V = out.E = 0;
+  out.euler_ok = false, out.corrected = false;
+  out.method = Method::Fast, out.parts = SumParts::Planes;
+  return !merged || B.frame.cwiseAbs() == Eigen::Matrix3d::Identity() || planes_support(A, B, out);
 }
 
 bool planes_support(const Placed& A, const Placed& B, const MinkowskiSum& m) {
@@ -829,10 +930,15 @@ bool planes_support(const Placed& A, const Placed& B, const MinkowskiSum& m) {
       if (n.dot(x.point(s.cell_vertex[m.cell_slot[k].next])) > top + tol) return false;
     return true;
   };
-  for (int f = 0; f < m.F; ++f)
+  for (int f = 0; f < m.F; ++f) {
+    const SumPlane& p = m.planes[f];
+    if (m.parts == SumParts::Planes) {
+      if (!extreme(A, p.i, p.normal) || !extreme(B, p.j, p.normal)) return false;
+      continue;
+    }
     for (int v : m.facet(f))
-      if (!extreme(A, m.vertices[v].i, m.planes[f].normal) || !extreme(B, m.vertices[v].j, m.planes[f].normal))
-        return false;
+      if (!extreme(A, m.vertices[v].i, p.normal) || !extreme(B, m.vertices[v].j, p.normal)) return false;
+  }
   return true;
 }
 

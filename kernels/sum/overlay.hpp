@@ -106,8 +106,9 @@ struct Crossing {
 /// The overlay's scratch (one per thread: a sum allocates only while it grows) and its steps.
 class Overlay {
  public:
-  /// A (+) B into out; false if a step failed (the caller runs the hull corrector).
-  bool run(Placed& A, Placed& B, MinkowskiSum& out);
+  /// A (+) B into out, the parts asked for; false if a step failed (the caller runs the hull
+  /// corrector).
+  bool run(Placed& A, Placed& B, MinkowskiSum& out, SumParts parts);
 
   /// A direction leaving a facet normal along an arc towards the normal `to`, and the cell
   /// counter-clockwise after it (seen from outside).
@@ -122,6 +123,8 @@ class Overlay {
   void crossing_facets(const Placed& A, const Placed& B);
   bool merged_facet(const Placed& A, const Location& fa, const Placed& B, const Location& fb, bool normal_of_a);
   bool number_and_write(const Placed& A, const Placed& B, MinkowskiSum& out);
+  bool write_planes(const Placed& A, const Placed& B, MinkowskiSum& out);
+  Eigen::Vector3d crossing_normal(const Placed& A, const Placed& B, const Crossing& x, bool& loose_offset) const;
   bool place_rays(const Placed& N, int nf, const Placed& R, const std::vector<Ray>& ref, const Placed& O,
                   const std::vector<Ray>& other, std::vector<int>& sector);
   void begin_facet(const Eigen::Vector3d& n, bool loose, int length);
@@ -147,6 +150,8 @@ class Overlay {
   bool merged = false;           // some facet merges features (a tie): checked as a closed manifold
   bool dedupe_all = false;       // a flat operand's zero-length arcs repeat vertices
   bool map_normals = false;      // crossing normals from the poles, every offset the loop's largest
+  double crossing_slack = 0;     // crossing_normal's: how far edges may stray from their poles
+  bool crossing_certain = false;  // and whether the 1e-4 rule alone decides
   // The facets as written: their normals, loops of pair codes (facet k's at facet_start[k] ..
   // facet_start[k + 1]), and whether each one's offset is the largest over its loop.
   std::vector<Eigen::Vector3d> normal;
@@ -155,8 +160,8 @@ class Overlay {
   PairNumbering pairs;
 };
 
-/// Every facet's vertices (i, j) are extreme along its normal in A and in B (a_i has no
-/// neighbour higher, nor b_j): a proof that each plane supports A (+) B.
+/// Every facet's vertices (i, j) (SumParts::Planes: its pair) are extreme along its normal in
+/// A and in B (a_i has no neighbour higher, nor b_j): a proof that each plane supports A (+) B.
 bool planes_support(const Placed& A, const Placed& B, const MinkowskiSum& m);
 
 }  // namespace minksum::detail

@@ -29,7 +29,7 @@ std::vector<Vector3d> points(const Placed& x) {
 // The overlay of two prepared shapes placed by their poses (B negated for a difference), or
 // the corrector when a step of it fails.
 Status sum_placed(const ShapeData& a, const Eigen::Isometry3d& pose_a, const ShapeData& b,
-                  const Eigen::Isometry3d& pose_b, bool difference, MinkowskiSum& out) {
+                  const Eigen::Isometry3d& pose_b, bool difference, MinkowskiSum& out, SumParts parts) {
   // Two coplanar flat operands have a flat sum; the result type describes solids only.
   if (a.polytope_ref->flat && b.polytope_ref->flat &&
       (pose_a.linear() * a.polytope_ref->faces[0].normal)
@@ -49,10 +49,10 @@ Status sum_placed(const ShapeData& a, const Eigen::Isometry3d& pose_a, const Sha
   // (ShapeData::support_error: slivers; random polytopes of 2048 points reach 3e-11) has its
   // result certified by the support check (O(output)).
   const bool certify = a.support_error + b.support_error > 1e-10 * std::max(a.size, b.size);
-  if (scratch.run(A, B, out) && (!certify || planes_support(A, B, out))) return Status::Ok;
-  // Section 3 of the paper: an inconsistent result is rebuilt from the hull.
+  if (scratch.run(A, B, out, parts) && (!certify || planes_support(A, B, out))) return Status::Ok;
+  // Section 3 of the paper: an inconsistent result is rebuilt from the hull (whole).
   const Status s = hull_corrector(points(A), points(B), out);
-  out.method = Method::Fast;
+  out.method = Method::Fast, out.parts = SumParts::Whole;
   return s;
 }
 
@@ -89,7 +89,7 @@ Status sum_dispatch(const ConvexPolytope& a, const ConvexPolytope& b, bool diffe
     out = MinkowskiSum{};
     return s;
   };
-  out.method = method, out.corrected = false;
+  out.method = method, out.corrected = false, out.parts = SumParts::Whole;
   if (!usable(a) || !usable(b)) return fail(Status::TooFewPoints);
   // Two coplanar flat operands have a flat sum; the result type describes solids only.
   if (a.flat && b.flat && a.faces[0].normal.cross(b.faces[0].normal).norm() <= 1e-12)
@@ -110,7 +110,8 @@ Status sum_dispatch(const ConvexPolytope& a, const ConvexPolytope& b, bool diffe
   if (detail::prepare(a, prepared_a, false) != Status::Ok || detail::prepare(b, prepared_b, difference) != Status::Ok)
     return corrector();
   const Eigen::Isometry3d identity = Eigen::Isometry3d::Identity();
-  if (method == Method::Fast) return detail::sum_placed(prepared_a, identity, prepared_b, identity, difference, out);
+  if (method == Method::Fast)
+    return detail::sum_placed(prepared_a, identity, prepared_b, identity, difference, out, SumParts::Whole);
   detail::sum_reference(a, difference ? negated(b) : b, out);
   // Section 3 of the paper: an inconsistent result (Euler fails, or a plane that does not
   // support the sum) is rebuilt from the hull.
@@ -124,12 +125,12 @@ Status sum_dispatch(const ConvexPolytope& a, const ConvexPolytope& b, bool diffe
 
 // Checks the shapes and poses of a posed sum.
 Status sum_shapes(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
-                  const Eigen::Isometry3d& pose_b, bool difference, MinkowskiSum& out) {
+                  const Eigen::Isometry3d& pose_b, bool difference, MinkowskiSum& out, SumParts parts) {
   const detail::ShapeData *da = detail::ShapeAccess::data(a), *db = detail::ShapeAccess::data(b);
   Status s = !da || !db ? Status::TooFewPoints : check_pose(pose_a);
   if (s == Status::Ok) s = check_pose(pose_b);
   if (s != Status::Ok) return out = MinkowskiSum{}, s;
-  return detail::sum_placed(*da, pose_a, *db, pose_b, difference, out);
+  return detail::sum_placed(*da, pose_a, *db, pose_b, difference, out, parts);
 }
 
 }  // namespace
@@ -143,13 +144,13 @@ Status minkowski_difference(const ConvexPolytope& a, const ConvexPolytope& b, Mi
 }
 
 Status minkowski_sum(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
-                     const Eigen::Isometry3d& pose_b, MinkowskiSum& out) {
-  return sum_shapes(a, pose_a, b, pose_b, false, out);
+                     const Eigen::Isometry3d& pose_b, MinkowskiSum& out, SumParts parts) {
+  return sum_shapes(a, pose_a, b, pose_b, false, out, parts);
 }
 
 Status minkowski_difference(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
-                            const Eigen::Isometry3d& pose_b, MinkowskiSum& out) {
-  return sum_shapes(a, pose_a, b, pose_b, true, out);
+                            const Eigen::Isometry3d& pose_b, MinkowskiSum& out, SumParts parts) {
+  return sum_shapes(a, pose_a, b, pose_b, true, out, parts);
 }
 
 Status minkowski_sum(const Box& a, const Box& b, MinkowskiSum& out) {
@@ -210,7 +211,7 @@ Status minkowski_sum(const Box& a, const Box& b, MinkowskiSum& out) {
   out.V = 32, out.E = 60, out.F = 30;
   out.euler_ok = true;
   out.corrected = false;
-  out.method = Method::Kernel;
+  out.method = Method::Kernel, out.parts = SumParts::Whole;
   return Status::Ok;
 }
 
