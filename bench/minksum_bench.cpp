@@ -3,6 +3,8 @@
 // polytope, facets and vertices:
 //   osm_prepared   minkowski_sum of two ConvexShapes prepared once in their body frames, B's
 //                  rotation passed as its pose and applied inside the timed call
+//   osm_planes     the same sum at SumParts::Planes: planes with support pairs only (what a
+//                  query or a C-space obstacle needs; no vertices nor loops)
 //   osm_fast       minkowski_sum, Method::Fast on ConvexPolytopes (prepared inside every call):
 //                  planes with support pairs, vertices, facet loops
 //   osm_reference  minkowski_sum, Method::Reference: the same output, by the paper's plane push
@@ -84,13 +86,13 @@ void count_input(benchmark::State& state, const PreparedShapes& p) {
   state.counters["input_edges"] = double(p.A.polytope().edges.size() + p.B.polytope().edges.size());
 }
 
-// The timed loop of osm_prepared (Table1 and Scaling): the sum of posed shapes.
-void run_prepared(benchmark::State& state, const PreparedShapes& p) {
+// The timed loop of osm_prepared and osm_planes (Table1 and Scaling): the sum of posed shapes.
+void run_prepared(benchmark::State& state, const PreparedShapes& p, SumParts parts = SumParts::Whole) {
   const Eigen::Isometry3d identity = Eigen::Isometry3d::Identity();
   MinkowskiSum m;
   Status s = Status::Ok;
   for (auto _ : state) {
-    s = minkowski_sum(p.A, identity, p.B, p.pose_b, m);
+    s = minkowski_sum(p.A, identity, p.B, p.pose_b, m, parts);
     benchmark::DoNotOptimize(m.planes.data());
   }
   if (s != Status::Ok) state.SkipWithError("the prepared sum failed");
@@ -99,10 +101,10 @@ void run_prepared(benchmark::State& state, const PreparedShapes& p) {
   count_input(state, p);
 }
 
-void Table1Prepared(benchmark::State& state, int row) {
+void Table1Prepared(benchmark::State& state, int row, SumParts parts) {
   const auto pair = tools::table1_pairs()[row];
   const Eigen::Matrix3d R = tools::table1_rotation();
-  run_prepared(state, prepare_shapes(pair.a, tools::rotated(pair.b, R.transpose()), R));
+  run_prepared(state, prepare_shapes(pair.a, tools::rotated(pair.b, R.transpose()), R), parts);
 }
 
 void Table1Osm(benchmark::State& state, int row, Method method) {
@@ -241,7 +243,10 @@ const int kRegistered = [] {
         ->Unit(benchmark::kMicrosecond);
     benchmark::RegisterBenchmark((base + "osm_fast").c_str(), Table1Osm, row, Method::Fast)
         ->Unit(benchmark::kMicrosecond);
-    benchmark::RegisterBenchmark((base + "osm_prepared").c_str(), Table1Prepared, row)->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark((base + "osm_prepared").c_str(), Table1Prepared, row, SumParts::Whole)
+        ->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark((base + "osm_planes").c_str(), Table1Prepared, row, SumParts::Planes)
+        ->Unit(benchmark::kMicrosecond);
     if (pairs[row].name == "cube_rotcube") {
       benchmark::RegisterBenchmark((base + "osm_kernel").c_str(), Table1KernelBatch<double>)
           ->Unit(benchmark::kMicrosecond);
