@@ -57,6 +57,32 @@ void check_planes(const MinkowskiSum& m, const std::vector<Eigen::Vector3d>& a, 
         if (pl.normal.dot(p + sign * q) > pl.offset + 1e-9 * size) fuzz::fail("a pairwise sum is outside a plane");
 }
 
+// The planes level of the same posed sum: the whole sum's planes in its order, normals bit for
+// bit, offsets within rounding, each pair (a_i + s b_j) on its plane; no vertices nor loops.
+void check_planes_level(const ConvexShape& SA, const Eigen::Isometry3d& pa, const ConvexShape& SB,
+                        const Eigen::Isometry3d& pb, bool diff, const MinkowskiSum& whole,
+                        const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b) {
+  MinkowskiSum m;
+  const SumParts P = SumParts::Planes;
+  if ((diff ? minkowski_difference(SA, pa, SB, pb, m, P) : minkowski_sum(SA, pa, SB, pb, m, P)) != Status::Ok)
+    fuzz::fail("the planes level failed where the whole sum did not");
+  if (whole.corrected || m.parts == SumParts::Whole) return;  // (the corrector's answer is whole)
+  if (m.F != whole.F || int(m.planes.size()) != m.F || !m.vertices.empty() || !m.loop_vertex.empty())
+    fuzz::fail("the planes level has other facets than the whole sum");
+  double size = 1;
+  for (const auto* x : {&a, &b})
+    for (const auto& p : *x) size = std::max(size, p.cwiseAbs().maxCoeff());
+  const double sign = diff ? -1 : 1;
+  for (int k = 0; k < m.F; ++k) {
+    const SumPlane &p = m.planes[size_t(k)], &w = whole.planes[size_t(k)];
+    if (p.normal != w.normal || !(std::abs(p.offset - w.offset) <= 1e-9 * size))
+      fuzz::fail("a plane of the planes level is not the whole sum's");
+    if (p.i < 0 || p.i >= int(a.size()) || p.j < 0 || p.j >= int(b.size()) ||
+        !(std::abs(p.normal.dot(a[size_t(p.i)] + sign * b[size_t(p.j)]) - p.offset) <= 1e-9 * size))
+      fuzz::fail("a plane's pair is not on it at the planes level");
+  }
+}
+
 // A pose from the input: a quaternion (normalised; zero reads as the identity) and a
 // translation, or with `raw` any 3x3 matrix.
 Eigen::Isometry3d pose(fuzz::Bytes& in, bool raw) {
@@ -277,6 +303,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   for (const auto& p : SA.polytope().vertices) wa.push_back(pa * p);
   for (const auto& q : SB.polytope().vertices) wb.push_back(pb * q);
   check_planes(m, wa, wb, diff ? -1 : 1);
+  check_planes_level(SA, pa, SB, pb, diff, m, wa, wb);
   // Under one rotation the structure is the unposed sum's, pair for pair (shape_from_points
   // numbers the vertices as polytope_from_points does).
   if (rounded && (m.V != unposed.V || m.F != unposed.F || m.loop_vertex.size() != unposed.loop_vertex.size()))
