@@ -683,6 +683,21 @@ bool Overlay::face_facets(const Placed& A, const Placed& B) {
   return true;
 }
 
+namespace {
+
+// Crossing x's loop: the cells around it, (v1, p) (v1, q) (v0, q) (v0, p) as pairs[2 k],
+// pairs[2 k + 1], with p, q = w0, w1 when s1 < 0 and w1, w0 when s1 > 0; returns the k of the
+// smallest pair.
+int crossing_pairs(const Placed& A, const Placed& B, const Crossing& x, int (&pairs)[8]) {
+  const MapLayout::Arc &a = A.m->arc[x.ea], &b = B.m->arc[x.eb];
+  const int p = B.s->cell_vertex[x.up ? b.v : b.u], q = B.s->cell_vertex[x.up ? b.u : b.v];
+  const int a0 = A.s->cell_vertex[a.u], a1 = A.s->cell_vertex[a.v];
+  pairs[0] = a1, pairs[1] = p, pairs[2] = a1, pairs[3] = q, pairs[4] = a0, pairs[5] = q, pairs[6] = a0, pairs[7] = p;
+  return a1 < a0 ? (p < q ? 0 : 1) : (q < p ? 2 : 3);
+}
+
+}  // namespace
+
 // The unit normal of crossing x's facet; loose_offset set where it is not the edges' own (the
 // offset must then be the largest over the facet). The parallelogram e_A (+) e_B has normal
 // +-(d_A x d_B), the sign from `up` (its crossing point X = a G_L' + b G_R', a, b > 0, has
@@ -724,15 +739,10 @@ bool Overlay::face_facets(const Placed& A, const Placed& B) {
 }
 
 void Overlay::crossing_facets(const Placed& A, const Placed& B) {
-  const ShapeData &sa = *A.s, &sb = *B.s;
-  // The loops: the cells around the crossing, (v1, p) (v1, q) (v0, q) (v0, p), with p, q =
-  // w0, w1 when s1 < 0 and w1, w0 when s1 > 0; from the smallest pair.
+  // The loops, from the smallest pair.
   for (Crossing& x : crossings) {
-    const MapLayout::Arc &a = A.m->arc[x.ea], &b = B.m->arc[x.eb];
-    const int p = sb.cell_vertex[x.up ? b.v : b.u], q = sb.cell_vertex[x.up ? b.u : b.v];
-    const int a0 = sa.cell_vertex[a.u], a1 = sa.cell_vertex[a.v];
-    const int pairs[8] = {a1, p, a1, q, a0, q, a0, p};
-    const int first = a1 < a0 ? (p < q ? 0 : 1) : (q < p ? 2 : 3);
+    int pairs[8];
+    const int first = crossing_pairs(A, B, x, pairs);
     begin_facet(Vector3d::Zero(), map_normals, 4);
     for (int k = 0; k < 4; ++k) add_pair(pairs[2 * ((first + k) & 3)], pairs[2 * ((first + k) & 3) + 1]);
     x.facet = nf;
@@ -849,8 +859,8 @@ bool Overlay::write_planes(const Placed& A, const Placed& B, MinkowskiSum& out) 
   // The vertices of X's face f, from its smallest, through k = 0 ... n - 1.
   const auto face_vertex = [](const Placed& X, int f, int k) {
     const MapLayout& m = *X.m;
-    const int first = m.loop_start[f], n = m.loop_start[f + 1] - first;
-    return X.s->cell_vertex[m.loop_cell[first + (m.loop_least[f] + k) % n]];
+    const int first = m.loop_start[f], n = m.loop_start[f + 1] - first, at = m.loop_least[f] + k;
+    return X.s->cell_vertex[m.loop_cell[first + (at < n ? at : at - n)]];
   };
   const auto face_size = [](const Placed& X, int f) { return X.m->loop_start[f + 1] - X.m->loop_start[f]; };
   // The highest vertex of X's feature l (a face's or an arc's) along n.
@@ -898,12 +908,9 @@ bool Overlay::write_planes(const Placed& A, const Placed& B, MinkowskiSum& out) 
     if (map_normals)
       for (int k = 1; k < face_size(B, g); ++k) raise(i, face_vertex(B, g, k));
   }
-  for (const Crossing& x : crossings) {  // (crossing_facets' pairs)
-    const MapLayout::Arc &a = A.m->arc[x.ea], &b = B.m->arc[x.eb];
-    const int p = B.s->cell_vertex[x.up ? b.v : b.u], q = B.s->cell_vertex[x.up ? b.u : b.v];
-    const int a0 = A.s->cell_vertex[a.u], a1 = A.s->cell_vertex[a.v];
-    const int pairs[8] = {a1, p, a1, q, a0, q, a0, p};
-    const int first = a1 < a0 ? (p < q ? 0 : 1) : (q < p ? 2 : 3);
+  for (const Crossing& x : crossings) {
+    int pairs[8];
+    const int first = crossing_pairs(A, B, x, pairs);
     bool loose_offset = map_normals;
     plane(crossing_normal(A, B, x, loose_offset), pairs[2 * first], pairs[2 * first + 1]);
     if (loose_offset)
