@@ -163,6 +163,52 @@ testing::AssertionResult same_structure(const MinkowskiSum& m, const MinkowskiSu
   return testing::AssertionSuccess();
 }
 
+// A sum keeps its memos of rounded ties and of exact normals from one call to the next while
+// the shapes (and, for the ties, their relative rotation) stay (Overlay::run). One call after
+// another in one thread, B rebuilt in the same variable (where the last shape was freed) from
+// exact parallels to slivers and back, summed and differenced, turned against A in between and
+// placed under a common rotation: each sum at identity poses must still be the exact hull, and
+// each under the common rotation have its structure. Two families: aligned cos/sin prisms, and
+// a polytope of rounded points (exact normals computed when needed, GaussKind::OnDemand) with
+// copies of itself. The slivers are the parallel copy's points moved off their lines by a
+// rounded factor, so that their faces keep the indices the memos hold.
+TEST(RoundedTies, RememberedTiesFollowTheShapes) {
+  const auto times = [](std::vector<Vector3d> p, double kx, double kz) {
+    for (auto& v : p) v = Vector3d(kx * v.x(), kx * v.y(), kz * v.z());
+    return p;
+  };
+  const std::vector<Vector3d> prism = cos_sin_prism(16, 0.5, -0.5, 0.5), points = tools::sphere_points(14, 5);
+  const struct {
+    std::vector<Vector3d> a, parallel, sliver;
+  } families[] = {{cos_sin_prism(16, 1, -1, 1), prism, times(prism, 0.74, 1)},
+                  {points, times(points, 0.5, 0.5), times(points, 0.37, 0.37)}};
+  const Eigen::Isometry3d identity = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d common = identity, turned = identity;
+  common.linear() = Eigen::AngleAxisd(0.7, Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  turned.linear() = Eigen::AngleAxisd(0.2, Vector3d(3, -1, 2).normalized()).toRotationMatrix();
+  for (const auto& family : families) {
+    ConvexShape A, B;
+    ASSERT_EQ(shape_from_points(family.a, A), Status::Ok);
+    for (double s : {1.0, -1.0})
+      for (const auto* b : {&family.parallel, &family.sliver, &family.parallel, &family.sliver}) {
+        ASSERT_EQ(shape_from_points(*b, B), Status::Ok);
+        const auto sum = [&](const Eigen::Isometry3d& pa, const Eigen::Isometry3d& pb, MinkowskiSum& out) {
+          return s > 0 ? minkowski_sum(A, pa, B, pb, out) : minkowski_difference(A, pa, B, pb, out);
+        };
+        MinkowskiSum first, other, again, under_common;
+        ASSERT_EQ(sum(identity, identity, first), Status::Ok);
+        ASSERT_EQ(sum(identity, turned, other), Status::Ok);
+        ASSERT_EQ(sum(identity, identity, again), Status::Ok);
+        ASSERT_EQ(sum(common, common, under_common), Status::Ok);
+        const std::string what = std::string(b == &family.parallel ? "parallel" : "slivers") + ", sign " +
+                                 std::to_string(int(s)) + ", " + std::to_string(family.a.size()) + " points";
+        EXPECT_TRUE(test::equals_exact_hull(family.a, *b, s, first, 1e-12)) << what;
+        EXPECT_TRUE(test::equals_exact_hull(family.a, *b, s, again, 1e-12)) << what << ", after B turned";
+        EXPECT_TRUE(same_structure(first, under_common)) << what << ", under a common rotation";
+      }
+  }
+}
+
 // 10 shards of 1,000 random rounded pairs (sums and differences) against CGAL's exact hull;
 // one pair in eight also as prepared shapes under one random rounded rotation and translation
 // each (the structure depends only on the relative rotation, exactly the identity here): the

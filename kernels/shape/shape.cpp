@@ -1,5 +1,6 @@
 // Prepared convex shapes: a polytope validated once and its Gauss map laid out in flat arrays.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 
@@ -273,6 +274,8 @@ Status check_map(ShapeData& s) {
 Status prepare(const ConvexPolytope& p, ShapeData& s, bool negated_layout) {
   thread_local Topology topology;
   thread_local std::vector<int> scratch;
+  static std::atomic<std::uint64_t> last_id{0};  // (lock-free; preparation is off the real-time path)
+  s.id = ++last_id;
   s.polytope_ref = &p;
   double extent = 0;
   if (!take_vertices(p, s, extent)) return Status::InvalidMesh;

@@ -53,6 +53,9 @@ struct ShapeData {
   Triangle triangle;                             // shape_from_triangle's triangle (body frame)
   ConvexPolytope polytope;                       // a built shape's own polytope (body frame)
   const ConvexPolytope* polytope_ref = nullptr;  // the polytope prepared: &polytope, or the caller's
+  /// Unique per preparation (prepare draws it): what the sum's memos of exact answers are
+  /// kept for across calls (Overlay::run), where an address could be reused.
+  std::uint64_t id = 0;
   int faces = 0, arcs = 0, cells = 0;
   /// Gauss normals, the only input of the map's predicates: each face's exact Newell normal
   /// made canonical (canonical_direction), so that exactly parallel faces of any two shapes

@@ -390,7 +390,8 @@ void place(const ShapeData& s, const Eigen::Isometry3d& pose, const Eigen::Matri
   const double sign = negate ? -1.0 : 1.0;
   out.s = &s, out.m = &s.map[negate], out.negate = negate;
   out.world = Rigid(sign * pose.linear(), sign * pose.translation()), out.frame = sign * frame;
-  if (frame == Eigen::Matrix3d::Identity()) {  // the prepared normals and poles (-B's negated)
+  out.own_frame = frame == Eigen::Matrix3d::Identity();
+  if (out.own_frame) {  // the prepared normals and poles (-B's negated)
     if (negate) {
       buf.g.resize(s.gauss.size());
       for (size_t f = 0; f < s.gauss.size(); ++f) buf.g[f] = -s.gauss[f];
@@ -578,13 +579,24 @@ bool Overlay::run(Placed& A, Placed& B, MinkowskiSum& out, SumParts parts) {
   const ShapeData &sa = *A.s, &sb = *B.s;
   A.is_a = true, B.is_a = false;
   if (A.rounded || B.rounded) {  // (the memos of rounded ties: per face of A and way; exact normals)
-    collinear.assign(2 * size_t(sa.faces), -1);
+    // Both are exact answers about the prepared shapes in their body frames, whatever the common
+    // pose, so they are kept while the pair is the same: a resting or coherent scene sums one
+    // pair under one relative rotation call after call, and pays for each tie once. (B turned
+    // against A: its ties depend on the rotation, and the memo is cleared.)
+    const std::uint64_t pair[3] = {sa.id, B.own_frame ? sb.id : 0, B.negate};
+    if (!std::equal(pair, pair + 3, tie_pair) || pair[0] == 0 || pair[1] == 0) {
+      collinear.assign(2 * size_t(sa.faces), -1);
+      std::copy(pair, pair + 3, tie_pair);
+    }
     A.collinear = collinear.data();
     Placed* x[2] = {&A, &B};
     for (int k = 0; k < 2; ++k) {
       const size_t faces = size_t(x[k]->s->faces);
-      if (exact_terms[k].size() < faces * 3 * kMaxGaussTerms) exact_terms[k].resize(faces * 3 * kMaxGaussTerms);
-      exact_count[k].assign(3 * faces, -1);
+      if (x[k]->s->id != exact_shape[k] || exact_shape[k] == 0) {
+        if (exact_terms[k].size() < faces * 3 * kMaxGaussTerms) exact_terms[k].resize(faces * 3 * kMaxGaussTerms);
+        exact_count[k].assign(3 * faces, -1);
+        exact_shape[k] = x[k]->s->id;
+      }
       x[k]->exact_terms = exact_terms[k].data(), x[k]->exact_count = exact_count[k].data();
     }
   }

@@ -24,6 +24,7 @@ struct Placed {
   const ShapeData* s = nullptr;
   const MapLayout* m = nullptr;
   bool negate = false;            ///< this is -B
+  bool own_frame = true;          ///< the overlay frame is the body frame (frame = +-I)
   const Eigen::Vector3d* g;       ///< Gauss normals in the overlay frame (the predicates' input)
   const Eigen::Vector3d* c;       ///< per arc: its pole G_L x G_R in the overlay frame
   const std::uint8_t* g_nonzero;  ///< per face: ShapeData::gauss_nonzero of g
@@ -144,9 +145,11 @@ class Overlay {
   };
   std::vector<Turn> turns;       // place_rays': per ray of the reference, n x r and its permanent
   std::vector<int> face_sector;  // per loop position of A: its ray's sector about B's coincident face (place_rays)
-  std::vector<int> collinear;    // Placed::collinear of A
-  std::vector<double> exact_terms[2];  // Placed::exact_terms of A and B
+  // The memos of exact answers, kept while their shapes are (ShapeData::id; 0: none):
+  std::vector<int> collinear;    // Placed::collinear of A, for the pair tie_pair (A, B, B negated)
+  std::vector<double> exact_terms[2];  // Placed::exact_terms of A and B, of shapes exact_shape
   std::vector<std::int8_t> exact_count[2];
+  std::uint64_t tie_pair[3] = {0, 0, 0}, exact_shape[2] = {0, 0};
   bool merged = false;           // some facet merges features (a tie): checked as a closed manifold
   bool dedupe_all = false;       // a flat operand's zero-length arcs repeat vertices
   bool map_normals = false;      // crossing normals from the poles, every offset the loop's largest
