@@ -189,8 +189,8 @@ void haptics_loop() {
   std::printf("haptic_tick 4000 = haptic_tick.setup_and_4000 - haptic_tick.setup\n");
 }
 
-// The sum of each Table 1 pair (prepared shapes, B turned), and the box-box kernel's whole
-// polytopes of 32 box pairs.
+// The sum of each Table 1 pair (prepared shapes, B turned), of aligned rounded prisms, and
+// the box-box kernel's whole polytopes of 32 box pairs.
 void sums() {
   std::vector<std::pair<ConvexShape, ConvexShape>> shapes;
   for (const auto& t : tools::table1_pairs()) {
@@ -205,6 +205,19 @@ void sums() {
   measure("sum.table1", int(shapes.size()), [&](int k) {
     return minkowski_sum(shapes[size_t(k)].first, I, shapes[size_t(k)].second, I, m) == Status::Ok;
   });
+  // Aligned cos/sin prisms of 64 sides (rounded coordinates: their parallel sides are ties the
+  // expansions decide), summed first for their pair in the thread (B's two copies in turn, so
+  // no memo of ties is kept) and again (the memo kept: Overlay::run).
+  const auto rounded = tools::rounded_pairs();
+  const tools::DegeneratePair& pair = rounded[3];
+  ConvexShape prism_a, prism_b[2];
+  if (shape_from_points(pair.a, prism_a) != Status::Ok || shape_from_points(pair.b, prism_b[0]) != Status::Ok ||
+      shape_from_points(pair.b, prism_b[1]) != Status::Ok)
+    g_ok = false;
+  const auto prism_sum = [&](int copy) { return minkowski_sum(prism_a, I, prism_b[copy], I, m) == Status::Ok; };
+  prism_sum(1);
+  measure("sum.rounded_prisms64.first", 4, [&](int k) { return prism_sum(k % 2); });
+  measure("sum.rounded_prisms64.again", 4, [&](int) { return prism_sum(1); });
   static BoxBatch<double, 32> A, B;
   static BoxBoxSum<double, 32> out;
   tools::fill_table1_cubes(A, B);
