@@ -16,6 +16,7 @@
 #include "checks.hpp"
 #include "kernel_reference.hpp"
 #include "simd/simd.hpp"
+#include "sum/overlay.hpp"
 #include "ties.hpp"
 #include "support/shapes.hpp"
 
@@ -367,6 +368,49 @@ TEST_P(Kernels, SupportPushMatchesBruteForce) {
   check_support<double>(GetParam());
 }
 
+// The small overlay's sign tables (detail::side_masks) against the signs computed one by one
+// in long double: random vectors (n lanes of 1 ... 64, whole and partial registers) with a
+// filter well clear of every product; then integer vectors, whose products are exact, with a
+// product at the filter's edge or exactly 0 (not certain: false) in the last query only.
+TEST_P(Kernels, SideMasksMatchBruteForce) {
+  ASSERT_TRUE(force_isa(GetParam()));
+  std::mt19937_64 rng(77);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int n : {1, 3, 8, 9, 30, 63, 64}) {
+    alignas(64) double px[64] = {}, py[64] = {}, pz[64] = {};
+    for (int i = 0; i < n; ++i) px[i] = u(rng), py[i] = u(rng), pz[i] = u(rng);
+    constexpr int m = 40;
+    double gx[m], gy[m], gz[m];
+    std::uint64_t out[m];
+    for (int j = 0; j < m; ++j) gx[j] = u(rng), gy[j] = u(rng), gz[j] = u(rng);
+    const double filter = 1e-9;  // (no random product comes within 1e-9 of 0 or of the filter)
+    ASSERT_TRUE(detail::side_masks(px, py, pz, n, gx, gy, gz, m, filter, out)) << "n " << n;
+    for (int j = 0; j < m; ++j)
+      for (int i = 0; i < n; ++i) {
+        const long double v = (long double)px[i] * gx[j] + (long double)py[i] * gy[j] + (long double)pz[i] * gz[j];
+        ASSERT_EQ(bool(out[j] >> i & 1), v > filter) << "n " << n << " lane " << i << " query " << j;
+      }
+    for (int j = 0; j < m; ++j) ASSERT_EQ(n < 64 ? out[j] >> n : 0, 0u) << "bits past lane n - 1, n " << n;
+  }
+  // Integer vectors: p_i = (i, 1, -2); g = (1, a, b) gives i + a - 2 b, exact.
+  alignas(64) double px[64] = {}, py[64] = {}, pz[64] = {};
+  const int n = 20;
+  for (int i = 0; i < n; ++i) px[i] = i + 1, py[i] = 1, pz[i] = -2;
+  // Products i + 1 - 10.5, i + 4 and (the last) i - 4, which is 0 at i = 4.
+  const double gx[3] = {1, 1, 1}, gy[3] = {0, 3, 3}, gz[3] = {5.25, 0, 4};
+  std::uint64_t out[3];
+  EXPECT_FALSE(detail::side_masks(px, py, pz, n, gx, gy, gz, 3, 0.25, out));
+  EXPECT_TRUE(detail::side_masks(px, py, pz, n, gx, gy, gz, 2, 0.25, out));
+  for (int i = 0; i < n; ++i) {
+    EXPECT_EQ(bool(out[0] >> i & 1), i + 1 - 10.5 > 0) << i;
+    EXPECT_EQ(bool(out[1] >> i & 1), true) << i;
+  }
+  const double hx[1] = {1}, hy[1] = {0}, hz[1] = {0};  // products 1 ... 20: 1 at the filter's edge
+  EXPECT_FALSE(detail::side_masks(px, py, pz, n, hx, hy, hz, 1, 1.0, out));
+  EXPECT_TRUE(detail::side_masks(px, py, pz, n, hx, hy, hz, 1, 0.999, out));
+  EXPECT_EQ(out[0], (std::uint64_t(1) << n) - 1);
+}
+
 // Triangle pairs for the batched distance: random ones (apart and meeting), near-parallel
 // ones (1e-3 ... 1e-9 rad) just apart, coplanar ones, small triangles at 1e6, flat ones
 // (collinear corners, a point), piercing ones, pairs spanning `huge` and `tiny` (beyond the
@@ -652,8 +696,9 @@ TEST(Kernels, EveryTableIsComplete) {
                         t->box_triangle_overlap_d != nullptr,
                         t->box_pair_d != nullptr,
                         t->tri_tri_f != nullptr,
-                        t->tri_tri_d != nullptr};
-    static_assert(sizeof(set) == 16 && sizeof(KernelTable) == 16 * sizeof(void (*)()),
+                        t->tri_tri_d != nullptr,
+                        t->side_masks_d != nullptr};
+    static_assert(sizeof(set) == 17 && sizeof(KernelTable) == 17 * sizeof(void (*)()),
                   "a new kernel table entry needs its check here");
     for (size_t k = 0; k < sizeof(set); ++k) EXPECT_TRUE(set[k]) << name << " entry " << k;
   }

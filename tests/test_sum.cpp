@@ -4,10 +4,12 @@
 
 #include <algorithm>
 #include <random>
+#include <set>
 #include <tuple>
 
 #include "cgal_peer.hpp"
 #include "checks.hpp"
+#include "sum/overlay.hpp"
 #include "sum/sum_internal.hpp"
 #include "ties.hpp"
 #include "support/shapes.hpp"
@@ -199,6 +201,65 @@ TEST(Overlay, AnswersGenericPairsLikeTheExactHullAndMergesTies) {
       make(box_points(Vector3d(1, 1, 1)), box_points(Vector3d(1, 1, 1), tools::axis_angle(Vector3d(0, 0, 1), 0.3))),
       1e-12, true);
   check_all(make(box_points(Vector3d(1, 1, 1)), pyramid_points()), 1e-12, true);
+}
+
+// The small overlay's tables (overlay_small.cpp) against the walks, on one placed pair: every
+// normal located alike and the same crossings, each with its side. Random pairs of 4 ... 64
+// points, B turned by a random rotation (every sign certain: the tables answer), sums and
+// differences; and pairs of integer points, some in a common pose, where ties are many and the
+// tables must decline (a sign they cannot decide) or agree.
+TEST(Overlay, SmallTablesLocateAsTheWalks) {
+  std::mt19937_64 rng(2026);
+  std::uniform_int_distribution<int> small_int(-3, 3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int answered = 0, declined = 0;
+  for (int k = 0; k < test::scaled(800); ++k) {
+    SCOPED_TRACE("pair " + std::to_string(k));
+    const bool ties = k % 2 == 1;
+    std::vector<Vector3d> a, b;
+    if (ties) {
+      for (int n = 0; n < 12; ++n) a.emplace_back(small_int(rng), small_int(rng), small_int(rng));
+      for (int n = 0; n < 12; ++n) b.emplace_back(small_int(rng), small_int(rng), small_int(rng));
+    } else {
+      a = random_points(rng), b = random_points(rng);
+    }
+    ConvexShape sa, sb;
+    if (shape_from_points(a, sa) != Status::Ok || shape_from_points(b, sb) != Status::Ok) continue;  // (flat)
+    const detail::ShapeData &da = *detail::ShapeAccess::data(sa), &db = *detail::ShapeAccess::data(sb);
+    if (da.arcs > detail::kSmallArcs || db.arcs > detail::kSmallArcs) continue;
+    Eigen::Isometry3d pose_a = Eigen::Isometry3d::Identity(), pose_b = pose_a;
+    if (!ties || k % 4 == 1) pose_b.linear() = tools::axis_angle(Vector3d(u(rng), u(rng), u(rng)), 3.2 * u(rng));
+    const Eigen::Matrix3d relative = pose_a.linear().transpose() * pose_b.linear();
+    const bool difference = k % 3 == 0;
+    detail::PlacedBuffers buffers[2][2];
+    detail::Placed A[2], B[2];
+    detail::Overlay overlay[2];  // [0] the walks, [1] the tables where they answer
+    for (int w = 0; w < 2; ++w) {
+      detail::place(da, pose_a, Eigen::Matrix3d::Identity(), false, buffers[w][0], A[w]);
+      detail::place(db, pose_b, relative, difference, buffers[w][1], B[w]);
+      ASSERT_TRUE(overlay[w].locate(A[w], B[w], w == 1));
+    }
+    ASSERT_FALSE(overlay[0].by_tables);
+    if (!overlay[1].by_tables) {
+      ++declined;
+      continue;
+    }
+    ++answered;
+    const auto same = [](const std::vector<detail::Location>& x, const std::vector<detail::Location>& y) {
+      return std::equal(x.begin(), x.end(), y.begin(), y.end(),
+                        [](const auto& p, const auto& q) { return p.kind == q.kind && p.id == q.id; });
+    };
+    EXPECT_TRUE(same(overlay[0].a_normals(), overlay[1].a_normals()));
+    EXPECT_TRUE(same(overlay[0].b_normals(), overlay[1].b_normals()));
+    std::set<std::tuple<int, int, bool>> crossings[2];
+    for (int w = 0; w < 2; ++w)
+      for (const auto& x : overlay[w].arc_crossings()) crossings[w].emplace(x.ea, x.eb, x.up);
+    EXPECT_EQ(crossings[0], crossings[1]);
+    EXPECT_EQ(crossings[1].size(), overlay[1].arc_crossings().size());  // (none twice)
+  }
+  // Both kinds seen: generic pairs answered, ties declined.
+  EXPECT_GT(answered, test::scaled(800) / 4);
+  EXPECT_GT(declined, test::scaled(800) / 8);
 }
 
 // A polytope built by hand that breaks the Edge contract (one edge's faces swapped, so its

@@ -178,6 +178,11 @@ void box_pair_proximity(const Box& a, const Box& b, PairLevel level, unsigned& a
   dispatch().box_pair_d(one_lane(a), one_lane(b), level, active, pair, out);
 }
 
+bool side_masks(const double* px, const double* py, const double* pz, int n, const double* gx, const double* gy,
+                const double* gz, int m, double filter, std::uint64_t* out) {
+  return dispatch().side_masks_d(px, py, pz, n, gx, gy, gz, m, filter, out);
+}
+
 }  // namespace detail
 
 void support_push(const float* x, const float* y, const float* z, int n, const float* dx, const float* dy,

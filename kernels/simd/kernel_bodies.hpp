@@ -7,6 +7,7 @@
 #include "simd/box_pair.hpp"
 #include "simd/box_proximity.hpp"
 #include "simd/box_triangle.hpp"
+#include "simd/side_masks.hpp"
 #include "simd/support.hpp"
 #include "simd/triangle_distance.hpp"
 
@@ -34,6 +35,7 @@ constexpr KernelTable make_table() {
   t.box_pair_d = &BoxPairQuery<double, Arch>::box_pair;
   t.tri_tri_f = &TriangleDistanceKernels<float, Arch>::triangle_distance;
   t.tri_tri_d = &TriangleDistanceKernels<double, Arch>::triangle_distance;
+  t.side_masks_d = &SideKernels<Arch>::side_masks;
   return t;
 }
 

@@ -174,6 +174,8 @@ struct KernelTable {
                      PairAnswer<double>&);
   void (*tri_tri_f)(const float*, const float*, int, int, float*, float*, float*);
   void (*tri_tri_d)(const double*, const double*, int, int, double*, double*, double*);
+  bool (*side_masks_d)(const double*, const double*, const double*, int, const double*, const double*, const double*,
+                       int, double, std::uint64_t*);
 };
 
 // One constant-initialised table per ISA translation unit (no static-initialisation order

@@ -12,7 +12,7 @@
 // faces' exact Newell normals (shape_data.hpp): a canonical double vector where the normal is
 // one (so parallel faces of two shapes have the same vector), else a rounded vector plus the
 // exact normal's expansions (rounded coordinates: cos/sin prisms, decimals). Every sign is the
-// exact one, zero included: a double evaluation decides it when it clears kFilter (a static
+// exact one, zero included: a double evaluation decides it when it clears kSideFilter (a static
 // filter, Shewchuk 1997, that also covers a rounded normal's own rounding), exact expansions on
 // the stack when it does not (predicates.hpp). The overlay computed is therefore the exact
 // overlay of the two maps, ties and all; no perturbation and no rational arithmetic. (A map
@@ -51,11 +51,6 @@ namespace minksum::detail {
 using Eigen::Vector3d;
 
 namespace {
-
-// The static filter of every sign: |G| components are at most 2 (canonical normals, turned),
-// so c . G is within 192 ulp(1) ~ 2.2e-14 of det(G, G_L, G_R); a rounded normal's own
-// rounding (kRoundedNormal per component, unturned) adds at most 1.8e-13; 4e-13 leaves a margin.
-constexpr double kFilter = 4e-13;
 
 // Whether rounded normals a and b are within their rounding of one line (canonical vectors:
 // components at most 1, each within kRoundedNormal of its exact value).
@@ -97,8 +92,8 @@ int orient_normals(const Placed& P, int p, const Placed& Q, int q, const Placed&
 inline int side(const Placed& X, int e, const Placed& Y, int f) {
   const Vector3d &c = X.c[e], &g = Y.g[f];
   const double v = c.x() * g.x() + c.y() * g.y() + c.z() * g.z();
-  if (v > kFilter) return 1;
-  if (v < -kFilter) return -1;
+  if (v > kSideFilter) return 1;
+  if (v < -kSideFilter) return -1;
   if ((Y.g_nonzero[f] & ~X.c_zero[e]) == 0) return 0;
   return orient_normals(Y, f, X, X.L(e), X, X.R(e));
 }
@@ -235,8 +230,8 @@ bool walk(const Placed& A, const Placed& B, int ea, int from, const Loc& start, 
   const auto sigma = [&](int g) {
     const Vector3d& x = B.g[g];
     const double v = pole.x() * x.x() + pole.y() * x.y() + pole.z() * x.z();
-    if (v > kFilter) return 1;
-    if (v < -kFilter) return -1;
+    if (v > kSideFilter) return 1;
+    if (v < -kSideFilter) return -1;
     if ((B.g_nonzero[g] & ~A.c_zero[ea]) == 0) return 0;
     return tsign * orient_normals(B, g, A, A.L(ea), A, A.R(ea));
   };
@@ -332,7 +327,7 @@ bool walk(const Placed& A, const Placed& B, int ea, int from, const Loc& start, 
     const int arc = m.cell_slot[k].arc, eb = arc >= 0 ? arc : ~arc;
     if (!known)
       if (const int q = past(k); q <= 0) return target = q < 0 ? Loc{Loc::Cell, id} : Loc{Loc::Arc, eb}, true;
-    out.push_back({ea, eb, tsign * (m.arc[eb].L == m.cell_slot[k].face ? 1 : -1) > 0});
+    add_crossing(out, ea, eb, tsign * (m.arc[eb].L == m.cell_slot[k].face ? 1 : -1) > 0);
     entry = m.slot_twin[k], id = m.cell_slot[k].next;
   }
   return false;
@@ -362,8 +357,8 @@ Vector3d near_parallel_normal(const Vector3d& a1, const Vector3d& a2, const Vect
 // Arc e's pole_error_bound as placed (a turned map's poles are rounded from turned normals).
 double pole_error(const Placed& X, int e) { return pole_error_bound(X.g[X.L(e)], X.g[X.R(e)], X.c[e]); }
 
-// Whether the unit normal n (world frame) can be on both crossing arcs: an arc shorter than pi
-// lies within pi / 2 of its midpoint, so a normal off by a flipped sign fails.
+// Whether the normal n (world frame, any length) can be on both crossing arcs: an arc shorter
+// than pi lies within pi / 2 of its midpoint, so a normal off by a flipped sign fails.
 bool on_arcs(const Placed& A, int ea, const Placed& B, int eb, const Vector3d& n) {
   return n.dot(A.unit(A.L(ea)) + A.unit(A.R(ea))) > 0 && n.dot(B.unit(B.L(eb)) + B.unit(B.R(eb))) > 0;
 }
@@ -575,7 +570,7 @@ bool Overlay::locate_b_normals(const Placed& A, const Placed& B) {
   return tail == F;
 }
 
-bool Overlay::run(Placed& A, Placed& B, MinkowskiSum& out, SumParts parts) {
+bool Overlay::locate(Placed& A, Placed& B, bool small) {
   const ShapeData &sa = *A.s, &sb = *B.s;
   A.is_a = true, B.is_a = false;
   if (A.rounded || B.rounded) {  // (the memos of rounded ties: per face of A and way; exact normals)
@@ -603,7 +598,13 @@ bool Overlay::run(Placed& A, Placed& B, MinkowskiSum& out, SumParts parts) {
   dedupe_all = sa.polytope_ref->flat || sb.polytope_ref->flat;
   map_normals = std::max(sa.pole_slack, sb.pole_slack) > 1e-10;
   merged = false;
-  if (!walk_a_arcs(A, B) || !locate_b_normals(A, B)) return false;
+  by_tables = small && !dedupe_all && sa.arcs <= kSmallArcs && sb.arcs <= kSmallArcs && locate_small(A, B);
+  return by_tables || (walk_a_arcs(A, B) && locate_b_normals(A, B));
+}
+
+bool Overlay::run(Placed& A, Placed& B, MinkowskiSum& out, SumParts parts) {
+  const ShapeData &sa = *A.s, &sb = *B.s;
+  if (!locate(A, B, true)) return false;
   crossing_slack = map_normals ? 0.0 : sa.pole_slack + sb.pole_slack;  // (crossing_normal's rules)
   crossing_certain = 4 * (2 * (sa.pole_error + sb.pole_error) + crossing_slack) <= 1e-6;
   // The planes need no loops; a flat operand's degenerate facets are found as loops that
@@ -710,8 +711,9 @@ int crossing_pairs(const Placed& A, const Placed& B, const Crossing& x, int (&pa
 
 }  // namespace
 
-// The unit normal of crossing x's facet; loose_offset set where it is not the edges' own (the
-// offset must then be the largest over the facet). The parallelogram e_A (+) e_B has normal
+// A positive multiple of the unit normal of crossing x's facet, and its squared length (the
+// callers scale many at once: unit_normals); loose_offset set where it is not the edges' own
+// (the offset must then be the largest over the facet). The parallelogram e_A (+) e_B has normal
 // +-(d_A x d_B), the sign from `up` (its crossing point X = a G_L' + b G_R', a, b > 0, has
 // G_L' . (c x d_B) = -|d_B|^2 (d_A . G_L'), so X = -s1 c / |c|). That holds while d_A and d_B
 // lie along their arcs' exact poles, to far less than the angle between them; else their cross
@@ -728,7 +730,7 @@ int crossing_pairs(const Placed& A, const Placed& B, const Crossing& x, int (&pa
 // 1e-4, the 1e-4 rule alone decides and the sign is certain; else each crossing's own.
 // (Inlined: called out of line, its vector result and spills cost 37 instructions a crossing.)
 [[gnu::always_inline]] inline Vector3d Overlay::crossing_normal(const Placed& A, const Placed& B, const Crossing& x,
-                                                                bool& loose_offset) const {
+                                                                bool& loose_offset, double& length2) const {
   const double slack = crossing_slack;
   const bool certain = crossing_certain;
   const double poles = certain ? 0.0 : pole_error(A, x.ea) + pole_error(B, x.eb);
@@ -736,11 +738,11 @@ int crossing_pairs(const Placed& A, const Placed& B, const Crossing& x, int (&pa
   const Vector3d c = da.cross(db);
   const double c2 = c.squaredNorm(), edges = std::max(1e-4, 4 * (poles + slack));
   if (c2 > edges * edges * da.squaredNorm() * db.squaredNorm()) {
-    Vector3d n = c * ((x.up ? -1 : 1) / std::sqrt(c2));
+    Vector3d n = x.up ? -c : c;
     if (map_normals) n = A.world.turn(n);
-    if (certain || on_arcs(A, x.ea, B, x.eb, n)) return n;
+    if (certain || on_arcs(A, x.ea, B, x.eb, n)) return length2 = c2, n;
   }
-  loose_offset = true;
+  loose_offset = true, length2 = 1;
   const Vector3d pa = A.pole(x.ea), pb = B.pole(x.eb), cp = pa.cross(pb);
   const double cp2 = cp.squaredNorm(), circles = std::max(1e-4, 4 * poles);
   if (cp2 > circles * circles * pa.squaredNorm() * pb.squaredNorm()) {
@@ -761,12 +763,24 @@ void Overlay::crossing_facets(const Placed& A, const Placed& B) {
     end_facet(dedupe_all);
     if (x.facet == nf) x.facet = -1;  // dropped: a flat operand's zero-length edge
   }
-  for (const Crossing& x : crossings) {
-    if (x.facet < 0) continue;  // (a flat operand's degenerate parallelogram: no plane)
+  length2.resize(crossings.size());
+  for (size_t k = 0; k < crossings.size(); ++k) {
+    const Crossing& x = crossings[k];
     bool loose_offset = false;
-    normal[x.facet] = crossing_normal(A, B, x, loose_offset);
+    length2[k] = 1;
+    if (x.facet < 0) continue;  // (a flat operand's degenerate parallelogram: no plane)
+    normal[x.facet] = crossing_normal(A, B, x, loose_offset, length2[k]);
     if (loose_offset) loose[x.facet] = true;
   }
+  unit_normals(length2);
+  for (size_t k = 0; k < crossings.size(); ++k)
+    if (crossings[k].facet >= 0) normal[crossings[k].facet] *= length2[k];
+}
+
+void unit_normals(std::vector<double>& length2) {
+  // One pass the compiler vectorises: the roots and divisions of many normals overlap, where
+  // one at a time each facet's offset waited behind its own (a third of write_planes' time).
+  for (double& x : length2) x = 1 / std::sqrt(x);
 }
 
 // The facet at a normal where A's feature fa and B's feature fb meet, one of them a face (the
@@ -859,14 +873,18 @@ bool Overlay::number_and_write(const Placed& A, const Placed& B, MinkowskiSum& o
 // within rounding). It is certified as the whole path is (planes_support where features merged
 // under a rotation), but for Euler's relation: there are no loops to count.
 bool Overlay::write_planes(const Placed& A, const Placed& B, MinkowskiSum& out) {
-  out.vertices.clear(), out.planes.clear(), out.loop_start.clear(), out.loop_vertex.clear();
+  out.vertices.clear(), out.loop_start.clear(), out.loop_vertex.clear();
+  // (At most one plane per face normal and crossing, written in place: the result keeps its size.)
+  out.planes.resize(size_t(A.s->faces + B.s->faces) + crossings.size());
+  SumPlane* next = out.planes.data();
   // Offset over the vertex pairs (i, j) the facet's loop would hold: `loose` takes the largest.
-  const auto plane = [&](const Vector3d& n, int i, int j) {
-    out.planes.push_back(SumPlane{n, n.dot(A.point(i) + B.point(j)), i, j});
+  const auto height = [&](const Vector3d& n, int i, int j) {
+    return n.x() * (A.px[i] + B.px[j]) + n.y() * (A.py[i] + B.py[j]) + n.z() * (A.pz[i] + B.pz[j]);
   };
+  const auto plane = [&](const Vector3d& n, int i, int j) { *next++ = SumPlane{n, height(n, i, j), i, j}; };
   const auto raise = [&](int i, int j) {
-    SumPlane& p = out.planes.back();
-    p.offset = std::max(p.offset, p.normal.dot(A.point(i) + B.point(j)));
+    SumPlane& p = next[-1];
+    p.offset = std::max(p.offset, height(p.normal, i, j));
   };
   // The vertices of X's face f, from its smallest, through k = 0 ... n - 1.
   const auto face_vertex = [](const Placed& X, int f, int k) {
@@ -920,14 +938,28 @@ bool Overlay::write_planes(const Placed& A, const Placed& B, MinkowskiSum& out) 
     if (map_normals)
       for (int k = 1; k < face_size(B, g); ++k) raise(i, face_vertex(B, g, k));
   }
-  for (const Crossing& x : crossings) {
+  // The crossings' planes: their normals first (scaled to unit length together), then offsets.
+  SumPlane* const crossing_planes = next;
+  length2.resize(crossings.size()), loose_crossing.resize(crossings.size());
+  for (size_t k = 0; k < crossings.size(); ++k) {
+    const Crossing& x = crossings[k];
     int pairs[8];
     const int first = crossing_pairs(A, B, x, pairs);
     bool loose_offset = map_normals;
-    plane(crossing_normal(A, B, x, loose_offset), pairs[2 * first], pairs[2 * first + 1]);
-    if (loose_offset)
-      for (int k = 0; k < 4; ++k) raise(pairs[2 * k], pairs[2 * k + 1]);
+    *next++ = SumPlane{crossing_normal(A, B, x, loose_offset, length2[k]), 0, pairs[2 * first], pairs[2 * first + 1]};
+    loose_crossing[k] = loose_offset;
   }
+  unit_normals(length2);
+  for (size_t k = 0; k < crossings.size(); ++k) {
+    SumPlane& p = crossing_planes[k];
+    p.normal *= length2[k];
+    p.offset = height(p.normal, p.i, p.j);
+    if (!loose_crossing[k]) continue;
+    int pairs[8];
+    crossing_pairs(A, B, crossings[k], pairs);
+    for (int q = 0; q < 4; ++q) p.offset = std::max(p.offset, height(p.normal, pairs[2 * q], pairs[2 * q + 1]));
+  }
+  out.planes.resize(size_t(next - out.planes.data()));
   out.F = int(out.planes.size()), out.V = out.E = 0;
   out.euler_ok = false, out.corrected = false;
   out.method = Method::Fast, out.parts = SumParts::Planes;

@@ -13,6 +13,21 @@
 
 namespace minksum::detail {
 
+/// The static filter of every side of a normal against an arc, c . G: |G| components are at
+/// most 2 (canonical normals, turned), so c . G is within 192 ulp(1) ~ 2.2e-14 of
+/// det(G, G_L, G_R); a rounded normal's own rounding (kRoundedNormal per component, unturned)
+/// adds at most 1.8e-13; 4e-13 leaves a margin.
+constexpr double kSideFilter = 4e-13;
+
+/// The most arcs an operand of the small overlay (Overlay::locate_small) has.
+constexpr int kSmallArcs = 64;
+
+/// For each vector g_j (j < m), bit i of out[j] set iff p_i . g_j > filter, for n <= 64 vectors
+/// p_i (columns px, py, pz padded to a multiple of 8); false at the first g_j with some
+/// |p_i . g_j| <= filter (kernels/simd/side_masks.hpp, the active ISA).
+bool side_masks(const double* px, const double* py, const double* pz, int n, const double* gx, const double* gy,
+                const double* gz, int m, double filter, std::uint64_t* out);
+
 /// One operand of a sum. The overlay is computed in A's body frame: the structure of a sum
 /// depends only on the relative rotation of its operands, and two shapes under one rotation
 /// (copies, mirrored pairs, aligned boxes turned together) keep every tie exact there. So A's
@@ -104,12 +119,30 @@ struct Crossing {
   int facet = -1;
 };
 
+/// Appends crossing (ea, eb, up), field by field: a whole-struct copy would read its bytes back
+/// at once, stalling on the byte just stored (store forwarding fails).
+inline void add_crossing(std::vector<Crossing>& out, int ea, int eb, bool up) {
+  Crossing& x = out.emplace_back();
+  x.ea = ea, x.eb = eb, x.up = up;
+}
+
 /// The overlay's scratch (one per thread: a sum allocates only while it grows) and its steps.
 class Overlay {
  public:
   /// A (+) B into out, the parts asked for; false if a step failed (the caller runs the hull
   /// corrector).
   bool run(Placed& A, Placed& B, MinkowskiSum& out, SumParts parts);
+
+  /// Steps 1 and 2 of run (overlay.cpp): every face normal located in the other map, and the
+  /// proper crossings of arcs; by the small tables (overlay_small.cpp) where `small` and they
+  /// answer, else by the walks. False if a step failed.
+  bool locate(Placed& A, Placed& B, bool small);
+  /// What locate found: A's normals in B's map, B's in A's, and the crossings.
+  const std::vector<Location>& a_normals() const { return loc_b; }
+  const std::vector<Location>& b_normals() const { return loc_a; }  ///< (see a_normals)
+  const std::vector<Crossing>& arc_crossings() const { return crossings; }  ///< (see a_normals)
+  /// Whether the last locate was answered by the small tables.
+  bool by_tables = false;
 
   /// A direction leaving a facet normal along an arc towards the normal `to`, and the cell
   /// counter-clockwise after it (seen from outside).
@@ -118,6 +151,7 @@ class Overlay {
   };
 
  private:
+  bool locate_small(const Placed& A, const Placed& B);
   bool walk_a_arcs(const Placed& A, const Placed& B);
   bool locate_b_normals(const Placed& A, const Placed& B);
   bool face_facets(const Placed& A, const Placed& B);
@@ -125,7 +159,8 @@ class Overlay {
   bool merged_facet(const Placed& A, const Location& fa, const Placed& B, const Location& fb, bool normal_of_a);
   bool number_and_write(const Placed& A, const Placed& B, MinkowskiSum& out);
   bool write_planes(const Placed& A, const Placed& B, MinkowskiSum& out);
-  Eigen::Vector3d crossing_normal(const Placed& A, const Placed& B, const Crossing& x, bool& loose_offset) const;
+  Eigen::Vector3d crossing_normal(const Placed& A, const Placed& B, const Crossing& x, bool& loose_offset,
+                                  double& length2) const;
   bool place_rays(const Placed& N, int nf, const Placed& R, const std::vector<Ray>& ref, const Placed& O,
                   const std::vector<Ray>& other, std::vector<int>& sector);
   void begin_facet(const Eigen::Vector3d& n, bool loose, int length);
@@ -144,6 +179,8 @@ class Overlay {
     Eigen::Vector3d c, bound;
   };
   std::vector<Turn> turns;       // place_rays': per ray of the reference, n x r and its permanent
+  // locate_small's sign tables (overlay_small.cpp).
+  std::uint64_t left_of_a[64], b_left_of[64], left_of_b[64];
   std::vector<int> face_sector;  // per loop position of A: its ray's sector about B's coincident face (place_rays)
   // The memos of exact answers, kept while their shapes are (ShapeData::id; 0: none):
   std::vector<int> collinear;    // Placed::collinear of A, for the pair tie_pair (A, B, B negated)
@@ -159,9 +196,14 @@ class Overlay {
   // facet_start[k + 1]), and whether each one's offset is the largest over its loop.
   std::vector<Eigen::Vector3d> normal;
   std::vector<int> codes, facet_start, loose;
+  std::vector<double> length2;       // per crossing: its normal's squared length, then 1 / length
+  std::vector<int> loose_crossing;   // write_planes': per crossing, whether its offset is the loop's largest
   int nf = 0, nl = 0;
   PairNumbering pairs;
 };
+
+/// Each x of `length2` (squared lengths of normals) replaced by 1 / sqrt(x).
+void unit_normals(std::vector<double>& length2);
 
 /// Every facet's vertices (i, j) (SumParts::Planes: its pair) are extreme along its normal in
 /// A and in B (a_i has no neighbour higher, nor b_j): a proof that each plane supports A (+) B.
