@@ -187,6 +187,8 @@ class Overlay {
   std::vector<double> exact_terms[2];  // Placed::exact_terms of A and B, of shapes exact_shape
   std::vector<std::int8_t> exact_count[2];
   std::uint64_t tie_pair[3] = {0, 0, 0}, exact_shape[2] = {0, 0};
+  std::uint64_t tie_free_pair[3] = {0, 0, 0};  // and whether the small tables answered that pair in its own frame
+  bool tie_free = false;
   bool merged = false;           // some facet merges features (a tie): checked as a closed manifold
   bool dedupe_all = false;       // a flat operand's zero-length arcs repeat vertices
   bool map_normals = false;      // crossing normals from the poles, every offset the loop's largest
