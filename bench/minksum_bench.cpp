@@ -31,8 +31,9 @@
 // families of tools::rounded_pairs() (cos/sin prisms, boxes turned by rounded angles: the
 // faces' exact normals are not doubles), Degenerate/<case>_rounded.
 // Scaling/<n>/<method>: random polytopes of n points on a sphere per operand (seeded), for
-// n = 8 ... 512, by osm_prepared, qhull and cgal_quickhull, and n = 2048 by osm_prepared alone
-// (4 million pairwise sums are too slow to hull in every report): how the cost grows with
+// n = 8 ... 512, by osm_prepared (the whole polytope), osm_planes, qhull and cgal_quickhull,
+// and n = 2048 by osm_prepared and osm_planes alone (4 million pairwise sums are too slow to
+// hull in every report): how the cost grows with
 // |A| |B| and with the output. Every row carries `facets` (the sum's F; for cgal_quickhull
 // its triangles), so time per output facet reads off the JSON.
 #include <benchmark/benchmark.h>
@@ -211,9 +212,11 @@ Prepared scaling_pair(int n) {
 }
 
 // The same pair as shapes: B prepared from its unrotated points, posed by the rotation.
-void ScalingPrepared(benchmark::State& state, int n) {
-  run_prepared(state, prepare_shapes(tools::sphere_points(n, 1000 + unsigned(n)),
-                                     tools::sphere_points(n, 2000 + unsigned(n)), tools::table1_rotation()));
+void ScalingPrepared(benchmark::State& state, int n, SumParts parts) {
+  run_prepared(state,
+               prepare_shapes(tools::sphere_points(n, 1000 + unsigned(n)), tools::sphere_points(n, 2000 + unsigned(n)),
+                              tools::table1_rotation()),
+               parts);
 }
 
 void ScalingCgal(benchmark::State& state, int n) {
@@ -229,13 +232,19 @@ void ScalingCgal(benchmark::State& state, int n) {
 const int kRegistered = [] {
   for (int n : {8, 12, 16, 24, 32, 48, 64, 128, 256, 512}) {
     const std::string base = "Scaling/" + std::to_string(n) + "/";
-    benchmark::RegisterBenchmark((base + "osm_prepared").c_str(), ScalingPrepared, n)->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark((base + "osm_prepared").c_str(), ScalingPrepared, n, SumParts::Whole)
+        ->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark((base + "osm_planes").c_str(), ScalingPrepared, n, SumParts::Planes)
+        ->Unit(benchmark::kMicrosecond);
     const Prepared p = scaling_pair(n);
     benchmark::RegisterBenchmark((base + "qhull").c_str(), HullPeer, p.A.vertices, p.B.vertices, 1.0, false)
         ->Unit(benchmark::kMicrosecond);
     benchmark::RegisterBenchmark((base + "cgal_quickhull").c_str(), ScalingCgal, n)->Unit(benchmark::kMicrosecond);
   }
-  benchmark::RegisterBenchmark("Scaling/2048/osm_prepared", ScalingPrepared, 2048)->Unit(benchmark::kMicrosecond);
+  benchmark::RegisterBenchmark("Scaling/2048/osm_prepared", ScalingPrepared, 2048, SumParts::Whole)
+      ->Unit(benchmark::kMicrosecond);
+  benchmark::RegisterBenchmark("Scaling/2048/osm_planes", ScalingPrepared, 2048, SumParts::Planes)
+      ->Unit(benchmark::kMicrosecond);
   const auto pairs = tools::table1_pairs();
   for (int row = 0; row < int(pairs.size()); ++row) {
     const std::string base = "Table1/" + pairs[row].name + "/";
