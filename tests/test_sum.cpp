@@ -262,6 +262,21 @@ TEST(Overlay, SmallTablesLocateAsTheWalks) {
   EXPECT_GT(declined, test::scaled(800) / 8);
 }
 
+// The poles' zero components for want of a term (pole_zero_mask, a table over the normals'
+// nonzero masks) against the products themselves, for every pattern of zero components.
+TEST(Overlay, PoleZeroMaskIsTheProductsWithAZeroFactor) {
+  for (int m = 0; m < 64; ++m) {
+    const Vector3d l((m & 1) ? 1.5 : 0, (m & 2) ? -2.25 : 0, (m & 4) ? 0.75 : 0);
+    const Vector3d r((m & 8) ? -1.25 : 0, (m & 16) ? 3.5 : 0, (m & 32) ? 2.0 : 0);
+    int expected = 0;
+    for (int k = 0; k < 3; ++k) {
+      const int a = (k + 1) % 3, b = (k + 2) % 3;  // component k of l x r: l_a r_b - l_b r_a
+      if (l[a] * r[b] == 0 && l[b] * r[a] == 0) expected |= 1 << k;
+    }
+    EXPECT_EQ(int(detail::pole_zero_mask(detail::nonzero_mask(l), detail::nonzero_mask(r))), expected) << m;
+  }
+}
+
 // A polytope built by hand that breaks the Edge contract (one edge's faces swapped, so its
 // arc runs the wrong way round): it is not a valid shape (InvalidMesh), and the convenience
 // entry, which prepares it, still gives the true sum (the corrector's, from the vertices). Every

@@ -303,12 +303,12 @@ Status prepare(const ConvexPolytope& p, ShapeData& s, bool negated_layout) {
   // them as they are (-B's are -G_R x -G_L, the negation of the shape's, exactly).
   for (auto& c : s.pole) c.resize(size_t(s.arcs));
   s.pole_zero.resize(size_t(s.arcs)), s.gauss_nonzero.resize(size_t(s.faces));
+  for (int f = 0; f < s.faces; ++f) s.gauss_nonzero[f] = nonzero_mask(s.gauss[f]);
   for (int e = 0; e < s.arcs; ++e) {
     const MapLayout::Arc& a = s.map[0].arc[e];
     s.pole[0][e] = s.gauss[a.L].cross(s.gauss[a.R]), s.pole[1][e] = -s.pole[0][e];
-    s.pole_zero[e] = pole_zero_mask(s.gauss[a.L], s.gauss[a.R]);
+    s.pole_zero[e] = pole_zero_mask(s.gauss_nonzero[a.L], s.gauss_nonzero[a.R]);
   }
-  for (int f = 0; f < s.faces; ++f) s.gauss_nonzero[f] = nonzero_mask(s.gauss[f]);
   s.ex.resize(size_t(s.arcs)), s.ey.resize(size_t(s.arcs)), s.ez.resize(size_t(s.arcs));
   for (int e = 0; e < s.arcs; ++e) {
     const int u = s.cell_vertex[s.map[0].arc[e].u], v = s.cell_vertex[s.map[0].arc[e].v];

@@ -131,15 +131,27 @@ struct ShapeAccess {
   static void set(std::shared_ptr<const ShapeData> data, ConvexShape& out) { out.data_ = std::move(data); }
 };
 
-/// Bit k set iff component k of G_L x G_R is 0 for want of a term (see ShapeData::pole_zero).
-inline std::uint8_t pole_zero_mask(const Eigen::Vector3d& l, const Eigen::Vector3d& r) {
-  const auto none = [&](int a, int b) { return (l[a] == 0 || r[b] == 0) && (l[b] == 0 || r[a] == 0); };
-  return std::uint8_t(none(1, 2) | none(2, 0) << 1 | none(0, 1) << 2);
-}
-
 /// Bit k set iff component k of v is not 0.
 inline std::uint8_t nonzero_mask(const Eigen::Vector3d& v) {
   return std::uint8_t((v.x() != 0) | (v.y() != 0) << 1 | (v.z() != 0) << 2);
+}
+
+/// Bit k set iff component k of G_L x G_R is 0 for want of a term (see ShapeData::pole_zero),
+/// from the normals' nonzero_masks: one table read (a turned map's poles, every sum).
+inline std::uint8_t pole_zero_mask(std::uint8_t l, std::uint8_t r) {
+  struct Table {
+    std::uint8_t at[64];
+    constexpr Table() : at() {
+      for (int m = 0; m < 64; ++m) {
+        const auto none = [m](int a, int b) {  // l_a r_b and l_b r_a both lack a factor
+          return !((m >> a & 1) && (m >> (3 + b) & 1)) && !((m >> b & 1) && (m >> (3 + a) & 1));
+        };
+        at[m] = std::uint8_t(none(1, 2) | none(2, 0) << 1 | none(0, 1) << 2);
+      }
+    }
+  };
+  static constexpr Table kTable;
+  return kTable.at[l | r << 3];
 }
 
 /// Prepares p into `out`, reusing its capacity (the convenience entry points keep one per

@@ -21,16 +21,16 @@ struct SideKernels : Lanes<double, Arch> {
   static bool side_masks(const double* px, const double* py, const double* pz, int n, const double* gx,
                          const double* gy, const double* gz, int m, double filter, std::uint64_t* out) {
     const std::uint64_t used = n >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << n) - 1;
-    const B f(filter);
+    const B f(filter), minus_f(-filter);
     for (int j = 0; j < m; ++j) {
       const B x(gx[j]), y(gy[j]), z(gz[j]);
-      std::uint64_t left = 0, unsure = 0;
+      std::uint64_t left = 0, right = 0;
       for (int i = 0; i < n; i += S::size) {
         const B v = S::fma(x, load_u(px + i), S::fma(y, load_u(py + i), z * load_u(pz + i)));
         left |= std::uint64_t(S::bits(v > f)) << i;
-        unsure |= std::uint64_t(S::bits(S::abs(v) <= f)) << i;
+        right |= std::uint64_t(S::bits(v < minus_f)) << i;
       }
-      if (unsure & used) return false;
+      if (~(left | right) & used) return false;  // some |v| <= filter
       out[j] = left & used;
     }
     return true;

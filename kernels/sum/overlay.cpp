@@ -409,7 +409,7 @@ void place(const ShapeData& s, const Eigen::Isometry3d& pose, const Eigen::Matri
     buf.c.resize(size_t(s.arcs)), buf.c_zero.resize(size_t(s.arcs));
     for (int e = 0; e < s.arcs; ++e) {
       const Vector3d &l = buf.g[m.arc[e].L], &r = buf.g[m.arc[e].R];
-      buf.c[e] = l.cross(r), buf.c_zero[e] = pole_zero_mask(l, r);
+      buf.c[e] = l.cross(r), buf.c_zero[e] = pole_zero_mask(buf.g_nonzero[m.arc[e].L], buf.g_nonzero[m.arc[e].R]);
     }
     out.g = buf.g.data(), out.g_nonzero = buf.g_nonzero.data(), out.c = buf.c.data(), out.c_zero = buf.c_zero.data();
     out.rounded = false;  // (the turned vectors are the normals the predicates read)
