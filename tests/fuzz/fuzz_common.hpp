@@ -44,15 +44,18 @@ inline bool finite(const Eigen::Vector3d& v) {
 }
 
 /// The checks on any proximity answer: finite, consistent (distance >= 0, witnesses that
-/// realise it, intersecting at distance 0).
-inline void check(const Proximity& p) {
+/// realise it, intersecting at distance 0). `reach`: the largest coordinate of the operands,
+/// where the caller knows it (max_distance bounds it only when the query was asked for it,
+/// Want::MaxDistance).
+inline void check(const Proximity& p, double reach = 0) {
   for (double x : {p.distance, p.max_distance, p.penetration_depth})
     if (!std::isfinite(x) || x < 0) fail("distance, max distance or depth not finite and >= 0");
   for (const auto* v : {&p.point_a, &p.point_b, &p.far_a, &p.far_b, &p.penetration_direction})
     if (!finite(*v)) fail("non-finite point or direction");
   if (p.intersecting && p.distance != 0) fail("intersecting with a positive distance");
   // Rounding is relative to the largest coordinate involved (the farthest pair bounds it).
-  const double scale = 1 + p.max_distance + p.point_a.cwiseAbs().maxCoeff() + p.point_b.cwiseAbs().maxCoeff();
+  const double scale =
+      1 + reach + p.max_distance + p.point_a.cwiseAbs().maxCoeff() + p.point_b.cwiseAbs().maxCoeff();
   if (!p.intersecting && std::abs((p.point_a - p.point_b).norm() - p.distance) > 1e-6 * scale)
     fail("the closest points do not realise the distance");
 }

@@ -275,7 +275,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   ConvexPolytope A, B;
   if (polytope_from_points(a, A) != Status::Ok || polytope_from_points(b, B) != Status::Ok) return 0;
   Proximity prox;
-  if (proximity(A, B, prox) == Status::Ok) fuzz::check(prox);
+  double reach = 0;  // (the operands' largest coordinate: the scale of the witnesses' rounding)
+  for (const auto* p : {&A.vertices, &B.vertices})
+    for (const auto& v : *p) reach = std::max(reach, v.cwiseAbs().maxCoeff());
+  if (proximity(A, B, prox) == Status::Ok) fuzz::check(prox, reach);
   const Method method = grid || rounded || flags % 3 == 0 ? Method::Fast : flags % 3 == 1 ? Method::Reference : Method::Hull;
   const bool diff = flags & 4;
   MinkowskiSum m;
