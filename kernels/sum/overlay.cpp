@@ -601,7 +601,7 @@ bool Overlay::locate(Placed& A, Placed& B, bool small) {
   // The small tables decline a pair with a tie (a sign of 0). With B not turned against A that
   // is a fact about the two shapes, whatever their common pose and translations, so it is kept
   // (tie_free) and the walks taken at once: a resting scene's tied pair pays for the tables once.
-  small = small && !dedupe_all && sa.arcs <= kSmallArcs && sb.arcs <= kSmallArcs;
+  small = small && !dedupe_all && small_overlay_fits(sa, sb);
   const std::uint64_t pair[3] = {sa.id, sb.id, B.negate};
   const bool known = B.own_frame && pair[0] != 0 && pair[1] != 0 && std::equal(pair, pair + 3, tie_free_pair);
   by_tables = small && (!known || tie_free) && locate_small(A, B);

@@ -22,6 +22,15 @@ constexpr double kSideFilter = 4e-13;
 /// The most arcs an operand of the small overlay (Overlay::locate_small) has.
 constexpr int kSmallArcs = 64;
 
+/// Whether the small overlay's tables are the cheaper way to locate a and b: at most kSmallArcs
+/// arcs each, and F_A E_B + F_B E_A products at most 24 per walk step (E_A + E_B). Measured on
+/// an AVX-512 EPYC (two sphere polytopes of n points, B turned): the tables are faster to 24
+/// products a step (n = 14: 0.89-0.99 us against 1.03), even at 28 (n = 16), slower from 36
+/// (n = 20: 1.80 against 1.61); on AVX2, with half the lanes, the products cost more.
+inline bool small_overlay_fits(const ShapeData& a, const ShapeData& b) {
+  return a.arcs <= kSmallArcs && b.arcs <= kSmallArcs && a.faces * b.arcs + b.faces * a.arcs <= 24 * (a.arcs + b.arcs);
+}
+
 /// For each vector g_j (j < m), bit i of out[j] set iff p_i . g_j > filter, for n <= 64 vectors
 /// p_i (columns px, py, pz padded to a multiple of 8); false at the first g_j with some
 /// |p_i . g_j| <= filter (kernels/simd/side_masks.hpp, the active ISA).
