@@ -3,14 +3,20 @@
 // rigid), or the sum itself: Euler, finite planes, every pairwise sum inside every plane, every
 // plane touching the sum (its loop's vertices on it), every vertex the pairwise sum its (i, j)
 // names, all within the bound; on lattice input the exact hull of the pairwise sums, certified
-// in integer arithmetic from the output (check_grid_structure); and the proximity of the two
-// polytopes: finite and consistent.
+// in integer arithmetic from the output (check_grid_structure); the small overlay's tables
+// against the walks where they answer; and the proximity of the two polytopes: finite and
+// consistent.
 #include "fuzz_common.hpp"
 
 #include <gmpxx.h>
 
 #include <array>
 #include <map>
+#include <set>
+#include <tuple>
+
+#include "shape/shape_data.hpp"
+#include "sum/overlay.hpp"
 
 using namespace minksum;
 
@@ -81,6 +87,38 @@ void check_planes_level(const ConvexShape& SA, const Eigen::Isometry3d& pa, cons
         !(std::abs(p.normal.dot(a[size_t(p.i)] + sign * b[size_t(p.j)]) - p.offset) <= 1e-9 * size))
       fuzz::fail("a plane's pair is not on it at the planes level");
   }
+}
+
+// The small overlay's tables against the walks on the posed pair (placed as the sum places
+// it): where the tables answer, the same cell for every normal and the same crossings.
+void check_small_overlay(const ConvexShape& SA, const Eigen::Isometry3d& pa, const ConvexShape& SB,
+                         const Eigen::Isometry3d& pb, bool diff) {
+  const detail::ShapeData &da = *detail::ShapeAccess::data(SA), &db = *detail::ShapeAccess::data(SB);
+  if (!detail::small_overlay_fits(da, db)) return;
+  const Eigen::Matrix3d relative = pa.linear() == pb.linear() ? Eigen::Matrix3d::Identity()
+                                                              : Eigen::Matrix3d(pa.linear().transpose() * pb.linear());
+  detail::PlacedBuffers buffers[2][2];
+  detail::Placed A[2], B[2];
+  detail::Overlay overlay[2];  // [0] the walks, [1] the tables
+  bool ok[2];
+  for (int w = 0; w < 2; ++w) {
+    detail::place(da, pa, Eigen::Matrix3d::Identity(), false, buffers[w][0], A[w]);
+    detail::place(db, pb, relative, diff, buffers[w][1], B[w]);
+    ok[w] = overlay[w].locate(A[w], B[w], w == 1);
+  }
+  if (!overlay[1].by_tables) return;
+  if (!ok[0]) fuzz::fail("the walks failed where the small tables answered");
+  const auto same = [](const std::vector<detail::Location>& x, const std::vector<detail::Location>& y) {
+    return std::equal(x.begin(), x.end(), y.begin(), y.end(),
+                      [](const auto& p, const auto& q) { return p.kind == q.kind && p.id == q.id; });
+  };
+  if (!same(overlay[0].a_normals(), overlay[1].a_normals()) || !same(overlay[0].b_normals(), overlay[1].b_normals()))
+    fuzz::fail("the small tables located a normal elsewhere than the walks");
+  std::set<std::tuple<int, int, bool>> crossings[2];
+  for (int w = 0; w < 2; ++w)
+    for (const auto& x : overlay[w].arc_crossings()) crossings[w].emplace(x.ea, x.eb, x.up);
+  if (crossings[0] != crossings[1] || crossings[1].size() != overlay[1].arc_crossings().size())
+    fuzz::fail("the small tables found other crossings than the walks");
 }
 
 // A pose from the input: a quaternion (normalised; zero reads as the identity) and a
@@ -307,6 +345,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   for (const auto& q : SB.polytope().vertices) wb.push_back(pb * q);
   check_planes(m, wa, wb, diff ? -1 : 1);
   check_planes_level(SA, pa, SB, pb, diff, m, wa, wb);
+  check_small_overlay(SA, pa, SB, pb, diff);
   // Under one rotation the structure is the unposed sum's, pair for pair (shape_from_points
   // numbers the vertices as polytope_from_points does).
   if (rounded && (m.V != unposed.V || m.F != unposed.F || m.loop_vertex.size() != unposed.loop_vertex.size()))
