@@ -1,13 +1,14 @@
-// Steps 1 and 2 of the overlay (overlay.cpp) for operands of at most 64 arcs each, from two
-// tables of signs instead of walks (#29's small fused overlay). Every sign of the overlay is
+// Steps 1 and 2 of the overlay (overlay.cpp) for small operands (small_overlay_fits: at most 64
+// arcs each, and few products per walk step), from tables of signs instead of walks (#29's
+// small fused overlay). Every sign of the overlay is
 // the side of a face normal of one operand against an arc of the other, c . G. The tables hold
 // all of them, F_B E_A + F_A E_B products computed in bulk across SIMD lanes (side_masks, the
 // active ISA), as bit masks:
 //  - a proper crossing of arcs e_A and e_B is Gregorius's test on four of those bits (GDC 2013,
 //    "IsMinkowskiFace"): the ends of each arc lie on opposite sides of the other's circle, and
 //    on the sides that put the two circles' meeting point inside both arcs;
-//  - a face normal's cell in the other map is found by climbing across the sides it lies
-//    beyond (each step raises the support along it), reading the bits.
+//  - a face normal's cell in the other map (its support vertex) is the cell whose every side
+//    it is not beyond: per cell, an AND of the masks of its arcs.
 // Each sign is the one the walks take (side(): the same product, the same filter), and the
 // tables are used only when every one of them clears kSideFilter: then no normal lies on an
 // arc's circle of the other map (no tie: every facet is a face with a vertex or a
