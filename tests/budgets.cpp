@@ -225,6 +225,15 @@ void sums() {
               return minkowski_sum(a, I, b, pose_b, m, parts) == Status::Ok;
             });
   }
+  // The same shapes in one frame: B is a rounded copy of its body (its points turned by R and
+  // back), so where A and B are one solid (icosa_icosa, dodeca_dodeca) every face of B lies
+  // within rounding of A's: each sign near a face is a near-tie (the double-double stage of
+  // orient_exact decides them).
+  for (const auto& [a, b] : turned) minkowski_sum(a, I, b, I, m);
+  measure("sum.table1.turned_back", int(turned.size()), [&](int k) {
+    const auto& [a, b] = turned[size_t(k)];
+    return minkowski_sum(a, I, b, I, m) == Status::Ok;
+  });
   // Aligned cos/sin prisms of 64 sides (rounded coordinates: their parallel sides are ties the
   // expansions decide), summed first for their pair in the thread (B's two copies in turn, so
   // no memo of ties is kept) and again (the memo kept: Overlay::run).
