@@ -232,15 +232,22 @@ testing::AssertionResult equals_exact_planes(const std::vector<Vector3d>& a, con
   for (const auto& f : exact)
     for (const auto& p : f.points) size = std::max(size, p.cwiseAbs().maxCoeff());
   const double within = tol * size;
-  // Which planes hold each exact facet's vertices; then a perfect matching of facets to planes
-  // (Kuhn's augmenting paths): the two planes of a sliver and its neighbour, parallel to an ulp
-  // where the operands' sides are rounded from parallel ones, both hold both facets' vertices.
+  // Which planes support the exact hull and hold each exact facet's vertices; then a perfect
+  // matching of facets to planes (Kuhn's augmenting paths): the two planes of a sliver and its
+  // neighbour, parallel to an ulp where the operands' sides are rounded from parallel ones, both
+  // hold both facets' vertices. (Supporting the hull, not a facet normal from the rounded
+  // vertices, tells a plane's side: an ulp-wide sliver's rounded vertices are collinear.)
+  std::vector<char> supports(m.planes.size(), 1);
+  for (int k = 0; k < m.F; ++k)
+    for (const auto& f : exact)
+      for (const auto& p : f.points)
+        if (m.planes[size_t(k)].normal.dot(p) - m.planes[size_t(k)].offset > within) supports[size_t(k)] = 0;
   std::vector<std::vector<int>> holds(exact.size());
   for (size_t e = 0; e < exact.size(); ++e) {
     const ExactFacet& f = exact[e];
     for (int k = 0; k < m.F; ++k) {
       const SumPlane& q = m.planes[size_t(k)];
-      bool on = q.normal.dot(f.normal) > 0;
+      bool on = supports[size_t(k)];
       for (size_t v = 0; v < f.points.size() && on; ++v) on = std::abs(q.normal.dot(f.points[v]) - q.offset) <= within;
       if (on) holds[e].push_back(k);
     }

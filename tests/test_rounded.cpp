@@ -115,7 +115,7 @@ RoundedCase rounded_case(std::mt19937_64& rng) {
   const double phase = rng() % 2 ? 0.0 : turn(rng);
   RoundedCase c;
   c.sign = rng() % 2 ? 1.0 : -1.0;
-  const int kind = int(rng() % 7);
+  const int kind = int(rng() % 8);
   c.a = cos_sin_prism(n, r, h0, h1, phase);
   switch (kind) {
     case 0:  // the same polygon, another slab
@@ -137,13 +137,23 @@ RoundedCase rounded_case(std::mt19937_64& rng) {
       c.a = turned_box(Vector3d(size(rng), size(rng), size(rng)), phase);
       c.b = turned_box(Vector3d(size(rng), size(rng), size(rng)) / 2, turn(rng)), c.what = "boxes";
       break;
-    default: {  // a generic polytope of rounded points with itself, halved or doubled: every face
+    case 6: {  // a generic polytope of rounded points with itself, halved or doubled: every face
       // has a parallel twin (or an opposite one in the difference), and no axis in sight
       c.a = tools::sphere_points(4 + int(rng() % 13), unsigned(rng()));
       const double k = rng() % 3 == 0 ? 1.0 : rng() % 2 ? 0.5 : 2.0;
       c.b = c.a;
       for (auto& p : c.b) p *= k;
       c.what = "a polytope and its copy times " + std::to_string(k);
+      break;
+    }
+    default: {  // a polytope and a copy at another size, each turned by one rotation and rounded
+      // apart: every face within rounding of parallel to its twin (near-ties, det ~ 1e-17)
+      const auto points = tools::sphere_points(4 + int(rng() % 13), unsigned(rng()));
+      const Eigen::Matrix3d R = tools::axis_angle(Vector3d(size(rng), -size(rng), size(rng)), turn(rng));
+      const double k = size(rng);
+      c.a = tools::rotated(points, R), c.b = points;
+      for (auto& p : c.b) p = R * (k * p);
+      c.what = "a polytope and its copy times " + std::to_string(k) + ", both turned";
     }
   }
   if (rng() % 4 == 0) {
