@@ -283,9 +283,17 @@ DegeneratePair rounded_pair(int family, std::mt19937_64& rng) {
     case 5:
       return {"box_turned_rounded", turned_box(Vector3d(size(rng), size(rng), size(rng)), 0),
               turned_box(Vector3d(size(rng), size(rng), size(rng)) / 2, angle(rng))};
-    default:
+    case 6:
       return {"prism_box_rounded", turned_box(Vector3d(size(rng), size(rng), 0.3 * size(rng)), 0),
               cos_sin_prism(16, r / 2, b0, b1, angle(rng))};
+    default: {
+      const Eigen::Matrix3d R = axis_angle(Vector3d(size(rng), -size(rng), size(rng)), angle(rng));
+      std::vector<Vector3d> a = icosahedron_points(), b = a;
+      const double k = size(rng);
+      for (auto& p : a) p = R * (r * p);
+      for (auto& p : b) p = R * (k * r * p);
+      return {"icosa_copies_rounded", a, b};
+    }
   }
 }
 

@@ -96,9 +96,11 @@ std::vector<DegeneratePair> degenerate_pairs();
 /// rounded angle), whose faces' exact normals are not doubles, in poses that keep their ties:
 /// prisms_<n>_rounded (aligned n-gon prisms, n = 8 ... 64, B's polygon A's halved: parallel
 /// sides), prisms_16_turned_rounded (B turned about the shared axis by a rounded angle),
-/// box_turned_rounded (B turned about z by a non-Pythagorean angle) and prism_box_rounded (a
-/// 16-gon prism on a box's face).
-constexpr int kRoundedFamilies = 7;
+/// box_turned_rounded (B turned about z by a non-Pythagorean angle), prism_box_rounded (a
+/// 16-gon prism on a box's face) and icosa_copies_rounded (an icosahedron and a copy of another
+/// size, each turned by one rotation and rounded apart: every face within rounding of parallel
+/// to its twin, near-ties).
+constexpr int kRoundedFamilies = 8;
 
 /// One member of rounded family `family` (0 ... kRoundedFamilies - 1), its sizes and angles
 /// from a seeded generator.
