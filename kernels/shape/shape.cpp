@@ -163,56 +163,61 @@ Status prepare_solid(const ConvexPolytope& p, ShapeData& s, Topology& t) {
 // face; at cell a, that arc is followed counter-clockwise by the face and then by the arc of
 // the loop's previous step, which orders every cell's slots.
 Status build_layout(const Topology& t, int cells, bool reversed, MapLayout& m, std::vector<int>& scratch) {
+  // (Raw pointers throughout: a store through one vector's data would make the compiler reload
+  // every other vector's, and this runs on every sum of unprepared polytopes.)
   const int E = int(t.arc_u.size()), F = int(t.loop_start.size()) - 1;
+  const int *arc_u = t.arc_u.data(), *arc_v = t.arc_v.data();
   m.arc.resize(size_t(E));
-  for (int e = 0; e < E; ++e) m.arc[e] = {t.arc_u[e], t.arc_v[e], -1, -1};
+  MapLayout::Arc* arc = m.arc.data();
+  for (int e = 0; e < E; ++e) arc[e] = {arc_u[e], arc_v[e], -1, -1};
   m.cell_start.assign(size_t(cells) + 1, 0);
-  for (int e = 0; e < E; ++e) ++m.cell_start[size_t(t.arc_u[e]) + 1], ++m.cell_start[size_t(t.arc_v[e]) + 1];
-  for (int c = 0; c < cells; ++c) m.cell_start[c + 1] += m.cell_start[c];
+  int* cell_start = m.cell_start.data();
+  for (int e = 0; e < E; ++e) ++cell_start[arc_u[e] + 1], ++cell_start[arc_v[e] + 1];
+  for (int c = 0; c < cells; ++c) cell_start[c + 1] += cell_start[c];
   const int S = 2 * E;
-  // Unordered slots: scratch[0, S) their (signed) arcs, [S, 2S) successors, [2S, 3S) faces,
-  // [3S, 3S + E) and [3S + E, 3S + 2E) each arc's slot at u and at v, then per-cell fill.
-  scratch.assign(size_t(3 * S + 2 * E + cells), -1);
-  int *arc_of = scratch.data(), *succ = arc_of + S, *face = succ + S, *at_u = face + S, *at_v = at_u + E,
-      *fill = at_v + E;
-  std::copy(m.cell_start.begin(), m.cell_start.end() - 1, fill);
+  // Unordered slots: scratch[0, S) their (signed) arcs, [S, 2S) the cells across them, [2S, 3S)
+  // successors, [3S, 4S) faces, then each arc's slot at u and at v, then per-cell fill.
+  scratch.assign(size_t(4 * S + 2 * E + cells), -1);
+  int *arc_of = scratch.data(), *across = arc_of + S, *succ = across + S, *face = succ + S, *at_u = face + S,
+      *at_v = at_u + E, *fill = at_v + E;
+  std::copy(cell_start, cell_start + cells, fill);
   for (int e = 0; e < E; ++e) {
-    arc_of[at_u[e] = fill[t.arc_u[e]]++] = e;
-    arc_of[at_v[e] = fill[t.arc_v[e]]++] = ~e;
+    const int su = at_u[e] = fill[arc_u[e]]++, sv = at_v[e] = fill[arc_v[e]]++;
+    arc_of[su] = e, across[su] = arc_v[e];
+    arc_of[sv] = ~e, across[sv] = arc_u[e];
   }
   m.loop_start = t.loop_start;
   const size_t L = t.loop_cell.size();
   m.loop_cell.resize(L), m.loop_arc.resize(L), m.loop_face.resize(L), m.loop_slot.resize(L),
       m.loop_least.resize(size_t(F));
+  const int *loop_start = t.loop_start.data(), *in_cell = t.loop_cell.data();
+  int *loop_cell = m.loop_cell.data(), *loop_arc = m.loop_arc.data(), *loop_slot = m.loop_slot.data();
   for (int f = 0; f < F; ++f) {
-    const int first = t.loop_start[f], n = t.loop_start[f + 1] - first;
-    for (int k = 0; k < n; ++k) m.loop_cell[first + k] = t.loop_cell[first + (reversed ? n - 1 - k : k)];
+    const int first = loop_start[f], n = loop_start[f + 1] - first;
+    for (int k = 0; k < n; ++k) loop_cell[first + k] = in_cell[first + (reversed ? n - 1 - k : k)];
     for (int k = 0; k < n; ++k) {
-      const int a = m.loop_cell[first + k], b = m.loop_cell[first + (k + 1) % n];
+      const int a = loop_cell[first + k], b = loop_cell[first + (k + 1 < n ? k + 1 : 0)];
       if (a < 0 || a >= cells || b < 0 || b >= cells) return Status::InvalidMesh;
-      int found = -1;
-      for (int s = m.cell_start[a]; s < m.cell_start[a + 1] && found < 0; ++s) {
-        const int e = arc_of[s] >= 0 ? arc_of[s] : ~arc_of[s];
-        if ((arc_of[s] >= 0 ? t.arc_v[e] : t.arc_u[e]) == b) found = s;
-      }
-      if (found < 0 || face[found] >= 0) return Status::InvalidMesh;  // no such edge, or used twice
+      int found = cell_start[a];
+      while (found < cell_start[a + 1] && across[found] != b) ++found;
+      if (found == cell_start[a + 1] || face[found] >= 0) return Status::InvalidMesh;  // no such edge, or used twice
       face[found] = f;
       const int e = arc_of[found] >= 0 ? arc_of[found] : ~arc_of[found];
-      (arc_of[found] >= 0 ? m.arc[e].L : m.arc[e].R) = f;
-      m.loop_arc[first + k] = e, m.loop_slot[first + k] = found;
+      (arc_of[found] >= 0 ? arc[e].L : arc[e].R) = f;
+      loop_arc[first + k] = e, loop_slot[first + k] = found;
     }
     for (int k = 0; k < n; ++k) {
       // At cell k, the previous step's arc: its slot there (cell k is that arc's other end).
-      const int prev = m.loop_arc[first + (k + n - 1) % n], c = m.loop_cell[first + k];
-      succ[m.loop_slot[first + k]] = t.arc_u[prev] == c ? at_u[prev] : at_v[prev];
+      const int prev = loop_arc[first + (k > 0 ? k - 1 : n - 1)], c = loop_cell[first + k];
+      succ[loop_slot[first + k]] = arc_u[prev] == c ? at_u[prev] : at_v[prev];
     }
   }
   // Every slot has its face and successor; each cell's slots form one cycle.
   m.cell_slot.resize(size_t(S));
-  std::vector<int>& order = m.slot_twin;  // (reused: old slot -> new slot, then the twins)
-  order.assign(size_t(S), -1);
+  m.slot_twin.assign(size_t(S), -1);
+  int* order = m.slot_twin.data();  // (reused: old slot -> new slot, then the twins)
   for (int c = 0; c < cells; ++c) {
-    const int begin = m.cell_start[c], end = m.cell_start[c + 1];
+    const int begin = cell_start[c], end = cell_start[c + 1];
     if (end - begin < 3) return Status::InvalidMesh;
     int s = begin;
     for (int k = begin; k < end; ++k) {
@@ -222,22 +227,22 @@ Status build_layout(const Topology& t, int cells, bool reversed, MapLayout& m, s
     }
     if (s != begin) return Status::InvalidMesh;
   }
-  for (int s = 0; s < S; ++s) {
-    const int e = arc_of[s] >= 0 ? arc_of[s] : ~arc_of[s];
-    m.cell_slot[order[s]] = {arc_of[s], arc_of[s] >= 0 ? t.arc_v[e] : t.arc_u[e], face[s]};
-  }
-  for (int& s : m.loop_slot) s = order[s];
+  MapLayout::Slot* cell_slot = m.cell_slot.data();
+  for (int s = 0; s < S; ++s) cell_slot[order[s]] = {arc_of[s], across[s], face[s]};
+  for (size_t k = 0; k < L; ++k) loop_slot[k] = order[loop_slot[k]];
   m.arc_slot.resize(size_t(S));
+  int* arc_slot = m.arc_slot.data();
   for (int e = 0; e < E; ++e)
-    at_u[e] = m.arc_slot[2 * e] = order[at_u[e]], at_v[e] = m.arc_slot[2 * e + 1] = order[at_v[e]];
+    at_u[e] = arc_slot[2 * e] = order[at_u[e]], at_v[e] = arc_slot[2 * e + 1] = order[at_v[e]];
   for (int e = 0; e < E; ++e) order[at_u[e]] = at_v[e], order[at_v[e]] = at_u[e];
+  int* loop_face = m.loop_face.data();
   for (int f = 0; f < F; ++f)
-    for (int k = m.loop_start[f]; k < m.loop_start[f + 1]; ++k) {
-      const MapLayout::Arc& a = m.arc[m.loop_arc[k]];
-      m.loop_face[k] = a.L == f ? a.R : a.L;
+    for (int k = loop_start[f]; k < loop_start[f + 1]; ++k) {
+      const MapLayout::Arc& x = arc[loop_arc[k]];
+      loop_face[k] = x.L == f ? x.R : x.L;
     }
-  for (const MapLayout::Arc& a : m.arc)
-    if (a.L < 0 || a.R < 0 || a.L == a.R) return Status::InvalidMesh;
+  for (int e = 0; e < E; ++e)
+    if (arc[e].L < 0 || arc[e].R < 0 || arc[e].L == arc[e].R) return Status::InvalidMesh;
   return Status::Ok;
 }
 
