@@ -106,23 +106,6 @@ struct Double2 {
   double hi, lo;
 };
 
-// Component k of x as a double-double (its terms summed by two-sum, the errors added up apart,
-// as Ogita, Rump and Oishi's Sum2, then renormalized: |lo| <= ulp(hi) / 2). Within
-// count^2 2^-106 of the sum of its terms' magnitudes, which goes to `magnitude`.
-Double2 double2_of(const ExactVector& x, int k, double& magnitude) {
-  double s = 0, lo = 0, m = 0;
-  for (int t = 0; t < x.count[k]; ++t) {
-    double sum, e;
-    expansion::two_sum(s, x.terms[k][t], sum, e);
-    s = sum, lo += e;
-    m += std::abs(x.terms[k][t]);
-  }
-  magnitude = m;
-  Double2 out;
-  expansion::two_sum(s, lo, out.hi, out.lo);
-  return {x.sign * out.hi, x.sign * out.lo};
-}
-
 // x y in double-double, the lo x lo product dropped.
 Double2 product2(const Double2& x, const Double2& y) {
   Double2 p;
@@ -131,26 +114,55 @@ Double2 product2(const Double2& x, const Double2& y) {
   return p;
 }
 
-// det[p; q; r] of double-double rows (about 200 flops): within 61 x 2^-106 of its permanent
-// (each product's dropped lo x lo term and roundings of its cross terms, then the sums').
-double det_double2(const Double2 p[3], const Double2 q[3], const Double2 r[3]) {
-  double high[3], low = 0;
+}  // namespace
+
+NearVector near_vector(const ExactVector& x) {
+  NearVector out;
+  out.size = 0, out.terms = 0;
+  for (int k = 0; k < 3; ++k) {
+    // (The errors of the two-sums added up apart: within count^2 2^-106 of the terms' magnitudes.)
+    double s = 0, lo = 0, m = 0;
+    for (int t = 0; t < x.count[k]; ++t) {
+      double sum, e;
+      expansion::two_sum(s, x.terms[k][t], sum, e);
+      s = sum, lo += e;
+      m += std::abs(x.terms[k][t]);
+    }
+    double hi, low;
+    expansion::two_sum(s, lo, hi, low);
+    out.hi[k] = x.sign * hi, out.lo[k] = x.sign * low;
+    out.size = std::max(out.size, m);
+    out.terms = std::max(out.terms, x.count[k]);
+  }
+  return out;
+}
+
+int orient_near(const NearVector& p, const NearVector& q, const NearVector& r) {
+  // The rows are within terms^2 2^-106 of their magnitudes, which moves the determinant by at
+  // most 18 terms^2 2^-106 size_p size_q size_r (under 2^-90 of it for terms <= 48); the
+  // double-double evaluation below errs by under 61 x 2^-106 of the permanent (each product's
+  // dropped lo x lo term and the roundings of its cross terms, then the sums'). 2^-90 of each,
+  // and 2^-900 for what underflowed, bound both.
+  if (std::max({p.terms, q.terms, r.terms}) > 48) return 0;
+  double high[3], low = 0, perm = 0;
   for (int k = 0; k < 3; ++k) {
     const int a = (k + 1) % 3, b = (k + 2) % 3;
-    const Double2 x = product2(q[a], r[b]), y = product2(q[b], r[a]);
+    const Double2 x = product2({q.hi[a], q.lo[a]}, {r.hi[b], r.lo[b]}),
+                  y = product2({q.hi[b], q.lo[b]}, {r.hi[a], r.lo[a]});
     Double2 minor;
     expansion::two_diff(x.hi, y.hi, minor.hi, minor.lo);
     minor.lo += x.lo - y.lo;
-    const Double2 term = product2(p[k], minor);
+    const Double2 term = product2({p.hi[k], p.lo[k]}, minor);
     high[k] = term.hi, low += term.lo;
+    perm += std::abs(p.hi[k]) * (std::abs(x.hi) + std::abs(y.hi));
   }
   double s1, s2, e1, e2;
   expansion::two_sum(high[0], high[1], s1, e1);
   expansion::two_sum(s1, high[2], s2, e2);
-  return s2 + (low + e1 + e2);
+  const double det = s2 + (low + e1 + e2);
+  const double bound = 0x1p-90 * (perm + p.size * q.size * r.size) + 0x1p-900;
+  return det > bound ? 1 : det < -bound ? -1 : 0;
 }
-
-}  // namespace
 
 int orient_exact(const ExactVector& p, const ExactVector& q, const ExactVector& r) {
   // Three stages. First a filter on the doubles nearest the exact components (each expansion's
@@ -169,28 +181,10 @@ int orient_exact(const ExactVector& p, const ExactVector& q, const ExactVector& 
                                                 std::abs(b.z() * c.x()) + std::abs(b.x() * c.z()),
                                                 std::abs(b.x() * c.y()) + std::abs(b.y() * c.x())));
   if (std::abs(approx) > 2e-15 * perm) return approx > 0 ? 1 : -1;
-  // Then double-double rows: a near-tie of two copies of a rounded shape in one frame (their
-  // normals differ by rounding, det ~ 1e-17) is decided here, in a fifth of the expansions'
-  // time. The rows are within terms^2 2^-106 of their magnitudes (double2_of), which moves the
-  // determinant by at most 18 terms^2 2^-106 size_p size_q size_r (under 2^-90 of it for
-  // terms <= 48), and det_double2 errs by under 2^-100 of the permanent; 2^-90 of each, and
-  // 2^-900 for what underflowed, bound both.
-  const ExactVector* v[3] = {&p, &q, &r};
-  Double2 x[3][3];
-  double size[3] = {0, 0, 0};
-  int terms = 0;
-  for (int i = 0; i < 3; ++i)
-    for (int k = 0; k < 3; ++k) {
-      double m;
-      x[i][k] = double2_of(*v[i], k, m);
-      size[i] = std::max(size[i], m);
-      terms = std::max(terms, v[i]->count[k]);
-    }
-  if (terms <= 48) {
-    const double det = det_double2(x[0], x[1], x[2]);
-    const double bound = 0x1p-90 * (perm + size[0] * size[1] * size[2]) + 0x1p-900;
-    if (std::abs(det) > bound) return det > 0 ? 1 : -1;
-  }
+  // Then the vectors to 106 bits: a near-tie of two copies of a rounded shape in one frame
+  // (their normals differ by rounding, det ~ 1e-17) is decided there, in a fifth of the
+  // expansions' time.
+  if (const int s = orient_near(near_vector(p), near_vector(q), near_vector(r))) return s;
   // det = sum_k p_k (q x r)_k, each minor compressed before it is scaled by p_k's terms.
   Accumulator<256> minor, det;
   for (int k = 0; k < 3; ++k) {

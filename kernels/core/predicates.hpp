@@ -69,6 +69,23 @@ inline int orient_rounded_filter(const Eigen::Vector3d& p, const Eigen::Vector3d
 /// The exact sign of det[p; q; r] for exact vectors (every term 0 or within [2^-300, 2^300]).
 int orient_exact(const ExactVector& p, const ExactVector& q, const ExactVector& r);
 
+/// An exact vector to about 106 bits: component k is hi[k] + lo[k] (|lo| <= ulp(hi) / 2), within
+/// terms^2 2^-106 size of the exact one, size the largest sum of a component's terms' magnitudes
+/// (near_vector; terms < 0: not computed, for the callers' memos).
+struct NearVector {
+  double hi[3], lo[3];
+  double size;
+  int terms;
+};
+
+/// x to about 106 bits (its terms summed by two-sum: Ogita, Rump and Oishi's Sum2, unrounded).
+NearVector near_vector(const ExactVector& x);
+
+/// The sign of det[p; q; r] where the vectors to 106 bits decide it (a near-tie of rounded
+/// normals, det ~ 1e-17, is decided here in about 400 instructions); 0 where they cannot (an
+/// exact zero, or one within 2^-90 of the permanent: orient_exact decides).
+int orient_near(const NearVector& p, const NearVector& q, const NearVector& r);
+
 /// Whether the exact vectors p and q lie on one line (p x q = 0).
 bool collinear_exact(const ExactVector& p, const ExactVector& q);
 

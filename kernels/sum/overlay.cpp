@@ -75,13 +75,16 @@ bool collinear(const Placed& X, int f, const Placed& Y, int g) {
 // The exact sign of det(G_p, G_q, G_r) for normals of placed shapes (Q and R one operand, P
 // the other or the same): orient on the doubles where all three are exact as stored; else the
 // doubles past a filter that covers their rounding; else 0 where G_p lies on the line of G_q
-// or G_r (a face parallel to another: the rounded ties); else the exact terms.
+// or G_r (a face parallel to another: the rounded ties); else the normals to 106 bits (a
+// near-tie: a face within rounding of parallel to another), kept per face for the overlay;
+// else the exact terms.
 int orient_normals(const Placed& P, int p, const Placed& Q, int q, const Placed& R, int r) {
   if (!P.rounded_normal(p) && !Q.rounded_normal(q) && !R.rounded_normal(r)) return orient(P.g[p], Q.g[q], R.g[r]);
   if (const int s = orient_rounded_filter(P.g[p], Q.g[q], R.g[r])) return s;
   if (P.is_a != Q.is_a && ((nearly_collinear(P.g[p], Q.g[q]) && collinear(P, p, Q, q)) ||
                            (nearly_collinear(P.g[p], R.g[r]) && collinear(P, p, R, r))))
     return 0;
+  if (const int s = orient_near(P.near(p), Q.near(q), R.near(r))) return s;
   double x[3][3 * kMaxGaussTerms];
   return orient_exact(P.exact(p, x[0]), Q.exact(q, x[1]), R.exact(r, x[2]));
 }
@@ -590,9 +593,11 @@ bool Overlay::locate(Placed& A, Placed& B, bool small) {
       if (x[k]->s->id != exact_shape[k] || exact_shape[k] == 0) {
         if (exact_terms[k].size() < faces * 3 * kMaxGaussTerms) exact_terms[k].resize(faces * 3 * kMaxGaussTerms);
         exact_count[k].assign(3 * faces, -1);
+        if (near[k].size() < faces) near[k].resize(faces);  // (no clearing: each entry names its shape)
         exact_shape[k] = x[k]->s->id;
       }
       x[k]->exact_terms = exact_terms[k].data(), x[k]->exact_count = exact_count[k].data();
+      x[k]->near_memo = near[k].data();
     }
   }
   dedupe_all = sa.polytope_ref->flat || sb.polytope_ref->flat;

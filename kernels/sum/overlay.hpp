@@ -64,6 +64,13 @@ struct Placed {
   /// and 3 counts, -1 until then), for the rest of the overlay (its memo; overlay.cpp, run).
   double* exact_terms = nullptr;
   std::int8_t* exact_count = nullptr;
+  /// Per face: its exact normal to 106 bits, unsigned (the sign of -B applied on reading), once
+  /// computed for this shape (ShapeData::id): the overlay's memo, kept as exact_terms is.
+  struct NearMemo {
+    NearVector v;
+    std::uint64_t shape;
+  };
+  NearMemo* near_memo = nullptr;
   Rigid world;                    ///< body -> world pose (negated for -B)
   Eigen::Matrix3d frame;          ///< body -> overlay frame rotation (negated for -B)
   int L(int e) const { return m->arc[e].L; }
@@ -91,6 +98,23 @@ struct Placed {
       x = s->exact_normal(f, local);
     }
     x.sign = negate ? -1.0 : 1.0;
+    return x;
+  }
+  /// Normal f to about 106 bits (orient_near's input), from the memo where there is one.
+  NearVector near(int f) const {
+    if (!rounded_normal(f)) return near_vector(exact_vector(g[f]));  // (g[f] is signed already)
+    NearVector x;
+    if (near_memo && near_memo[f].shape == s->id) {
+      x = near_memo[f].v;
+    } else {
+      double local[3 * kMaxGaussTerms];
+      ExactVector e = exact(f, local);
+      e.sign = 1;
+      x = near_vector(e);
+      if (near_memo) near_memo[f] = {x, s->id};
+    }
+    if (negate)
+      for (int k = 0; k < 3; ++k) x.hi[k] = -x.hi[k], x.lo[k] = -x.lo[k];
     return x;
   }
   /// Face f's unit normal in the world frame.
@@ -195,6 +219,7 @@ class Overlay {
   std::vector<int> collinear;    // Placed::collinear of A, for the pair tie_pair (A, B, B negated)
   std::vector<double> exact_terms[2];  // Placed::exact_terms of A and B, of shapes exact_shape
   std::vector<std::int8_t> exact_count[2];
+  std::vector<Placed::NearMemo> near[2];  // Placed::near_memo of A and B (each entry names its shape)
   std::uint64_t tie_pair[3] = {0, 0, 0}, exact_shape[2] = {0, 0};
   std::uint64_t tie_free_pair[3] = {0, 0, 0};  // and whether the small tables answered that pair in its own frame
   bool tie_free = false;
