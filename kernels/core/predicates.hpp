@@ -71,7 +71,7 @@ int orient_exact(const ExactVector& p, const ExactVector& q, const ExactVector& 
 
 /// An exact vector to about 106 bits: component k is hi[k] + lo[k] (|lo| <= ulp(hi) / 2), within
 /// terms^2 2^-106 size of the exact one, size the largest sum of a component's terms' magnitudes
-/// (near_vector; terms < 0: not computed, for the callers' memos).
+/// and terms the most terms of a component (near_vector).
 struct NearVector {
   double hi[3], lo[3];
   double size;
