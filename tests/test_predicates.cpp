@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include "core/predicates.hpp"
 
@@ -93,6 +94,64 @@ TEST(Predicates, OrientExactEqualsRationalArithmeticOnNearTies) {
   }
   // Every answer occurs often (the cases reach all three stages).
   for (int s = 0; s < 3; ++s) EXPECT_GT(decided[s], 3000) << "answer " << s - 1;
+}
+
+// The rational value of component k of a vector to 106 bits minus that of an exact vector,
+// and whether it is within the NearVector's bound (terms^2 2^-106 size).
+bool within_bound(const detail::NearVector& n, const detail::ExactVector& x, int k) {
+  mpq_t exact, near, t, bound;
+  mpq_inits(exact, near, t, bound, nullptr);
+  for (int i = 0; i < x.count[k]; ++i) mpq_set_d(t, x.terms[k][i] * x.sign), mpq_add(exact, exact, t);
+  mpq_set_d(near, n.hi[k]), mpq_set_d(t, n.lo[k]), mpq_add(near, near, t);
+  mpq_sub(t, near, exact), mpq_abs(t, t);
+  mpq_set_d(bound, double(n.terms) * n.terms * std::ldexp(n.size, -106));
+  const bool ok = mpq_cmp(t, bound) <= 0;
+  mpq_clears(exact, near, t, bound, nullptr);
+  return ok;
+}
+
+// A face's normal to 106 bits from its Newell products (near_gauss_normal, no expansions) is
+// within its bound of the exact normal the predicates read (exact_gauss_normal), for rounded
+// triangles and planar quads at scales from 2^-300 to 2^300; and near_apart, which tells a
+// near-tie's faces apart without the expansions, never calls exactly parallel normals apart.
+TEST(Predicates, NearGaussNormalIsWithinItsBoundOfTheExactNormal) {
+  std::mt19937_64 rng(29112026);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int checked = 0, apart = 0;
+  for (int n = 0; n < 4000; ++n) {
+    const double scale = std::ldexp(1.0, int(rng() % 600) - 300);
+    std::vector<Eigen::Vector3d> p;
+    for (int k = 0; k < 3; ++k) p.push_back(scale * Eigen::Vector3d(u(rng), u(rng), u(rng)));
+    if (rng() % 2) p.push_back(p[2] + 0.75 * (p[0] - p[1]));  // a quad, planar up to rounding
+    std::vector<int> loop(p.size());
+    for (int k = 0; k < int(p.size()); ++k) loop[k] = k;
+    std::vector<double> terms;
+    int count[3], exponent = 0;
+    detail::GaussKind kind;
+    detail::gauss_normal(p, loop, terms, count, kind, exponent);
+    if (kind != detail::GaussKind::OnDemand) continue;
+    std::vector<double> px, py, pz;
+    for (const auto& v : p) px.push_back(v.x()), py.push_back(v.y()), pz.push_back(v.z());
+    double local[3 * detail::kMaxGaussTerms];
+    const detail::ExactVector x =
+        detail::exact_gauss_normal(loop.data(), int(p.size()), px.data(), py.data(), pz.data(), exponent, local);
+    const detail::NearVector near =
+        detail::near_gauss_normal(loop.data(), int(p.size()), px.data(), py.data(), pz.data(), exponent);
+    ++checked;
+    for (int k = 0; k < 3; ++k) EXPECT_TRUE(within_bound(near, x, k)) << "case " << n << ", component " << k;
+    // The same normal, and twice it (exactly parallel): never apart. The normal with a
+    // component moved by 2^-70 (a near-tie): apart.
+    detail::NearVector twice = near, moved = near;
+    for (int k = 0; k < 3; ++k) twice.hi[k] *= 2, twice.lo[k] *= 2;
+    twice.size = 2 * near.size;
+    moved.lo[0] += std::ldexp(std::abs(near.hi[0]) + std::abs(near.hi[1]) + std::abs(near.hi[2]), -70);
+    EXPECT_FALSE(detail::near_apart(near, twice)) << "case " << n;
+    const bool moved_apart = detail::near_apart(near, moved);
+    apart += moved_apart;
+    if (HasFailure()) break;
+  }
+  EXPECT_GT(checked, 1000);
+  EXPECT_GT(apart, checked * 9 / 10);  // a 2^-70 tilt is told apart
 }
 
 }  // namespace

@@ -137,6 +137,34 @@ NearVector near_vector(const ExactVector& x) {
   return out;
 }
 
+namespace {
+
+// Component k of p x q in double-double, and its permanent |p_a q_b| + |p_b q_a|.
+Double2 near_minor(const NearVector& p, const NearVector& q, int k, double& perm) {
+  const int a = (k + 1) % 3, b = (k + 2) % 3;
+  const Double2 x = product2({p.hi[a], p.lo[a]}, {q.hi[b], q.lo[b]}), y = product2({p.hi[b], p.lo[b]}, {q.hi[a], q.lo[a]});
+  Double2 minor;
+  expansion::two_diff(x.hi, y.hi, minor.hi, minor.lo);
+  minor.lo += x.lo - y.lo;
+  perm = std::abs(x.hi) + std::abs(y.hi);
+  return minor;
+}
+
+}  // namespace
+
+bool near_apart(const NearVector& p, const NearVector& q) {
+  // As orient_near's bound, for two rows: each within terms^2 2^-106 of its size moves a minor
+  // by at most 2 x 48^2 2^-106 size_p size_q (under 2^-93 of it), the evaluation errs by under
+  // 2^-100 of its permanent.
+  if (std::max(p.terms, q.terms) > 48) return false;
+  for (int k = 0; k < 3; ++k) {
+    double perm;
+    const Double2 m = near_minor(p, q, k, perm);
+    if (std::abs(m.hi + m.lo) > 0x1p-90 * (perm + p.size * q.size) + 0x1p-900) return true;
+  }
+  return false;
+}
+
 int orient_near(const NearVector& p, const NearVector& q, const NearVector& r) {
   // The rows are within terms^2 2^-106 of their magnitudes, which moves the determinant by at
   // most 18 terms^2 2^-106 size_p size_q size_r (under 2^-90 of it for terms <= 48); the
@@ -146,15 +174,10 @@ int orient_near(const NearVector& p, const NearVector& q, const NearVector& r) {
   if (std::max({p.terms, q.terms, r.terms}) > 48) return 0;
   double high[3], low = 0, perm = 0;
   for (int k = 0; k < 3; ++k) {
-    const int a = (k + 1) % 3, b = (k + 2) % 3;
-    const Double2 x = product2({q.hi[a], q.lo[a]}, {r.hi[b], r.lo[b]}),
-                  y = product2({q.hi[b], q.lo[b]}, {r.hi[a], r.lo[a]});
-    Double2 minor;
-    expansion::two_diff(x.hi, y.hi, minor.hi, minor.lo);
-    minor.lo += x.lo - y.lo;
-    const Double2 term = product2({p.hi[k], p.lo[k]}, minor);
+    double minor_perm;
+    const Double2 term = product2({p.hi[k], p.lo[k]}, near_minor(q, r, k, minor_perm));
     high[k] = term.hi, low += term.lo;
-    perm += std::abs(p.hi[k]) * (std::abs(x.hi) + std::abs(y.hi));
+    perm += std::abs(p.hi[k]) * minor_perm;
   }
   double s1, s2, e1, e2;
   expansion::two_sum(high[0], high[1], s1, e1);
@@ -411,6 +434,42 @@ ExactVector exact_gauss_normal(const int* loop, int n, const double* px, const d
       const double x = acc[k].e[i] * half * rest;
       if (std::abs(x) >= kTinyComponent) t[out.count[k]++] = x;
     }
+  }
+  return out;
+}
+
+NearVector near_gauss_normal(const int* loop, int n, const double* px, const double* py, const double* pz,
+                             int exponent) {
+  const auto point = [&](int k) { return Vector3d(px[loop[k]], py[loop[k]], pz[loop[k]]); };
+  NearVector out{{0, 0, 0}, {0, 0, 0}, 0, 4 * n};
+  // (Products that underflow err by 2^-1074 each: scaled up by at most 2^200, far below the
+  // bound's 2^-900. A smaller normal is left to the expansions.)
+  if (exponent < -200 || n > 12) return out.terms = 1 << 20, out;
+  // The products newell_expansions sums (the loop scaled alike), summed by two-sum as
+  // near_vector sums terms, then scaled as exact_gauss_normal scales its expansions.
+  const double scale = loop_scale(n, point);
+  double sum[3] = {0, 0, 0}, low[3] = {0, 0, 0}, size[3] = {0, 0, 0};
+  for (int k = 0; k < n; ++k) {
+    const Vector3d a = point(k) * scale, b = point(k + 1 < n ? k + 1 : 0) * scale;
+    for (int d = 0; d < 3; ++d) {
+      const int e = (d + 1) % 3, f = (d + 2) % 3;
+      double t[4];
+      expansion::two_product(a[e], b[f], t[0], t[1]);
+      expansion::two_product(a[f], b[e], t[2], t[3]);
+      t[2] = -t[2], t[3] = -t[3];
+      for (double x : t) {
+        double s, err;
+        expansion::two_sum(sum[d], x, s, err);
+        sum[d] = s, low[d] += err, size[d] += std::abs(x);
+      }
+    }
+  }
+  const double half = power_of_two(-exponent / 2), rest = power_of_two(-exponent - (-exponent / 2));
+  for (int d = 0; d < 3; ++d) {
+    double hi, lo;
+    expansion::two_sum(sum[d], low[d], hi, lo);
+    out.hi[d] = hi * half * rest, out.lo[d] = lo * half * rest;
+    out.size = std::max(out.size, size[d] * half * rest);
   }
   return out;
 }

@@ -81,6 +81,10 @@ struct NearVector {
 /// x to about 106 bits (its terms summed by two-sum: Ogita, Rump and Oishi's Sum2, unrounded).
 NearVector near_vector(const ExactVector& x);
 
+/// Whether p x q != 0, where the vectors to 106 bits show it (false: they cannot tell; the
+/// exact vectors decide, collinear_exact).
+bool near_apart(const NearVector& p, const NearVector& q);
+
 /// The sign of det[p; q; r] where the vectors to 106 bits decide it (a near-tie of rounded
 /// normals, det ~ 1e-17, is decided here in about 400 instructions); 0 where they cannot (an
 /// exact zero, or one within 2^-90 of the permanent: orient_exact decides).
@@ -114,6 +118,13 @@ Eigen::Vector3d gauss_normal(const std::vector<Eigen::Vector3d>& points, const s
 /// gauss_normal's exponent), in local[3 * kMaxGaussTerms].
 ExactVector exact_gauss_normal(const int* loop, int n, const double* px, const double* py, const double* pz,
                                int exponent, double* local);
+
+/// The exact normal of an OnDemand face (as exact_gauss_normal) to 106 bits, summed from its
+/// Newell products in double-double, without expansions (terms: 4 per loop vertex, as many
+/// as orient_near takes for up to 12; a loop of more, or a normal below 2^-200 of its
+/// coordinates squared, gets more, which orient_near declines).
+NearVector near_gauss_normal(const int* loop, int n, const double* px, const double* py, const double* pz,
+                             int exponent);
 
 /// A flat polygon's side normal: canonical_direction of (q - p) x n, exactly (n the
 /// polygon's exact normal; an outward side normal for a counter-clockwise edge p -> q about

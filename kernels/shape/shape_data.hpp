@@ -87,6 +87,17 @@ struct ShapeData {
     const double* t = gauss_terms.data();
     return {{t + at[0], t + at[1], t + at[2]}, {at[1] - at[0], at[2] - at[1], at[3] - at[2]}, 1.0};
   }
+  /// The exact normal of face f to 106 bits: an OnDemand face's from its Newell products in
+  /// double-double (no expansions), else from its exact normal's terms.
+  NearVector near_normal(int f) const {
+    const size_t F = size_t(f);
+    if (gauss_kind[F] == GaussKind::OnDemand) {
+      const int first = map[0].loop_start[F], n = map[0].loop_start[F + 1] - first;
+      return near_gauss_normal(&map[0].loop_cell[size_t(first)], n, px.data(), py.data(), pz.data(), gauss_exponent[F]);
+    }
+    double local[3 * kMaxGaussTerms];
+    return near_vector(exact_normal(f, local));
+  }
   /// Whether face f's exact normal is not gauss[f] itself.
   bool rounded_normal(int f) const { return gauss_kind[size_t(f)] != GaussKind::Exact; }
   std::vector<double> nx, ny, nz;           // unit face normals (the sums' planes)

@@ -66,8 +66,9 @@ bool collinear(const Placed& X, int f, const Placed& Y, int g) {
   const int fa = X.is_a ? f : g, fb = X.is_a ? g : f;
   int& memo = A.collinear[2 * fa + (X.g[f].dot(Y.g[g]) > 0)];
   if (memo >= 0 && memo >> 1 == fb) return memo & 1;
+  // (A near-tie, a face within rounding of parallel to another, is told apart to 106 bits.)
   double x[3 * kMaxGaussTerms], y[3 * kMaxGaussTerms];
-  const bool on_line = collinear_exact(X.exact(f, x), Y.exact(g, y));
+  const bool on_line = !near_apart(X.near(f), Y.near(g)) && collinear_exact(X.exact(f, x), Y.exact(g, y));
   memo = 2 * fb + on_line;
   return on_line;
 }

@@ -107,10 +107,7 @@ struct Placed {
     if (near_memo && near_memo[f].shape == s->id) {
       x = near_memo[f].v;
     } else {
-      double local[3 * kMaxGaussTerms];
-      ExactVector e = exact(f, local);
-      e.sign = 1;
-      x = near_vector(e);
+      x = s->near_normal(f);
       if (near_memo) near_memo[f] = {x, s->id};
     }
     if (negate)
