@@ -64,6 +64,8 @@ struct Placed {
   /// and 3 counts, -1 until then), for the rest of the overlay (its memo; overlay.cpp, run).
   double* exact_terms = nullptr;
   std::int8_t* exact_count = nullptr;
+  Rigid world;                    ///< body -> world pose (negated for -B)
+  Eigen::Matrix3d frame;          ///< body -> overlay frame rotation (negated for -B)
   /// Per face: its exact normal to 106 bits, unsigned (the sign of -B applied on reading), once
   /// computed for this shape (ShapeData::id): the overlay's memo, kept as exact_terms is.
   struct NearMemo {
@@ -71,8 +73,6 @@ struct Placed {
     std::uint64_t shape;
   };
   NearMemo* near_memo = nullptr;
-  Rigid world;                    ///< body -> world pose (negated for -B)
-  Eigen::Matrix3d frame;          ///< body -> overlay frame rotation (negated for -B)
   int L(int e) const { return m->arc[e].L; }
   int R(int e) const { return m->arc[e].R; }
   const Eigen::Vector3d& gauss(int f) const { return g[f]; }
@@ -216,7 +216,6 @@ class Overlay {
   std::vector<int> collinear;    // Placed::collinear of A, for the pair tie_pair (A, B, B negated)
   std::vector<double> exact_terms[2];  // Placed::exact_terms of A and B, of shapes exact_shape
   std::vector<std::int8_t> exact_count[2];
-  std::vector<Placed::NearMemo> near[2];  // Placed::near_memo of A and B (each entry names its shape)
   std::uint64_t tie_pair[3] = {0, 0, 0}, exact_shape[2] = {0, 0};
   std::uint64_t tie_free_pair[3] = {0, 0, 0};  // and whether the small tables answered that pair in its own frame
   bool tie_free = false;
@@ -233,6 +232,7 @@ class Overlay {
   std::vector<int> loose_crossing;   // write_planes': per crossing, whether its offset is the loop's largest
   int nf = 0, nl = 0;
   PairNumbering pairs;
+  std::vector<Placed::NearMemo> near[2];  // Placed::near_memo of A and B (each entry names its shape)
 };
 
 /// Each x of `length2` (squared lengths of normals) replaced by 1 / sqrt(x).
