@@ -208,6 +208,10 @@ int orient_exact(const ExactVector& p, const ExactVector& q, const ExactVector& 
   // (their normals differ by rounding, det ~ 1e-17) is decided there, in a fifth of the
   // expansions' time.
   if (const int s = orient_near(near_vector(p), near_vector(q), near_vector(r))) return s;
+  return orient_expansions(p, q, r);
+}
+
+int orient_expansions(const ExactVector& p, const ExactVector& q, const ExactVector& r) {
   // det = sum_k p_k (q x r)_k, each minor compressed before it is scaled by p_k's terms.
   Accumulator<256> minor, det;
   for (int k = 0; k < 3; ++k) {

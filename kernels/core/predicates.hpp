@@ -69,6 +69,10 @@ inline int orient_rounded_filter(const Eigen::Vector3d& p, const Eigen::Vector3d
 /// The exact sign of det[p; q; r] for exact vectors (every term 0 or within [2^-300, 2^300]).
 int orient_exact(const ExactVector& p, const ExactVector& q, const ExactVector& r);
 
+/// orient_exact's last stage alone, the expansions: for a caller whose filters (orient_near)
+/// already failed.
+int orient_expansions(const ExactVector& p, const ExactVector& q, const ExactVector& r);
+
 /// An exact vector to about 106 bits: component k is hi[k] + lo[k] (|lo| <= ulp(hi) / 2), within
 /// terms^2 2^-106 size of the exact one, size the largest sum of a component's terms' magnitudes
 /// and terms the most terms of a component (near_vector).

@@ -87,7 +87,7 @@ int orient_normals(const Placed& P, int p, const Placed& Q, int q, const Placed&
     return 0;
   if (const int s = orient_near(P.near(p), Q.near(q), R.near(r))) return s;
   double x[3][3 * kMaxGaussTerms];
-  return orient_exact(P.exact(p, x[0]), Q.exact(q, x[1]), R.exact(r, x[2]));
+  return orient_expansions(P.exact(p, x[0]), Q.exact(q, x[1]), R.exact(r, x[2]));
 }
 
 // The exact side of X's arc e (its pole) on which Y's normal f lies: sign det(G_f, G_L, G_R):
