@@ -206,7 +206,7 @@ void sums() {
     return minkowski_sum(shapes[size_t(k)].first, I, shapes[size_t(k)].second, I, m) == Status::Ok;
   });
   // The same pairs in the report's pose (B turned: no tie, so the small overlay's tables answer),
-  // the whole polytope and the planes level.
+  // the whole polytope, the vertices level and the planes level.
   std::vector<std::pair<ConvexShape, ConvexShape>> turned;
   const Eigen::Matrix3d R = tools::table1_rotation();
   for (const auto& t : tools::table1_pairs()) {
@@ -217,9 +217,12 @@ void sums() {
   }
   Isometry3d pose_b = I;
   pose_b.linear() = R;
-  for (const SumParts parts : {SumParts::Whole, SumParts::Planes}) {
+  for (const SumParts parts : {SumParts::Whole, SumParts::Vertices, SumParts::Planes}) {
     for (const auto& [a, b] : turned) minkowski_sum(a, I, b, pose_b, m, parts);
-    measure(parts == SumParts::Whole ? "sum.table1.turned" : "sum.table1.turned.planes", int(turned.size()),
+    const char* name = parts == SumParts::Whole      ? "sum.table1.turned"
+                       : parts == SumParts::Vertices ? "sum.table1.turned.vertices"
+                                                     : "sum.table1.turned.planes";
+    measure(name, int(turned.size()),
             [&](int k) {
               const auto& [a, b] = turned[size_t(k)];
               return minkowski_sum(a, I, b, pose_b, m, parts) == Status::Ok;

@@ -149,9 +149,11 @@ testing::AssertionResult same_sum(const MinkowskiSum& x, const MinkowskiSum& y, 
   return testing::AssertionSuccess();
 }
 
-std::vector<ExactFacet> exact_hull(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, double s) {
+std::vector<ExactFacet> exact_hull(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, double s,
+                                   peers::ExactCounts* counts) {
   std::vector<std::vector<Vector3d>> facets;
-  peers::exact_counts(a, b, s, &facets);
+  const peers::ExactCounts e = peers::exact_counts(a, b, s, &facets);
+  if (counts) *counts = e;
   Vector3d centre = Vector3d::Zero();
   int n = 0;
   for (const auto& f : facets)
@@ -221,17 +223,22 @@ testing::AssertionResult equals_exact_hull(const std::vector<Vector3d>& a, const
   return testing::AssertionSuccess();
 }
 
-testing::AssertionResult equals_exact_planes(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, double s,
-                                             const MinkowskiSum& m, double tol) {
-  if (m.parts != SumParts::Planes || !m.vertices.empty() || !m.loop_vertex.empty())
-    return testing::AssertionFailure() << "not a planes-only sum";
-  const std::vector<ExactFacet> exact = exact_hull(a, b, s);
-  if (m.F != int(exact.size()) || int(m.planes.size()) != m.F)
-    return testing::AssertionFailure() << "F " << m.F << " (" << m.planes.size() << " planes), exact " << exact.size();
+namespace {
+
+// The largest |coordinate| of the exact facets' vertices, at least 1.
+double exact_size(const std::vector<ExactFacet>& exact) {
   double size = 1;
   for (const auto& f : exact)
     for (const auto& p : f.points) size = std::max(size, p.cwiseAbs().maxCoeff());
-  const double within = tol * size;
+  return size;
+}
+
+// m's planes against the exact facets: one distinct plane per exact facet, holding its vertices
+// within `within`, each plane's pair a_i + s b_j on it.
+testing::AssertionResult planes_match(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, double s,
+                                      const MinkowskiSum& m, const std::vector<ExactFacet>& exact, double within) {
+  if (m.F != int(exact.size()) || int(m.planes.size()) != m.F)
+    return testing::AssertionFailure() << "F " << m.F << " (" << m.planes.size() << " planes), exact " << exact.size();
   // Which planes support the exact hull and hold each exact facet's vertices; then a perfect
   // matching of facets to planes (Kuhn's augmenting paths): the two planes of a sliver and its
   // neighbour, parallel to an ulp where the operands' sides are rounded from parallel ones, both
@@ -278,6 +285,51 @@ testing::AssertionResult equals_exact_planes(const std::vector<Vector3d>& a, con
       return testing::AssertionFailure() << "plane " << k << "'s pair (" << q.i << ", " << q.j << ") is off it";
   }
   return testing::AssertionSuccess();
+}
+
+}  // namespace
+
+testing::AssertionResult equals_exact_planes(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, double s,
+                                             const MinkowskiSum& m, double tol) {
+  if (m.parts != SumParts::Planes || !m.vertices.empty() || !m.loop_vertex.empty())
+    return testing::AssertionFailure() << "not a planes-only sum";
+  const std::vector<ExactFacet> exact = exact_hull(a, b, s);
+  return planes_match(a, b, s, m, exact, tol * exact_size(exact));
+}
+
+testing::AssertionResult equals_exact_vertices(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b,
+                                               double s, const MinkowskiSum& m, double tol) {
+  if (m.parts != SumParts::Vertices || !m.loop_start.empty() || !m.loop_vertex.empty())
+    return testing::AssertionFailure() << "not a vertices-level sum";
+  peers::ExactCounts e;
+  const std::vector<ExactFacet> exact = exact_hull(a, b, s, &e);
+  if (m.V != e.V || m.E != e.E || m.F != e.F || int(m.vertices.size()) != m.V || !m.euler_ok)
+    return testing::AssertionFailure() << "V/E/F " << m.V << "/" << m.E << "/" << m.F << " (" << m.vertices.size()
+                                       << " vertices), exact " << e.V << "/" << e.E << "/" << e.F;
+  const double within = tol * exact_size(exact);
+  // Every vertex is its pair's point, in (i, j) order, near an exact vertex, and each exact
+  // vertex near one of them (with V equal: the same points, but where an ulp-wide sliver puts
+  // two within the tolerance).
+  for (int v = 0; v < m.V; ++v) {
+    const SumVertex& x = m.vertices[size_t(v)];
+    if (x.i < 0 || x.j < 0 || x.i >= int(a.size()) || x.j >= int(b.size()) ||
+        (x.point - (a[size_t(x.i)] + s * b[size_t(x.j)])).cwiseAbs().maxCoeff() > within)
+      return testing::AssertionFailure() << "vertex " << v << " is not its pair's point";
+    if (v > 0 && std::make_pair(m.vertices[size_t(v) - 1].i, m.vertices[size_t(v) - 1].j) >= std::make_pair(x.i, x.j))
+      return testing::AssertionFailure() << "vertex " << v << " is out of (i, j) order";
+  }
+  const auto near = [within](const Vector3d& p, const Vector3d& q) { return (p - q).cwiseAbs().maxCoeff() <= within; };
+  for (const auto& f : exact)
+    for (const Vector3d& p : f.points)
+      if (std::none_of(m.vertices.begin(), m.vertices.end(), [&](const SumVertex& x) { return near(x.point, p); }))
+        return testing::AssertionFailure() << "no vertex at the exact vertex " << p.transpose();
+  for (const SumVertex& x : m.vertices) {
+    bool found = false;
+    for (const auto& f : exact)
+      found = found || std::any_of(f.points.begin(), f.points.end(), [&](const Vector3d& p) { return near(x.point, p); });
+    if (!found) return testing::AssertionFailure() << "the vertex " << x.point.transpose() << " is not an exact one";
+  }
+  return planes_match(a, b, s, m, exact, within);
 }
 
 // Closest points of segments [p0, p1] and [q0, q1] (Ericson, Real-Time Collision Detection 5.1.9).

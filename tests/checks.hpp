@@ -11,6 +11,10 @@
 
 #include "support/mesh_io.hpp"
 
+namespace minksum::peers {
+struct ExactCounts;
+}  // namespace minksum::peers
+
 namespace minksum::test {
 
 /// The path of `name` in ../shared/data (the bunnies), whether or not it exists.
@@ -65,9 +69,9 @@ struct ExactFacet {
 };
 
 /// The exact hull of the pairwise sums a + s b of a solid sum, with coplanar triangles merged
-/// (peers::exact_counts).
+/// (peers::exact_counts, whose V, E, F go to `counts` if given).
 std::vector<ExactFacet> exact_hull(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
-                                   double s);
+                                   double s, peers::ExactCounts* counts = nullptr);
 
 /// m is the exact hull of the pairwise sums a + s b: the same V, E, F as CGAL's exact hull, and
 /// facet by facet the same vertices, equal within tol * size (tol = 0: exactly, for sums that are
@@ -80,6 +84,12 @@ testing::AssertionResult equals_exact_hull(const std::vector<Eigen::Vector3d>& a
 /// tol * size, and each plane's pair a_i + s b_j on it.
 testing::AssertionResult equals_exact_planes(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
                                              double s, const MinkowskiSum& m, double tol);
+
+/// m is the vertices level (SumParts::Vertices) of the sum a + s b: CGAL's exact V, E and F, its
+/// vertices each a_i + s b_j in (i, j) order, one per exact vertex within tol * size, and its
+/// planes as equals_exact_planes asks; no loops.
+testing::AssertionResult equals_exact_vertices(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
+                                               double s, const MinkowskiSum& m, double tol);
 
 /// What brute force says of two convex polytopes.
 struct Oracle {

@@ -190,7 +190,8 @@ std::vector<Vector3d> moved(const std::vector<Vector3d>& pts, const Eigen::Isome
 }
 
 // The posed sums of prepared shapes under exact poses against the exact structure of the moved
-// points; with `planes`, the planes level too (SumParts::Planes), within tol of the size.
+// points; with `planes`, the planes and vertices levels too (SumParts::Planes, Vertices), within
+// tol of the size.
 void expect_posed_exact(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, const Eigen::Isometry3d& pa,
                         const Eigen::Isometry3d& pb, double s, bool planes = false, double tol = 0) {
   ConvexShape SA, SB;
@@ -206,6 +207,9 @@ void expect_posed_exact(const std::vector<Vector3d>& a, const std::vector<Vector
   const SumParts P = SumParts::Planes;
   ASSERT_EQ(s > 0 ? minkowski_sum(SA, pa, SB, pb, m, P) : minkowski_difference(SA, pa, SB, pb, m, P), Status::Ok);
   EXPECT_TRUE(test::equals_exact_planes(va, vb, s, m, std::max(tol, 1e-12))) << "planes level";
+  const SumParts V = SumParts::Vertices;
+  ASSERT_EQ(s > 0 ? minkowski_sum(SA, pa, SB, pb, m, V) : minkowski_difference(SA, pa, SB, pb, m, V), Status::Ok);
+  EXPECT_TRUE(test::equals_exact_vertices(va, vb, s, m, std::max(tol, 1e-12))) << "vertices level";
 }
 
 TEST_P(IntegerGrids, SumsAndDifferencesAreTheExactHull) {
@@ -281,10 +285,10 @@ TEST_P(DegenerateFamilies, HaveTheExactStructure) {
   }
 }
 
-// The planes level (SumParts::Planes) of generic posed pairs: random polytopes of 4 to 64
-// points, flat ones (a triangle, which takes the whole path) among them, at random poses,
-// against the exact hull of the moved points.
-TEST(SumParts, PlanesOfPosedPairsAreTheExactHullsFacets) {
+// The planes and vertices levels (SumParts::Planes, Vertices) of generic posed pairs: random
+// polytopes of 4 to 64 points, flat ones (a triangle, which takes the whole path) among them,
+// at random poses, against the exact hull of the moved points.
+TEST(SumParts, PlanesAndVerticesOfPosedPairsAreTheExactHulls) {
   std::mt19937_64 rng(5501);
   std::uniform_real_distribution<double> u(-1, 1);
   std::uniform_int_distribution<int> count(4, 64);

@@ -26,8 +26,9 @@ struct SumVertex {
 /// Which parts of a sum a call computes (the rest is left empty): what a query or a
 /// configuration-space obstacle needs, or the whole polytope.
 enum class SumParts {
-  Planes,  ///< the facets' planes, each with a support pair: no vertices, loops, V nor E
-  Whole,   ///< planes, vertices and facet loops, certified by Euler's relation (the default)
+  Planes,    ///< the facets' planes, each with a support pair: no vertices, loops, V nor E
+  Vertices,  ///< Whole's planes, vertices, V, E and F, certified as Whole is, without the loops
+  Whole,     ///< planes, vertices and facet loops, certified by Euler's relation (the default)
 };
 
 /// A facet plane n . x <= offset, with one support pair (i, j) lying on it.
@@ -62,7 +63,7 @@ struct MinkowskiSum {
   bool corrected = false;           ///< the Section 3 hull corrector rebuilt the result
   Method method = Method::Fast;     ///< the path that produced it
   SumParts parts = SumParts::Whole;  ///< what it holds (the hull corrector's answer is whole)
-  /// Facet k's vertex loop, starting at its smallest index (the plane's pair).
+  /// Facet k's vertex loop, starting at its smallest index (the plane's pair); a Whole result's only.
   Loop facet(int k) const { return {loop_vertex.data() + loop_start[k], loop_start[k + 1] - loop_start[k]}; }
 };
 
@@ -71,7 +72,7 @@ struct MinkowskiSum {
 /// frame, support pairs (i, j) indexing a.polytope() and b.polytope(). O(|E_A| + |E_B| +
 /// output) after one linear scan for the first support. `parts`: Planes skips the vertices
 /// and loops (certified as Whole is, but for Euler's relation, which needs the loops; a flat
-/// operand takes the whole path). TooFewPoints for an empty shape, InvalidPose for a pose that is not
+/// operand takes the whole path); Vertices hands back Whole without its loops. TooFewPoints for an empty shape, InvalidPose for a pose that is not
 /// rigid, DegenerateResult for two coplanar flat shapes.
 Status minkowski_sum(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
                      const Eigen::Isometry3d& pose_b, MinkowskiSum& out, SumParts parts = SumParts::Whole);

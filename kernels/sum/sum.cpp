@@ -49,7 +49,12 @@ Status sum_placed(const ShapeData& a, const Eigen::Isometry3d& pose_a, const Sha
   // (ShapeData::support_error: slivers; random polytopes of 2048 points reach 3e-11) has its
   // result certified by the support check (O(output)).
   const bool certify = a.support_error + b.support_error > 1e-10 * std::max(a.size, b.size);
-  if (scratch.run(A, B, out, parts) && (!certify || planes_support(A, B, out))) return Status::Ok;
+  if (scratch.run(A, B, out, parts) && (!certify || planes_support(A, B, out))) {
+    // The vertices level is the whole one without its loops, which certified it (Euler's
+    // relation, the support check) and are dropped only now.
+    if (parts == SumParts::Vertices) out.loop_start.clear(), out.loop_vertex.clear(), out.parts = SumParts::Vertices;
+    return Status::Ok;
+  }
   // Section 3 of the paper: an inconsistent result is rebuilt from the hull (whole).
   const Status s = hull_corrector(points(A), points(B), out);
   out.method = Method::Fast, out.parts = SumParts::Whole;

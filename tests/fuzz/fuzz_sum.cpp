@@ -65,7 +65,8 @@ void check_planes(const MinkowskiSum& m, const std::vector<Eigen::Vector3d>& a, 
 
 // The planes level of the same posed sum: the whole sum's planes in its order, normals bit for
 // bit, offsets within rounding, each pair (a_i + s b_j) on its plane; no vertices nor loops.
-void check_planes_level(const ConvexShape& SA, const Eigen::Isometry3d& pa, const ConvexShape& SB,
+// The vertices level: the whole sum without its loops.
+void check_levels(const ConvexShape& SA, const Eigen::Isometry3d& pa, const ConvexShape& SB,
                         const Eigen::Isometry3d& pb, bool diff, const MinkowskiSum& whole,
                         const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b) {
   MinkowskiSum m;
@@ -87,6 +88,19 @@ void check_planes_level(const ConvexShape& SA, const Eigen::Isometry3d& pa, cons
         !(std::abs(p.normal.dot(a[size_t(p.i)] + sign * b[size_t(p.j)]) - p.offset) <= 1e-9 * size))
       fuzz::fail("a plane's pair is not on it at the planes level");
   }
+  // The vertices level: the whole sum less its loops, bit for bit.
+  if ((diff ? minkowski_difference(SA, pa, SB, pb, m, SumParts::Vertices)
+            : minkowski_sum(SA, pa, SB, pb, m, SumParts::Vertices)) != Status::Ok)
+    fuzz::fail("the vertices level failed where the whole sum did not");
+  const auto same_vertex = [](const SumVertex& x, const SumVertex& y) { return x.i == y.i && x.j == y.j && x.point == y.point; };
+  if (m.parts != SumParts::Vertices || m.V != whole.V || m.E != whole.E || m.F != whole.F || !m.euler_ok ||
+      !m.loop_start.empty() || !m.loop_vertex.empty() ||
+      !std::equal(m.vertices.begin(), m.vertices.end(), whole.vertices.begin(), whole.vertices.end(), same_vertex) ||
+      !std::equal(m.planes.begin(), m.planes.end(), whole.planes.begin(), whole.planes.end(),
+                  [](const SumPlane& x, const SumPlane& y) {
+                    return x.normal == y.normal && x.offset == y.offset && x.i == y.i && x.j == y.j;
+                  }))
+    fuzz::fail("the vertices level is not the whole sum less its loops");
 }
 
 // The small overlay's tables against the walks on the posed pair (placed as the sum places
@@ -344,7 +358,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   for (const auto& p : SA.polytope().vertices) wa.push_back(pa * p);
   for (const auto& q : SB.polytope().vertices) wb.push_back(pb * q);
   check_planes(m, wa, wb, diff ? -1 : 1);
-  check_planes_level(SA, pa, SB, pb, diff, m, wa, wb);
+  check_levels(SA, pa, SB, pb, diff, m, wa, wb);
   check_small_overlay(SA, pa, SB, pb, diff);
   // Under one rotation the structure is the unposed sum's, pair for pair (shape_from_points
   // numbers the vertices as polytope_from_points does).
