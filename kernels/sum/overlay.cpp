@@ -766,24 +766,28 @@ int crossing_pairs(const Placed& A, const Placed& B, const Crossing& x, int (&pa
 }
 
 void Overlay::crossing_facets(const Placed& A, const Placed& B) {
-  // The loops, from the smallest pair.
-  for (Crossing& x : crossings) {
-    int pairs[8];
-    const int first = crossing_pairs(A, B, x, pairs);
-    begin_facet(Vector3d::Zero(), map_normals, 4);
-    for (int k = 0; k < 4; ++k) add_pair(pairs[2 * ((first + k) & 3)], pairs[2 * ((first + k) & 3) + 1]);
-    x.facet = nf;
-    end_facet(dedupe_all);
-    if (x.facet == nf) x.facet = -1;  // dropped: a flat operand's zero-length edge
-  }
+  // One pass: each crossing's loop from its smallest pair, and its normal (scaled to unit length
+  // all together after: unit_normals).
   length2.resize(crossings.size());
   for (size_t k = 0; k < crossings.size(); ++k) {
-    const Crossing& x = crossings[k];
-    bool loose_offset = false;
+    Crossing& x = crossings[k];
+    int p[8];
+    const int first = crossing_pairs(A, B, x, p);
+    const int code[4] = {pairs.code(p[0], p[1]), pairs.code(p[2], p[3]), pairs.code(p[4], p[5]), pairs.code(p[6], p[7])};
+    if (codes.size() < size_t(nl + 4)) codes.resize(2 * size_t(nl + 4));
+    int* loop = codes.data() + nl;
+    for (int q = 0; q < 4; ++q) loop[q] = code[(first + q) & 3];
+    nl += 4;
+    x.facet = nf;
+    end_facet(dedupe_all);
     length2[k] = 1;
-    if (x.facet < 0) continue;  // (a flat operand's degenerate parallelogram: no plane)
+    if (x.facet == nf) {  // dropped: a flat operand's zero-length edge (a degenerate parallelogram)
+      x.facet = -1;
+      continue;
+    }
+    bool loose_offset = map_normals;
     normal[x.facet] = crossing_normal(A, B, x, loose_offset, length2[k]);
-    if (loose_offset) loose[x.facet] = true;
+    loose[x.facet] = loose_offset;
   }
   unit_normals(length2);
   for (size_t k = 0; k < crossings.size(); ++k)

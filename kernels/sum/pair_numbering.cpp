@@ -6,7 +6,7 @@ namespace minksum::detail {
 void PairNumbering::reset(int nva, int nvb, size_t entries) {
   nva_ = nva, shift_b_ = 0;
   while ((1 << shift_b_) < nvb) ++shift_b_;
-  words_ = size_t(nvb + 63) / 64;
+  words_ = unsigned(nvb + 63) / 64;
   dense_ = (size_t(nva) << shift_b_) <= kDenseCodes;
   if (dense_) {
     rows_.assign(size_t(nva) * words_, 0);

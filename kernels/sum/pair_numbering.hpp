@@ -31,7 +31,7 @@ class PairNumbering {
   /// The code of pair (i, j), registering it.
   int code(int i, int j) {
     if (dense_) {
-      rows_[size_t(i) * words_ + size_t(j >> 6)] |= std::uint64_t(1) << (j & 63);
+      rows_[size_t(unsigned(i) * words_ + unsigned(j >> 6))] |= std::uint64_t(1) << (j & 63);
       return i << shift_b_ | j;
     }
     return hashed(i, j);
@@ -50,7 +50,7 @@ class PairNumbering {
   void grow();
   bool dense_ = true;
   int nva_ = 0, shift_b_ = 0;
-  size_t words_ = 0;
+  unsigned words_ = 0;  // (not size_t: a store to a row, a 64-bit integer, would make code() reload it)
   std::vector<std::uint64_t> rows_;
   std::vector<int> index_;  // by code: the pair's index (written for the pairs there are)
   // Hash mode: the keys i 2^32 + j by code, the table (open addressing), and the sort by i.
