@@ -72,8 +72,9 @@ struct MinkowskiSum {
 /// frame, support pairs (i, j) indexing a.polytope() and b.polytope(). O(|E_A| + |E_B| +
 /// output) after one linear scan for the first support. `parts`: Planes skips the vertices
 /// and loops (certified as Whole is, but for Euler's relation, which needs the loops; a flat
-/// operand takes the whole path); Vertices hands back Whole without its loops. TooFewPoints for an empty shape, InvalidPose for a pose that is not
-/// rigid, DegenerateResult for two coplanar flat shapes.
+/// operand takes the whole path); Vertices hands back Whole without its loops. TooFewPoints
+/// for an empty shape, InvalidPose for a pose that is not rigid, DegenerateResult for two
+/// coplanar flat shapes.
 Status minkowski_sum(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
                      const Eigen::Isometry3d& pose_b, MinkowskiSum& out, SumParts parts = SumParts::Whole);
 
