@@ -120,7 +120,7 @@ TEST(RealTime, KernelsAndQueriesDoNotAllocate) {
 // grown to the largest of them, no call allocates, ties or not (aligned boxes, boxes about a
 // shared axis, aligned prisms, a box with a prism, two copies, a mirrored pair, coplanar
 // faces; the rounded-tie families and copies of rounded points; the generic Table 1 pairs),
-// through prepared shapes under poses and through the
+// through prepared shapes under poses (each of the parts a caller can ask for) and through the
 // polytope entry, which prepares both operands on every call.
 TEST(RealTime, SumsDoNotAllocateOnceTheResultHasGrown) {
   SKIP_UNLESS_COUNTING();
@@ -155,9 +155,12 @@ TEST(RealTime, SumsDoNotAllocateOnceTheResultHasGrown) {
   const auto run_all = [&] {
     for (const Operands& o : pairs) {
       const Eigen::Isometry3d& pb = o.common_pose ? pose_a : pose_b;
-      const Status s =
-          o.difference ? minkowski_difference(o.a, pose_a, o.b, pb, m) : minkowski_sum(o.a, pose_a, o.b, pb, m);
-      const bool posed_ok = s == Status::Ok && !m.corrected;
+      bool posed_ok = true;
+      for (const SumParts parts : {SumParts::Planes, SumParts::Vertices, SumParts::Whole}) {
+        const Status s = o.difference ? minkowski_difference(o.a, pose_a, o.b, pb, m, parts)
+                                      : minkowski_sum(o.a, pose_a, o.b, pb, m, parts);
+        posed_ok = posed_ok && s == Status::Ok && !m.corrected;
+      }
       facets += m.F;
       const Status t = o.difference ? minkowski_difference(o.pa, o.pb, m) : minkowski_sum(o.pa, o.pb, m);
       if (!posed_ok || t != Status::Ok || m.corrected) facets = -1000000;  // (no assertion inside the count)
