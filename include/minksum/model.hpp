@@ -22,6 +22,7 @@ enum class Status {
   InvalidPose,       ///< a pose that is not a finite rigid motion (scale, shear, reflection, NaN)
   InvalidArgument,   ///< a number outside its documented range (a negative or NaN margin)
   CapacityExceeded,  ///< a result larger than its fixed capacity (a contact patch's 128 points)
+  Unsupported,       ///< an operation that does not take this kind of shape yet (see its comment)
 };
 
 /// Largest coordinate magnitude accepted: products of three stay finite in double, so the

@@ -14,22 +14,28 @@ struct ShapeData;
 struct ShapeAccess;
 }  // namespace detail
 
-/// An immutable convex shape in its body frame: the polytope and, built once, what the sums
-/// and queries need (structure-of-arrays normals, edge directions and vertices; the Gauss map's
-/// adjacency). Copies share the same read-only data, so one shape may be used by many threads
-/// at once. A default-constructed (or failed) shape is empty, and every call taking it returns
+/// An immutable convex shape in its body frame: a core swept by a ball of radius() (the core
+/// (+) a ball: 0 for a plain polytope), and, built once, what the sums and queries need
+/// (structure-of-arrays normals, edge directions and vertices; the Gauss map's adjacency). The
+/// core is a polytope, a box, a triangle, a point (a sphere's) or a segment (a capsule's).
+/// Copies share the same read-only data, so one shape may be used by many threads at once. A
+/// default-constructed (or failed) shape is empty, and every call taking it returns
 /// Status::TooFewPoints.
 class ConvexShape {
  public:
   /// True until a builder succeeds.
   bool empty() const { return data_ == nullptr; }
-  /// The polytope in the body frame: the support pairs (i, j) of sums and queries index its
-  /// vertices.
+  /// The core in the body frame: the support pairs (i, j) of sums and queries index its
+  /// vertices. A sphere's core is its centre (one vertex, no edges or faces), a capsule's its
+  /// segment (two vertices, no edges or faces).
   const ConvexPolytope& polytope() const;
+  /// The radius of the ball swept around the core (0: the shape is its core).
+  double radius() const { return radius_; }
 
  private:
   friend struct detail::ShapeAccess;
   std::shared_ptr<const detail::ShapeData> data_;
+  double radius_ = 0;
 };
 
 /// The convex hull of a point set (polytope_from_points, then validated and prepared).
@@ -50,6 +56,24 @@ Status shape_from_triangle(const Triangle& t, ConvexShape& out);
 /// the Edge orientation, every vertex on its faces' planes, and convex at every edge.
 /// InvalidMesh if not.
 Status shape_from_polytope(const ConvexPolytope& p, ConvexShape& out);
+
+/// A ball of `radius` about the body origin (a point core swept by the radius). InvalidArgument
+/// for a radius that is not positive or not finite, OutOfRange for one beyond kMaxCoordinate or
+/// under kMinExtent.
+Status shape_from_sphere(double radius, ConvexShape& out);
+
+/// A capsule along the body z axis: the segment from (0, 0, -half_length) to (0, 0, half_length)
+/// swept by `radius` (FCL's and Coal's convention). A half_length of 0 gives the sphere of that
+/// radius. InvalidArgument for a negative or non-finite half_length or a radius that is not
+/// positive or not finite; OutOfRange for a half_length or radius beyond kMaxCoordinate, or a
+/// radius (or a nonzero half_length) under kMinExtent.
+Status shape_from_capsule(double half_length, double radius, ConvexShape& out);
+
+/// `core` swept by a ball of `radius`: a rounded box, polytope or triangle (a swept triangle),
+/// or a sphere or capsule with the radius added to theirs. O(1): it shares the core's prepared
+/// data. TooFewPoints for an empty core, InvalidArgument for a negative or non-finite radius,
+/// OutOfRange for a total radius beyond kMaxCoordinate.
+Status shape_with_radius(const ConvexShape& core, double radius, ConvexShape& out);
 
 /// Ok for a rigid pose: finite, translation within kMaxCoordinate, linear part a proper
 /// rotation to 1e-9 (no scale, shear or reflection); InvalidPose otherwise.

@@ -35,9 +35,11 @@ const char* to_string(Status s) {
     case Status::InvalidPose:
       return "the pose is not a rigid motion (a proper rotation, and a finite translation within 1e100)";
     case Status::InvalidArgument:
-      return "a number is outside its documented range (a contact margin or a time-of-impact tolerance that is negative, NaN or infinite)";
+      return "a number is outside its documented range (a contact margin, a time-of-impact tolerance, a radius or a half length that is negative, NaN or infinite)";
     case Status::CapacityExceeded:
       return "the result exceeds its fixed capacity";
+    case Status::Unsupported:
+      return "this operation does not take this kind of shape yet (a sphere, a capsule or a radius)";
   }
   return "unknown status";
 }

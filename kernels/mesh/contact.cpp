@@ -175,6 +175,7 @@ void push_out(const ToolPlanes& tool, const MeshScratch& ws, const int* hit, int
 Status contact_in_a(const Octree& a, const ConvexShape& shape, const Eigen::Isometry3d& pose, MeshScratch& ws,
                     MeshContact& out) {
   if (a.nodes.empty() || shape.empty()) return Status::TooFewPoints;
+  if (shape.radius() > 0 || !detail::ShapeAccess::data(shape)->has_faces()) return Status::Unsupported;
   const ConvexPolytope& polytope = shape.polytope();
   const int nv = int(polytope.vertices.size());
   if (nv > kMaxToolVertices || polytope.flat || nv < 4) return Status::InvalidMesh;

@@ -18,6 +18,7 @@
 
 #include "mesh/mesh_internal.hpp"
 #include "query/impact.hpp"
+#include "shape/shape_data.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -209,6 +210,7 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
                       const Isometry3d& t1, TimeOfImpact& out, double tolerance) {
   out = TimeOfImpact{};
   if (a.nodes.empty() || tool.empty()) return Status::TooFewPoints;
+  if (tool.radius() > 0 || !detail::ShapeAccess::data(tool)->has_faces()) return Status::Unsupported;
   Isometry3d q0, q1;  // the tool's poses in the mesh's frame
   if (const Status s = detail::relative_pose(pose_a, t0, q0); s != Status::Ok) return s;
   if (const Status s = detail::relative_pose(pose_a, t1, q1); s != Status::Ok) return s;

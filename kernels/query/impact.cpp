@@ -297,6 +297,8 @@ Status time_of_impact(const ConvexShape& a, const Isometry3d& a0, const Isometry
                       const Isometry3d& b0, const Isometry3d& b1, TimeOfImpact& out, double tolerance) {
   out = TimeOfImpact{};
   if (a.empty() || b.empty()) return Status::TooFewPoints;
+  for (const ConvexShape* s : {&a, &b})
+    if (s->radius() > 0 || !detail::ShapeAccess::data(*s)->has_faces()) return Status::Unsupported;
   for (const Isometry3d* pose : {&a0, &a1, &b0, &b1}) {
     if ((pose == &a1 && a1.matrix() == a0.matrix()) || (pose == &b1 && b1.matrix() == b0.matrix()))
       continue;  // (a still shape's end pose is its start pose, checked)

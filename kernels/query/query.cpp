@@ -11,6 +11,7 @@
 #include "geometry/rigid.hpp"
 #include "simd/box_pair_data.hpp"
 #include "query/cache_kinds.hpp"
+#include "query/core_query.hpp"
 #include "query/patch.hpp"
 #include "shape/shape_data.hpp"
 #include "query/triangle_pairs.hpp"
@@ -1771,43 +1772,29 @@ Status patch_of(const A& a, const B& b, const Proximity& p, const Features& f, d
 
 // The fields `want` did not ask for, back at their defaults: the general path computes the
 // first four levels together (its certificate reads what the witnesses need).
-void keep_asked(Want want, Proximity& out) {
-  if (!has(want, Want::Witnesses)) out.point_a.setZero(), out.point_b.setZero();
-  if (!has(want, Want::Distance)) out.distance = out.penetration_depth = 0, out.penetration_direction.setZero();
-}
-
 }  // namespace
 
 Status proximity(const ConvexPolytope& a, const ConvexPolytope& b, Proximity& out, Want want) {
   out = Proximity{};
   if (a.vertices.empty() || b.vertices.empty() || a.faces.empty() || b.faces.empty()) return Status::TooFewPoints;
   exact_proximity(PolytopeShape{a}, PolytopeShape{b}, out, want);
-  keep_asked(want, out);
+  detail::keep_asked(want, out);
   return Status::Ok;
 }
 
-Status proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
-                 const Eigen::Isometry3d& pose_b, Proximity& out, Want want) {
+void detail::core_proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
+                            const Eigen::Isometry3d& pose_b, ProximityCache* cache, Proximity& out, Want want) {
   out = Proximity{};
-  if (a.empty() || b.empty()) return Status::TooFewPoints;
-  for (const auto* pose : {&pose_a, &pose_b})
-    if (const Status s = check_pose(*pose); s != Status::Ok) return s;
-  if (!own_form(a, pose_a, b, pose_b, nullptr, out, want))
+  if (own_form(a, pose_a, b, pose_b, cache, out, want)) return;
+  if (cache)
+    cached_proximity(posed(a, pose_a), posed(b, pose_b), *cache, out, want);
+  else
     exact_proximity(posed(a, pose_a), posed(b, pose_b), out, want);
-  keep_asked(want, out);
-  return Status::Ok;
 }
 
-Status proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
-                 const Eigen::Isometry3d& pose_b, ProximityCache& cache, Proximity& out, Want want) {
-  out = Proximity{};
-  if (a.empty() || b.empty()) return Status::TooFewPoints;
-  for (const auto* pose : {&pose_a, &pose_b})
-    if (const Status s = check_pose(*pose); s != Status::Ok) return s;
-  if (!own_form(a, pose_a, b, pose_b, &cache, out, want))
-    cached_proximity(posed(a, pose_a), posed(b, pose_b), cache, out, want);
-  keep_asked(want, out);
-  return Status::Ok;
+void detail::keep_asked(Want want, Proximity& out) {
+  if (!has(want, Want::Witnesses)) out.point_a.setZero(), out.point_b.setZero();
+  if (!has(want, Want::Distance)) out.distance = out.penetration_depth = 0, out.penetration_direction.setZero();
 }
 
 Status proximity(const Box& a, const Triangle& b, Proximity& out, Want want) {
@@ -1815,7 +1802,7 @@ Status proximity(const Box& a, const Triangle& b, Proximity& out, Want want) {
   if (const Status s = check_box(a); s != Status::Ok) return s;
   if (const Status s = check_triangle(b); s != Status::Ok) return s;
   exact_proximity(shape_of(a), shape_of(b), out, want);
-  keep_asked(want, out);
+  detail::keep_asked(want, out);
   return Status::Ok;
 }
 
@@ -1824,7 +1811,7 @@ Status proximity(const Box& a, const Triangle& b, ProximityCache& cache, Proximi
   if (const Status s = check_box(a); s != Status::Ok) return s;
   if (const Status s = check_triangle(b); s != Status::Ok) return s;
   cached_proximity(shape_of(a), shape_of(b), cache, out, want);
-  keep_asked(want, out);
+  detail::keep_asked(want, out);
   return Status::Ok;
 }
 
@@ -1833,7 +1820,7 @@ Status proximity(const Triangle& a, const Triangle& b, Proximity& out, Want want
   for (const Triangle* t : {&a, &b})
     if (const Status s = check_triangle(*t); s != Status::Ok) return s;
   exact_proximity(shape_of(a), shape_of(b), out, want);
-  keep_asked(want, out);
+  detail::keep_asked(want, out);
   return Status::Ok;
 }
 
@@ -1884,15 +1871,12 @@ bool own_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const Conv
   return true;
 }
 
-// Both contact_patch calls: the boxes' and triangles' axes, else the exact query (through the
-// cache where one is given) and the patch of its answer.
-Status posed_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
-                   const Eigen::Isometry3d& pose_b, double margin, ProximityCache* cache, ContactPatch& out) {
+}  // namespace
+
+Status detail::core_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
+                          const Eigen::Isometry3d& pose_b, double margin, ProximityCache* cache,
+                          ContactPatch& out) {
   out.size = 0, out.normal.setZero(), out.depth = 0, out.feature_a = out.feature_b = {};
-  if (a.empty() || b.empty()) return Status::TooFewPoints;
-  for (const auto* pose : {&pose_a, &pose_b})
-    if (const Status s = check_pose(*pose); s != Status::Ok) return s;
-  if (!(margin >= 0)) return Status::InvalidArgument;
   if (own_patch(a, pose_a, b, pose_b, margin, out)) return Status::Ok;
   out.size = 0, out.normal.setZero(), out.depth = 0, out.feature_a = out.feature_b = {};
   const PosedShape pa = posed(a, pose_a), pb = posed(b, pose_b);
@@ -1905,18 +1889,6 @@ Status posed_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const 
   const Status s = patch_of(pa, pb, p, f, margin, out);
   if (s != Status::Ok) out.size = 0, out.feature_a = out.feature_b = {};
   return s;
-}
-
-}  // namespace
-
-Status contact_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
-                     const Eigen::Isometry3d& pose_b, double margin, ContactPatch& out) {
-  return posed_patch(a, pose_a, b, pose_b, margin, nullptr, out);
-}
-
-Status contact_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
-                     const Eigen::Isometry3d& pose_b, double margin, ProximityCache& cache, ContactPatch& out) {
-  return posed_patch(a, pose_a, b, pose_b, margin, &cache, out);
 }
 
 }  // namespace minksum

@@ -393,4 +393,53 @@ Status shape_from_polytope(const ConvexPolytope& p, ConvexShape& out) {
   return adopt(Status::Ok, ConvexPolytope(p), out);
 }
 
+namespace {
+
+// A radius r of a sphere or capsule: positive, finite, within [kMinExtent, kMaxCoordinate].
+Status check_radius(double r) {
+  if (!(r > 0) || !std::isfinite(r)) return Status::InvalidArgument;
+  return r >= kMinExtent && r <= kMaxCoordinate ? Status::Ok : Status::OutOfRange;
+}
+
+// A point or segment core (its vertices alone; see ShapeData::Kind) swept by r.
+void adopt_core(std::vector<Vector3d> vertices, double r, ConvexShape& out) {
+  auto data = std::make_shared<detail::ShapeData>();
+  data->kind = vertices.size() == 1 ? detail::ShapeData::Kind::Point : detail::ShapeData::Kind::Segment;
+  data->polytope.vertices = std::move(vertices);
+  data->polytope_ref = &data->polytope;
+  double extent;
+  detail::take_vertices(data->polytope, *data, extent);
+  detail::ShapeAccess::set(std::move(data), out);
+  detail::ShapeAccess::set_radius(out, r);
+}
+
+}  // namespace
+
+Status shape_from_sphere(double radius, ConvexShape& out) {
+  out = ConvexShape{};
+  if (const Status s = check_radius(radius); s != Status::Ok) return s;
+  adopt_core({Vector3d::Zero()}, radius, out);
+  return Status::Ok;
+}
+
+Status shape_from_capsule(double half_length, double radius, ConvexShape& out) {
+  out = ConvexShape{};
+  if (!(half_length >= 0) || !std::isfinite(half_length)) return Status::InvalidArgument;
+  if (const Status s = check_radius(radius); s != Status::Ok) return s;
+  if (half_length == 0) return shape_from_sphere(radius, out);
+  if (half_length < kMinExtent || half_length > kMaxCoordinate) return Status::OutOfRange;
+  adopt_core({Vector3d(0, 0, -half_length), Vector3d(0, 0, half_length)}, radius, out);
+  return Status::Ok;
+}
+
+Status shape_with_radius(const ConvexShape& core, double radius, ConvexShape& out) {
+  if (core.empty()) return out = ConvexShape{}, Status::TooFewPoints;
+  if (!(radius >= 0) || !std::isfinite(radius)) return out = ConvexShape{}, Status::InvalidArgument;
+  const double total = core.radius() + radius;
+  if (!(total <= kMaxCoordinate)) return out = ConvexShape{}, Status::OutOfRange;
+  out = core;
+  detail::ShapeAccess::set_radius(out, total);
+  return Status::Ok;
+}
+
 }  // namespace minksum

@@ -47,8 +47,12 @@ struct MapLayout {
 /// every arc is shorter than pi.
 struct ShapeData {
   /// What a builder made: a box or a triangle keeps its own form, so that queries take the
-  /// box-box and box-triangle paths (and their caches) on it.
-  enum class Kind : std::uint8_t { General, Box, Triangle } kind = Kind::General;
+  /// box-box and box-triangle paths (and their caches) on it. A point (a sphere's core) or a
+  /// segment (a capsule's) has its vertices alone: no Gauss map, no faces (the query reads them
+  /// through its own view, rounded.cpp).
+  enum class Kind : std::uint8_t { General, Box, Triangle, Point, Segment } kind = Kind::General;
+  /// Whether the core is a polytope with faces (general, box, triangle), prepared as one.
+  bool has_faces() const { return kind != Kind::Point && kind != Kind::Segment; }
   Box box;                                       // shape_from_box's box (body frame)
   Triangle triangle;                             // shape_from_triangle's triangle (body frame)
   ConvexPolytope polytope;                       // a built shape's own polytope (body frame)
@@ -138,8 +142,12 @@ inline double pole_error_bound(const Eigen::Vector3d& gl, const Eigen::Vector3d&
 struct ShapeAccess {
   /// The prepared data (nullptr if the shape is empty).
   static const ShapeData* data(const ConvexShape& s) { return s.data_.get(); }
-  /// Makes `out` hold `data`.
-  static void set(std::shared_ptr<const ShapeData> data, ConvexShape& out) { out.data_ = std::move(data); }
+  /// Makes `out` hold `data` (its radius 0).
+  static void set(std::shared_ptr<const ShapeData> data, ConvexShape& out) {
+    out.data_ = std::move(data), out.radius_ = 0;
+  }
+  /// Sets the radius swept around `s`'s core.
+  static void set_radius(ConvexShape& s, double radius) { s.radius_ = radius; }
 };
 
 /// Bit k set iff component k of v is not 0.

@@ -134,6 +134,8 @@ Status sum_shapes(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const C
   const detail::ShapeData *da = detail::ShapeAccess::data(a), *db = detail::ShapeAccess::data(b);
   Status s = !da || !db ? Status::TooFewPoints : check_pose(pose_a);
   if (s == Status::Ok) s = check_pose(pose_b);
+  if (s == Status::Ok && (a.radius() > 0 || b.radius() > 0 || !da->has_faces() || !db->has_faces()))
+    s = Status::Unsupported;
   if (s != Status::Ok) return out = MinkowskiSum{}, s;
   return detail::sum_placed(*da, pose_a, *db, pose_b, difference, out, parts);
 }

@@ -1,0 +1,22 @@
+// The queries on two posed polytope cores (general, box, triangle), for the entry points that
+// add the radii (rounded.cpp); internal.
+#pragma once
+
+#include <minksum/query.hpp>
+
+namespace minksum::detail {
+
+/// The exact proximity of two posed shapes whose cores have faces, without their radii:
+/// boxes and triangles in their own form, else GJK under a certificate; through `cache` if
+/// given. The shapes are not empty and the poses are checked.
+void core_proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
+                    const Eigen::Isometry3d& pose_b, ProximityCache* cache, Proximity& out, Want want);
+
+/// The contact patch of two such cores within `margin` (checked), without their radii.
+Status core_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
+                  const Eigen::Isometry3d& pose_b, double margin, ProximityCache* cache, ContactPatch& out);
+
+/// Clears the fields `want` does not ask for.
+void keep_asked(Want want, Proximity& out);
+
+}  // namespace minksum::detail

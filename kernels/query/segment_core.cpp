@@ -1,0 +1,269 @@
+// Point and segment cores against any core. A segment s and a polytope p are read in p's body
+// frame: their nearest points lie on a face of p that s does not lie wholly behind (an end
+// over the face, s through it, or s against one of its edges), and where they meet, the depth
+// is the separating axis theorem's on M = s (-) p.
+#include "query/segment_core.hpp"
+
+#include <minksum/shape.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/scale.hpp"
+#include "shape/shape_data.hpp"
+
+namespace minksum::detail {
+
+using Eigen::Vector3d;
+
+namespace {
+
+double largest(const Vector3d& v) { return v.cwiseAbs().maxCoeff(); }
+
+// Rounding's scale at coordinates of magnitude `reach`: cores closer than this touch (the
+// polytope query's touching tolerance).
+double touching(double reach) { return 64 * std::numeric_limits<double>::epsilon() * reach; }
+
+}  // namespace
+
+double closest_segments(const Segment& a, const Segment& b, Vector3d& pa, Vector3d& pb) {
+  // (Products of four coordinates stay normal within [1e-60, 1e60]: no scaling there.)
+  const double reach = std::max({largest(a.s0), largest(a.s1), largest(b.s0), largest(b.s1)});
+  const double k = reach >= 1e-60 && reach <= 1e60 ? 1.0 : scale_to_one(reach);
+  const Vector3d d1 = k * (a.s1 - a.s0), d2 = k * (b.s1 - b.s0), r = k * (a.s0 - b.s0);
+  const double aa = d1.dot(d1), e = d2.dot(d2), f = d2.dot(r);
+  double s = 0, t = 0;
+  if (aa == 0) {
+    t = e > 0 ? std::clamp(f / e, 0.0, 1.0) : 0.0;
+  } else {
+    const double c = d1.dot(r);
+    if (e == 0) {
+      s = std::clamp(-c / aa, 0.0, 1.0);
+    } else {
+      const double b_ = d1.dot(d2), den = aa * e - b_ * b_;
+      s = den > 0 ? std::clamp((b_ * f - c * e) / den, 0.0, 1.0) : 0.0;
+      t = (b_ * s + f) / e;
+      if (t < 0)
+        t = 0, s = std::clamp(-c / aa, 0.0, 1.0);
+      else if (t > 1)
+        t = 1, s = std::clamp((b_ - c) / aa, 0.0, 1.0);
+    }
+  }
+  pa = a.s0 + s * (a.s1 - a.s0), pb = b.s0 + t * (b.s1 - b.s0);
+  return (pb - pa).norm();
+}
+
+namespace {
+
+// A unit direction across two meeting segments whose difference has no interior (flat, a
+// segment or a point), towards B's middle from A's: normal to both where they are not
+// parallel, else normal to the one that is not a point, else z. Their depth along it is 0.
+Vector3d across(const Segment& a, const Segment& b) {
+  const Vector3d da = a.s1 - a.s0, db = b.s1 - b.s0;
+  const Vector3d c = da.cross(db);
+  Vector3d n = Vector3d::UnitZ();
+  if (c.squaredNorm() > 1e-24 * da.squaredNorm() * db.squaredNorm() && c.allFinite())
+    n = c.normalized();
+  else if (da.squaredNorm() > 0)
+    n = da.unitOrthogonal();
+  else if (db.squaredNorm() > 0)
+    n = db.unitOrthogonal();
+  return n.dot((b.s0 + b.s1) - (a.s0 + a.s1)) < 0 ? Vector3d(-n) : n;
+}
+
+}  // namespace
+
+void segment_pair(const Segment& a, const Segment& b, Proximity& out) {
+  out.distance = closest_segments(a, b, out.point_a, out.point_b);
+  const double reach = std::max({largest(a.s0), largest(a.s1), largest(b.s0), largest(b.s1)});
+  if (out.distance > touching(reach)) return;
+  out.intersecting = true, out.distance = 0;
+  out.penetration_direction = across(a, b);
+}
+
+namespace {
+
+// Whether x, on face f's plane, lies in its polygon (within tol).
+bool in_face(const ConvexPolytope& p, const Face& face, const Vector3d& x, double tol) {
+  const int n = int(face.loop.size());
+  for (int k = 0; k < n; ++k) {
+    const Vector3d& q0 = p.vertices[face.loop[k]];
+    const Vector3d e = p.vertices[face.loop[k + 1 == n ? 0 : k + 1]] - q0;
+    // (The loop runs counter-clockwise about the normal: inside is to the left of each edge.)
+    if (face.normal.cross(e).dot(x - q0) < -tol * e.norm()) return false;
+  }
+  return true;
+}
+
+// The nearest points of segment s and face f of p (a solid p: only s's points in front of
+// the face count, as its nearest points to a solid lie there): s through the face, an end over
+// it, or s against one of its edges. Their distance (infinite where none counts).
+double segment_face(const Segment& s, const ConvexPolytope& p, int f, double tol, Vector3d& x, Vector3d& y) {
+  const Face& face = p.faces[size_t(f)];
+  const double h0 = face.normal.dot(s.s0) - face.offset, h1 = face.normal.dot(s.s1) - face.offset;
+  if ((h0 <= 0 && h1 >= 0) || (h0 >= 0 && h1 <= 0)) {
+    const Vector3d c = h0 == h1 ? s.s0 : Vector3d(s.s0 + h0 / (h0 - h1) * (s.s1 - s.s0));
+    if (in_face(p, face, c, tol)) return x = y = c, 0.0;
+  }
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& [end, h] : {std::pair{&s.s0, h0}, std::pair{&s.s1, h1}}) {
+    if (!p.flat && h < 0) continue;
+    const Vector3d q = *end - h * face.normal;
+    if (std::abs(h) < best && in_face(p, face, q, 0)) best = std::abs(h), x = *end, y = q;
+  }
+  const int n = int(face.loop.size());
+  for (int k = 0; k < n; ++k) {
+    const Segment edge{p.vertices[face.loop[k]], p.vertices[face.loop[k + 1 == n ? 0 : k + 1]]};
+    Vector3d a, b;
+    if (const double d = closest_segments(s, edge, a, b); d < best) best = d, x = a, y = b;
+  }
+  return best;
+}
+
+// The point of s whose move by `shift` lands in face f of p (the deepest pair of a segment
+// level with the face): s clipped to the face's side planes after the move, its middle; `lowest`
+// where the clip is empty (rounding).
+Vector3d on_face(const Segment& s, const ConvexPolytope& p, int f, const Vector3d& shift, const Vector3d& lowest) {
+  const Face& face = p.faces[size_t(f)];
+  double t0 = 0, t1 = 1;
+  const Vector3d d = s.s1 - s.s0;
+  const int n = int(face.loop.size());
+  for (int k = 0; k < n && t0 <= t1; ++k) {
+    const Vector3d& q0 = p.vertices[face.loop[k]];
+    const Vector3d inward = face.normal.cross(p.vertices[face.loop[k + 1 == n ? 0 : k + 1]] - q0);
+    const double at = inward.dot(s.s0 + shift - q0), rate = inward.dot(d);
+    if (rate > 0)
+      t0 = std::max(t0, -at / rate);
+    else if (rate < 0)
+      t1 = std::min(t1, -at / rate);
+    else if (at < 0)
+      t0 = 2;
+  }
+  return t0 <= t1 ? Vector3d(s.s0 + 0.5 * (t0 + t1) * d) : lowest;
+}
+
+// The depth of a point or segment core s inside the polytope p (both in p's frame), which it
+// meets: the separating axis theorem on M = s (-) p, whose facets' normals are p's face normals
+// (both sides of a flat p) and, for a segment, its crosses with p's edges (Gregorius, "The
+// separating axis test between convex polyhedra", GDC 2013). On a solid p only the edges whose
+// Gauss-map arc the segment's great circle crosses give facets of M. Sets the depth, its
+// direction u (p moves along it) and the deepest pair: point_a on s, point_b = point_a - depth u.
+void segment_depth(const Segment& s, const ConvexPolytope& p, double tau, Proximity& out) {
+  const Vector3d d = s.s1 - s.s0;
+  const auto low = [&](const Vector3d& n) { return std::min(n.dot(s.s0), n.dot(s.s1)); };
+  double depth = std::numeric_limits<double>::infinity();
+  Vector3d u = Vector3d::UnitZ();
+  int face = 0, edge = -1;
+  const auto consider = [&](double h, const Vector3d& dir, int f, int e) {
+    if (h < depth) depth = h, u = dir, face = f, edge = e;
+  };
+  const int F = p.flat ? 1 : int(p.faces.size());
+  for (int f = 0; f < F; ++f) {  // h_M(-n) = max n . p - min n . s
+    const Vector3d& n = p.faces[size_t(f)].normal;
+    consider(p.faces[size_t(f)].offset - low(n), -n, f, -1);
+    if (p.flat) consider(-low(Vector3d(-n)) - p.faces[size_t(f)].offset, n, f, -1);  // (its other side)
+  }
+  for (int e = 0; e < int(p.edges.size()) && d.squaredNorm() > 0; ++e) {
+    const Edge& edge_e = p.edges[size_t(e)];
+    Vector3d c = d.cross(p.vertices[edge_e.v1] - p.vertices[edge_e.v0]);
+    const double len = c.norm();
+    if (!(len > 0) || !std::isfinite(len)) continue;
+    c /= len;
+    if (!p.flat) {
+      const Vector3d &nl = p.faces[edge_e.left].normal, &nr = p.faces[edge_e.right].normal;
+      const double sl = nl.dot(d), sr = nr.dot(d);
+      if ((sl > 0 && sr > 0) || (sl < 0 && sr < 0)) continue;  // the arc misses the great circle
+      if (c.dot(nl + nr) < 0) c = -c;                           // outward at the edge
+    } else {
+      consider(support(p, Vector3d(-c)) - low(Vector3d(-c)), c, -1, e);  // (both signs)
+    }
+    consider(support(p, c) - low(c), -c, -1, e);
+  }
+  depth = std::max(depth, 0.0);
+  Vector3d a, unused;
+  if (edge >= 0) {  // s level along u: its point nearest the edge
+    closest_segments(s, {p.vertices[p.edges[size_t(edge)].v0], p.vertices[p.edges[size_t(edge)].v1]}, a, unused);
+  } else if (std::abs(u.dot(d)) <= tau) {  // level with the face: a point over it
+    a = on_face(s, p, face, Vector3d(-depth * u), s.s0);
+  } else {
+    a = u.dot(s.s0) > u.dot(s.s1) ? s.s0 : s.s1;
+  }
+  out.intersecting = true, out.distance = 0;
+  out.penetration_depth = depth, out.penetration_direction = u;
+  out.point_a = a, out.point_b = a - depth * u;
+}
+
+// Whether the nearest points x (on s) and y (on face f of p) at distance d are proven: p lies
+// below the plane through y normal to x - y, and s above the one through x (within slack).
+bool proven(const Segment& s, const ConvexShape& shape, const Vector3d& x, const Vector3d& y, double d, double slack) {
+  if (!(d > 64 * slack)) return false;
+  const Vector3d n = (x - y) / d;
+  if (std::min(n.dot(s.s0), n.dot(s.s1)) < n.dot(x) - slack) return false;
+  return support(shape.polytope(), n) <= n.dot(y) + slack;
+}
+
+// A point and a box in the box's frame (centre c, axes R, half extents h): the point clamped
+// into the box; inside (or within tol of its surface), the face nearest it.
+void point_box(const Vector3d& x, const Box& box, double tol, Proximity& out) {
+  const Vector3d c = box.rotation.transpose() * (x - box.center);
+  const Vector3d q = c.cwiseMax(-box.half_extents).cwiseMin(box.half_extents);
+  const double d = (c - q).norm();
+  out.point_a = x;
+  if (d > tol) {
+    out.distance = d, out.point_b = box.center + box.rotation * q;
+    return;
+  }
+  int k;
+  (box.half_extents - c.cwiseAbs()).minCoeff(&k);
+  const double depth = std::max(0.0, box.half_extents[k] - std::abs(c[k]));
+  const Vector3d u = (c[k] < 0 ? 1.0 : -1.0) * box.rotation.col(k);  // the box moves off the point
+  out.intersecting = true, out.distance = 0;
+  out.penetration_depth = depth, out.penetration_direction = u;
+  out.point_b = x - depth * u;
+}
+
+// A point or segment core s against a polytope core, both in its frame (out the same): a point
+// and a box in closed form; the cached face where its nearest points are proven, else the
+// nearest points over the faces that s does not lie wholly behind, else, meeting p or inside
+// it, the depth.
+bool body_proximity(const Segment& s, const ConvexShape& shape, int& cached, Proximity& out) {
+  const ShapeData& data = *ShapeAccess::data(shape);
+  const ConvexPolytope& p = shape.polytope();
+  const double tol = touching(std::max({data.size, largest(s.s0), largest(s.s1)}));
+  if (data.kind == ShapeData::Kind::Box && s.s0 == s.s1) return point_box(s.s0, data.box, tol, out), false;
+  const int F = p.flat ? 1 : int(p.faces.size());
+  Vector3d x, y;
+  if (cached >= 0 && cached < F) {
+    const double d = segment_face(s, p, cached, tol, x, y);
+    if (proven(s, shape, x, y, d, tol)) return out.distance = d, out.point_a = x, out.point_b = y, true;
+  }
+  double best = std::numeric_limits<double>::infinity();
+  bool inside = !p.flat;
+  cached = -1;
+  for (int f = 0; f < F; ++f) {
+    const Face& face = p.faces[size_t(f)];
+    inside = inside && face.normal.dot(s.s0) <= face.offset;
+    if (!p.flat && std::max(face.normal.dot(s.s0), face.normal.dot(s.s1)) - face.offset < -tol)
+      continue;  // wholly behind: no nearest point, no crossing here
+    if (const double d = segment_face(s, p, f, tol, x, y); d < best)
+      best = d, out.point_a = x, out.point_b = y, cached = f;
+  }
+  if (best > tol && !inside) return out.distance = best, false;
+  cached = -1;
+  segment_depth(s, p, 4 * tol, out);
+  return false;
+}
+
+}  // namespace
+
+bool segment_polytope(const Segment& a, const ConvexShape& b, const Eigen::Isometry3d& pose_b, int& face,
+                      Proximity& out) {
+  const Eigen::Isometry3d to_body = pose_b.inverse();
+  const bool warm = body_proximity({to_body * a.s0, to_body * a.s1}, b, face, out);
+  out.point_a = pose_b * out.point_a, out.point_b = pose_b * out.point_b;
+  out.penetration_direction = pose_b.linear() * out.penetration_direction;
+  return warm;
+}
+
+}  // namespace minksum::detail

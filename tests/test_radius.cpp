@@ -1,0 +1,440 @@
+// Rounded shapes (spheres, capsules, a radius on any shape) against oracles that do not use the
+// library's queries: the cores' distance by brute force (vertex-face, vertex-edge, edge-edge,
+// edges through faces) minus the radii, the separating axes of the cores for the depth, and
+// closed forms written here for spheres, capsules and boxes.
+#include <gtest/gtest.h>
+#include <minksum/minksum.hpp>
+
+#include <array>
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "checks.hpp"
+#include "support/shapes.hpp"
+
+namespace minksum {
+namespace {
+
+using Eigen::Isometry3d;
+using Eigen::Vector3d;
+
+// A core placed in the world, as the oracle reads it.
+struct Core {
+  std::vector<Vector3d> v;
+  std::vector<std::vector<int>> loops;  // the faces (a flat core: its one side)
+  std::vector<Vector3d> normals;
+  std::vector<std::array<int, 2>> edges;  // a segment's: its one edge
+  bool solid = false;
+};
+
+Core core_of(const ConvexShape& s, const Isometry3d& pose) {
+  const ConvexPolytope& p = s.polytope();
+  Core c;
+  for (const Vector3d& x : p.vertices) c.v.push_back(pose * x);
+  for (size_t f = 0; f < (p.flat ? 1 : p.faces.size()); ++f) {
+    c.loops.push_back(p.faces[f].loop);
+    c.normals.push_back(pose.linear() * p.faces[f].normal);
+  }
+  for (const Edge& e : p.edges) c.edges.push_back({e.v0, e.v1});
+  if (p.vertices.size() == 2 && p.faces.empty()) c.edges.push_back({0, 1});
+  c.solid = !p.flat && !p.faces.empty();
+  return c;
+}
+
+bool inside(const Core& c, const Vector3d& x) {
+  if (!c.solid) return false;
+  for (size_t f = 0; f < c.loops.size(); ++f)
+    if (c.normals[f].dot(x - c.v[c.loops[f][0]]) > 0) return false;
+  return true;
+}
+
+// The distance of x to face f of c (a convex polygon).
+double point_face(const Vector3d& x, const Core& c, size_t f) {
+  const std::vector<int>& loop = c.loops[f];
+  const Vector3d& n = c.normals[f];
+  const double h = n.dot(x - c.v[loop[0]]);
+  const Vector3d q = x - h * n;
+  bool in = true;
+  for (size_t k = 0; k < loop.size(); ++k)
+    in = in && (c.v[loop[(k + 1) % loop.size()]] - c.v[loop[k]]).cross(q - c.v[loop[k]]).dot(n) >= 0;
+  if (in) return std::abs(h);
+  double best = HUGE_VAL;
+  for (size_t k = 0; k < loop.size(); ++k)
+    best = std::min(best, test::segment_distance(x, x, c.v[loop[k]], c.v[loop[(k + 1) % loop.size()]]));
+  return best;
+}
+
+// Whether the segment p0 p1 meets face f of c.
+bool crosses_face(const Vector3d& p0, const Vector3d& p1, const Core& c, size_t f) {
+  const Vector3d& n = c.normals[f];
+  const double h0 = n.dot(p0 - c.v[c.loops[f][0]]), h1 = n.dot(p1 - c.v[c.loops[f][0]]);
+  if ((h0 > 0 && h1 > 0) || (h0 < 0 && h1 < 0) || h0 == h1) return false;
+  const Vector3d x = p0 + h0 / (h0 - h1) * (p1 - p0);
+  return point_face(x, c, f) <= 1e-12 * (1 + x.norm());
+}
+
+// The distance of two cores, by brute force in double: 0 if one holds a vertex of the other or
+// an edge of one crosses a face of the other; else the least vertex-face, vertex-edge and
+// edge-edge distance.
+double core_distance(const Core& a, const Core& b) {
+  if (inside(a, b.v[0]) || inside(b, a.v[0])) return 0;
+  double best = HUGE_VAL;
+  for (const auto* pair : {&a, &b}) {
+    const Core &x = *pair, &y = pair == &a ? b : a;
+    for (const auto& e : x.edges)
+      for (size_t f = 0; f < y.loops.size(); ++f)
+        if (crosses_face(x.v[e[0]], x.v[e[1]], y, f)) return 0;
+    for (const Vector3d& p : x.v) {
+      for (size_t f = 0; f < y.loops.size(); ++f) best = std::min(best, point_face(p, y, f));
+      for (const auto& e : y.edges) best = std::min(best, test::segment_distance(p, p, y.v[e[0]], y.v[e[1]]));
+      for (const Vector3d& q : y.v) best = std::min(best, (p - q).norm());
+    }
+  }
+  for (const auto& e : a.edges)
+    for (const auto& g : b.edges)
+      best = std::min(best, test::segment_distance(a.v[e[0]], a.v[e[1]], b.v[g[0]], b.v[g[1]]));
+  return best;
+}
+
+// The depth of two meeting cores: the least h_M(u) = max u.a - min u.b over the separating axes
+// (face normals, crosses of edges; both signs), 0 where there are none (their difference has no
+// interior). Brute force: every vertex along every axis.
+double core_depth(const Core& a, const Core& b) {
+  std::vector<Vector3d> axes = a.normals;
+  axes.insert(axes.end(), b.normals.begin(), b.normals.end());
+  for (const auto& ea : a.edges)
+    for (const auto& eb : b.edges) {
+      const Vector3d c = (a.v[ea[1]] - a.v[ea[0]]).cross(b.v[eb[1]] - b.v[eb[0]]);
+      if (c.norm() > 1e-12 * (a.v[ea[1]] - a.v[ea[0]]).norm() * (b.v[eb[1]] - b.v[eb[0]]).norm())
+        axes.push_back(c.normalized());
+    }
+  double depth = axes.empty() ? 0 : HUGE_VAL;
+  for (const Vector3d& n : axes)
+    for (const Vector3d& u : {n, Vector3d(-n)}) {
+      double top = -HUGE_VAL, bottom = HUGE_VAL;
+      for (const Vector3d& x : a.v) top = std::max(top, u.dot(x));
+      for (const Vector3d& x : b.v) bottom = std::min(bottom, u.dot(x));
+      depth = std::min(depth, top - bottom);
+    }
+  return std::max(depth, 0.0);
+}
+
+double largest(const Core& c) {
+  double m = 0;
+  for (const Vector3d& x : c.v) m = std::max(m, x.cwiseAbs().maxCoeff());
+  return m;
+}
+
+// The distance of x to the core (0 inside a solid one).
+double point_to_core(const Vector3d& x, const Core& c) {
+  Core point;
+  point.v = {x};
+  return core_distance(point, c);
+}
+
+// Everything the oracle checks of one answer: the verdict away from the boundary, the distance
+// or depth, witnesses on the shapes' surfaces that realise it, and (depth) that moving B by it
+// makes the shapes touch.
+testing::AssertionResult matches_oracle(const ConvexShape& A, const Isometry3d& pa, const ConvexShape& B,
+                                        const Isometry3d& pb, const Proximity& p) {
+  const Core a = core_of(A, pa), b = core_of(B, pb);
+  const double r = A.radius() + B.radius();
+  const double scale = std::max({largest(a), largest(b), r, 1e-300});
+  const double tol = 1e-9 * scale;
+  const double dc = core_distance(a, b);
+  const auto fail = [&](const std::string& what) {
+    return testing::AssertionFailure() << what << " (core distance " << dc << ", radii " << r << ", intersecting "
+                                       << p.intersecting << ", distance " << p.distance << ", depth "
+                                       << p.penetration_depth << ")";
+  };
+  if (std::abs(dc - r) > tol && p.intersecting != (dc <= r)) return fail("verdict");
+  if (!p.intersecting) {
+    if (std::abs(p.distance - (dc - r)) > tol) return fail("distance");
+    if (std::abs((p.point_b - p.point_a).norm() - p.distance) > tol) return fail("witnesses' distance");
+  } else {
+    const double expected = dc > 0 ? r - dc : r + core_depth(a, b);
+    if (std::abs(p.penetration_depth - expected) > tol) return fail("depth, expected " + std::to_string(expected));
+    if (std::abs(p.penetration_direction.norm() - 1) > 1e-9) return fail("direction not unit");
+    if ((p.point_a - p.point_b - p.penetration_depth * p.penetration_direction).norm() > tol)
+      return fail("deepest points not depth * direction apart");
+    Core moved = b;
+    for (Vector3d& x : moved.v) x += p.penetration_depth * p.penetration_direction;
+    if (std::abs(core_distance(a, moved) - r) > 1e-7 * scale) return fail("moving B by the depth does not make them touch");
+  }
+  if (std::abs(point_to_core(p.point_a, a) - A.radius()) > tol) return fail("point_a not on A's surface");
+  if (std::abs(point_to_core(p.point_b, b) - B.radius()) > tol) return fail("point_b not on B's surface");
+  return testing::AssertionSuccess();
+}
+
+// The shapes the tests draw from: the kinds and the radius on each.
+std::vector<std::pair<std::string, ConvexShape>> shapes() {
+  std::vector<std::pair<std::string, ConvexShape>> out;
+  const auto add = [&](const std::string& name, Status s, const ConvexShape& shape) {
+    EXPECT_EQ(s, Status::Ok) << name;
+    out.emplace_back(name, shape);
+  };
+  ConvexShape s;
+  add("sphere", shape_from_sphere(0.5, s), s);
+  add("capsule", shape_from_capsule(0.75, 0.25, s), s);
+  Box box;
+  box.half_extents = Vector3d(0.5, 0.75, 1);
+  ConvexShape core;
+  add("box", shape_from_box(box, core), core);
+  add("rounded_box", shape_with_radius(core, 0.25, s), s);
+  add("icosahedron", shape_from_points(tools::icosahedron_points(), core), core);
+  add("rounded_icosahedron", shape_with_radius(core, 0.125, s), s);
+  add("triangle", shape_from_triangle({Vector3d(0, 0, 0), Vector3d(1.5, 0, 0), Vector3d(0, 1, 0.25)}, core), core);
+  add("swept_triangle", shape_with_radius(core, 0.3, s), s);
+  return out;
+}
+
+TEST(RoundedShapes, EveryPairOfKindsMatchesTheCoresExactDistanceMinusTheRadii) {
+  const auto all = shapes();
+  std::mt19937_64 rng(56);
+  const int poses = test::scaled(12, 4);
+  for (const auto& [na, A] : all)
+    for (const auto& [nb, B] : all)
+      for (int k = 0; k < poses; ++k) {
+        // Apart, near the touching band, and deep (cores overlapping).
+        const double reach = k % 3 == 0 ? 3.0 : k % 3 == 1 ? 1.6 : 0.4;
+        const Isometry3d pa = test::random_pose(rng, 0.2), pb = test::random_pose(rng, reach);
+        Proximity cold, warm;
+        ProximityCache cache;
+        ASSERT_EQ(proximity(A, pa, B, pb, cold), Status::Ok);
+        EXPECT_TRUE(matches_oracle(A, pa, B, pb, cold)) << na << " / " << nb << " pose " << k;
+        ASSERT_EQ(proximity(A, pa, B, pb, cache, warm), Status::Ok);
+        EXPECT_TRUE(matches_oracle(A, pa, B, pb, warm)) << na << " / " << nb << " pose " << k << " (cached)";
+      }
+}
+
+// Integer coordinates, where everything ties: a capsule lying along a face or an edge, a sphere
+// over a vertex, an edge or a face, parallel and crossing capsules, coincident centres, a
+// capsule through a box and along its axis, a capsule in a triangle's plane.
+TEST(RoundedShapes, TieHeavyIntegerPosesMatchTheOracle) {
+  ConvexShape sphere, capsule, box, rounded_box, triangle;
+  ASSERT_EQ(shape_from_sphere(1, sphere), Status::Ok);
+  ASSERT_EQ(shape_from_capsule(2, 1, capsule), Status::Ok);
+  Box b;
+  b.half_extents = Vector3d(2, 2, 2);
+  ASSERT_EQ(shape_from_box(b, box), Status::Ok);
+  ASSERT_EQ(shape_with_radius(box, 1, rounded_box), Status::Ok);
+  ASSERT_EQ(shape_from_triangle({Vector3d(0, 0, 0), Vector3d(4, 0, 0), Vector3d(0, 4, 0)}, triangle), Status::Ok);
+  const ConvexShape* kinds[] = {&sphere, &capsule, &box, &rounded_box, &triangle};
+  // Poses: integer translations, rotations by quarter turns about the axes (exact matrices).
+  std::vector<Eigen::Matrix3d> turns = {Eigen::Matrix3d::Identity()};
+  Eigen::Matrix3d x, y;
+  x << 1, 0, 0, 0, 0, -1, 0, 1, 0;
+  y << 0, 0, 1, 0, 1, 0, -1, 0, 0;
+  turns.push_back(x), turns.push_back(y), turns.push_back(x * y);
+  std::mt19937_64 rng(5);
+  std::uniform_int_distribution<int> coordinate(-5, 5), turn(0, 3);
+  int checked = 0;
+  const int draws = test::scaled(400, 100);
+  for (int k = 0; k < draws; ++k)
+    for (const ConvexShape* A : kinds)
+      for (const ConvexShape* B : kinds) {
+        Isometry3d pa = Isometry3d::Identity(), pb = Isometry3d::Identity();
+        pa.linear() = turns[turn(rng)], pb.linear() = turns[turn(rng)];
+        pb.translation() = Vector3d(coordinate(rng), coordinate(rng), coordinate(rng));
+        Proximity p;
+        ASSERT_EQ(proximity(*A, pa, *B, pb, p), Status::Ok);
+        ASSERT_TRUE(matches_oracle(*A, pa, *B, pb, p)) << "draw " << k << " B at " << pb.translation().transpose();
+        ++checked;
+      }
+  EXPECT_EQ(checked, draws * 25);
+}
+
+// Closed forms written here: spheres (centres' distance), capsules (segments' distance),
+// a sphere and a box (the centre clamped into the box).
+TEST(RoundedShapes, SpheresCapsulesAndBoxesMatchClosedForms) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-2, 2);
+  ConvexShape s1, s2, c1, c2, box;
+  ASSERT_EQ(shape_from_sphere(0.5, s1), Status::Ok);
+  ASSERT_EQ(shape_from_sphere(0.25, s2), Status::Ok);
+  ASSERT_EQ(shape_from_capsule(1, 0.5, c1), Status::Ok);
+  ASSERT_EQ(shape_from_capsule(0.5, 0.25, c2), Status::Ok);
+  Box b;
+  b.half_extents = Vector3d(1, 0.5, 0.25);
+  ASSERT_EQ(shape_from_box(b, box), Status::Ok);
+  // The signed distance from a centre-to-core gap d and the radii.
+  const auto signed_gap = [](const Proximity& p) { return p.intersecting ? -p.penetration_depth : p.distance; };
+  for (int k = 0; k < test::scaled(500, 100); ++k) {
+    const Isometry3d pa = test::random_pose(rng, 1), pb = test::random_pose(rng, 1.5);
+    Proximity p;
+    ASSERT_EQ(proximity(s1, pa, s2, pb, p), Status::Ok);
+    EXPECT_NEAR(signed_gap(p), (pb.translation() - pa.translation()).norm() - 0.75, 1e-12);
+    const Vector3d a0 = pa * Vector3d(0, 0, -1), a1 = pa * Vector3d(0, 0, 1);
+    const Vector3d b0 = pb * Vector3d(0, 0, -0.5), b1 = pb * Vector3d(0, 0, 0.5);
+    ASSERT_EQ(proximity(c1, pa, c2, pb, p), Status::Ok);
+    const double dc = test::segment_distance(a0, a1, b0, b1);
+    if (dc > 1e-9) EXPECT_NEAR(signed_gap(p), dc - 0.75, 1e-12) << k;
+    else EXPECT_NEAR(p.penetration_depth, 0.75, 1e-9) << k;  // crossing axes: the radii
+    // A sphere against the box: its centre in the box's frame, clamped.
+    ASSERT_EQ(proximity(s1, pb, box, pa, p), Status::Ok);
+    const Vector3d c = pa.inverse() * pb.translation();
+    const Vector3d q = c.cwiseMax(-b.half_extents).cwiseMin(b.half_extents);
+    const double outside = (c - q).norm();
+    const double inside_depth = (b.half_extents - c.cwiseAbs()).minCoeff();
+    EXPECT_NEAR(signed_gap(p), (outside > 0 ? outside : -inside_depth) - 0.5, 1e-12) << k;
+  }
+}
+
+// Spheres about one centre, capsules along one line: every direction is as deep as any other,
+// and the answer is still a unit direction with the deepest points depth apart.
+TEST(RoundedShapes, CoincidentCoresGiveTheRadiiAsTheDepth) {
+  ConvexShape s, c;
+  ASSERT_EQ(shape_from_sphere(1, s), Status::Ok);
+  ASSERT_EQ(shape_from_capsule(1, 1, c), Status::Ok);
+  const Isometry3d id = Isometry3d::Identity();
+  for (const ConvexShape* a : {&s, &c})
+    for (const ConvexShape* b : {&s, &c}) {
+      Proximity p;
+      ASSERT_EQ(proximity(*a, id, *b, id, p), Status::Ok);
+      EXPECT_TRUE(p.intersecting);
+      EXPECT_DOUBLE_EQ(p.penetration_depth, 2);
+      EXPECT_NEAR(p.penetration_direction.norm(), 1, 1e-15);
+      EXPECT_TRUE(matches_oracle(*a, id, *b, id, p));
+    }
+}
+
+// Each level asks for less; what it computes is the full query's, and the farthest pair is the
+// brute-force farthest pair of the cores plus the radii.
+TEST(RoundedShapes, WantLevelsAndTheFarthestPair) {
+  const auto all = shapes();
+  std::mt19937_64 rng(9);
+  for (const auto& [na, A] : all)
+    for (const auto& [nb, B] : all) {
+      const Isometry3d pa = test::random_pose(rng, 0.5), pb = test::random_pose(rng, 1.5);
+      Proximity full, verdict, far;
+      ASSERT_EQ(proximity(A, pa, B, pb, full, Want::All), Status::Ok);
+      ASSERT_EQ(proximity(A, pa, B, pb, verdict, Want::Verdict), Status::Ok);
+      ASSERT_EQ(proximity(A, pa, B, pb, far, Want::MaxDistance), Status::Ok);
+      EXPECT_EQ(verdict.intersecting, full.intersecting) << na << " / " << nb;
+      EXPECT_EQ(verdict.distance, 0);
+      EXPECT_TRUE(verdict.point_a.isZero());
+      EXPECT_FALSE(far.intersecting);
+      const Core a = core_of(A, pa), b = core_of(B, pb);
+      double brute = 0;
+      for (const Vector3d& x : a.v)
+        for (const Vector3d& y : b.v) brute = std::max(brute, (x - y).norm());
+      const double expected = brute + A.radius() + B.radius();
+      EXPECT_NEAR(full.max_distance, expected, 1e-12 * expected) << na << " / " << nb;
+      EXPECT_NEAR(far.max_distance, expected, 1e-12 * expected);
+      EXPECT_NEAR((full.far_b - full.far_a).norm(), expected, 1e-12 * expected);
+      EXPECT_NEAR(point_to_core(full.far_a, a), A.radius(), 1e-12);
+      EXPECT_NEAR(point_to_core(full.far_b, b), B.radius(), 1e-12);
+    }
+}
+
+// Along a trajectory the cached query answers as the cold one, and mostly from the cache.
+TEST(RoundedShapes, CachedAnswersEqualColdOnes) {
+  const auto all = shapes();
+  for (const auto& [na, A] : all)
+    for (const auto& [nb, B] : all) {
+      // In and out of contact, fast: every answer through the cache is the oracle's.
+      ProximityCache crossing;
+      for (const Isometry3d& pose : tools::trajectory(8, test::scaled(300, 100), 0.2, 2.5, 0.03)) {
+        Proximity p;
+        ASSERT_EQ(proximity(A, Isometry3d::Identity(), B, pose, crossing, p), Status::Ok);
+        ASSERT_TRUE(matches_oracle(A, Isometry3d::Identity(), B, pose, p)) << na << " / " << nb;
+      }
+      ProximityCache cache;
+      const auto path = tools::trajectory(3, 60, 3, 4, 0.01);  // apart: the warm path's domain
+      for (const Isometry3d& pose : path) {
+        Proximity cold, warm;
+        ASSERT_EQ(proximity(A, Isometry3d::Identity(), B, pose, cold), Status::Ok);
+        ASSERT_EQ(proximity(A, Isometry3d::Identity(), B, pose, cache, warm), Status::Ok);
+        ASSERT_EQ(warm.intersecting, cold.intersecting) << na << " / " << nb;
+        EXPECT_NEAR(warm.distance, cold.distance, 1e-9);
+        EXPECT_NEAR(warm.penetration_depth, cold.penetration_depth, 1e-9);
+      }
+      // Apart along the path, every pair answers warm from the cache but the closed forms (two
+      // point or segment cores, a point and a box), which keep none.
+      const bool faceless = A.polytope().faces.empty() && B.polytope().faces.empty();
+      const bool point_box = (na == "sphere" && nb.find("box") != std::string::npos) ||
+                             (nb == "sphere" && na.find("box") != std::string::npos);
+      if (faceless || point_box)
+        EXPECT_EQ(cache.warm, 0) << na << " / " << nb;
+      else
+        EXPECT_GT(cache.warm, long(path.size()) / 2) << na << " / " << nb;
+    }
+}
+
+// A rounded box resting near a box: the patch is the overlap of the faces on the rounded box's
+// surface, its depth minus the gap between the surfaces.
+TEST(RoundedShapes, ContactPatchOfRoundedBoxesIsOnTheRoundedSurface) {
+  Box b;
+  b.half_extents = Vector3d(1, 1, 1);
+  ConvexShape core, rounded;
+  ASSERT_EQ(shape_from_box(b, core), Status::Ok);
+  ASSERT_EQ(shape_with_radius(core, 0.25, rounded), Status::Ok);
+  for (double gap : {0.0, 0.125, -0.0625}) {
+    Isometry3d pb = Isometry3d::Identity();
+    pb.translation() = Vector3d(0.5, 0.25, 2.25 + gap);  // B's bottom at 1.25 + gap
+    ContactPatch patch;
+    ASSERT_EQ(contact_patch(rounded, Isometry3d::Identity(), core, pb, 0.25, patch), Status::Ok);
+    EXPECT_NEAR(patch.depth, -gap, 1e-12);
+    EXPECT_NEAR((patch.normal - Vector3d::UnitZ()).norm(), 0, 1e-12);
+    ASSERT_EQ(patch.size, 4) << gap;
+    for (int k = 0; k < patch.size; ++k) {
+      EXPECT_NEAR(patch.points[k].z(), 1.25, 1e-12);
+      EXPECT_TRUE(std::abs(patch.points[k].x() - 1) < 1e-12 || std::abs(patch.points[k].x() + 0.5) < 1e-12);
+      EXPECT_TRUE(std::abs(patch.points[k].y() - 1) < 1e-12 || std::abs(patch.points[k].y() + 0.75) < 1e-12);
+    }
+  }
+}
+
+TEST(RoundedShapes, BadRadiiAndLengthsAreRefused) {
+  ConvexShape s;
+  const double nan = std::nan(""), inf = HUGE_VAL;
+  for (double r : {0.0, -1.0, nan, inf, -inf}) EXPECT_EQ(shape_from_sphere(r, s), Status::InvalidArgument) << r;
+  EXPECT_TRUE(s.empty());
+  EXPECT_EQ(shape_from_sphere(1e300, s), Status::OutOfRange);
+  EXPECT_EQ(shape_from_sphere(1e-200, s), Status::OutOfRange);
+  for (double h : {-1.0, nan, inf}) EXPECT_EQ(shape_from_capsule(h, 1, s), Status::InvalidArgument) << h;
+  EXPECT_EQ(shape_from_capsule(1, 0, s), Status::InvalidArgument);
+  EXPECT_EQ(shape_from_capsule(1e300, 1, s), Status::OutOfRange);
+  EXPECT_EQ(shape_from_capsule(1e-200, 1, s), Status::OutOfRange);
+  // A capsule of no length is the sphere.
+  ASSERT_EQ(shape_from_capsule(0, 2, s), Status::Ok);
+  EXPECT_EQ(s.polytope().vertices.size(), 1u);
+  EXPECT_EQ(s.radius(), 2);
+  ConvexShape rounded;
+  EXPECT_EQ(shape_with_radius(ConvexShape{}, 1, rounded), Status::TooFewPoints);
+  for (double r : {-1.0, nan, inf}) EXPECT_EQ(shape_with_radius(s, r, rounded), Status::InvalidArgument) << r;
+  EXPECT_EQ(shape_with_radius(s, 1e300, rounded), Status::OutOfRange);
+  ASSERT_EQ(shape_with_radius(s, 0.5, rounded), Status::Ok);
+  EXPECT_EQ(rounded.radius(), 2.5);
+  EXPECT_EQ(s.radius(), 2);  // the core is unchanged
+}
+
+// The operations that do not take rounded shapes yet say so; none crashes or answers for the core.
+TEST(RoundedShapes, OperationsWithoutRoundedShapesSaySo) {
+  ConvexShape sphere, capsule, box, rounded_box;
+  ASSERT_EQ(shape_from_sphere(1, sphere), Status::Ok);
+  ASSERT_EQ(shape_from_capsule(1, 1, capsule), Status::Ok);
+  ASSERT_EQ(shape_from_box(Box{}, box), Status::Ok);
+  ASSERT_EQ(shape_with_radius(box, 1, rounded_box), Status::Ok);
+  const Isometry3d id = Isometry3d::Identity();
+  Isometry3d far = id;
+  far.translation() = Vector3d(10, 0, 0);
+  for (const ConvexShape* s : {&sphere, &capsule, &rounded_box}) {
+    MinkowskiSum m;
+    EXPECT_EQ(minkowski_sum(*s, id, box, far, m), Status::Unsupported);
+    EXPECT_EQ(minkowski_difference(box, id, *s, far, m), Status::Unsupported);
+    EXPECT_EQ(m.F, 0);
+    TimeOfImpact t;
+    EXPECT_EQ(time_of_impact(*s, id, far, box, id, id, t), Status::Unsupported);
+  }
+  for (const ConvexShape* s : {&sphere, &capsule}) {
+    ContactPatch patch;
+    EXPECT_EQ(contact_patch(*s, id, box, id, 0, patch), Status::Unsupported);
+    EXPECT_EQ(patch.size, 0);
+  }
+}
+
+}  // namespace
+}  // namespace minksum
