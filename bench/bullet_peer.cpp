@@ -1,6 +1,8 @@
 #include "bullet_peer.hpp"
 
 #include <BulletCollision/CollisionShapes/btBoxShape.h>
+#include <BulletCollision/CollisionShapes/btCapsuleShape.h>
+#include <BulletCollision/CollisionShapes/btSphereShape.h>
 #include <BulletCollision/CollisionShapes/btConvexHullShape.h>
 #include <BulletCollision/NarrowPhaseCollision/btContinuousConvexCollision.h>
 #include <BulletCollision/NarrowPhaseCollision/btGjkEpaPenetrationDepthSolver.h>
@@ -20,8 +22,8 @@ struct BulletPair::Impl {
   btVoronoiSimplexSolver simplex;
   btGjkEpaPenetrationDepthSolver epa;
   std::unique_ptr<btGjkPairDetector> gjk;
-  void start() {
-    a->setMargin(0), b->setMargin(0);  // exact shapes: no rounded margin
+  void start(bool zero_margins = true) {
+    if (zero_margins) a->setMargin(0), b->setMargin(0);  // exact shapes: no rounded margin
     gjk = std::make_unique<btGjkPairDetector>(a.get(), b.get(), &simplex, &epa);
   }
 };
@@ -60,6 +62,31 @@ BulletPair::BulletPair(const Eigen::Vector3d& half_a, const Eigen::Vector3d& hal
 BulletPair::BulletPair(const ConvexPolytope& a, const ConvexPolytope& b) : impl_(std::make_unique<Impl>()) {
   impl_->a = hull(a), impl_->b = hull(b);
   impl_->start();
+}
+
+namespace {
+std::unique_ptr<btConvexShape> rounded(const PeerShape& s) {
+  std::unique_ptr<btConvexShape> shape;
+  switch (s.kind) {
+    case PeerShape::Kind::Sphere:
+      return std::make_unique<btSphereShape>(s.radius);  // (its margin is its radius)
+    case PeerShape::Kind::Capsule:
+      return std::make_unique<btCapsuleShapeZ>(s.radius, 2 * s.half_length);
+    case PeerShape::Kind::Box:
+      shape = std::make_unique<btBoxShape>(bt(Eigen::Vector3d(s.half + Eigen::Vector3d::Constant(s.radius))));
+      break;
+    case PeerShape::Kind::Polytope:
+      shape = hull(s.polytope);
+      break;
+  }
+  shape->setMargin(s.radius);
+  return shape;
+}
+}  // namespace
+
+BulletPair::BulletPair(const PeerShape& a, const PeerShape& b) : impl_(std::make_unique<Impl>()) {
+  impl_->a = rounded(a), impl_->b = rounded(b);
+  impl_->start(false);
 }
 
 BulletPair::~BulletPair() = default;

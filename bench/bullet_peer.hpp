@@ -5,6 +5,8 @@
 
 #include <minksum/model.hpp>
 
+#include "peer_shape.hpp"
+
 #include <Eigen/Geometry>
 #include <memory>
 #include <vector>
@@ -30,6 +32,9 @@ class BulletPair {
   BulletPair(const Eigen::Vector3d& half_a, const Eigen::Vector3d& half_b);
   /// Two convex polytopes (btConvexHullShape of their vertices).
   BulletPair(const ConvexPolytope& a, const ConvexPolytope& b);
+  /// btSphereShape, btCapsuleShapeZ, btBoxShape or btConvexHullShape, a radius as Bullet's
+  /// margin (a box's half extents grown by it: Bullet's box holds its margin inside).
+  BulletPair(const PeerShape& a, const PeerShape& b);
   ~BulletPair();
   /// The signed distance at the poses, from the detector's last separating axis.
   double distance(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, BulletAnswer* out = nullptr);

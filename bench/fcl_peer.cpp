@@ -67,6 +67,28 @@ FclPair::FclPair(const ConvexPolytope& a, const ConvexPolytope& b) : impl_(std::
   impl_->b = std::make_unique<fcl::CollisionObjectd>(impl_->gb);
 }
 
+namespace {
+std::shared_ptr<fcl::CollisionGeometryd> geometry(const PeerShape& s) {
+  switch (s.kind) {
+    case PeerShape::Kind::Sphere:
+      return std::make_shared<fcl::Sphered>(s.radius);
+    case PeerShape::Kind::Capsule:
+      return std::make_shared<fcl::Capsuled>(s.radius, 2 * s.half_length);
+    case PeerShape::Kind::Box:
+      return std::make_shared<fcl::Boxd>(2 * s.half);
+    case PeerShape::Kind::Polytope:
+      break;
+  }
+  return convex(s.polytope);
+}
+}  // namespace
+
+FclPair::FclPair(const PeerShape& a, const PeerShape& b) : impl_(std::make_unique<Impl>()) {
+  impl_->ga = geometry(a), impl_->gb = geometry(b);
+  impl_->a = std::make_unique<fcl::CollisionObjectd>(impl_->ga);
+  impl_->b = std::make_unique<fcl::CollisionObjectd>(impl_->gb);
+}
+
 FclPair::~FclPair() = default;
 
 void FclPair::set_boxes(const Box& a, const Box& b) {

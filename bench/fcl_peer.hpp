@@ -5,6 +5,8 @@
 
 #include <minksum/mesh.hpp>
 
+#include "peer_shape.hpp"
+
 #include <Eigen/Geometry>
 
 #include <array>
@@ -37,6 +39,10 @@ class FclPair {
   FclPair(const Triangle& a, const Triangle& b);
   /// Two convex polytopes (fcl::Convex), at the identity pose.
   FclPair(const ConvexPolytope& a, const ConvexPolytope& b);
+  /// fcl::Sphere, fcl::Capsule, fcl::Box or fcl::Convex, at the identity pose. FCL 0.7 has no
+  /// swept radius: a rounded box or polytope is its core (the caller subtracts the radius, as
+  /// an FCL user would).
+  FclPair(const PeerShape& a, const PeerShape& b);
   ~FclPair();
   /// Moves both objects (boxes: centre and rotation of each).
   void set_boxes(const Box& a, const Box& b);
