@@ -135,6 +135,43 @@ void impacts() {
     });
 }
 
+// Rounded shapes along the convex pairs' kind of path (in and out of contact): a sphere and a
+// capsule against an icosahedron, cold and coherent; two capsules; a sphere and a box (closed
+// forms); two rounded boxes, coherent; a capsule crossing a box within a tick.
+void rounded_shapes() {
+  ConvexShape sphere, capsule, icosa, box, rounded_box, core;
+  shape_from_sphere(0.5, sphere), shape_from_capsule(0.6, 0.3, capsule);
+  shape_from_points(tools::scaled(tools::icosahedron_points(), 0.5), icosa);
+  Box b;
+  b.half_extents = Vector3d(0.5, 0.4, 0.3);
+  shape_from_box(b, box), shape_from_box(b, core), shape_with_radius(core, 0.1, rounded_box);
+  const Isometry3d I = Isometry3d::Identity();
+  const auto path = tools::trajectory(13, 1000, 0.6, 1.8, 0.02);
+  const int n = int(path.size());
+  Proximity p;
+  const auto pair = [&](const std::string& name, const ConvexShape& A, const ConvexShape& B, bool cold, bool coherent) {
+    if (cold) measure(name + ".cold", n, [&](int k) { return proximity(A, I, B, path[size_t(k)], p) == Status::Ok; });
+    ProximityCache cache;
+    if (coherent)
+      measure(name + ".coherent", n,
+              [&](int k) { return proximity(A, I, B, path[size_t(k)], cache, p) == Status::Ok; });
+  };
+  pair("rounded.sphere_polytope", sphere, icosa, true, true);
+  pair("rounded.capsule_polytope", capsule, icosa, true, true);
+  pair("rounded.capsule_capsule", capsule, capsule, true, false);
+  pair("rounded.sphere_box", sphere, box, true, false);
+  pair("rounded.rounded_boxes", rounded_box, rounded_box, false, true);
+  TimeOfImpact t;
+  constexpr int m = 64;
+  measure("rounded.time_of_impact.capsule_box", m, [&](int k) {
+    const double s = 2 * M_PI * k / m;
+    const Vector3d u = Vector3d(std::cos(s), std::sin(s), 0.3 * std::sin(2 * s)).normalized();
+    const Isometry3d c0 = Eigen::Translation3d(4 * u) * Isometry3d::Identity(),
+                     c1 = Eigen::Translation3d(-4 * u) * Isometry3d::Identity();
+    return time_of_impact(box, I, I, capsule, c0, c1, t) == Status::Ok && t.hit;
+  });
+}
+
 // A 20 x 16 x 12 mm box against a generated bumpy sphere the size of the full bunny (the same
 // mesh on every host), cold, at poses near and far.
 void meshes() {
@@ -271,6 +308,7 @@ int main() {
   convex_pairs();
   face_to_face();
   impacts();
+  rounded_shapes();
   meshes();
   haptics_loop();
   sums();

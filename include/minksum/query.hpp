@@ -90,8 +90,10 @@ Status proximity(const MinkowskiSum& m, const ConvexPolytope& a, const ConvexPol
 /// The proximity of two convex polytopes (exact), to the fields `want` asks for.
 Status proximity(const ConvexPolytope& a, const ConvexPolytope& b, Proximity& out, Want want = Want::Witnesses);
 /// The proximity of two prepared shapes, each placed by its rigid pose inside the call (the
-/// same exact query as for polytopes; points in the world frame). TooFewPoints for an empty
-/// shape, InvalidPose for a pose that is not rigid (check_pose).
+/// same exact query as for polytopes; points in the world frame). Rounded shapes (a radius,
+/// spheres, capsules): their cores' answer with the radii added, exactly (distance less the
+/// radii, depth plus them, witnesses on the surfaces). TooFewPoints for an empty shape,
+/// InvalidPose for a pose that is not rigid (check_pose).
 Status proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
                  const Eigen::Isometry3d& pose_b, Proximity& out, Want want = Want::Witnesses);
 /// Two posed shapes, starting from the last answer's features (see ProximityCache): GJK from
@@ -137,9 +139,11 @@ struct ContactPatch {
 /// The contact patch of two posed shapes that overlap, touch or lie within `margin` of each
 /// other (size 0 farther apart), exact to rounding: A's and B's supporting sets along the exact
 /// query's normal, clipped to each other in O(n_A + n_B) (a face, an edge or a vertex of each).
-/// A point (size 1), a segment (2) or a convex polygon. TooFewPoints for an empty shape,
-/// InvalidPose for a pose that is not rigid, InvalidArgument for a margin < 0 or NaN,
-/// CapacityExceeded where the two supporting sets have more than kCapacity points together.
+/// A point (size 1), a segment (2) or a convex polygon. Rounded polytope cores: the cores'
+/// patch within the margin plus the radii, on A's surface, its depth grown by the radii.
+/// TooFewPoints for an empty shape, InvalidPose for a pose that is not rigid, InvalidArgument
+/// for a margin < 0 or NaN, CapacityExceeded where the two supporting sets have more than
+/// kCapacity points together, Unsupported for a sphere or a capsule (not yet).
 Status contact_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
                      const Eigen::Isometry3d& pose_b, double margin, ContactPatch& out);
 /// The contact patch through the pair's cache (see ProximityCache): the exact query starts from
@@ -181,7 +185,8 @@ constexpr int kTimeOfImpactIterations = 256;
 /// The time of impact of A moving from a0 to a1 and B from b0 to b1 (see TimeOfImpact). A pure
 /// translation is exact to the tolerance: each step lands on the supporting plane the relative
 /// motion's ray meets. With rotation, the steps are bounded by the rotation's reach. `tolerance` 0: 1e-12 of
-/// the scene's size translating, 1e-6 turning. TooFewPoints for an empty shape, InvalidPose
+/// the scene's size translating, 1e-6 turning. Rounded shapes: their cores advance until they
+/// come within the radii (and the tolerance), and the points lie on the surfaces. TooFewPoints for an empty shape, InvalidPose
 /// for a pose that is not rigid, InvalidArgument for a tolerance < 0, NaN or infinite.
 Status time_of_impact(const ConvexShape& a, const Eigen::Isometry3d& a0, const Eigen::Isometry3d& a1,
                       const ConvexShape& b, const Eigen::Isometry3d& b0, const Eigen::Isometry3d& b1, TimeOfImpact& out,

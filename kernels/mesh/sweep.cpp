@@ -257,7 +257,7 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
     if (out.hit && at_hit.apart_until(corners, earliest)) return;
     const detail::Mover still(corners, 3, Isometry3d::Identity(), Isometry3d::Identity());
     TimeOfImpact toi;
-    detail::advance(still, moving, tolerance, reach, earliest, TriangleAnswers(corners, tool), toi);
+    detail::advance(still, moving, tolerance, reach, earliest, TriangleAnswers(corners, tool), 0, toi);
     iterations += toi.iterations;
     // (The earliest hit or unconverged stop; of equal times, the first found.)
     if ((toi.hit || !toi.converged) && (toi.time < earliest || (toi.time == earliest && !out.hit && out.converged))) {

@@ -8,7 +8,7 @@ namespace minksum::detail {
 
 /// The exact proximity of two posed shapes whose cores have faces, without their radii:
 /// boxes and triangles in their own form, else GJK under a certificate; through `cache` if
-/// given. The shapes are not empty and the poses are checked.
+/// given. The shapes are not empty, the poses are checked and `out` is a default Proximity.
 void core_proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
                     const Eigen::Isometry3d& pose_b, ProximityCache* cache, Proximity& out, Want want);
 
@@ -17,6 +17,9 @@ Status core_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const C
                   const Eigen::Isometry3d& pose_b, double margin, ProximityCache* cache, ContactPatch& out);
 
 /// Clears the fields `want` does not ask for.
-void keep_asked(Want want, Proximity& out);
+inline void keep_asked(Want want, Proximity& out) {
+  if (!has(want, Want::Witnesses)) out.point_a.setZero(), out.point_b.setZero();
+  if (!has(want, Want::Distance)) out.distance = out.penetration_depth = 0, out.penetration_direction.setZero();
+}
 
 }  // namespace minksum::detail

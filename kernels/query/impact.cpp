@@ -16,6 +16,7 @@
 
 #include "core/scale.hpp"
 #include "geometry/closest.hpp"
+#include "query/rounded.hpp"
 #include "shape/shape_data.hpp"
 
 #include <algorithm>
@@ -163,12 +164,12 @@ struct Simplex {
 // step the shapes stay at least tolerance / 2 apart, so a pass closer than that is never
 // stepped over; and the next query is well apart by rounding's measure (touching is where an
 // exact query's certificates fail and it searches). 0: they never close along it.
-double certified_step(GapBound& bound, double g, double slope, double tolerance, double t) {
+double certified_step(GapBound& bound, double g, double slope, double tolerance, double radii, double t) {
   const Mover &a = bound.a, &b = bound.b;
   const double turn_a = a.omega.cross(bound.n).norm() * a.across, turn_b = b.omega.cross(bound.n).norm() * b.across;
   const double mu = (a.v - b.v).dot(bound.n) + turn_a + turn_b;
   if (!(mu > 0)) return 0;
-  const double aim = 0.5 * tolerance, closable = g - aim;
+  const double aim = 0.5 * tolerance + radii, closable = g - aim;
   const double step = closable / mu;
   if (a.angle == 0 && b.angle == 0) return step;
   // The parabola g + slope delta - K delta^2 / 2 lies above the bound (it follows one vertex
@@ -187,7 +188,7 @@ double certified_step(GapBound& bound, double g, double slope, double tolerance,
 namespace detail {
 
 Status advance(const Mover& a, const Mover& b, double tolerance, double reach, double limit, const ExactAnswers& exact,
-               TimeOfImpact& out) {
+               double radii, TimeOfImpact& out) {
   out = TimeOfImpact{};
   out.tolerance = tolerance;
   const double k = scale_to_one(reach);  // (GJK's squared lengths neither over- nor underflow)
@@ -214,15 +215,15 @@ Status advance(const Mover& a, const Mover& b, double tolerance, double reach, d
     double apart = 0, g = 0, slope = 0;
     int support[2] = {};
     bool gjk = simplex.nearest(a, pa, b, pb, k, near_a, near_b) && (apart = (near_b - near_a).norm()) < previous;
-    if (gjk && apart > tolerance) {
+    if (gjk && apart - radii > tolerance) {
       bound.n = (near_b - near_a) / apart, g = bound.at(0, &slope, support);
-      gjk = t > 0 || !(g > 0) || g > 1e-12 * reach;  // (no gap: GJK goes on, no step is taken)
+      gjk = t > 0 || !(g - radii > 0) || g - radii > 1e-12 * reach;  // (no gap: GJK goes on, no step is taken)
     }
     if (!gjk) {
       Proximity p;
       if (!exact.query(pa, pb, p)) return out.converged = false, out.time = t, Status::Ok;
       near_a = p.point_a, near_b = p.point_b, apart = p.intersecting ? 0.0 : p.distance;
-      if (apart > tolerance) {
+      if (apart - radii > tolerance) {
         // The witnesses' direction, turned by rounding, can close the gap near the tolerance
         // (faces 1 wide, 1e-11 apart): then the certificate's normal. Where neither shows a
         // gap (the nearest features an edge's end, 1e-11 apart, turned by 1e-6 by rounding),
@@ -231,36 +232,37 @@ Status advance(const Mover& a, const Mover& b, double tolerance, double reach, d
         // (Unit by its own length: the query's distance and its rounded witnesses' differ, by
         // 1e-9 of it at 4e-10 apart.)
         bound.n = (near_b - near_a).normalized(), g = bound.at(0, &slope, support);
-        if (!(g > 0.5 * tolerance) && exact.normal(pa, pb, apart, bound.n)) g = bound.at(0, &slope, support);
-        if (!(g > 0.5 * tolerance)) {
+        if (!(g - radii > 0.5 * tolerance) && exact.normal(pa, pb, apart, bound.n)) g = bound.at(0, &slope, support);
+        if (!(g - radii > 0.5 * tolerance)) {
           const double mu = (a.v - b.v).norm() + a.omega.norm() * a.radius + b.omega.norm() * b.radius;
           if (!(mu > 0)) return Status::Ok;  // still: they stay apart
-          t += (apart - (apart > 2 * tolerance ? tolerance : 0.5 * apart)) / mu, n.setZero();  // (apart/2 > tol/2)
+          const double gap = apart - radii;
+          t += (gap - (gap > 2 * tolerance ? tolerance : 0.5 * gap)) / mu, n.setZero();  // (gap/2 > tol/2)
           if (!(t <= limit)) return Status::Ok;
           simplex.size = 0;  // (the exact query again next)
           continue;
         }
       }
     }
-    if (!(apart > tolerance)) {
-      out.hit = true, out.time = t, out.distance = apart, out.point_a = near_a, out.point_b = near_b;
+    if (!(apart - radii > tolerance)) {
+      out.hit = true, out.time = t, out.distance = std::max(0.0, apart - radii), out.point_a = near_a, out.point_b = near_b;
       // The normal: the last step's, whose planes the step closed from g > 0 to between 0 and
       // the distance (a separating plane within the tolerance of both); at the start or
       // after a step by the distance alone, the certified one of the contact.
       if (t > 0 && !n.isZero()) return out.normal = n, Status::Ok;
-      if (!exact.normal(pa, pb, tolerance, out.normal))
+      if (!exact.normal(pa, pb, tolerance + radii, out.normal))
         out.normal = apart > 0 ? Vector3d((near_b - near_a).normalized()) : Vector3d::UnitZ();  // (none better known)
       return Status::Ok;
     }
     const bool added = simplex.add(support);  // GJK's next support point: M's along -v
     // No step where the gap is within half the tolerance (a step would close it past the
     // band's contract): GJK goes on at these poses (stalled: the exact query next).
-    if (!(g > 0.5 * tolerance)) {
+    if (!(g - radii > 0.5 * tolerance)) {
       if (!added) simplex.size = 0;
       previous = apart;
       continue;
     }
-    const double step = certified_step(bound, g, slope, tolerance, t);
+    const double step = certified_step(bound, g, slope, tolerance, radii, t);
     if (!(step > 0)) return Status::Ok;  // they never close along it: no hit
     n = bound.n, t += step, previous = std::numeric_limits<double>::infinity();
     if (!(t <= limit)) return Status::Ok;
@@ -273,16 +275,21 @@ Status advance(const Mover& a, const Mover& b, double tolerance, double reach, d
 
 namespace {
 
-// A prepared pair's exact answers: the exact query, and the contact patch's certified normal.
+// A prepared pair's exact answers on its cores (the radii left out: the advancement adds
+// them): the exact query, and the contact patch's certified normal (none for a point or
+// segment core: the advancement takes the witnesses' direction).
 class ShapeAnswers final : public detail::ExactAnswers {
  public:
   ShapeAnswers(const ConvexShape& a, const ConvexShape& b) : a_(a), b_(b) {}
   bool query(const Isometry3d& pa, const Isometry3d& pb, Proximity& out) const override {
-    return proximity(a_, pa, b_, pb, out) == Status::Ok;
+    if (check_pose(pa) != Status::Ok || check_pose(pb) != Status::Ok) return false;
+    detail::cores_proximity(a_, pa, b_, pb, out);
+    return true;
   }
   bool normal(const Isometry3d& pa, const Isometry3d& pb, double margin, Vector3d& out) const override {
     ContactPatch patch;  // (a patch past its capacity still has its normal)
-    const Status s = contact_patch(a_, pa, b_, pb, margin, patch);
+    if (check_pose(pa) != Status::Ok || check_pose(pb) != Status::Ok) return false;
+    const Status s = detail::cores_patch(a_, pa, b_, pb, margin, patch);
     if (s != Status::Ok && s != Status::CapacityExceeded) return false;
     return out = patch.normal, true;
   }
@@ -297,20 +304,23 @@ Status time_of_impact(const ConvexShape& a, const Isometry3d& a0, const Isometry
                       const Isometry3d& b0, const Isometry3d& b1, TimeOfImpact& out, double tolerance) {
   out = TimeOfImpact{};
   if (a.empty() || b.empty()) return Status::TooFewPoints;
-  for (const ConvexShape* s : {&a, &b})
-    if (s->radius() > 0 || !detail::ShapeAccess::data(*s)->has_faces()) return Status::Unsupported;
   for (const Isometry3d* pose : {&a0, &a1, &b0, &b1}) {
     if ((pose == &a1 && a1.matrix() == a0.matrix()) || (pose == &b1 && b1.matrix() == b0.matrix()))
       continue;  // (a still shape's end pose is its start pose, checked)
     if (const Status s = check_pose(*pose); s != Status::Ok) return s;
   }
   if (!(tolerance >= 0) || !std::isfinite(tolerance)) return Status::InvalidArgument;
+  // The cores advance until they come within the radii (plus the tolerance) of each other; the
+  // witnesses then move out to the surfaces along the normal.
+  const double radii = a.radius() + b.radius();
   const Mover ma(a, a0, a1), mb(b, b0, b1);
   double reach = 0;
   for (const Isometry3d* pose : {&a0, &a1, &b0, &b1}) reach = std::max(reach, pose->translation().norm());
-  reach += std::max(ma.radius, mb.radius);
+  reach += std::max(ma.radius, mb.radius) + radii;
   if (tolerance == 0) tolerance = detail::default_tolerance(ma, mb, reach);
-  return detail::advance(ma, mb, tolerance, reach, 1, ShapeAnswers(a, b), out);
+  const Status s = detail::advance(ma, mb, tolerance, reach, 1, ShapeAnswers(a, b), radii, out);
+  if (out.hit) out.point_a += a.radius() * out.normal, out.point_b -= b.radius() * out.normal;
+  return s;
 }
 
 }  // namespace minksum

@@ -47,8 +47,10 @@ class ExactAnswers {
 
 /// The time of impact of B against A (see time_of_impact) within [0, limit]: past the limit,
 /// no hit. `reach` bounds the scene's coordinates (the steps' scale and the start's slack).
-/// Without an exact query where GJK stalls, it stops unconverged there.
+/// Without an exact query where GJK stalls, it stops unconverged there. `radii`: the bodies are
+/// cores swept by balls whose radii add up to it, so they hit where the cores come within
+/// radii + tolerance (out's distance is the cores' less the radii; its points are the cores').
 Status advance(const Mover& a, const Mover& b, double tolerance, double reach, double limit,
-               const ExactAnswers& exact, TimeOfImpact& out);
+               const ExactAnswers& exact, double radii, TimeOfImpact& out);
 
 }  // namespace minksum::detail

@@ -1784,17 +1784,11 @@ Status proximity(const ConvexPolytope& a, const ConvexPolytope& b, Proximity& ou
 
 void detail::core_proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
                             const Eigen::Isometry3d& pose_b, ProximityCache* cache, Proximity& out, Want want) {
-  out = Proximity{};
   if (own_form(a, pose_a, b, pose_b, cache, out, want)) return;
   if (cache)
     cached_proximity(posed(a, pose_a), posed(b, pose_b), *cache, out, want);
   else
     exact_proximity(posed(a, pose_a), posed(b, pose_b), out, want);
-}
-
-void detail::keep_asked(Want want, Proximity& out) {
-  if (!has(want, Want::Witnesses)) out.point_a.setZero(), out.point_b.setZero();
-  if (!has(want, Want::Distance)) out.distance = out.penetration_depth = 0, out.penetration_direction.setZero();
 }
 
 Status proximity(const Box& a, const Triangle& b, Proximity& out, Want want) {

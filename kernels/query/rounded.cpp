@@ -14,6 +14,7 @@
 
 #include "query/cache_kinds.hpp"
 #include "query/core_query.hpp"
+#include "query/rounded.hpp"
 #include "query/segment_core.hpp"
 #include "shape/shape_data.hpp"
 
@@ -95,7 +96,8 @@ void add_radii(double ra, double rb, Want want, Proximity& out) {
 // the witnesses it needs to turn the radii, then the radii. A point or segment core keeps the
 // face of the other core that held its last answer in the cache.
 void rounded_proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
-                       const Eigen::Isometry3d& pose_b, ProximityCache* cache, Proximity& out, Want want) {
+                       const Eigen::Isometry3d& pose_b, ProximityCache* cache, Proximity& out, Want want,
+                       bool radii = true) {
   const Want core_want = has(want, Want::Verdict) ? want | Want::Witnesses : want;
   const bool seg_a = !data_of(a).has_faces(), seg_b = !data_of(b).has_faces();
   if (!seg_a && !seg_b) {
@@ -117,7 +119,7 @@ void rounded_proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, co
       ++(warm ? cache->warm : cache->cold);
     }
   }
-  add_radii(a.radius(), b.radius(), want, out);
+  if (radii) add_radii(a.radius(), b.radius(), want, out);
 }
 
 // The shared checks of the posed entry points.
@@ -142,7 +144,7 @@ Status posed_proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, co
 }
 
 // The cores' patch within the margin plus the radii, each point moved from A's core plane to
-// A's surface, the depth grown by the radii. Point and segment cores: Unsupported for now.
+// A's surface, the depth grown by the radii.
 Status posed_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
                    const Eigen::Isometry3d& pose_b, double margin, ProximityCache* cache, ContactPatch& out) {
   out.size = 0, out.normal.setZero(), out.depth = 0, out.feature_a = out.feature_b = {};
@@ -158,6 +160,22 @@ Status posed_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const 
 }
 
 }  // namespace
+
+void detail::cores_proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
+                             const Eigen::Isometry3d& pose_b, Proximity& out) {
+  out = Proximity{};
+  if (rounded(a, b))
+    rounded_proximity(a, pose_a, b, pose_b, nullptr, out, Want::Witnesses, false);
+  else
+    detail::core_proximity(a, pose_a, b, pose_b, nullptr, out, Want::Witnesses);
+}
+
+Status detail::cores_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
+                           const Eigen::Isometry3d& pose_b, double margin, ContactPatch& out) {
+  out.size = 0, out.normal.setZero(), out.depth = 0, out.feature_a = out.feature_b = {};
+  if (!data_of(a).has_faces() || !data_of(b).has_faces()) return Status::Unsupported;
+  return detail::core_patch(a, pose_a, b, pose_b, margin, nullptr, out);
+}
 
 Status proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
                  const Eigen::Isometry3d& pose_b, Proximity& out, Want want) {

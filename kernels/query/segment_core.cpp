@@ -28,6 +28,13 @@ double touching(double reach) { return 64 * std::numeric_limits<double>::epsilon
 }  // namespace
 
 double closest_segments(const Segment& a, const Segment& b, Vector3d& pa, Vector3d& pb) {
+  if (a.s0 == a.s1) {  // a point: products of two coordinates, in range up to 1e100
+    const Vector3d e = b.s1 - b.s0;
+    const double e2 = e.squaredNorm();
+    const double t = e2 > 0 ? std::clamp((a.s0 - b.s0).dot(e) / e2, 0.0, 1.0) : 0.0;
+    pa = a.s0, pb = b.s0 + t * e;
+    return (pb - pa).norm();
+  }
   // (Products of four coordinates stay normal within [1e-60, 1e60]: no scaling there.)
   const double reach = std::max({largest(a.s0), largest(a.s1), largest(b.s0), largest(b.s1)});
   const double k = reach >= 1e-60 && reach <= 1e60 ? 1.0 : scale_to_one(reach);
@@ -98,8 +105,12 @@ bool in_face(const ConvexPolytope& p, const Face& face, const Vector3d& x, doubl
 
 // The nearest points of segment s and face f of p (a solid p: only s's points in front of
 // the face count, as its nearest points to a solid lie there): s through the face, an end over
-// it, or s against one of its edges. Their distance (infinite where none counts).
-double segment_face(const Segment& s, const ConvexPolytope& p, int f, double tol, Vector3d& x, Vector3d& y) {
+// it, or s against one of its edges; where both ends lie over the face (on one side), the
+// nearer end, and the edges are not read. Their distance (infinite where none counts). `over`:
+// whether s lies over the face in front of it: for a point, it is then p's nearest point (the
+// ball about the point through its foot lies in front of the face's plane, p behind it).
+double segment_face(const Segment& s, const ConvexPolytope& p, int f, double tol, Vector3d& x, Vector3d& y,
+                    bool& over) {
   const Face& face = p.faces[size_t(f)];
   const double h0 = face.normal.dot(s.s0) - face.offset, h1 = face.normal.dot(s.s1) - face.offset;
   if ((h0 <= 0 && h1 >= 0) || (h0 >= 0 && h1 <= 0)) {
@@ -107,11 +118,18 @@ double segment_face(const Segment& s, const ConvexPolytope& p, int f, double tol
     if (in_face(p, face, c, tol)) return x = y = c, 0.0;
   }
   double best = std::numeric_limits<double>::infinity();
+  int ends_over = 0;
   for (const auto& [end, h] : {std::pair{&s.s0, h0}, std::pair{&s.s1, h1}}) {
     if (!p.flat && h < 0) continue;
     const Vector3d q = *end - h * face.normal;
-    if (std::abs(h) < best && in_face(p, face, q, 0)) best = std::abs(h), x = *end, y = q;
+    if (!in_face(p, face, q, 0)) continue;
+    ++ends_over;
+    if (std::abs(h) < best) best = std::abs(h), x = *end, y = q;
   }
+  // Both ends over the face on one side: so is all of s, and its distance to the plane, linear
+  // along it, is least at an end.
+  over = ends_over == 2 && ((h0 >= 0 && h1 >= 0) || (h0 <= 0 && h1 <= 0));
+  if (over) return best;
   const int n = int(face.loop.size());
   for (int k = 0; k < n; ++k) {
     const Segment edge{p.vertices[face.loop[k]], p.vertices[face.loop[k + 1 == n ? 0 : k + 1]]};
@@ -223,10 +241,21 @@ void point_box(const Vector3d& x, const Box& box, double tol, Proximity& out) {
   out.point_b = x - depth * u;
 }
 
+// The face of p whose plane s's middle lies farthest in front of: a cold query's guess of the
+// face that holds the nearest points (right unless they lie past its edges).
+int facing_face(const Segment& s, const ConvexPolytope& p, int faces) {
+  const Vector3d m = 0.5 * (s.s0 + s.s1);
+  int best = 0;
+  double height = -std::numeric_limits<double>::infinity();
+  for (int f = 0; f < faces; ++f)
+    if (const double h = p.faces[size_t(f)].normal.dot(m) - p.faces[size_t(f)].offset; h > height) height = h, best = f;
+  return best;
+}
+
 // A point or segment core s against a polytope core, both in its frame (out the same): a point
-// and a box in closed form; the cached face where its nearest points are proven, else the
-// nearest points over the faces that s does not lie wholly behind, else, meeting p or inside
-// it, the depth.
+// and a box in closed form; the cached face (cold: the facing face) where its nearest points
+// are proven, else the nearest points over the faces that s does not lie wholly behind, else,
+// meeting p or inside it, the depth. True if the cached face answered.
 bool body_proximity(const Segment& s, const ConvexShape& shape, int& cached, Proximity& out) {
   const ShapeData& data = *ShapeAccess::data(shape);
   const ConvexPolytope& p = shape.polytope();
@@ -234,10 +263,11 @@ bool body_proximity(const Segment& s, const ConvexShape& shape, int& cached, Pro
   if (data.kind == ShapeData::Kind::Box && s.s0 == s.s1) return point_box(s.s0, data.box, tol, out), false;
   const int F = p.flat ? 1 : int(p.faces.size());
   Vector3d x, y;
-  if (cached >= 0 && cached < F) {
-    const double d = segment_face(s, p, cached, tol, x, y);
-    if (proven(s, shape, x, y, d, tol)) return out.distance = d, out.point_a = x, out.point_b = y, true;
-  }
+  bool over;
+  const bool warm = cached >= 0 && cached < F;
+  const int first = warm ? cached : facing_face(s, p, F);
+  if (const double d = segment_face(s, p, first, tol, x, y, over); proven(s, shape, x, y, d, tol))
+    return cached = first, out.distance = d, out.point_a = x, out.point_b = y, warm;
   double best = std::numeric_limits<double>::infinity();
   bool inside = !p.flat;
   cached = -1;
@@ -246,8 +276,10 @@ bool body_proximity(const Segment& s, const ConvexShape& shape, int& cached, Pro
     inside = inside && face.normal.dot(s.s0) <= face.offset;
     if (!p.flat && std::max(face.normal.dot(s.s0), face.normal.dot(s.s1)) - face.offset < -tol)
       continue;  // wholly behind: no nearest point, no crossing here
-    if (const double d = segment_face(s, p, f, tol, x, y); d < best)
+    if (const double d = segment_face(s, p, f, tol, x, y, over); d < best) {
       best = d, out.point_a = x, out.point_b = y, cached = f;
+      if (over && !p.flat && s.s0 == s.s1 && d > tol) return out.distance = d, false;  // (nearest: see segment_face)
+    }
   }
   if (best > tol && !inside) return out.distance = best, false;
   cached = -1;

@@ -10,6 +10,7 @@
 // kind 5 also checks the contact patch at every step, and the time of impact of every motion,
 // convex and against A's surface as a mesh: hits within the tolerance, misses by the band's
 // contract (no pass within half the tolerance: sampled, confirmed by the exact distance).
+// Kind 6 (first byte 240 and up): rounded shapes against their cores' exact distance.
 #include "fuzz_common.hpp"
 #include "exact_distance.hpp"
 
@@ -465,9 +466,101 @@ void levels(const A& a, const B& b, Status s, const Proximity& p) {
 
 }  // namespace
 
+// A rounded operand of kind 6: a sphere, a capsule, a rounded box or a swept triangle, its
+// radius and lengths as the input gives them, and its core's surface as triangles in the world
+// (a point or segment core: one flat triangle), for the oracle.
+struct RoundedOperand {
+  ConvexShape shape;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  Eigen::Vector3d tri[12][3];
+  int n = 0;
+  bool is_box = false;
+  Box placed;  // the box's, placed (is_box)
+};
+
+Status rounded_operand(fuzz::Bytes& in, RoundedOperand& out) {
+  const uint8_t kind = in.take<uint8_t>() % 4;
+  ConvexShape core;
+  Status s;
+  const double r = in.number();
+  Box b;
+  Triangle t;
+  if (kind == 0) {
+    s = shape_from_sphere(r, out.shape);
+  } else if (kind == 1) {
+    s = shape_from_capsule(in.number(), r, out.shape);
+  } else {
+    if (kind == 2) b = box(in), s = shape_from_box(b, core);
+    if (kind == 3) t = triangle(in), s = shape_from_triangle(t, core);
+    if (s == Status::Ok) s = shape_with_radius(core, r, out.shape);
+  }
+  if (s != Status::Ok) {
+    if (!out.shape.empty()) fuzz::fail("a shape that failed is not empty");
+    return s;
+  }
+  Eigen::Quaterniond q(in.number(), in.number(), in.number(), in.number());
+  if (q.norm() > 0 && std::isfinite(q.norm())) out.pose.linear() = q.normalized().toRotationMatrix();
+  out.pose.translation() = Eigen::Vector3d(in.number(), in.number(), in.number());
+  if (kind == 2) {
+    out.is_box = true, out.placed = b;
+    out.placed.center = out.pose * b.center, out.placed.rotation = out.pose.linear() * b.rotation;
+    out.n = surface(out.placed, out.tri);
+  } else if (kind == 3) {
+    out.n = surface(Triangle{out.pose * t.a, out.pose * t.b, out.pose * t.c}, out.tri);
+  } else {
+    const std::vector<Eigen::Vector3d>& v = out.shape.polytope().vertices;
+    out.tri[0][0] = out.pose * v.front(), out.tri[0][1] = out.tri[0][2] = out.pose * v.back();
+    out.n = 1;
+  }
+  return Status::Ok;
+}
+
+// Kind 6 (first byte 240 and up): two rounded operands (rounded_operand), their proximity
+// against the cores' exact distance (test::exact_triangle_distance over their surfaces, a box
+// holding the other's first point) less the radii, within rounding of the largest coordinate
+// and radius; and the cached query's verdict and distance the cold one's.
+void rounded(fuzz::Bytes& in) {
+  RoundedOperand a, b;
+  if (rounded_operand(in, a) != Status::Ok || rounded_operand(in, b) != Status::Ok) return;
+  Proximity p;
+  const Status s = proximity(a.shape, a.pose, b.shape, b.pose, p);
+  if (s != Status::Ok) {
+    if (s != Status::InvalidPose) fuzz::fail("a rounded query refused valid shapes for another reason than a pose");
+    return;
+  }
+  double reach = a.shape.radius() + b.shape.radius();
+  for (const RoundedOperand* x : {&a, &b})
+    for (int i = 0; i < x->n; ++i)
+      for (const auto& v : x->tri[i]) reach = std::max(reach, v.cwiseAbs().maxCoeff());
+  fuzz::check(p, reach);
+  const double tol = 1e-10 * reach, r = a.shape.radius() + b.shape.radius();
+  double least = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < a.n; ++i)
+    for (int j = 0; j < b.n; ++j) least = std::min(least, test::exact_triangle_distance(a.tri[i], b.tri[j]));
+  if ((a.is_box && inside(a.placed, b.tri[0][0], 0)) || (b.is_box && inside(b.placed, a.tri[0][0], 0))) least = 0;
+  const double signed_gap = p.intersecting ? -p.penetration_depth : p.distance;
+  // Cores apart: the gap is their distance less the radii; meeting: deeper than the radii.
+  const bool wrong = least > tol ? std::abs(signed_gap - (least - r)) > tol : signed_gap > -r + tol;
+  if (wrong) {
+    std::fprintf(stderr, "rounded: intersecting %d distance %.17g depth %.17g; cores %.17g apart, radii %.17g\n",
+                 int(p.intersecting), p.distance, p.penetration_depth, least, r);
+    fuzz::fail("the rounded query differs from the cores' exact distance less the radii");
+  }
+  ProximityCache cache;
+  Proximity q;
+  for (int k = 0; k < 2; ++k)
+    if (proximity(a.shape, a.pose, b.shape, b.pose, cache, q) != Status::Ok) fuzz::fail("the cached query refused");
+  const double cached_gap = q.intersecting ? -q.penetration_depth : q.distance;
+  if (std::abs(cached_gap - signed_gap) > tol) fuzz::fail("the cached rounded query differs from the cold one");
+}
+
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   fuzz::Bytes in{data, size};
   const uint8_t first = in.take<uint8_t>();
+  if (first >= 240) {
+    rounded(in);
+    return 0;
+  }
   if (first >= 128) {  // (below 128: the single queries, as the older corpus files expect)
     sequence(in, 3 + (first - 128) % 3);
     return 0;
