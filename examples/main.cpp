@@ -92,7 +92,7 @@ const char* kHelp =
     "      translation; default: as read); --diff computes A (-) B = A (+) (-B). The fast\n"
     "      method prepares both as shapes and applies the pose inside the sum.\n"
     "  query A B [--pose-b \"qw qx qy qz tx ty tz\" | --poses FILE [--coherent]] [--patch MARGIN]\n"
-    "          [--json]\n"
+    "          [--radius-a R] [--radius-b R] [--json]\n"
     "  query --box \"cx cy cz hx hy hz qw qx qy qz\" --box \"...\" [--patch MARGIN] [--json]\n"
     "  query A B --toi FILE\n"
     "      Collision, exact distance with closest points, maximum distance and penetration\n"
@@ -102,7 +102,9 @@ const char* kHelp =
     "      same answers, to 1e-12 relative). --patch adds the contact patch where the objects\n"
     "      overlap, touch or lie within MARGIN (>= 0): its normal, depth, the supporting\n"
     "      feature of each and the patch's corners. --toi reads poses of B (A stays) and prints,\n"
-    "      per motion from one pose to the next, the time of impact as a JSON line.\n"
+    "      per motion from one pose to the next, the time of impact as a JSON line. A or B may\n"
+    "      be sphere:R or capsule:H:R (half length H along z) instead of a file; --radius-a and\n"
+    "      --radius-b sweep a ball of radius R about A or B (a rounded shape).\n"
     "  distance [MESH_A MESH_B] [--pose \"qw qx qy qz tx ty tz\"] [--poses FILE [--coherent]]\n"
     "           [--json] [--brute]\n"
     "      Exact minimum distance between two triangle meshes (PLY, OBJ, OFF, STL) through\n"
@@ -140,7 +142,30 @@ double now_us() {
 }
 
 // Reads a vertex file into a prepared shape; prints a one-line error on failure.
+// "sphere:R" or "capsule:H:R" (half length H along z, radius R) into a shape; false with a
+// message if malformed or refused.
+bool load_rounded(const std::string& spec, ConvexShape& p) {
+  const bool sphere = spec.rfind("sphere:", 0) == 0;
+  std::string numbers = spec.substr(spec.find(':') + 1);
+  for (char& c : numbers) c = c == ':' ? ' ' : c;
+  std::vector<double> v;
+  std::string error;
+  if (!cli::parse_numbers(numbers, sphere ? "sphere:R" : "capsule:H:R", sphere ? "R" : "H R", sphere ? 1 : 2, v,
+                          error)) {
+    std::fprintf(stderr, "minksum: %s\n", error.c_str());
+    return false;
+  }
+  const Status s = sphere ? shape_from_sphere(v[0], p) : shape_from_capsule(v[0], v[1], p);
+  if (s == Status::InvalidArgument)
+    std::fprintf(stderr, "minksum: %s: the radius must be positive (and a half length not negative)\n", spec.c_str());
+  else if (s != Status::Ok)
+    std::fprintf(stderr, "minksum: %s: a radius or half length beyond 1e100 or under 1e-100\n", spec.c_str());
+  return s == Status::Ok;
+}
+
+// An operand: "sphere:R", "capsule:H:R", or a vertex file (its convex hull).
 bool load(const std::string& path, ConvexShape& p) {
+  if (path.rfind("sphere:", 0) == 0 || path.rfind("capsule:", 0) == 0) return load_rounded(path, p);
   std::vector<Eigen::Vector3d> pts;
   std::string error;
   if (!read_points(path, pts, error)) {
@@ -158,6 +183,20 @@ bool load(const std::string& path, ConvexShape& p) {
     else
       std::fprintf(stderr, "minksum: %s: %s\n", path.c_str(), to_string(s));
     return false;
+  }
+  return true;
+}
+
+// The two operands of a query, each with its extra radius (--radius-a, --radius-b).
+bool load_operands(const std::vector<std::string>& files, const double (&radius)[2], ConvexShape& a, ConvexShape& b) {
+  ConvexShape* shapes[2] = {&a, &b};
+  for (int k = 0; k < 2; ++k) {
+    if (!load(files[size_t(k)], *shapes[k])) return false;
+    if (radius[k] == 0) continue;
+    if (const Status s = shape_with_radius(*shapes[k], radius[k], *shapes[k]); s != Status::Ok) {
+      std::fprintf(stderr, "minksum: %s: %s\n", k ? "--radius-b" : "--radius-a", to_string(s));
+      return false;
+    }
   }
   return true;
 }
@@ -255,7 +294,7 @@ int query_toi(const ConvexShape& A, const ConvexShape& B, const std::vector<Eige
 int cmd_query(int argc, char** argv) {
   std::vector<std::string> files, boxes;
   bool json = false, posed = false, coherent = false, with_patch = false;
-  double margin = 0;
+  double margin = 0, radius[2] = {0, 0};
   Eigen::Isometry3d pose_b = Eigen::Isometry3d::Identity();
   std::vector<Eigen::Isometry3d> poses, motion;
   std::string error;
@@ -279,6 +318,12 @@ int cmd_query(int argc, char** argv) {
     } else if (a == "--box") {
       if (k + 1 >= argc) return usage_error("--box needs a value");
       boxes.push_back(argv[++k]);
+    } else if (a == "--radius-a" || a == "--radius-b") {
+      std::vector<double> v;
+      if (k + 1 >= argc) return usage_error(a + " needs a value");
+      if (!cli::parse_numbers(argv[++k], a, "R", 1, v, error)) return usage_error(error);
+      if (!(v[0] >= 0)) return usage_error(a + ": the radius " + std::string(argv[k]) + " is negative (it must be >= 0)");
+      radius[a == "--radius-b"] = v[0];
     } else if (a == "--patch") {
       std::vector<double> v;
       if (k + 1 >= argc) return usage_error("--patch needs a value");
@@ -297,7 +342,7 @@ int cmd_query(int argc, char** argv) {
     if (posed || !poses.empty() || with_patch || !boxes.empty() || files.size() != 2)
       return usage_error("--toi takes two vertex files, without --pose-b, --poses, --patch or --box");
     ConvexShape A, B;
-    if (!load(files[0], A) || !load(files[1], B)) return 2;
+    if (!load_operands(files, radius, A, B)) return 2;
     return query_toi(A, B, motion);
   }
   Proximity p;
@@ -309,12 +354,13 @@ int cmd_query(int argc, char** argv) {
     Box a, b;
     if (!parse_box(boxes[0], a, error) || !parse_box(boxes[1], b, error)) return usage_error(error);
     if (posed || !poses.empty()) return usage_error("--pose-b and --poses are for vertex files");
+    if (radius[0] > 0 || radius[1] > 0) return usage_error("--radius-a and --radius-b are for vertex files and rounded shapes");
     s = proximity(a, b, p, Want::All);
     if (s == Status::Ok && with_patch && (s = shape_from_box(a, A)) == Status::Ok &&
         (s = shape_from_box(b, B)) == Status::Ok)
       s = contact_patch(A, identity, B, identity, margin, patch);
   } else if (files.size() == 2 && boxes.empty()) {
-    if (!load(files[0], A) || !load(files[1], B)) return 2;
+    if (!load_operands(files, radius, A, B)) return 2;
     if (!poses.empty()) {                 // one JSON line per pose; consecutive poses share one cache
       ProximityCache cache, patch_cache;  // (one per kind of query)
       for (const Eigen::Isometry3d& pose : poses) {

@@ -526,5 +526,32 @@ TEST(Cli, QueryPrintsTheTimeOfImpact) {
   expect_rejected("query " + a + " " + a + " --toi " + poses + " --patch 0.1", "--toi takes");
 }
 
+// Spheres, capsules and radii on the command line: closed forms, and bad specs refused in one
+// line with exit code 2.
+TEST(Cli, QueryTakesSpheresCapsulesAndRadii) {
+  CliRun r = run("query sphere:0.5 sphere:0.25 --pose-b \"1 0 0 0 2 0 0\" --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto distance = [](const std::string& out) {
+    const size_t at = out.find("\"distance\": ");
+    return at == std::string::npos ? -1.0 : std::strtod(out.c_str() + at + 12, nullptr);
+  };
+  EXPECT_EQ(distance(r.out), 1.25) << r.out;
+  // A unit cube's hull with a radius of 0.5 against a capsule lying 3 above along x.
+  const std::string cube = write("cube.xyz", "0 0 0\n1 0 0\n0 1 0\n1 1 0\n0 0 1\n1 0 1\n0 1 1\n1 1 1\n");
+  r = run("query " + cube + " capsule:2:0.25 --radius-a 0.5 --pose-b \"0.70710678118654757 0 0.70710678118654757 0 0.5 0.5 4\" --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NEAR(distance(r.out), 2.25, 1e-14) << r.out;  // 4 - 0.25 - (1 + 0.5)
+  for (const std::string bad : {"sphere:-1 sphere:1", "sphere:0 sphere:1", "capsule:1 sphere:1", "sphere:x sphere:1",
+                                "sphere:1e300 sphere:1", "capsule:-1:1 sphere:1", "sphere:1 sphere:1 --radius-b -2",
+                                "sphere:1 sphere:1 --radius-a nan"}) {
+    r = run("query " + bad);
+    EXPECT_EQ(r.code, 2) << bad;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << bad << ": " << r.err;
+  }
+  r = run("sum sphere:1 capsule:1:1");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("does not take this kind of shape yet"), std::string::npos) << r.err;
+}
+
 }  // namespace
 }  // namespace minksum

@@ -214,5 +214,86 @@ TEST(VersusBullet, WarmGjkAlongATrajectory) {
   EXPECT_GT(overlapping, 500);
 }
 
+// The exact distance of two shapes' cores (exact triangle distances over their faces; a point or
+// segment core as a flat triangle) less their radii, for shapes apart.
+double exact_gap(const ConvexShape& a, const Eigen::Isometry3d& pa, const ConvexShape& b, const Eigen::Isometry3d& pb) {
+  const auto triangles = [](const ConvexShape& s, const Eigen::Isometry3d& pose) {
+    std::vector<std::array<Vector3d, 3>> t;
+    const ConvexPolytope& p = s.polytope();
+    for (const Face& f : p.faces)
+      for (size_t k = 1; k + 1 < f.loop.size(); ++k)
+        t.push_back({pose * p.vertices[f.loop[0]], pose * p.vertices[f.loop[k]], pose * p.vertices[f.loop[k + 1]]});
+    if (p.faces.empty()) t.push_back({pose * p.vertices.front(), pose * p.vertices.back(), pose * p.vertices.back()});
+    return t;
+  };
+  double least = HUGE_VAL;
+  for (const auto& s : triangles(a, pa))
+    for (const auto& t : triangles(b, pb)) {
+      const Vector3d x[3] = {s[0], s[1], s[2]}, y[3] = {t[0], t[1], t[2]};
+      least = std::min(least, test::exact_triangle_distance(x, y));
+    }
+  return least - a.radius() - b.radius();
+}
+
+// Rounded shapes against FCL's spheres and capsules and Bullet's margins, a second opinion
+// beside test_radius.cpp's oracles: spheres, capsules, a box and an icosahedron at random
+// poses in and out of contact. FCL (GJK, closed forms for its sphere and capsule pairs) gives
+// the distance while apart, to its 1e-6; Bullet (each radius its margin; a rounded box as
+// btBoxShape grown by its margin) the signed distance, to its GJK's 1e-6 and EPA's 1e-4.
+TEST(VersusFclAndBullet, RoundedShapes) {
+  struct Operand {
+    ConvexShape shape;
+    peers::PeerShape peer;
+  };
+  std::vector<Operand> kinds(5);
+  shape_from_sphere(0.5, kinds[0].shape), kinds[0].peer.radius = 0.5;
+  shape_from_capsule(0.6, 0.3, kinds[1].shape), kinds[1].peer.kind = peers::PeerShape::Kind::Capsule;
+  kinds[1].peer.radius = 0.3, kinds[1].peer.half_length = 0.6;
+  Box b;
+  b.half_extents = Vector3d(0.5, 0.4, 0.3);
+  shape_from_box(b, kinds[2].shape), kinds[2].peer.kind = peers::PeerShape::Kind::Box, kinds[2].peer.half = b.half_extents;
+  ConvexShape core;
+  shape_from_box(b, core), shape_with_radius(core, 0.2, kinds[3].shape);
+  kinds[3].peer = kinds[2].peer, kinds[3].peer.radius = 0.2;
+  shape_from_points(tools::scaled(tools::icosahedron_points(), 0.5), kinds[4].shape);
+  kinds[4].peer.kind = peers::PeerShape::Kind::Polytope, kinds[4].peer.polytope = kinds[4].shape.polytope();
+  std::mt19937_64 rng(57);
+  long apart = 0, overlapping = 0, peer_off = 0;
+  for (size_t i = 0; i < kinds.size(); ++i)
+    for (size_t j = 0; j < kinds.size(); ++j) {
+      peers::BulletPair bullet(kinds[i].peer, kinds[j].peer);
+      // (FCL has no swept radius: on the rounded box it answers for the core.)
+      const double lost = (i == 3 ? 0.2 : 0.0) + (j == 3 ? 0.2 : 0.0);
+      peers::PeerShape fa = kinds[i].peer, fb = kinds[j].peer;
+      if (i == 3) fa.radius = 0;
+      if (j == 3) fb.radius = 0;
+      peers::FclPair fcl(fa, fb);
+      for (int k = 0; k < 200; ++k) {
+        const Eigen::Isometry3d pa = test::random_pose(rng, 0.3), pb = test::random_pose(rng, 1.6);
+        Proximity ours;
+        ASSERT_EQ(proximity(kinds[i].shape, pa, kinds[j].shape, pb, ours), Status::Ok);
+        const double gap = ours.intersecting ? -ours.penetration_depth : ours.distance;
+        const double theirs = bullet.distance(pa, pb);
+        if (gap > 1e-3) {
+          fcl.set_poses(pa, pb);
+          const double peer[2] = {fcl.distance(peers::FclSolver::Gjk) - lost, theirs};
+          for (double x : peer)
+            if (std::abs(x - gap) > 1e-6 * (1 + gap)) {  // (a GJK stopped at its tolerance: the exact cores decide)
+              EXPECT_NEAR(exact_gap(kinds[i].shape, pa, kinds[j].shape, pb), gap, 1e-9) << i << " / " << j << " pose " << k;
+              ++peer_off;
+            }
+          ++apart;
+        } else if (gap < -1e-3) {
+          EXPECT_NEAR(theirs, gap, 1e-4 * (1 - gap)) << i << " / " << j << " pose " << k;
+          ++overlapping;
+        }
+        if (testing::Test::HasFailure()) return;
+      }
+    }
+  EXPECT_GT(apart, 1000);
+  EXPECT_GT(overlapping, 500);
+  EXPECT_LT(peer_off, apart / 100);  // (the peers' tolerance rarely shows)
+}
+
 }  // namespace
 }  // namespace minksum
