@@ -472,6 +472,76 @@ TEST(RoundedShapes, TimeOfImpactKeepsTheBandAgainstTheOracle) {
   EXPECT_GT(hits, runs / 2);  // (the motions pass near A: most hit)
 }
 
+// A rounded tool swept against a mesh: a sphere falling onto a flat sheet (closed form), and
+// every rounded kind along random motions through a small mesh, the band's contract against the
+// oracle's gap (the least over the triangles of the core's distance less the radius).
+TEST(RoundedShapes, MeshSweepsOfRoundedTools) {
+  const std::vector<Vector3d> sheet = {{-5, -5, 0}, {5, -5, 0}, {5, 5, 0}, {-5, 5, 0}};
+  const std::vector<std::array<int, 3>> two = {{0, 1, 2}, {0, 2, 3}};
+  Octree flat;
+  ASSERT_EQ(build_octree(sheet, two, flat), Status::Ok);
+  ConvexShape ball;
+  ASSERT_EQ(shape_from_sphere(0.5, ball), Status::Ok);
+  const Isometry3d id = Isometry3d::Identity();
+  Isometry3d t0 = id, t1 = id;
+  t0.translation() = Vector3d(0.3, 0.2, 2.5), t1.translation() = Vector3d(0.3, 0.2, -1.5);
+  TimeOfImpact t;
+  ASSERT_EQ(time_of_impact(flat, id, ball, t0, t1, t), Status::Ok);
+  EXPECT_TRUE(t.hit);
+  EXPECT_NEAR(t.time, (2.5 - 0.5) / 4, 1e-11);
+  EXPECT_NEAR(t.point_b.z(), 0, 1e-11);  // the ball's lowest point, on the sheet
+  // An icosahedron's surface as the mesh.
+  ConvexShape icosa;
+  ASSERT_EQ(shape_from_points(tools::icosahedron_points(), icosa), Status::Ok);
+  std::vector<std::array<int, 3>> faces;
+  const ConvexPolytope& ip = icosa.polytope();
+  for (const Face& f : ip.faces) faces.push_back({f.loop[0], f.loop[1], f.loop[2]});
+  Octree mesh;
+  ASSERT_EQ(build_octree(ip.vertices, faces, mesh), Status::Ok);
+  std::vector<Core> triangles;
+  for (const auto& f : faces) {
+    Core c;
+    c.v = {ip.vertices[f[0]], ip.vertices[f[1]], ip.vertices[f[2]]};
+    c.loops = {{0, 1, 2}}, c.normals = {(c.v[1] - c.v[0]).cross(c.v[2] - c.v[0]).normalized()};
+    c.edges = {{0, 1}, {1, 2}, {2, 0}};
+    triangles.push_back(c);
+  }
+  const auto gap = [&](const ConvexShape& tool, const Isometry3d& pose) {
+    const Core core = core_of(tool, pose);
+    double least = HUGE_VAL;
+    for (const Core& c : triangles) least = std::min(least, core_distance(c, core));
+    return least - tool.radius();
+  };
+  std::mt19937_64 rng(12);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int hits = 0, runs = 0;
+  for (const auto& [name, tool] : shapes()) {
+    if (tool.radius() == 0) continue;
+    for (int k = 0; k < test::scaled(6, 3); ++k) {
+      const Vector3d dir = Vector3d(u(rng), u(rng), u(rng)).normalized();
+      Isometry3d a0 = test::random_pose(rng, 0.3), a1 = a0;
+      a0.translation() += 5 * dir, a1.translation() -= 0.5 * dir;
+      TimeOfImpact toi;
+      ASSERT_EQ(time_of_impact(mesh, id, tool, a0, a1, toi), Status::Ok) << name;
+      ++runs;
+      const auto at = [&](double s) {
+        Isometry3d p = a0;
+        p.translation() = a0.translation() + s * (a1.translation() - a0.translation());
+        return p;
+      };
+      const double end = toi.hit ? toi.time : 1.0;
+      for (int i = 0; i < 100; ++i)
+        EXPECT_GT(gap(tool, at(end * i / 100)), 0.5 * toi.tolerance - 1e-9) << name << " motion " << k;
+      if (toi.hit) {
+        ++hits;
+        EXPECT_LE(gap(tool, at(toi.time)), toi.tolerance + 1e-9) << name << " motion " << k;
+        EXPECT_NEAR(point_to_core(toi.point_b, core_of(tool, at(toi.time))), tool.radius(), 1e-6) << name;
+      }
+    }
+  }
+  EXPECT_EQ(hits, runs);  // (every motion ends inside the mesh)
+}
+
 TEST(RoundedShapes, BadRadiiAndLengthsAreRefused) {
   ConvexShape s;
   const double nan = std::nan(""), inf = HUGE_VAL;
@@ -511,6 +581,17 @@ TEST(RoundedShapes, OperationsWithoutRoundedShapesSaySo) {
     EXPECT_EQ(minkowski_sum(*s, id, box, far, m), Status::Unsupported);
     EXPECT_EQ(minkowski_difference(box, id, *s, far, m), Status::Unsupported);
     EXPECT_EQ(m.F, 0);
+  }
+  // Mesh contact clips triangles by the tool's planes: a ball is not a polytope.
+  const std::vector<Vector3d> corners = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  Octree mesh;
+  ASSERT_EQ(build_octree(corners, {{0, 1, 2}}, mesh), Status::Ok);
+  MeshWorkspace ws;
+  make_workspace(mesh, mesh, ws);
+  for (const ConvexShape* s : {&sphere, &capsule, &rounded_box}) {
+    MeshContact c;
+    EXPECT_EQ(mesh_contact(mesh, id, *s, id, ws, c), Status::Unsupported);
+    EXPECT_FALSE(c.intersecting);
   }
   for (const ConvexShape* s : {&sphere, &capsule}) {
     ContactPatch patch;

@@ -181,7 +181,9 @@ Status mesh_contact(const Octree& a, const Eigen::Isometry3d& pose_a, const Conv
 /// segment: only the nodes and triangles that capsule reaches before the earliest hit so far
 /// are visited, and a triangle that a plane of the tool at that hit proves apart until then
 /// is not advanced (it cannot make the answer late; under a face resting on a face, it would
-/// only find the same time again). Answers in the world frame; no allocation. `tolerance` 0: time_of_impact's
+/// only find the same time again). A rounded tool (a radius, a sphere, a capsule): its core
+/// advances until it comes within the radius, and the tool's point lies on its surface.
+/// Answers in the world frame; no allocation. `tolerance` 0: time_of_impact's
 /// default over the tool and the mesh's box. TooFewPoints for an empty mesh or tool,
 /// InvalidPose for a pose that is not rigid, InvalidArgument for a tolerance < 0 or NaN.
 Status time_of_impact(const Octree& a, const Eigen::Isometry3d& pose_a, const ConvexShape& tool,

@@ -18,7 +18,6 @@
 
 #include "mesh/mesh_internal.hpp"
 #include "query/impact.hpp"
-#include "shape/shape_data.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -167,10 +166,11 @@ double sphere_entry(const Vector3d& c0, const Vector3d& d, const Vector3d& c, do
   return s <= 1 ? s : kNever;
 }
 
-// A mesh triangle (A, still) and the tool (B): the exact answers the advancement asks for
-// where GJK cannot go on. The distance is the nearest of the triangle against the fan
-// triangles of the tool's faces (triangle_distance, exact), 0 where they cross or a corner
-// lies inside the tool; the normal at the start is the triangle's, towards the tool.
+// A mesh triangle (A, still) and the tool's core (B): the exact answers the advancement asks
+// for where GJK cannot go on. The distance is the nearest of the triangle against the fan
+// triangles of the core's faces (a point or segment core: itself as a flat triangle;
+// triangle_distance, exact), 0 where they cross or a corner lies inside a solid core; the
+// normal at the start is the triangle's, towards the tool.
 class TriangleAnswers final : public detail::ExactAnswers {
  public:
   TriangleAnswers(const Vector3d* corners, const ConvexShape& tool) : corners_(corners), tool_(tool.polytope()) {}
@@ -178,14 +178,16 @@ class TriangleAnswers final : public detail::ExactAnswers {
     out = Proximity{};
     const Vector3d t[3] = {pa * corners_[0], pa * corners_[1], pa * corners_[2]};
     double best = std::numeric_limits<double>::infinity();
+    const auto consider = [&](const Vector3d (&s)[3]) {
+      Vector3d pt, ps;
+      if (const double d = triangle_distance(t, s, pt, ps); d < best) best = d, out.point_a = pt, out.point_b = ps;
+    };
     for (const auto& face : tool_.faces)
-      for (size_t k = 1; k + 1 < face.loop.size(); ++k) {
-        const Vector3d s[3] = {pb * tool_.vertices[face.loop[0]], pb * tool_.vertices[face.loop[k]],
-                               pb * tool_.vertices[face.loop[k + 1]]};
-        Vector3d pt, ps;
-        if (const double d = triangle_distance(t, s, pt, ps); d < best) best = d, out.point_a = pt, out.point_b = ps;
-      }
-    bool inside = !tool_.flat;  // (a flat tool has no inside)
+      for (size_t k = 1; k + 1 < face.loop.size(); ++k)
+        consider({pb * tool_.vertices[face.loop[0]], pb * tool_.vertices[face.loop[k]],
+                  pb * tool_.vertices[face.loop[k + 1]]});
+    if (tool_.faces.empty()) consider({pb * tool_.vertices.front(), pb * tool_.vertices.back(), pb * tool_.vertices.back()});
+    bool inside = !tool_.flat && !tool_.faces.empty();  // (a flat tool, a point or a segment has no inside)
     for (const auto& face : tool_.faces)
       inside = inside && (pb.linear() * face.normal).dot(t[0] - pb.translation()) <= face.offset;
     out.intersecting = inside || best == 0, out.distance = out.intersecting ? 0.0 : best;
@@ -210,24 +212,26 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
                       const Isometry3d& t1, TimeOfImpact& out, double tolerance) {
   out = TimeOfImpact{};
   if (a.nodes.empty() || tool.empty()) return Status::TooFewPoints;
-  if (tool.radius() > 0 || !detail::ShapeAccess::data(tool)->has_faces()) return Status::Unsupported;
   Isometry3d q0, q1;  // the tool's poses in the mesh's frame
   if (const Status s = detail::relative_pose(pose_a, t0, q0); s != Status::Ok) return s;
   if (const Status s = detail::relative_pose(pose_a, t1, q1); s != Status::Ok) return s;
   if (!(tolerance >= 0) || !std::isfinite(tolerance)) return Status::InvalidArgument;
   const detail::Mover moving(tool, q0, q1);
   const Octree::Node& root = a.nodes[0];
-  const double reach = std::max(q0.translation().norm(), q1.translation().norm()) + moving.radius +
+  // A rounded tool: its core advances until it comes within the radius of a triangle, and its
+  // face planes and vertices keep triangles out of reach beyond the radius.
+  const double radius = tool.radius();
+  const double reach = std::max(q0.translation().norm(), q1.translation().norm()) + moving.radius + radius +
                        root.box_center.norm() + root.box_half.norm();
   if (tolerance == 0) tolerance = detail::default_tolerance(moving, moving, reach);  // (the mesh is still)
   out.tolerance = tolerance;
   // The capsule's radius, with room for the rounding of the entry times.
-  const double r = moving.radius + tolerance + 1e-12 * reach;
+  const double r = moving.radius + radius + tolerance + 1e-12 * reach;
   const Vector3d c0 = q0.translation(), d = q1.translation() - q0.translation();
   // Forward from the start, gaps within the tolerance count as none (a hit is coming within
   // it); backward from the earliest hit, those within half of it, less rounding (no pass that
   // close before it).
-  const ToolPlanes planes(tool.polytope(), q0, d, moving.omega, moving.across, tolerance + 1e-12 * reach);
+  const ToolPlanes planes(tool.polytope(), q0, d, moving.omega, moving.across, radius + tolerance + 1e-12 * reach);
   ToolPlanes at_hit;
   int last_plane = 0;
   double earliest = 1;  // no hit before it (a hit's time, an unconverged stop's, or the tick's end)
@@ -257,7 +261,7 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
     if (out.hit && at_hit.apart_until(corners, earliest)) return;
     const detail::Mover still(corners, 3, Isometry3d::Identity(), Isometry3d::Identity());
     TimeOfImpact toi;
-    detail::advance(still, moving, tolerance, reach, earliest, TriangleAnswers(corners, tool), 0, toi);
+    detail::advance(still, moving, tolerance, reach, earliest, TriangleAnswers(corners, tool), radius, toi);
     iterations += toi.iterations;
     // (The earliest hit or unconverged stop; of equal times, the first found.)
     if ((toi.hit || !toi.converged) && (toi.time < earliest || (toi.time == earliest && !out.hit && out.converged))) {
@@ -267,7 +271,7 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
       // gap, which the advancement closed to half the tolerance and no further.)
       if (out.hit)
         at_hit = ToolPlanes(tool.polytope(), moving.at(earliest), d, moving.omega, moving.across,
-                            std::max(0.5 * tolerance - 1e-12 * reach, 1e-12 * reach));
+                            radius + std::max(0.5 * tolerance - 1e-12 * reach, 1e-12 * reach));
     }
   };
   while (top > 0 && !settled()) {
@@ -303,6 +307,7 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
   }
   while (waiting > 0 && heap[0].time <= earliest && !settled()) advance_next();
   out.iterations = iterations, out.tolerance = tolerance;
+  if (out.hit) out.point_b -= radius * out.normal;  // (the tool's surface)
   if (out.hit || !out.converged) {  // back to the world frame
     out.normal = pose_a.linear() * out.normal, out.point_a = pose_a * out.point_a, out.point_b = pose_a * out.point_b;
   }
