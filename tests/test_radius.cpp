@@ -542,6 +542,79 @@ TEST(RoundedShapes, MeshSweepsOfRoundedTools) {
   EXPECT_EQ(hits, runs);  // (every motion ends inside the mesh)
 }
 
+// Patches of spheres and capsules: a sphere over a box is one point, a capsule lying level on a
+// box's face (integer coordinates: exactly level) the segment of it over the face, two level
+// capsules the overlap of their segments; the points on A's surface, the depth minus the gap.
+TEST(RoundedShapes, ContactPatchesOfSpheresAndCapsules) {
+  ConvexShape ball, capsule, box;
+  ASSERT_EQ(shape_from_sphere(1, ball), Status::Ok);
+  ASSERT_EQ(shape_from_capsule(2, 1, capsule), Status::Ok);
+  Box b;
+  b.half_extents = Vector3d(1, 1, 1);
+  ASSERT_EQ(shape_from_box(b, box), Status::Ok);
+  const Isometry3d id = Isometry3d::Identity();
+  Isometry3d above = id;
+  above.translation() = Vector3d(0.5, 0.25, 2.5);  // the ball 0.5 over the box's top
+  ContactPatch patch;
+  ASSERT_EQ(contact_patch(box, id, ball, above, 1, patch), Status::Ok);
+  ASSERT_EQ(patch.size, 1);
+  EXPECT_NEAR(patch.depth, -0.5, 1e-12);
+  EXPECT_NEAR((patch.normal - Vector3d::UnitZ()).norm(), 0, 1e-12);
+  EXPECT_NEAR((patch.points[0] - Vector3d(0.5, 0.25, 1)).norm(), 0, 1e-12);  // on A (the box)
+  ASSERT_EQ(contact_patch(ball, above, box, id, 1, patch), Status::Ok);
+  ASSERT_EQ(patch.size, 1);
+  EXPECT_NEAR((patch.points[0] - Vector3d(0.5, 0.25, 1.5)).norm(), 0, 1e-12);  // on A (the ball)
+  // The capsule along x, its axis at z = 2.25 (0.25 into the box's top), from x = -1.5 to 2.5.
+  Isometry3d lying = id;
+  lying.linear() << 0, 0, 1, 0, 1, 0, -1, 0, 0;  // z onto x
+  lying.translation() = Vector3d(0.5, 0.5, 1.75);
+  ASSERT_EQ(contact_patch(capsule, lying, box, id, 0, patch), Status::Ok);
+  ASSERT_EQ(patch.size, 2);
+  EXPECT_NEAR(patch.depth, 0.25, 1e-12);
+  EXPECT_NEAR((patch.normal + Vector3d::UnitZ()).norm(), 0, 1e-12);  // from the capsule down to the box
+  const double x0 = std::min(patch.points[0].x(), patch.points[1].x()), x1 = std::max(patch.points[0].x(), patch.points[1].x());
+  EXPECT_NEAR(x0, -1, 1e-12);  // the box's face clips the capsule's line
+  EXPECT_NEAR(x1, 1, 1e-12);
+  for (int k = 0; k < 2; ++k) EXPECT_NEAR((patch.points[k].tail<2>() - Eigen::Vector2d(0.5, 0.75)).norm(), 0, 1e-12);
+  EXPECT_EQ(patch.feature_a.kind, ContactPatch::Feature::Kind::Edge);
+  EXPECT_EQ(patch.feature_b.kind, ContactPatch::Feature::Kind::Face);
+  // Two level capsules, 0.5 apart, overlapping from x = 0.5 to 1.5 seen along the normal.
+  Isometry3d other = lying;
+  other.translation() = Vector3d(-1.5, 0.5, 4.25);
+  ASSERT_EQ(contact_patch(capsule, lying, capsule, other, 1, patch), Status::Ok);
+  ASSERT_EQ(patch.size, 2);
+  EXPECT_NEAR(patch.depth, -0.5, 1e-12);
+  const double y0 = std::min(patch.points[0].x(), patch.points[1].x()), y1 = std::max(patch.points[0].x(), patch.points[1].x());
+  EXPECT_NEAR(y0, -1.5, 1e-12);
+  EXPECT_NEAR(y1, 0.5, 1e-12);
+}
+
+// Every pair of kinds at random poses within the margin: the patch's points lie on A's surface,
+// and moved by the depth against the normal, on B's (within rounding).
+TEST(RoundedShapes, PatchPointsLieOnBothSurfaces) {
+  const auto all = shapes();
+  std::mt19937_64 rng(71);
+  int patches = 0;
+  for (const auto& [na, A] : all)
+    for (const auto& [nb, B] : all)
+      for (int k = 0; k < 8; ++k) {
+        const Isometry3d pa = test::random_pose(rng, 0.2), pb = test::random_pose(rng, 1.6);
+        ContactPatch patch;
+        ASSERT_EQ(contact_patch(A, pa, B, pb, 0.5, patch), Status::Ok) << na << " / " << nb;
+        const double gap = oracle_gap(A, pa, B, pb);
+        if (gap > 0.5 + 1e-9) EXPECT_EQ(patch.size, 0) << na << " / " << nb;
+        if (patch.size == 0) continue;
+        ++patches;
+        EXPECT_NEAR(patch.depth, -gap, 1e-9) << na << " / " << nb;
+        for (int i = 0; i < patch.size; ++i) {
+          EXPECT_NEAR(point_to_core(patch.points[i], core_of(A, pa)), A.radius(), 1e-9) << na << " / " << nb;
+          const Vector3d on_b = patch.points[i] - patch.depth * patch.normal;
+          EXPECT_NEAR(point_to_core(on_b, core_of(B, pb)), B.radius(), 1e-9) << na << " / " << nb;
+        }
+      }
+  EXPECT_GT(patches, 100);
+}
+
 TEST(RoundedShapes, BadRadiiAndLengthsAreRefused) {
   ConvexShape s;
   const double nan = std::nan(""), inf = HUGE_VAL;
@@ -592,11 +665,6 @@ TEST(RoundedShapes, OperationsWithoutRoundedShapesSaySo) {
     MeshContact c;
     EXPECT_EQ(mesh_contact(mesh, id, *s, id, ws, c), Status::Unsupported);
     EXPECT_FALSE(c.intersecting);
-  }
-  for (const ConvexShape* s : {&sphere, &capsule}) {
-    ContactPatch patch;
-    EXPECT_EQ(contact_patch(*s, id, box, id, 0, patch), Status::Unsupported);
-    EXPECT_EQ(patch.size, 0);
   }
 }
 

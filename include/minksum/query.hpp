@@ -139,11 +139,12 @@ struct ContactPatch {
 /// The contact patch of two posed shapes that overlap, touch or lie within `margin` of each
 /// other (size 0 farther apart), exact to rounding: A's and B's supporting sets along the exact
 /// query's normal, clipped to each other in O(n_A + n_B) (a face, an edge or a vertex of each).
-/// A point (size 1), a segment (2) or a convex polygon. Rounded polytope cores: the cores'
-/// patch within the margin plus the radii, on A's surface, its depth grown by the radii.
+/// A point (size 1), a segment (2) or a convex polygon. Rounded shapes: the cores' patch within
+/// the margin plus the radii, on A's surface, its depth grown by the radii (a sphere's is a
+/// point; a capsule's a point, or a segment where it lies level with the other's face or axis).
 /// TooFewPoints for an empty shape, InvalidPose for a pose that is not rigid, InvalidArgument
 /// for a margin < 0 or NaN, CapacityExceeded where the two supporting sets have more than
-/// kCapacity points together, Unsupported for a sphere or a capsule (not yet).
+/// kCapacity points together.
 Status contact_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
                      const Eigen::Isometry3d& pose_b, double margin, ContactPatch& out);
 /// The contact patch through the pair's cache (see ProximityCache): the exact query starts from

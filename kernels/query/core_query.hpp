@@ -16,6 +16,12 @@ void core_proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const
 Status core_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
                   const Eigen::Isometry3d& pose_b, double margin, ProximityCache* cache, ContactPatch& out);
 
+/// The contact patch of two posed cores (any: faceless ones too) within `margin`, from their
+/// exact proximity `cores` (its witnesses, and its direction where they meet): the supporting
+/// sets along its normal, seen along it, and their overlap.
+Status answer_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
+                    const Eigen::Isometry3d& pose_b, const Proximity& cores, double margin, ContactPatch& out);
+
 /// Clears the fields `want` does not ask for.
 inline void keep_asked(Want want, Proximity& out) {
   if (!has(want, Want::Witnesses)) out.point_a.setZero(), out.point_b.setZero();

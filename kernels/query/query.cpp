@@ -1867,6 +1867,14 @@ bool own_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const Conv
 
 }  // namespace
 
+Status detail::answer_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
+                            const Eigen::Isometry3d& pose_b, const Proximity& cores, double margin, ContactPatch& out) {
+  out.size = 0, out.normal.setZero(), out.depth = 0, out.feature_a = out.feature_b = {};
+  const Status s = patch_of(posed(a, pose_a), posed(b, pose_b), cores, Features{}, margin, out);
+  if (s != Status::Ok) out.size = 0, out.feature_a = out.feature_b = {};
+  return s;
+}
+
 Status detail::core_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
                           const Eigen::Isometry3d& pose_b, double margin, ProximityCache* cache,
                           ContactPatch& out) {

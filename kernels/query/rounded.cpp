@@ -144,15 +144,22 @@ Status posed_proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, co
 }
 
 // The cores' patch within the margin plus the radii, each point moved from A's core plane to
-// A's surface, the depth grown by the radii.
+// A's surface, the depth grown by the radii. A point or segment core: from the cores' answer
+// (its supporting set is the point, an end, or the segment level with the other's).
 Status posed_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
                    const Eigen::Isometry3d& pose_b, double margin, ProximityCache* cache, ContactPatch& out) {
   out.size = 0, out.normal.setZero(), out.depth = 0, out.feature_a = out.feature_b = {};
   if (const Status s = check_posed(a, pose_a, b, pose_b); s != Status::Ok) return s;
   if (!(margin >= 0)) return Status::InvalidArgument;
-  if (!data_of(a).has_faces() || !data_of(b).has_faces()) return Status::Unsupported;
   const double r = a.radius() + b.radius();
-  const Status s = detail::core_patch(a, pose_a, b, pose_b, margin + r, cache, out);
+  Status s;
+  if (data_of(a).has_faces() && data_of(b).has_faces()) {
+    s = detail::core_patch(a, pose_a, b, pose_b, margin + r, cache, out);
+  } else {
+    Proximity cores;
+    rounded_proximity(a, pose_a, b, pose_b, cache, cores, Want::Witnesses, false);
+    s = detail::answer_patch(a, pose_a, b, pose_b, cores, margin + r, out);
+  }
   if (s != Status::Ok || r == 0) return s;
   out.depth += r;
   for (int k = 0; k < out.size; ++k) out.points[k] += a.radius() * out.normal;
@@ -172,9 +179,10 @@ void detail::cores_proximity(const ConvexShape& a, const Eigen::Isometry3d& pose
 
 Status detail::cores_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
                            const Eigen::Isometry3d& pose_b, double margin, ContactPatch& out) {
-  out.size = 0, out.normal.setZero(), out.depth = 0, out.feature_a = out.feature_b = {};
-  if (!data_of(a).has_faces() || !data_of(b).has_faces()) return Status::Unsupported;
-  return detail::core_patch(a, pose_a, b, pose_b, margin, nullptr, out);
+  if (data_of(a).has_faces() && data_of(b).has_faces()) return detail::core_patch(a, pose_a, b, pose_b, margin, nullptr, out);
+  Proximity cores;
+  rounded_proximity(a, pose_a, b, pose_b, nullptr, cores, Want::Witnesses, false);
+  return detail::answer_patch(a, pose_a, b, pose_b, cores, margin, out);
 }
 
 Status proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,

@@ -10,8 +10,7 @@ namespace minksum::detail {
 void cores_proximity(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
                      const Eigen::Isometry3d& pose_b, Proximity& out);
 
-/// The contact patch of the cores of two posed shapes within `margin`, their radii left out;
-/// Unsupported for a point or segment core.
+/// The contact patch of the cores of two posed shapes within `margin`, their radii left out.
 Status cores_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
                    const Eigen::Isometry3d& pose_b, double margin, ContactPatch& out);
 
