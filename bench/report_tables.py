@@ -91,6 +91,10 @@ def face_to_face(p, r):
     return p[0] == "FaceToFace" and [p[1], p[2], p[3], us(r) * 1e3, r.get("searched_share", ""), r.get("warm_share", "")]
 
 
+def rounded(p, r):
+    return p[0] == "Rounded" and [p[1], p[2], p[3], us(r) * 1e3, r.get("warm_share", "")]
+
+
 def contact_patch(p, r):
     return p[0] == "ContactPatch" and [p[1], p[2], p[3], us(r) * 1e3, r.get("points", ""), r.get("warm_share", "")]
 
@@ -119,6 +123,7 @@ TABLES = {
     "trajectory": (["pair", "method", "ns_per_query", "contact_share", "warm_share", "searched_share", "median_us", "max_us"], trajectory),
     "face_to_face": (["family", "gap", "method", "ns_per_query", "searched_share", "warm_share"], face_to_face),
     "contact_patch": (["pair", "gap", "method", "ns_per_patch", "points", "warm_share"], contact_patch),
+    "rounded": (["pair", "gap", "method", "ns_per_query", "warm_share"], rounded),
     "time_of_impact": (["pair", "motion", "method", "ns_per_motion", "hits", "iterations", "dt_max"], time_of_impact),
     "mesh_bands": (["set", "pair", "method", "median_us", "max_us"] + [f"{b}_{k}" for b in BANDS for k in ("median_us", "max_us")]
                    + ["median_culled_pct", "bytes_per_triangle"], mesh_bands),
@@ -189,6 +194,26 @@ def face_markdown(directory):
                    f" {ns['fcl_gjk'] / ns['minksum_coherent']:.2f}x | {ns['bullet_gjk_warm'] / ns['minksum_coherent']:.2f}x |"
                    f" {float(m['minksum_cold']['searched_share'] or 0):.4f} | {float(m['minksum_coherent']['searched_share'] or 0):.4f} |")
     with open(f"{directory}/face_to_face.md", "w") as f:
+        f.write("\n".join(out) + "\n")
+
+
+def rounded_markdown(directory):
+    """The Rounded table: minksum cold and coherent against the faster of FCL's solvers and
+    Bullet per pair and gap, and the ratios of the targets (fcl / cold >= 3, >= 1 where FCL has
+    a closed form; fcl / coherent >= 10)."""
+    t, order = by_method(f"{directory}/rounded.csv", "pair", "gap")
+    out = ["| pair | gap | minksum [ns] | coherent [ns] | fcl (faster) [ns] | bullet [ns] | fcl / minksum"
+           " | fcl / coherent | bullet / minksum | warm share |", "|---|---|---|---|---|---|---|---|---|---|"]
+    for key in order:
+        m = t[key]
+        if len(m) < 5:
+            continue
+        ns = {k: float(m[k]["ns_per_query"]) for k in m}
+        fcl = min(ns["fcl_gjk"], ns["fcl_libccd"])
+        out.append(f"| {key[0]} | {key[1]} | {ns['minksum']:.0f} | {ns['minksum_coherent']:.0f} | {fcl:.0f} |"
+                   f" {ns['bullet']:.0f} | {fcl / ns['minksum']:.2f}x | {fcl / ns['minksum_coherent']:.2f}x |"
+                   f" {ns['bullet'] / ns['minksum']:.2f}x | {float(m['minksum_coherent']['warm_share'] or 0):.2f} |")
+    with open(f"{directory}/rounded.md", "w") as f:
         f.write("\n".join(out) + "\n")
 
 
@@ -265,6 +290,7 @@ def main(directory):
                     out.writerow([num(v) for v in x])
     bands_markdown(directory)
     face_markdown(directory)
+    rounded_markdown(directory)
     patch_markdown(directory)
     impact_markdown(directory)
 

@@ -13,11 +13,7 @@ namespace minksum {
 
 using Eigen::Vector3d;
 
-namespace {
-
-// Closest points of segments p0-p1 and q0-q1 (Ericson, "Real-Time Collision Detection", 2005,
-// section 5.1.9), degenerate segments included; returns the squared distance.
-double segment_segment(const Vector3d& p0, const Vector3d& p1, const Vector3d& q0, const Vector3d& q1, Vector3d& cp,
+double detail::segment_segment(const Vector3d& p0, const Vector3d& p1, const Vector3d& q0, const Vector3d& q1, Vector3d& cp,
                        Vector3d& cq) {
   const Vector3d d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
   const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
@@ -49,6 +45,8 @@ double segment_segment(const Vector3d& p0, const Vector3d& p1, const Vector3d& q
   cp = p0 + s * d1, cq = q0 + t * d2;
   return (cp - cq).squaredNorm();
 }
+
+namespace {
 
 // The projection of p onto the plane of triangle v (normal n, not flat; inv = 1 / |n|^2), if it
 // lies inside:
@@ -129,7 +127,7 @@ double triangle_distance(const Vector3d (&s_in)[3], const Vector3d (&t_in)[3], V
   Vector3d bs = s[0], bt = t[0], cp, cq;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) {
-      const double d2 = segment_segment(s[i], s[(i + 1) % 3], t[j], t[(j + 1) % 3], cp, cq);
+      const double d2 = detail::segment_segment(s[i], s[(i + 1) % 3], t[j], t[(j + 1) % 3], cp, cq);
       if (d2 < best) best = d2, bs = cp, bt = cq;
     }
   const double inv_s = s_flat ? 0.0 : 1 / ns.squaredNorm(), inv_t = t_flat ? 0.0 : 1 / nt.squaredNorm();

@@ -11,6 +11,7 @@
 #include <limits>
 
 #include "core/scale.hpp"
+#include "geometry/closest.hpp"
 #include "shape/shape_data.hpp"
 
 namespace minksum::detail {
@@ -29,35 +30,17 @@ double touching(double reach) { return 64 * std::numeric_limits<double>::epsilon
 
 double closest_segments(const Segment& a, const Segment& b, Vector3d& pa, Vector3d& pb) {
   if (a.s0 == a.s1) {  // a point: products of two coordinates, in range up to 1e100
-    const Vector3d e = b.s1 - b.s0;
-    const double e2 = e.squaredNorm();
-    const double t = e2 > 0 ? std::clamp((a.s0 - b.s0).dot(e) / e2, 0.0, 1.0) : 0.0;
-    pa = a.s0, pb = b.s0 + t * e;
+    pa = a.s0, pb = b.s0 + nearest_on_segment(b.s0 - a.s0, b.s1 - a.s0) * (b.s1 - b.s0);
     return (pb - pa).norm();
   }
-  // (Products of four coordinates stay normal within [1e-60, 1e60]: no scaling there.)
-  const double reach = std::max({largest(a.s0), largest(a.s1), largest(b.s0), largest(b.s1)});
+  // Relative to a's first end, scaled by a power of two where the lengths leave [1e-60, 1e60]
+  // (products of four of them stay normal).
+  const Vector3d o = a.s0;
+  const double reach = std::max({largest(a.s1 - o), largest(b.s0 - o), largest(b.s1 - o)});
   const double k = reach >= 1e-60 && reach <= 1e60 ? 1.0 : scale_to_one(reach);
-  const Vector3d d1 = k * (a.s1 - a.s0), d2 = k * (b.s1 - b.s0), r = k * (a.s0 - b.s0);
-  const double aa = d1.dot(d1), e = d2.dot(d2), f = d2.dot(r);
-  double s = 0, t = 0;
-  if (aa == 0) {
-    t = e > 0 ? std::clamp(f / e, 0.0, 1.0) : 0.0;
-  } else {
-    const double c = d1.dot(r);
-    if (e == 0) {
-      s = std::clamp(-c / aa, 0.0, 1.0);
-    } else {
-      const double b_ = d1.dot(d2), den = aa * e - b_ * b_;
-      s = den > 0 ? std::clamp((b_ * f - c * e) / den, 0.0, 1.0) : 0.0;
-      t = (b_ * s + f) / e;
-      if (t < 0)
-        t = 0, s = std::clamp(-c / aa, 0.0, 1.0);
-      else if (t > 1)
-        t = 1, s = std::clamp((b_ - c) / aa, 0.0, 1.0);
-    }
-  }
-  pa = a.s0 + s * (a.s1 - a.s0), pb = b.s0 + t * (b.s1 - b.s0);
+  Vector3d x, y;
+  segment_segment(Vector3d::Zero(), k * (a.s1 - o), k * (b.s0 - o), k * (b.s1 - o), x, y);
+  pa = o + x / k, pb = o + y / k;
   return (pb - pa).norm();
 }
 

@@ -11,9 +11,8 @@ struct Segment {
   Eigen::Vector3d s0, s1;
 };
 
-/// The closest points s0 + s (s1 - s0) of a and q0 + t (q1 - q0) of b: s, t in [0, 1] (Ericson,
-/// "Real-Time Collision Detection", 2005, 5.1.9, in coordinates scaled by a power of two so that
-/// its products stay in range); their distance.
+/// The closest points of a and b (geometry's segment_segment, relative to a's first end and
+/// scaled by a power of two so that its products stay in range); their distance.
 double closest_segments(const Segment& a, const Segment& b, Eigen::Vector3d& pa, Eigen::Vector3d& pb);
 
 /// The proximity of two point or segment cores, before the radii: their nearest points; where

@@ -518,7 +518,8 @@ Status rounded_operand(fuzz::Bytes& in, RoundedOperand& out) {
 // Kind 6 (first byte 240 and up): two rounded operands (rounded_operand), their proximity
 // against the cores' exact distance (test::exact_triangle_distance over their surfaces, a box
 // holding the other's first point) less the radii, within rounding of the largest coordinate
-// and radius; and the cached query's verdict and distance the cold one's.
+// and radius; the cached query's verdict and distance the cold one's; the contact patch's
+// status and points; and B's time of impact along a step, a hit within the tolerance.
 void rounded(fuzz::Bytes& in) {
   RoundedOperand a, b;
   if (rounded_operand(in, a) != Status::Ok || rounded_operand(in, b) != Status::Ok) return;
@@ -552,6 +553,35 @@ void rounded(fuzz::Bytes& in) {
     if (proximity(a.shape, a.pose, b.shape, b.pose, cache, q) != Status::Ok) fuzz::fail("the cached query refused");
   const double cached_gap = q.intersecting ? -q.penetration_depth : q.distance;
   if (std::abs(cached_gap - signed_gap) > tol) fuzz::fail("the cached rounded query differs from the cold one");
+  // The patch within a margin from the input: a clear status, finite points.
+  ContactPatch patch;
+  const Status ps = contact_patch(a.shape, a.pose, b.shape, b.pose, std::abs(in.number()), patch);
+  if (ps != Status::Ok && ps != Status::CapacityExceeded && ps != Status::InvalidArgument)
+    fuzz::fail("the rounded patch failed on valid shapes");
+  for (int k = 0; k < patch.size; ++k)
+    if (!fuzz::finite(patch.points[k])) fuzz::fail("a rounded patch point is not finite");
+  // B translating by a step from the input: a hit's cores are within the radii and the
+  // tolerance (and rounding) of each other.
+  Eigen::Isometry3d b1 = b.pose;
+  b1.translation() += Eigen::Vector3d(in.number(), in.number(), in.number());
+  TimeOfImpact toi;
+  if (time_of_impact(a.shape, a.pose, a.pose, b.shape, b.pose, b1, toi) != Status::Ok) return;
+  if (!(toi.time >= 0 && toi.time <= 1) || !fuzz::finite(toi.point_a) || !fuzz::finite(toi.point_b))
+    fuzz::fail("a rounded time of impact out of [0, 1] or not finite");
+  if (!toi.hit) return;
+  RoundedOperand at = b;
+  const Eigen::Vector3d moved = toi.time * (b1.translation() - b.pose.translation());
+  for (int i = 0; i < at.n; ++i)
+    for (auto& v : at.tri[i]) v += moved;
+  if (at.is_box) at.placed.center += moved;
+  double near = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < a.n; ++i)
+    for (int j = 0; j < at.n; ++j) near = std::min(near, test::exact_triangle_distance(a.tri[i], at.tri[j]));
+  if (near - r > toi.tolerance + 1e-9 * (reach + moved.norm())) {
+    std::fprintf(stderr, "rounded toi: hit at %.17g with the cores %.17g apart, radii %.17g, tolerance %.3g\n",
+                 toi.time, near, r, toi.tolerance);
+    fuzz::fail("a rounded time of impact hit farther apart than the tolerance");
+  }
 }
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
