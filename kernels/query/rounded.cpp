@@ -24,8 +24,6 @@ using Eigen::Vector3d;
 
 namespace {
 
-using Kind = detail::ShapeData::Kind;
-
 const detail::ShapeData& data_of(const ConvexShape& s) { return *detail::ShapeAccess::data(s); }
 
 // Whether a pair goes past the polytope cores' path: a radius, or a point or segment core.
