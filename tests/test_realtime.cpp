@@ -5,6 +5,7 @@
 
 #include <cstdio>
 #include <memory>
+#include <array>
 #include <random>
 
 #include "haptics/loop.hpp"
@@ -260,6 +261,53 @@ TEST(RealTime, UncachedShapeQueriesAndMeshContactDoNotAllocate) {
   EXPECT_GT(intersecting, 30);  // the trajectory runs through contact and apart
   EXPECT_GT(separated, 30);
   EXPECT_GT(touched, 50);  // most tools on a vertex cut its triangles
+}
+
+// Rounded shapes (spheres, capsules, a rounded box, against an icosahedron and each other):
+// proximity cold and coherent at every level, the contact patch, the time of impact and the
+// mesh sweep with a rounded tool, along a path in and out of contact: no allocation.
+TEST(RealTime, RoundedShapesDoNotAllocate) {
+  SKIP_UNLESS_COUNTING();
+  ConvexShape sphere, capsule, box, rounded_box, icosa;
+  ASSERT_EQ(shape_from_sphere(0.5, sphere), Status::Ok);
+  ASSERT_EQ(shape_from_capsule(0.6, 0.3, capsule), Status::Ok);
+  ASSERT_EQ(shape_from_box(Box{}, box), Status::Ok);
+  ASSERT_EQ(shape_with_radius(box, 0.2, rounded_box), Status::Ok);
+  ASSERT_EQ(shape_from_points(tools::icosahedron_points(), icosa), Status::Ok);
+  Octree mesh;
+  std::vector<std::array<int, 3>> faces;
+  for (const Face& f : icosa.polytope().faces) faces.push_back({f.loop[0], f.loop[1], f.loop[2]});
+  ASSERT_EQ(build_octree(icosa.polytope().vertices, faces, mesh), Status::Ok);
+  const ConvexShape* shapes[] = {&sphere, &capsule, &rounded_box, &icosa};
+  const auto path = tools::trajectory(6, 100, 0.5, 3.5, 0.05);
+  const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();
+  ProximityCache caches[4][4];
+  Proximity p;
+  ContactPatch patch;
+  TimeOfImpact t;
+  int failed = 0, intersecting = 0, hits = 0;
+  EXPECT_EQ(allocations([&] {
+              for (size_t k = 0; k + 1 < path.size(); ++k)
+                for (int i = 0; i < 4; ++i)
+                  for (int j = 0; j < 4; ++j) {
+                    const ConvexShape &a = *shapes[i], &b = *shapes[j];
+                    for (Want want : {Want::All, Want::Verdict, Want::Witnesses})
+                      failed += proximity(a, I, b, path[k], p, want) != Status::Ok;
+                    failed += proximity(a, I, b, path[k], caches[i][j], p) != Status::Ok;
+                    intersecting += p.intersecting;
+                    const Status s = contact_patch(a, I, b, path[k], 0.1, patch);
+                    failed += s != Status::Ok && s != Status::CapacityExceeded;
+                    failed += time_of_impact(a, I, I, b, path[k], path[k + 1], t) != Status::Ok;
+                    if (i == 0) {
+                      failed += time_of_impact(mesh, I, b, path[k], path[k + 1], t) != Status::Ok;
+                      hits += t.hit;
+                    }
+                  }
+            }),
+            0);
+  EXPECT_EQ(failed, 0);
+  EXPECT_GT(intersecting, 100);  // the path runs through contact
+  EXPECT_GT(hits, 0);
 }
 
 // The coherent entry points, along a trajectory with caches made at set-up: no allocation, and
