@@ -33,14 +33,18 @@ double closest_segments(const Segment& a, const Segment& b, Vector3d& pa, Vector
     pa = a.s0, pb = b.s0 + nearest_on_segment(b.s0 - a.s0, b.s1 - a.s0) * (b.s1 - b.s0);
     return (pb - pa).norm();
   }
-  // Relative to a's first end, scaled by a power of two where the lengths leave [1e-60, 1e60]
-  // (products of four of them stay normal).
-  const Vector3d o = a.s0;
-  const double reach = std::max({largest(a.s1 - o), largest(b.s0 - o), largest(b.s1 - o)});
-  const double k = reach >= 1e-60 && reach <= 1e60 ? 1.0 : scale_to_one(reach);
-  Vector3d x, y;
-  segment_segment(Vector3d::Zero(), k * (a.s1 - o), k * (b.s0 - o), k * (b.s1 - o), x, y);
-  pa = o + x / k, pb = o + y / k;
+  // segment_segment forms products of four lengths: within [1e-60, 1e60] they stay normal;
+  // beyond, relative to a's first end and scaled by a power of two.
+  const double reach = std::max({largest(a.s0), largest(a.s1), largest(b.s0), largest(b.s1)});
+  if (reach >= 1e-60 && reach <= 1e60) {
+    segment_segment(a.s0, a.s1, b.s0, b.s1, pa, pb);
+  } else {
+    const Vector3d o = a.s0;
+    const double k = scale_to_one(std::max({largest(a.s1 - o), largest(b.s0 - o), largest(b.s1 - o)}));
+    Vector3d x, y;
+    segment_segment(Vector3d::Zero(), k * (a.s1 - o), k * (b.s0 - o), k * (b.s1 - o), x, y);
+    pa = o + x / k, pb = o + y / k;
+  }
   return (pb - pa).norm();
 }
 
