@@ -100,6 +100,7 @@ double segment_face(const Segment& s, const ConvexPolytope& p, int f, double tol
                     bool& over) {
   const Face& face = p.faces[size_t(f)];
   const double h0 = face.normal.dot(s.s0) - face.offset, h1 = face.normal.dot(s.s1) - face.offset;
+  over = false;
   if ((h0 <= 0 && h1 >= 0) || (h0 >= 0 && h1 <= 0)) {
     const Vector3d c = h0 == h1 ? s.s0 : Vector3d(s.s0 + h0 / (h0 - h1) * (s.s1 - s.s0));
     if (in_face(p, face, c, tol)) return x = y = c, 0.0;
