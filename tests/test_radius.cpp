@@ -230,7 +230,6 @@ TEST(RoundedShapes, TieHeavyIntegerPosesMatchTheOracle) {
   turns.push_back(x), turns.push_back(y), turns.push_back(x * y);
   std::mt19937_64 rng(5);
   std::uniform_int_distribution<int> coordinate(-5, 5), turn(0, 3);
-  int checked = 0;
   const int draws = test::scaled(400, 100);
   for (int k = 0; k < draws; ++k)
     for (const ConvexShape* A : kinds)
@@ -241,9 +240,7 @@ TEST(RoundedShapes, TieHeavyIntegerPosesMatchTheOracle) {
         Proximity p;
         ASSERT_EQ(proximity(*A, pa, *B, pb, p), Status::Ok);
         ASSERT_TRUE(matches_oracle(*A, pa, *B, pb, p)) << "draw " << k << " B at " << pb.translation().transpose();
-        ++checked;
       }
-  EXPECT_EQ(checked, draws * 25);
 }
 
 // Closed forms written here: spheres (centres' distance), capsules (segments' distance),

@@ -22,7 +22,8 @@ Status core_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const C
 Status answer_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
                     const Eigen::Isometry3d& pose_b, const Proximity& cores, double margin, ContactPatch& out);
 
-/// Clears the fields `want` does not ask for.
+/// Clears the fields `want` does not ask for (the general path computes the first four levels
+/// together: its certificate reads what the witnesses need).
 inline void keep_asked(Want want, Proximity& out) {
   if (!has(want, Want::Witnesses)) out.point_a.setZero(), out.point_b.setZero();
   if (!has(want, Want::Distance)) out.distance = out.penetration_depth = 0, out.penetration_direction.setZero();

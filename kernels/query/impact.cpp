@@ -276,8 +276,7 @@ Status advance(const Mover& a, const Mover& b, double tolerance, double reach, d
 namespace {
 
 // A prepared pair's exact answers on its cores (the radii left out: the advancement adds
-// them): the exact query, and the contact patch's certified normal (none for a point or
-// segment core: the advancement takes the witnesses' direction).
+// them): the exact query, and the contact patch's normal.
 class ShapeAnswers final : public detail::ExactAnswers {
  public:
   ShapeAnswers(const ConvexShape& a, const ConvexShape& b) : a_(a), b_(b) {}

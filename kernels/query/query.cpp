@@ -1770,8 +1770,6 @@ Status patch_of(const A& a, const B& b, const Proximity& p, const Features& f, d
   return Status::Ok;
 }
 
-// The fields `want` did not ask for, back at their defaults: the general path computes the
-// first four levels together (its certificate reads what the witnesses need).
 }  // namespace
 
 Status proximity(const ConvexPolytope& a, const ConvexPolytope& b, Proximity& out, Want want) {
