@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "checks.hpp"
+#include "support/mesh_io.hpp"
 #include "support/shapes.hpp"
 
 namespace minksum {
@@ -537,6 +538,145 @@ TEST(RoundedShapes, MeshSweepsOfRoundedTools) {
     }
   }
   EXPECT_EQ(hits, runs);  // (every motion ends inside the mesh)
+}
+
+// The triangles of a mesh as the oracle's cores.
+std::vector<Core> triangle_cores(const tools::Mesh& m) {
+  std::vector<Core> out;
+  for (const auto& t : m.triangles) {
+    Core c;
+    c.v = {m.vertices[size_t(t[0])], m.vertices[size_t(t[1])], m.vertices[size_t(t[2])]};
+    const Vector3d n = (c.v[1] - c.v[0]).cross(c.v[2] - c.v[0]);
+    if (n.norm() > 0) c.loops = {{0, 1, 2}}, c.normals = {n.normalized()};
+    c.edges = {{0, 1}, {1, 2}, {2, 0}};
+    out.push_back(c);
+  }
+  return out;
+}
+
+// One shape-mesh distance against the oracle (the least core distance over the triangles, less
+// the radius): the verdict, the distance, the witnesses on the named triangle and the shape's
+// surface, and the cached query's distance.
+testing::AssertionResult mesh_matches_oracle(const Octree& tree, const std::vector<Core>& triangles,
+                                             const ConvexShape& tool, const Isometry3d& pose, ProximityCache& cache) {
+  MeshDistance got, warm;
+  if (mesh_distance(tree, Isometry3d::Identity(), tool, pose, got) != Status::Ok) return testing::AssertionFailure() << "status";
+  if (mesh_distance(tree, Isometry3d::Identity(), tool, pose, cache, warm) != Status::Ok)
+    return testing::AssertionFailure() << "cached status";
+  const Core core = core_of(tool, pose);
+  double least = HUGE_VAL;
+  for (const Core& t : triangles) least = std::min(least, core_distance(t, core));
+  const double r = tool.radius(), tol = 1e-9 * std::max(1.0, largest(core));
+  const auto fail = [&](const std::string& what) {
+    return testing::AssertionFailure() << what << " (oracle core distance " << least << ", radius " << r << ", got "
+                                       << got.distance << " intersecting " << got.intersecting << ")";
+  };
+  if (std::abs(least - r) > tol && got.intersecting != (least <= r)) return fail("verdict");
+  if (std::abs(got.distance - std::max(0.0, least - r)) > tol) return fail("distance");
+  if (std::abs(warm.distance - got.distance) > tol) return fail("cached distance " + std::to_string(warm.distance));
+  if (got.triangle_a < 0 || got.triangle_b != -1) return fail("triangles named");
+  if (point_to_core(got.point_a, triangles[size_t(got.triangle_a)]) > tol) return fail("point_a off its triangle");
+  if (std::abs((got.point_a - got.point_b).norm() - got.distance) > tol) return fail("witnesses' distance");
+  const double off = point_to_core(got.point_b, core) - r;
+  if (got.intersecting ? off > tol : std::abs(off) > tol) return fail("point_b not on (or, meeting, in) the shape");
+  return testing::AssertionSuccess();
+}
+
+// Every kind against meshes, by brute force over the triangles: a sphere mesh at random poses
+// from deep to apart, and an integer box surface at integer, quarter-turned poses where
+// everything ties (a capsule along a face, a sphere at a corner, a box face on a face).
+TEST(RoundedShapes, MeshDistanceOfEveryKindMatchesTheOracle) {
+  const tools::Mesh ball = tools::sphere_mesh(2.0, 9);
+  const tools::Mesh cube = tools::box_mesh(Vector3d(-3, -3, -3), Vector3d(3, 3, 3), 6);
+  Octree ball_tree, cube_tree;
+  OctreeOptions small;
+  small.leaf_size = 8;  // a few levels, so that the pruning is exercised
+  ASSERT_EQ(build_octree(ball.vertices, ball.triangles, ball_tree, small), Status::Ok);
+  ASSERT_EQ(build_octree(cube.vertices, cube.triangles, cube_tree, small), Status::Ok);
+  const std::vector<Core> ball_cores = triangle_cores(ball), cube_cores = triangle_cores(cube);
+  std::mt19937_64 rng(57);
+  std::uniform_int_distribution<int> coordinate(-5, 5), turn(0, 3);
+  Eigen::Matrix3d x, y;
+  x << 1, 0, 0, 0, 0, -1, 0, 1, 0;
+  y << 0, 0, 1, 0, 1, 0, -1, 0, 0;
+  const Eigen::Matrix3d turns[4] = {Eigen::Matrix3d::Identity(), x, y, x * y};
+  int meeting = 0, apart = 0;
+  for (const auto& [name, tool] : shapes()) {
+    ProximityCache cache;
+    for (int k = 0; k < test::scaled(40, 10); ++k) {
+      const Isometry3d pose = test::random_pose(rng, k % 2 ? 3.5 : 2.2);
+      const testing::AssertionResult r = mesh_matches_oracle(ball_tree, ball_cores, tool, pose, cache);
+      ASSERT_TRUE(r) << name << " pose " << k;
+      Isometry3d lattice = Isometry3d::Identity();
+      lattice.linear() = turns[turn(rng)];
+      lattice.translation() = Vector3d(coordinate(rng), coordinate(rng), coordinate(rng));
+      ASSERT_TRUE(mesh_matches_oracle(cube_tree, cube_cores, tool, lattice, cache)) << name << " lattice " << k;
+      MeshDistance d;
+      ASSERT_EQ(mesh_distance(cube_tree, Isometry3d::Identity(), tool, lattice, d), Status::Ok);
+      ++(d.intersecting ? meeting : apart);
+    }
+  }
+  EXPECT_GT(meeting, 20);  // both verdicts were exercised
+  EXPECT_GT(apart, 20);
+}
+
+// Shape-mesh distance: closed forms (a sphere and a capsule over a sheet), the mesh's pose, a
+// shape inside a closed mesh (apart: the mesh is a surface) and the mesh inside a solid shape
+// (meeting), and bad input.
+TEST(RoundedShapes, MeshDistanceClosedFormsAndBadInput) {
+  const tools::Mesh sheet = tools::box_mesh(Vector3d(-5, -5, -1), Vector3d(5, 5, 0), 10);
+  Octree tree;
+  ASSERT_EQ(build_octree(sheet.vertices, sheet.triangles, tree), Status::Ok);
+  ConvexShape ball, capsule;
+  ASSERT_EQ(shape_from_sphere(0.5, ball), Status::Ok);
+  ASSERT_EQ(shape_from_capsule(1, 0.25, capsule), Status::Ok);
+  Isometry3d pose = Isometry3d::Identity();
+  pose.translation() = Vector3d(0.3, 0.2, 2.5);
+  MeshDistance d;
+  ASSERT_EQ(mesh_distance(tree, Isometry3d::Identity(), ball, pose, d), Status::Ok);
+  EXPECT_NEAR(d.distance, 2.0, 1e-12);
+  EXPECT_NEAR(d.point_b.z(), 2.0, 1e-12);
+  EXPECT_NEAR(d.point_a.z(), 0.0, 1e-12);
+  // A tilted capsule: its lower end is nearest.
+  pose.linear() = Eigen::AngleAxisd(0.5, Vector3d::UnitX()).toRotationMatrix();
+  ASSERT_EQ(mesh_distance(tree, Isometry3d::Identity(), capsule, pose, d), Status::Ok);
+  EXPECT_NEAR(d.distance, 2.5 - std::cos(0.5) - 0.25, 1e-12);
+  // The same with the mesh moved: the world answer moves with it.
+  Isometry3d world = Isometry3d::Identity();
+  world.translation() = Vector3d(0, 0, 1);
+  MeshDistance moved;
+  ASSERT_EQ(mesh_distance(tree, world, capsule, pose, moved), Status::Ok);
+  EXPECT_NEAR(moved.distance, d.distance - 1, 1e-12);
+  EXPECT_NEAR(moved.point_a.z(), 1.0, 1e-12);
+  // Inside the closed sheet's slab (a surface): apart from its faces. A box holding a triangle
+  // of the mesh: meeting.
+  pose = Isometry3d::Identity();
+  pose.translation() = Vector3d(0, 0, -0.5);
+  ConvexShape tiny;
+  ASSERT_EQ(shape_from_sphere(0.125, tiny), Status::Ok);
+  ASSERT_EQ(mesh_distance(tree, Isometry3d::Identity(), tiny, pose, d), Status::Ok);
+  EXPECT_FALSE(d.intersecting);
+  EXPECT_NEAR(d.distance, 0.375, 1e-12);
+  const std::vector<Vector3d> corners = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  Octree one;
+  ASSERT_EQ(build_octree(corners, {{0, 1, 2}}, one), Status::Ok);
+  Box big;
+  big.half_extents = Vector3d(5, 5, 5);
+  ConvexShape box;
+  ASSERT_EQ(shape_from_box(big, box), Status::Ok);
+  ASSERT_EQ(mesh_distance(one, Isometry3d::Identity(), box, Isometry3d::Identity(), d), Status::Ok);
+  EXPECT_TRUE(d.intersecting);
+  EXPECT_EQ(d.distance, 0);
+  // Bad input: a pose that is not rigid, an empty shape, an empty octree, a core over capacity.
+  Isometry3d scaled = Isometry3d::Identity();
+  scaled.linear() *= 2;
+  EXPECT_EQ(mesh_distance(tree, Isometry3d::Identity(), ball, scaled, d), Status::InvalidPose);
+  EXPECT_EQ(mesh_distance(tree, Isometry3d::Identity(), ConvexShape{}, pose, d), Status::TooFewPoints);
+  EXPECT_EQ(mesh_distance(Octree{}, Isometry3d::Identity(), ball, pose, d), Status::TooFewPoints);
+  ConvexShape many;
+  ASSERT_EQ(shape_from_points(tools::sphere_mesh(1, 20).vertices, many), Status::Ok);
+  ASSERT_GT(many.polytope().vertices.size(), size_t(kMaxToolVertices));
+  EXPECT_EQ(mesh_distance(tree, Isometry3d::Identity(), many, pose, d), Status::CapacityExceeded);
 }
 
 // Patches of spheres and capsules: a sphere over a box is one point, a capsule lying level on a

@@ -141,6 +141,24 @@ Status mesh_distance(const Octree& a, const Eigen::Isometry3d& pose_a, const Oct
 Status mesh_distance(const Octree& a, const Eigen::Isometry3d& pose_a, const Octree& b, const Eigen::Isometry3d& pose_b,
                      MeshWorkspace& ws, ProximityCache& cache, MeshDistance& out);
 
+/// Exact minimum distance between a convex shape (any kind: a polytope, box or triangle, a
+/// sphere, a capsule, any of them rounded) and mesh A, each placed in the world by its pose.
+/// The shape is solid and the mesh a surface: a triangle inside the shape touches it. The
+/// search runs on the shape's core, its bounds grown by the radius: nodes depth first, nearest
+/// first, then the exact distance of each triangle left to the core, less the radius. point_a
+/// lies on A's triangle triangle_a, point_b on the shape's surface (triangle_b is -1); where
+/// they meet (intersecting, distance 0) the search stops at the first triangle within the
+/// shape, and both points are one point of that triangle inside the shape. No workspace, no
+/// allocation. TooFewPoints for an empty mesh or shape, InvalidPose for a pose that is not
+/// rigid, CapacityExceeded for a core of more than kMaxToolVertices vertices.
+Status mesh_distance(const Octree& a, const Eigen::Isometry3d& pose_a, const ConvexShape& shape,
+                     const Eigen::Isometry3d& pose_shape, MeshDistance& out);
+
+/// The same, with the search seeded by the last answer's triangle (see ProximityCache): its
+/// distance bounds the search from the root on. The distance is the cold one.
+Status mesh_distance(const Octree& a, const Eigen::Isometry3d& pose_a, const ConvexShape& shape,
+                     const Eigen::Isometry3d& pose_shape, ProximityCache& cache, MeshDistance& out);
+
 /// How a convex tool touches a mesh (haptic rendering): the parts of the mesh's triangles
 /// inside the tool, and how far the tool must move to push them all out.
 struct MeshContact {

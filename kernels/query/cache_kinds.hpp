@@ -4,6 +4,6 @@
 
 namespace minksum::detail {
 
-enum CacheKind : unsigned { kCacheBoxBox = 1, kCacheConvex = 2, kCacheMesh = 3, kCacheSegment = 4 };
+enum CacheKind : unsigned { kCacheBoxBox = 1, kCacheConvex = 2, kCacheMesh = 3, kCacheSegment = 4, kCacheMeshShape = 5 };
 
 }  // namespace minksum::detail

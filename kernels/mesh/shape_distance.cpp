@@ -1,0 +1,223 @@
+// Exact distance between a convex shape and a mesh (mesh_distance's shape form). A rounded
+// shape is its core swept by a ball, so its distance is the core's less the radius: the search
+// runs on the core and the bounds grow by the radius, not the triangles. The octree's nodes are
+// visited depth first, the nearest bound on top, pruned by lower bounds of their distance to the
+// core (its box and its bounding sphere against the node's box and slab); the triangles left get
+// the exact distance to the core: a point or a segment is one degenerate triangle of the batched
+// triangle kernel, a solid core its faces (fanned) plus a containment test, since a triangle
+// inside the solid is nearer than the faces say.
+#include "mesh/mesh_internal.hpp"
+#include "query/cache_kinds.hpp"
+#include "query/triangle_pairs.hpp"
+#include "shape/shape_data.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace minksum {
+
+using Eigen::Vector3d;
+
+namespace {
+
+constexpr int kMaxCoreTriangles = 2 * kMaxToolVertices;  // a fan of all faces: 2V - 4
+
+// The core placed in A's frame: its triangles (a point: (p, p, p); a segment: (p, q, q); a
+// solid: its faces fanned), its face planes (n . x <= o inside; none for a point, a segment or
+// a flat polygon, which have no inside), its box, and a sphere about the box's centre.
+struct PlacedCore {
+  int count = 0, planes = 0;
+  Vector3d tri[kMaxCoreTriangles][3];
+  Vector3d n[kMaxCoreTriangles];
+  double o[kMaxCoreTriangles];
+  Vector3d box_c, box_h, centre;
+  double reach = 0;  // the sphere's radius
+  bool line = false;  // a point or a segment: `tri[0]`'s first two corners are its ends
+
+  // Whether point p lies inside the solid core (no plane has it beyond).
+  bool contains(const Vector3d& p) const {
+    if (planes == 0) return false;
+    for (int f = 0; f < planes; ++f)
+      if (n[f].dot(p) > o[f]) return false;
+    return true;
+  }
+};
+
+Status place_core(const ConvexShape& shape, const Eigen::Isometry3d& pose, PlacedCore& core) {
+  const ConvexPolytope& p = shape.polytope();
+  if (p.vertices.size() > size_t(kMaxToolVertices)) return Status::CapacityExceeded;
+  Vector3d lo = Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const Vector3d& v : p.vertices) {
+    const Vector3d w = pose * v;
+    lo = lo.cwiseMin(w), hi = hi.cwiseMax(w);
+  }
+  core.box_c = (lo + hi) / 2, core.box_h = (hi - lo) / 2, core.centre = core.box_c;
+  for (const Vector3d& v : p.vertices) core.reach = std::max(core.reach, (pose * v - core.centre).norm());
+  if (!detail::ShapeAccess::data(shape)->has_faces()) {  // a point or a segment
+    const Vector3d s0 = pose * p.vertices.front(), s1 = pose * p.vertices.back();
+    core.tri[0][0] = s0, core.tri[0][1] = s1, core.tri[0][2] = s1;
+    core.count = 1, core.line = true;
+    return Status::Ok;
+  }
+  for (const Face& f : p.faces) {
+    for (size_t k = 1; k + 1 < f.loop.size(); ++k) {
+      const Vector3d c[3] = {pose * p.vertices[size_t(f.loop[0])], pose * p.vertices[size_t(f.loop[k])],
+                             pose * p.vertices[size_t(f.loop[k + 1])]};
+      std::copy(c, c + 3, core.tri[core.count++]);
+    }
+    if (p.flat) continue;
+    core.n[core.planes] = pose.linear() * f.normal;
+    core.o[core.planes] = f.offset + core.n[core.planes].dot(pose.translation());
+    ++core.planes;
+  }
+  return Status::Ok;
+}
+
+// The search: the nearest core distance found so far (`best`), its points and triangle.
+class ShapeSearch {
+ public:
+  ShapeSearch(const Octree& a, const PlacedCore& core, double radius, MeshDistance& out)
+      : a_(a), core_(core), radius_(radius), out_(out) {}
+
+  // Runs from triangle `seed` (if it indexes one); stops once the cores come within the radius.
+  void run(int seed) {
+    if (seed >= 0 && seed < int(a_.triangles.size())) {
+      Vector3d t[3];
+      for (int k = 0; k < 3; ++k) t[k] = a_.vertices[size_t(a_.triangles[size_t(seed)][size_t(k)])];
+      seed_ = seed;
+      test(seed, t);
+      flush();
+    }
+    struct Entry {
+      int node;
+      double bound;
+    };
+    Entry stack[8 * (detail::kDepthCap + 5) + 8];  // depth <= 24: at most 7 more per level
+    int top = 0;
+    stack[top++] = {0, bound(a_.nodes[0])};
+    while (top > 0 && best_ > radius_) {
+      const Entry e = stack[--top];
+      if (e.bound >= best_) continue;
+      const Octree::Node& n = a_.nodes[size_t(e.node)];
+      if (n.first_child < 0) {
+        leaf(n);
+        continue;
+      }
+      const int first = top;
+      for (int c = n.first_child; c < n.first_child + n.child_count; ++c) {
+        const double b = bound(a_.nodes[size_t(c)]);
+        if (b < best_) stack[top++] = {c, b};
+      }
+      std::sort(stack + first, stack + top, [](const Entry& x, const Entry& y) { return x.bound > y.bound; });
+    }
+  }
+
+  double best() const { return best_; }
+  const Vector3d& point_mesh() const { return point_mesh_; }
+  const Vector3d& point_core() const { return point_core_; }
+
+ private:
+  // A lower bound of the core's distance to node n's triangles: the core's box apart from the
+  // node's box along A's axes, its sphere from that box, and its sphere from the node's slab.
+  double bound(const Octree::Node& n) {
+    ++out_.stats.node_pairs;
+    const Vector3d gap = ((n.box_center - core_.box_c).cwiseAbs() - n.box_half - core_.box_h).cwiseMax(0.0);
+    const Vector3d q = core_.centre.cwiseMax(n.box_center - n.box_half).cwiseMin(n.box_center + n.box_half);
+    const double along = n.normal.dot(core_.centre);
+    const double slab = std::max(n.slab_lo - along, along - n.slab_hi);
+    return std::max({gap.norm(), (q - core_.centre).norm() - core_.reach, slab - core_.reach});
+  }
+
+  // The triangles of a leaf that the core's sphere and box may come nearer than `best`.
+  void leaf(const Octree::Node& n) {
+    ++out_.stats.leaf_pairs;
+    for (int x = n.first; x < n.first + n.count && best_ > radius_; ++x) {
+      const int tri = a_.items[size_t(x)];
+      if (tri == seed_) continue;
+      const Eigen::Vector4d& s = a_.spheres[size_t(tri)];
+      if ((s.head<3>() - core_.centre).norm() - s[3] - core_.reach >= best_) continue;
+      const Vector3d* c = &a_.item_corners[3 * size_t(x)];
+      const Vector3d lo = c[0].cwiseMin(c[1]).cwiseMin(c[2]), hi = c[0].cwiseMax(c[1]).cwiseMax(c[2]);
+      const Vector3d gap = ((core_.box_c - (lo + hi) / 2).cwiseAbs() - (hi - lo) / 2 - core_.box_h).cwiseMax(0.0);
+      if (gap.squaredNorm() >= best_ * best_) continue;
+      const Vector3d t[3] = {c[0], c[1], c[2]};
+      test(tri, t);
+    }
+    flush();
+  }
+
+  // Queues triangle t's exact distance to the core (or finds it inside the solid core).
+  void test(int tri, const Vector3d (&t)[3]) {
+    ++out_.stats.candidates_a;
+    for (const Vector3d& p : t)
+      if (core_.contains(p)) {
+        best_ = 0, point_mesh_ = point_core_ = p, out_.triangle_a = tri;
+        return;
+      }
+    for (int k = 0; k < core_.count; ++k) {
+      ++out_.stats.triangle_pairs;
+      if (pairs_.add(core_.tri[k], t, k, tri)) flush();
+    }
+  }
+
+  void flush() {
+    pairs_.flush([&](double d, const Vector3d& ps, const Vector3d& pt, int, int tri) {
+      if (d < best_) best_ = d, point_core_ = ps, point_mesh_ = pt, out_.triangle_a = tri;
+    });
+  }
+
+  const Octree& a_;
+  const PlacedCore& core_;
+  const double radius_;
+  MeshDistance& out_;
+  int seed_ = -1;
+  double best_ = std::numeric_limits<double>::infinity();
+  Vector3d point_mesh_ = Vector3d::Zero(), point_core_ = Vector3d::Zero();
+  detail::TrianglePairs pairs_;
+};
+
+// The shared body of both forms: `seed` a triangle of A to start from (-1: none).
+Status shape_distance(const Octree& a, const Eigen::Isometry3d& pose_a, const ConvexShape& shape,
+                      const Eigen::Isometry3d& pose_shape, int seed, MeshDistance& out) {
+  out = MeshDistance{};
+  Eigen::Isometry3d pose;
+  if (const Status s = detail::relative_pose(pose_a, pose_shape, pose); s != Status::Ok) return s;
+  if (a.nodes.empty() || shape.empty()) return Status::TooFewPoints;
+  PlacedCore core;
+  if (const Status s = place_core(shape, pose, core); s != Status::Ok) return s;
+  const double r = shape.radius();
+  ShapeSearch search(a, core, r, out);
+  search.run(seed);
+  const double d = search.best();
+  // Beyond the radius the tool's point lies that far from its core towards the mesh's point;
+  // within it, the mesh's point is inside the tool: a point both share.
+  out.point_a = search.point_mesh();
+  out.intersecting = !(d > r);
+  out.distance = out.intersecting ? 0.0 : d - r;
+  out.point_b = out.intersecting ? out.point_a
+                                 : Vector3d(search.point_core() + r * (search.point_mesh() - search.point_core()) / d);
+  out.point_a = pose_a * out.point_a, out.point_b = pose_a * out.point_b;
+  out.stats.culled_percent_a = 100.0 * (1 - double(out.stats.candidates_a) / double(a.triangles.size()));
+  return Status::Ok;
+}
+
+}  // namespace
+
+Status mesh_distance(const Octree& a, const Eigen::Isometry3d& pose_a, const ConvexShape& shape,
+                     const Eigen::Isometry3d& pose_shape, MeshDistance& out) {
+  return shape_distance(a, pose_a, shape, pose_shape, -1, out);
+}
+
+Status mesh_distance(const Octree& a, const Eigen::Isometry3d& pose_a, const ConvexShape& shape,
+                     const Eigen::Isometry3d& pose_shape, ProximityCache& cache, MeshDistance& out) {
+  using detail::kCacheMeshShape;
+  const bool seeded = cache.kind == kCacheMeshShape;
+  const Status s = shape_distance(a, pose_a, shape, pose_shape, seeded ? cache.a[0] : -1, out);
+  ++(seeded && s == Status::Ok ? cache.warm : cache.cold);
+  cache.kind = s == Status::Ok && out.triangle_a >= 0 ? kCacheMeshShape : 0u;
+  cache.a[0] = out.triangle_a;
+  return s;
+}
+
+}  // namespace minksum
