@@ -194,6 +194,30 @@ double FclMeshPair::distance(const Eigen::Isometry3d& pose, Eigen::Vector3d* pa,
   return result.min_distance;
 }
 
+struct FclMeshShape::Impl {
+  std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> mesh;
+  std::unique_ptr<fcl::CollisionObjectd> a, b;
+};
+
+FclMeshShape::FclMeshShape(const std::vector<Eigen::Vector3d>& v, const std::vector<std::array<int, 3>>& t,
+                           const PeerShape& shape)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->mesh = bvh(v, t);
+  impl_->a = std::make_unique<fcl::CollisionObjectd>(impl_->mesh);
+  impl_->b = std::make_unique<fcl::CollisionObjectd>(geometry(shape));
+}
+
+FclMeshShape::~FclMeshShape() = default;
+
+double FclMeshShape::distance(FclSolver solver, const Eigen::Isometry3d& pose) {
+  impl_->b->setTransform(fcl::Transform3d(pose.matrix()));
+  fcl::DistanceRequestd request(true);
+  request.gjk_solver_type = type(solver);
+  fcl::DistanceResultd result;
+  fcl::distance(impl_->a.get(), impl_->b.get(), request, result);
+  return result.min_distance;
+}
+
 struct FclMeshTool::Impl {
   std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> mesh;
   std::shared_ptr<fcl::Boxd> box;

@@ -86,6 +86,22 @@ class FclMeshPair {
   std::unique_ptr<Impl> impl_;
 };
 
+/// A still triangle mesh (an OBBRSS BVH at the identity, built once) and a shape (a sphere, a
+/// capsule, a box or a convex polytope; a swept radius is the caller's, as for FclPair).
+class FclMeshShape {
+ public:
+  /// Builds the BVH (FCL's default splitter) and the shape.
+  FclMeshShape(const std::vector<Eigen::Vector3d>& v, const std::vector<std::array<int, 3>>& t, const PeerShape& shape);
+  ~FclMeshShape();
+  /// fcl::distance with the shape at `pose` and the solver, nearest points always computed
+  /// (mesh_distance gives its witnesses).
+  double distance(FclSolver solver, const Eigen::Isometry3d& pose);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 /// A still triangle mesh (an OBBRSS BVH at the identity, built once) and a moving box tool, for
 /// continuous collision.
 class FclMeshTool {

@@ -248,6 +248,74 @@ void PointBuildNanoflann(benchmark::State& state, std::pair<std::string, int> wh
   }
 }
 
+// Shape-mesh rows: a sphere (5 mm) or a capsule (10 mm half length, 4 mm radius) against the
+// full bunny, banded poses by the tool's 20 mm size; FCL's sphere and capsule against its BVH.
+void tool_shapes(const std::string& tool, ConvexShape& shape, peers::PeerShape& peer) {
+  if (tool == "sphere") {
+    shape_from_sphere(0.005, shape);
+    peer.kind = peers::PeerShape::Kind::Sphere, peer.radius = 0.005;
+  } else {
+    shape_from_capsule(0.01, 0.004, shape);
+    peer.kind = peers::PeerShape::Kind::Capsule, peer.radius = 0.004, peer.half_length = 0.01;
+  }
+}
+
+const Octree& bunny_tree() {
+  static Octree tree;
+  if (tree.nodes.empty()) build_octree(mesh("bun_zipper.ply").vertices, mesh("bun_zipper.ply").triangles, tree);
+  return tree;
+}
+
+const std::vector<Eigen::Isometry3d>& tool_poses(const std::string& tool) {
+  static std::map<std::string, std::vector<Eigen::Isometry3d>> cache;
+  std::vector<Eigen::Isometry3d>& poses = cache[tool];
+  if (poses.empty()) {
+    ConvexShape shape;
+    peers::PeerShape peer;
+    tool_shapes(tool, shape, peer);
+    poses = tools::banded_poses(bunny_tree(), shape, 0.02, 2026, kBandedPoses);
+  }
+  return poses;
+}
+
+void ShapeMinksum(benchmark::State& state, std::string tool) {
+  ConvexShape shape;
+  peers::PeerShape peer;
+  tool_shapes(tool, shape, peer);
+  const Octree& A = bunny_tree();
+  const auto& poses = tool_poses(tool);
+  std::vector<double> us;
+  double leaves = 0, triangles = 0;
+  size_t k = 0;
+  for (auto _ : state) {
+    MeshDistance d;
+    const auto t0 = std::chrono::steady_clock::now();
+    mesh_distance(A, Eigen::Isometry3d::Identity(), shape, poses[k++ % poses.size()], d);
+    us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
+    leaves += double(d.stats.leaf_pairs), triangles += double(d.stats.triangle_pairs);
+  }
+  report(state, Scene{"bun_zipper.ply", tool, true}, us, {});
+  state.counters["leaves"] = leaves / double(us.size());
+  state.counters["triangles"] = triangles / double(us.size());
+}
+
+void ShapeFcl(benchmark::State& state, std::string tool, peers::FclSolver solver) {
+  ConvexShape shape;
+  peers::PeerShape peer;
+  tool_shapes(tool, shape, peer);
+  const tools::Mesh& m = mesh("bun_zipper.ply");
+  peers::FclMeshShape fcl(m.vertices, m.triangles, peer);
+  const auto& poses = tool_poses(tool);
+  std::vector<double> us;
+  size_t k = 0;
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    benchmark::DoNotOptimize(fcl.distance(solver, poses[k++ % poses.size()]));
+    us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
+  }
+  report(state, Scene{"bun_zipper.ply", tool, true}, us, {});
+}
+
 const int kRegistered = [] {
   for (auto [label, file] : {std::pair{"bunny_res2", "bun_zipper_res2.ply"}, std::pair{"bunny_full", "bun_zipper.ply"},
                              std::pair{"concentric_spheres", "sphere_outer"}}) {
@@ -279,6 +347,17 @@ const int kRegistered = [] {
     benchmark::RegisterBenchmark((base + "fcl_obbrss").c_str(), Fcl, scene)
         ->Unit(benchmark::kMicrosecond)
         ->Iterations(3 * kBandedPoses);
+  }
+  for (const char* tool : {"sphere", "capsule"}) {
+    const std::string base = std::string("MeshShapeDistance/") + tool + "/bunny_full/";
+    benchmark::RegisterBenchmark((base + "minksum").c_str(), ShapeMinksum, tool)
+        ->Unit(benchmark::kMicrosecond)
+        ->Iterations(3 * kBandedPoses);
+    for (auto [name, solver] : {std::pair{"fcl_obbrss_gjk", peers::FclSolver::Gjk},
+                                std::pair{"fcl_obbrss_libccd", peers::FclSolver::Libccd}})
+      benchmark::RegisterBenchmark((base + name).c_str(), ShapeFcl, tool, solver)
+          ->Unit(benchmark::kMicrosecond)
+          ->Iterations(3 * kBandedPoses);
   }
   for (const CloudScene& c :
        {CloudScene{"camel.off", "bull.off", 100000, 100000}, CloudScene{"femur.off", "turbine.off", 50000, 200000},

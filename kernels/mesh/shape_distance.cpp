@@ -7,6 +7,7 @@
 // triangle kernel, a solid core its faces (fanned) plus a containment test, since a triangle
 // inside the solid is nearer than the faces say.
 #include "mesh/mesh_internal.hpp"
+#include "geometry/closest.hpp"
 #include "query/cache_kinds.hpp"
 #include "query/triangle_pairs.hpp"
 #include "shape/shape_data.hpp"
@@ -35,6 +36,16 @@ struct PlacedCore {
   double reach = 0;  // the sphere's radius
   bool line = false;  // a point or a segment: `tri[0]`'s first two corners are its ends
 
+  // The core's point nearest x: exact for a point or a segment, else the sphere's centre.
+  Vector3d nearest(const Vector3d& x) const {
+    if (!line) return centre;
+    const Vector3d &s0 = tri[0][0], &s1 = tri[0][1];
+    return s0 + detail::nearest_on_segment(s0 - x, s1 - x) * (s1 - s0);
+  }
+  // The core's highest value along unit u: exact for a point or a segment, else the sphere's.
+  double support(const Vector3d& u) const {
+    return line ? std::max(u.dot(tri[0][0]), u.dot(tri[0][1])) : u.dot(centre) + reach;
+  }
   // Whether point p lies inside the solid core (no plane has it beyond).
   bool contains(const Vector3d& p) const {
     if (planes == 0) return false;
@@ -119,14 +130,21 @@ class ShapeSearch {
 
  private:
   // A lower bound of the core's distance to node n's triangles: the core's box apart from the
-  // node's box along A's axes, its sphere from that box, and its sphere from the node's slab.
+  // node's box along A's axes; both apart along the line from the core to the box's centre
+  // (their projections on it); and the core apart from the node's slab.
   double bound(const Octree::Node& n) {
     ++out_.stats.node_pairs;
     const Vector3d gap = ((n.box_center - core_.box_c).cwiseAbs() - n.box_half - core_.box_h).cwiseMax(0.0);
-    const Vector3d q = core_.centre.cwiseMax(n.box_center - n.box_half).cwiseMin(n.box_center + n.box_half);
-    const double along = n.normal.dot(core_.centre);
-    const double slab = std::max(n.slab_lo - along, along - n.slab_hi);
-    return std::max({gap.norm(), (q - core_.centre).norm() - core_.reach, slab - core_.reach});
+    const Vector3d line = n.box_center - core_.nearest(n.box_center);
+    const double len = line.norm();
+    double across = 0;
+    if (len > 0) {
+      const Vector3d u = line / len;
+      across = u.dot(n.box_center) - u.cwiseAbs().dot(n.box_half) - core_.support(u);
+    }
+    const double top = core_.support(n.normal), bottom = -core_.support(-n.normal);
+    const double slab = std::max(n.slab_lo - top, bottom - n.slab_hi);
+    return std::max({gap.norm(), across, slab});
   }
 
   // The triangles of a leaf that the core's sphere and box may come nearer than `best`.
@@ -136,7 +154,7 @@ class ShapeSearch {
       const int tri = a_.items[size_t(x)];
       if (tri == seed_) continue;
       const Eigen::Vector4d& s = a_.spheres[size_t(tri)];
-      if ((s.head<3>() - core_.centre).norm() - s[3] - core_.reach >= best_) continue;
+      if ((s.head<3>() - core_.nearest(s.head<3>())).norm() - s[3] - (core_.line ? 0.0 : core_.reach) >= best_) continue;
       const Vector3d* c = &a_.item_corners[3 * size_t(x)];
       const Vector3d lo = c[0].cwiseMin(c[1]).cwiseMin(c[2]), hi = c[0].cwiseMax(c[1]).cwiseMax(c[2]);
       const Vector3d gap = ((core_.box_c - (lo + hi) / 2).cwiseAbs() - (hi - lo) / 2 - core_.box_h).cwiseMax(0.0);

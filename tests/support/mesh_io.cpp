@@ -75,24 +75,26 @@ bool cgal_demo_mesh(const std::string& name, Mesh& mesh) {
   return true;
 }
 
-std::vector<Eigen::Isometry3d> banded_poses(const Octree& a, const Octree& b, double size, unsigned seed, int count) {
+namespace {
+
+// The banded poses of B against A (see banded_poses): distance(p) is their distance with B at
+// p; B starts at base(rng, rotation) and moves up to `reach` along the direction (beyond it,
+// they are apart).
+template <class Distance, class Base>
+std::vector<Eigen::Isometry3d> banded(Distance distance_at, Base base_at, double reach, double size, unsigned seed,
+                                      int count) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1, 1), unit(0, 1);
-  MeshWorkspace ws;
-  make_workspace(a, b, ws);
-  const double reach = std::sqrt(3.0) * (a.nodes[0].half + b.nodes[0].half);  // beyond: apart
   std::vector<Eigen::Isometry3d> poses;
   while (int(poses.size()) < count) {
     const int band = band_of(int(poses.size()), count);
     Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
     p.linear() = Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized().toRotationMatrix();
     const Eigen::Vector3d dir = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
-    const Eigen::Vector3d base = a.nodes[0].center - p.linear() * b.nodes[0].center;
+    const Eigen::Vector3d base = base_at(rng, p.linear());
     const auto distance = [&](double s) {
       p.translation() = base + s * dir;
-      MeshDistance d;
-      mesh_distance(a, Eigen::Isometry3d::Identity(), b, p, ws, d);
-      return d.distance;
+      return distance_at(p);
     };
     // Target distance, or (contact) the depth to move in from first touching.
     const double target = size * (band == 0   ? 0.002 + 0.048 * unit(rng)
@@ -109,6 +111,42 @@ std::vector<Eigen::Isometry3d> banded_poses(const Octree& a, const Octree& b, do
     if (band == 0 ? d == 0 : d > 0 && (band == 1 ? d < 0.05 * size : d >= 0.05 * size)) poses.push_back(p);
   }
   return poses;
+}
+
+}  // namespace
+
+std::vector<Eigen::Isometry3d> banded_poses(const Octree& a, const Octree& b, double size, unsigned seed, int count) {
+  MeshWorkspace ws;
+  make_workspace(a, b, ws);
+  const auto distance = [&](const Eigen::Isometry3d& p) {
+    MeshDistance d;
+    mesh_distance(a, Eigen::Isometry3d::Identity(), b, p, ws, d);
+    return d.distance;
+  };
+  const double reach = std::sqrt(3.0) * (a.nodes[0].half + b.nodes[0].half);  // beyond: apart
+  const auto base = [&](std::mt19937&, const Eigen::Matrix3d& R) {
+    return Eigen::Vector3d(a.nodes[0].center - R * b.nodes[0].center);
+  };
+  return banded(distance, base, reach, size, seed, count);
+}
+
+std::vector<Eigen::Isometry3d> banded_poses(const Octree& a, const ConvexShape& b, double size, unsigned seed,
+                                            int count) {
+  const auto distance = [&](const Eigen::Isometry3d& p) {
+    MeshDistance d;
+    mesh_distance(a, Eigen::Isometry3d::Identity(), b, p, d);
+    return d.distance;
+  };
+  // From a random vertex of A (a small shape at A's centre would sit inside a closed mesh, away
+  // from it in every direction), out of A's root cube and beyond the shape's reach and a band.
+  double reach_b = 0;
+  for (const Eigen::Vector3d& v : b.polytope().vertices) reach_b = std::max(reach_b, v.norm());
+  const double reach = 2 * std::sqrt(3.0) * a.nodes[0].half + reach_b + b.radius() + 0.5 * size;
+  const auto base = [&](std::mt19937& rng, const Eigen::Matrix3d&) {
+    const auto& t = a.triangles[std::uniform_int_distribution<size_t>(0, a.triangles.size() - 1)(rng)];
+    return a.vertices[size_t(t[0])];
+  };
+  return banded(distance, base, reach, size, seed, count);
 }
 
 Mesh box_mesh(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, int cells) {

@@ -43,6 +43,11 @@ bool cgal_demo_mesh(const std::string& name, Mesh& mesh);
 /// the direction by bisection on mesh_distance to a random distance in its band.
 std::vector<Eigen::Isometry3d> banded_poses(const Octree& a, const Octree& b, double size, unsigned seed, int count);
 
+/// The same for a convex shape B (its origin moved along the direction from A's centre), by
+/// the shape form of mesh_distance.
+std::vector<Eigen::Isometry3d> banded_poses(const Octree& a, const ConvexShape& b, double size, unsigned seed,
+                                            int count);
+
 /// The band of the k-th of `count` banded poses: 0 contact, 1 near (< 5 %), 2 far.
 inline int band_of(int k, int count) { return 3 * k / count; }
 
