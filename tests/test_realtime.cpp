@@ -398,7 +398,7 @@ TEST(RealTime, FaceToFaceQueriesDoNotAllocate) {
 // press) the contact normal turns by a crease's angle when the vertex crosses an edge, and the
 // force with it.)
 TEST(RealTime, HapticLoop) {
-  for (const std::string tool : {"box", "icosa"}) {
+  for (const std::string tool : {"box", "icosa", "sphere:5", "capsule:8:4"}) {
     SCOPED_TRACE(tool);
     haptics::Options o;
     o.tool = tool, o.seconds = 8, o.warmup = 500;
@@ -423,6 +423,7 @@ TEST(RealTime, HapticLoop) {
     }
     EXPECT_GT(max_depth, 0.0015);  // the 2 mm press was felt
     EXPECT_GT(max_force, 3.0);
+    if (tool == "sphere:5") EXPECT_LT(r.max_force_jump, 0.1 * max_force);  // (the distance's gradient: continuous)
     if (tool != "box") continue;
     // The path moves at most 0.1 mm per tick; the depth may not jump by more than that.
     EXPECT_LT(max_jump, 1e-4);
@@ -440,28 +441,29 @@ TEST(RealTime, HapticLoop) {
 // first tick of contact on the force pushes the device back up by at least the spring's
 // stretch from the sheet's top (the proxy rests a skin above it).
 TEST(RealTime, HapticProxyDoesNotTunnelThroughAThinSheet) {
-  for (double speed : {1.0, 3.0, 10.0}) {
-    SCOPED_TRACE("speed " + std::to_string(speed) + " m/s");
-    haptics::Options o;
-    o.scene = "sheet", o.speed = speed, o.press = 0.005, o.seconds = 0.5, o.warmup = 0;
-    haptics::Report r;
-    std::string error;
-    ASSERT_TRUE(haptics::run(o, haptics::allocation_count, r, error)) << error;
-    const double lift = 0.008;  // the box tool's half height: its bottom is 8 mm below its origin
-    double deepest = 0;
-    long pushed = 0;
-    for (long k = 0; k < r.ticks; ++k) {
-      EXPECT_GE(r.proxy_y[k] - lift, -1e-9) << "tick " << k << ": the proxy entered the sheet";
-      const double below = -(r.device_y[k] - lift);  // the device's bottom under the sheet's top
-      deepest = std::max(deepest, below);
-      if (below > 0 && k > 0 && r.device_y[k - 1] - lift < 0) {
-        EXPECT_GE(r.force_up[k], 0.999 * o.stiffness * below) << "tick " << k;
-        ++pushed;
+  // The box's bottom is 8 mm below its origin, the default sphere's 5 mm.
+  for (const auto& [tool, lift] : {std::pair{std::string("box"), 0.008}, std::pair{std::string("sphere:5"), 0.005}})
+    for (double speed : {1.0, 3.0, 10.0}) {
+      SCOPED_TRACE(tool + ", speed " + std::to_string(speed) + " m/s");
+      haptics::Options o;
+      o.tool = tool, o.scene = "sheet", o.speed = speed, o.press = 0.005, o.seconds = 0.5, o.warmup = 0;
+      haptics::Report r;
+      std::string error;
+      ASSERT_TRUE(haptics::run(o, haptics::allocation_count, r, error)) << error;
+      double deepest = 0;
+      long pushed = 0;
+      for (long k = 0; k < r.ticks; ++k) {
+        EXPECT_GE(r.proxy_y[k] - lift, -1e-9) << "tick " << k << ": the proxy entered the sheet";
+        const double below = -(r.device_y[k] - lift);  // the device's bottom under the sheet's top
+        deepest = std::max(deepest, below);
+        if (below > 0 && k > 0 && r.device_y[k - 1] - lift < 0) {
+          EXPECT_GE(r.force_up[k], 0.999 * o.stiffness * below) << "tick " << k;
+          ++pushed;
+        }
       }
+      EXPECT_GT(deepest, 0.0045);  // the device did go through (the sheet's bottom is at 0.5 mm)
+      EXPECT_GT(pushed, 400);
     }
-    EXPECT_GT(deepest, 0.0045);  // the device did go through (the sheet's bottom is at 0.5 mm)
-    EXPECT_GT(pushed, 400);
-  }
 }
 
 // Whether the segment p q crosses the triangle t (Moller and Trumbore's test, in doubles: the
@@ -529,6 +531,72 @@ TEST(RealTime, HapticProxyStaysOutOfTheSceneWhileTurning) {
   }
   EXPECT_GT(turning, 500);  // the turning slide was run
   EXPECT_GT(touching, 1000);
+}
+
+
+// The distance of point p to triangle t (its plane where p projects inside, else its edges).
+double point_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d* t) {
+  const auto edge = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    const double s = std::clamp((p - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+    return (a + s * (b - a) - p).norm();
+  };
+  const Eigen::Vector3d n = (t[1] - t[0]).cross(t[2] - t[0]).normalized();
+  const Eigen::Vector3d q = p - n.dot(p - t[0]) * n;
+  bool inside = true;
+  for (int k = 0; k < 3; ++k) inside = inside && (t[(k + 1) % 3] - t[k]).cross(q - t[k]).dot(n) >= 0;
+  if (inside) return std::abs(n.dot(p - t[0]));
+  return std::min({edge(t[0], t[1]), edge(t[1], t[2]), edge(t[2], t[0])});
+}
+
+// The distance of segments p0 p1 and q0 q1 (Ericson 5.1.9; neither degenerate here).
+double segment_segment(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& q0,
+                       const Eigen::Vector3d& q1) {
+  const Eigen::Vector3d d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r), c = d1.dot(r), b = d1.dot(d2);
+  const double den = a * e - b * b;
+  double s = den > 1e-300 ? std::clamp((b * f - c * e) / den, 0.0, 1.0) : 0.0;
+  double t = (b * s + f) / e;
+  if (t < 0) t = 0, s = std::clamp(-c / a, 0.0, 1.0);
+  if (t > 1) t = 1, s = std::clamp((b - c) / a, 0.0, 1.0);
+  return (p0 + s * d1 - q0 - t * d2).norm();
+}
+
+// The rounded tools over a whole path cycle: on no tick does the core come nearer a scene
+// triangle than the radius less the sweeps' tolerance. Checked without the library: the core's
+// ends against the triangle, its segment against the triangle's edges, and through it.
+TEST(RealTime, RoundedHapticProxyStaysOutOfTheScene) {
+  for (const auto& [tool, h, radius] : {std::tuple{std::string("sphere:5"), 0.0, 0.005},
+                                        std::tuple{std::string("capsule:8:4"), 0.008, 0.004}}) {
+    SCOPED_TRACE(tool);
+    haptics::Options o;
+    o.tool = tool, o.seconds = 4, o.warmup = 0;
+    haptics::Report r;
+    std::string error, source;
+    ASSERT_TRUE(haptics::run(o, haptics::allocation_count, r, error)) << error;
+    const tools::Mesh scene = tools::demo_mesh(r.scene_mesh, source);
+    long touching = 0;
+    double nearest = 1;
+    for (long k = 0; k < r.ticks; ++k) {
+      const Eigen::Isometry3d& pose = r.proxy[size_t(k)];
+      touching += r.depth[size_t(k)] > 0;
+      const Eigen::Vector3d s0 = pose * Eigen::Vector3d(0, 0, -h), s1 = pose * Eigen::Vector3d(0, 0, h);
+      for (const auto& tri : scene.triangles) {
+        const Eigen::Vector3d t[3] = {scene.vertices[size_t(tri[0])], scene.vertices[size_t(tri[1])],
+                                      scene.vertices[size_t(tri[2])]};
+        if ((t[0] - pose.translation()).norm() > 0.02 + (t[1] - t[0]).norm() + (t[2] - t[0]).norm()) continue;
+        if ((t[1] - t[0]).cross(t[2] - t[0]).norm() == 0) continue;  // (a degenerate triangle: its edges count)
+        double d = std::min(point_triangle(s0, t), point_triangle(s1, t));
+        if (h > 0) {
+          for (int e = 0; e < 3; ++e) d = std::min(d, segment_segment(s0, s1, t[e], t[(e + 1) % 3]));
+          if (crosses(s0, s1, t)) d = 0;
+        }
+        nearest = std::min(nearest, d);
+        ASSERT_GE(d, radius - haptics::kProxyTolerance - 1e-12) << "tick " << k << ": the proxy is in the scene";
+      }
+    }
+    EXPECT_GT(touching, 1000);
+    EXPECT_LT(nearest, radius + 1e-4);  // it did rest on the scene
+  }
 }
 
 }  // namespace

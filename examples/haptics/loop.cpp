@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <ctime>
+#include <sstream>
 #include <thread>
 
 #include <sched.h>
@@ -34,16 +35,47 @@ constexpr int kPasses = 3;      // sweeps a tick: the motion, then sliding along
 // cost grows with the triangles within its reach).
 constexpr double kFall = 4 * kSkin;  // m
 
-// The tool is its convex hull (the swept shape), that hull grown by twice the skin (its contact
-// patch at the proxy, which rests a skin away), and the hull's surface (its distance to the
-// scene, which certifies a free move without a sweep).
+// The tool. A polytope (a box, an icosahedron, a mesh's convex hull) is its hull (the swept
+// shape), that hull grown by twice the skin (its contact patch at the proxy, which rests a skin
+// away), and the hull's surface (its distance to the scene, which certifies a free move without
+// a sweep). A rounded tool (a sphere, a capsule) is its shape alone: its distance to the scene
+// gives the clearance, the contact normal and the point the force acts at.
 struct Tool {
   tools::Mesh surface;
   ConvexShape hull, skin;
-  double radius = 0;  // the largest |x| of its vertices: how far a turn moves them
+  bool rounded = false;
+  double radius = 0;  // how far from its origin a point of it reaches: how far a turn moves it
 };
 
+// "sphere:R" or "capsule:H:R" in millimetres (half length H along the tool's z) into a tool.
+bool make_rounded_tool(const std::string& what, Tool& tool, std::string& name, std::string& error) {
+  const bool sphere = what.rfind("sphere:", 0) == 0;
+  const std::string form = sphere ? "sphere:R" : "capsule:H:R";
+  std::string numbers = what.substr(what.find(':') + 1);
+  for (char& c : numbers) c = c == ':' ? ' ' : c;
+  std::istringstream in(numbers);
+  double v[2] = {0, 0};
+  std::string rest;
+  for (int k = 0; k < (sphere ? 1 : 2); ++k)
+    if (!(in >> v[k])) return error = "--tool " + what + ": expected " + form + " in mm", false;
+  if (in >> rest) return error = "--tool " + what + ": expected " + form + " in mm", false;
+  const double r = (sphere ? v[0] : v[1]) / 1000, h = sphere ? 0.0 : v[0] / 1000;
+  if (!(r >= 1e-4 && r <= 0.05 && h >= 0 && h <= 0.05))
+    return error = "--tool " + what + ": the radius must lie in [0.1, 50] mm and the half length in [0, 50] mm", false;
+  const Status st = sphere ? shape_from_sphere(r, tool.hull) : shape_from_capsule(h, r, tool.hull);
+  if (st != Status::Ok) return error = "tool: " + std::string(to_string(st)), false;
+  tool.rounded = true, tool.radius = h + r;
+  char text[96];
+  if (sphere)
+    std::snprintf(text, sizeof text, "sphere, %.3g mm radius", 1000 * r);
+  else
+    std::snprintf(text, sizeof text, "capsule, %.3g mm half length, %.3g mm radius", 1000 * h, 1000 * r);
+  name = text;
+  return true;
+}
+
 bool make_tool(const std::string& what, Tool& tool, std::string& name, std::string& error) {
+  if (what.rfind("sphere:", 0) == 0 || what.rfind("capsule:", 0) == 0) return make_rounded_tool(what, tool, name, error);
   std::vector<Vector3d> points;
   if (what == "box" || what == "icosa") {
     const double s = what == "box" ? 1.0 : 0.008 / std::sqrt(1 + 1.618034 * 1.618034);
@@ -164,10 +196,12 @@ bool set_up(const Options& options, Setup& s, Report& report, std::string& error
   if (s.tool.surface.triangles.size() <= 64) tool_options.max_depth = 0;
   if (Status st = build_octree(s.scene.vertices, s.scene.triangles, s.scene_tree); st != Status::Ok)
     return error = "scene: " + std::string(to_string(st)), false;
-  if (Status st = build_octree(s.tool.surface.vertices, s.tool.surface.triangles, s.tool_tree, tool_options);
-      st != Status::Ok)
-    return error = "tool: " + std::string(to_string(st)), false;
-  make_workspace(s.scene_tree, s.tool_tree, s.ws);
+  if (!s.tool.rounded) {
+    if (Status st = build_octree(s.tool.surface.vertices, s.tool.surface.triangles, s.tool_tree, tool_options);
+        st != Status::Ok)
+      return error = "tool: " + std::string(to_string(st)), false;
+    make_workspace(s.scene_tree, s.tool_tree, s.ws);
+  }
   // The top: the highest vertex, and of several as high, the nearest to the middle.
   Vector3d lo = s.scene.vertices[s.scene.triangles[0][0]], hi = lo;
   for (const auto& t : s.scene.triangles)
@@ -179,7 +213,8 @@ bool set_up(const Options& options, Setup& s, Report& report, std::string& error
       const Vector3d& v = s.scene.vertices[k];
       if (v.y() > s.path.top.y() || (v.y() == s.path.top.y() && off_middle(v) < off_middle(s.path.top))) s.path.top = v;
     }
-  for (const auto& v : s.tool.hull.polytope().vertices) s.path.lift = std::max(s.path.lift, -v.y());
+  for (const auto& v : s.tool.hull.polytope().vertices)
+    s.path.lift = std::max(s.path.lift, -v.y() + s.tool.hull.radius());
   s.path.press = options.press, s.path.speed = options.speed;
   s.proxy = s.path.at(0);
   return true;
@@ -280,28 +315,62 @@ void ask_for_realtime(Report& report) {
   sched_setaffinity(0, sizeof one, &one);
 }
 
+// What the tool touches at the proxy: whether it is within twice the skin of the scene, the
+// push-out normal and the point the force acts at; apart, its distance (0 if unknown).
+struct Touch {
+  bool touching = false;
+  Vector3d normal = Vector3d::Zero(), centre = Vector3d::Zero();
+  double distance = 0;
+};
+
+// A polytope tool: the skin's contact patch (its area-weighted normal and centre turn
+// continuously as the tool slides over facets); apart, the hull's distance to the scene.
+// A rounded tool: its distance to the scene; within twice the skin, the normal from the
+// scene's nearest point to the tool's (the gradient of the distance: continuous as a sphere
+// slides) and that point. (Coherent: each distance starts from the last tick's answer.)
+Touch touch(const Options& options, Setup& s) {
+  const Isometry3d scene = Isometry3d::Identity();
+  Touch t;
+  MeshDistance d;
+  if (s.tool.rounded) {
+    const Status st = options.coherent ? mesh_distance(s.scene_tree, scene, s.tool.hull, s.proxy, s.cache, d)
+                                       : mesh_distance(s.scene_tree, scene, s.tool.hull, s.proxy, d);
+    if (st != Status::Ok) return t;
+    t.touching = d.distance < 2 * kSkin;
+    if (!t.touching) return t.distance = d.distance, t;
+    // (The proxy rests a skin away; met inside, the triangle's own normal.)
+    const Vector3d gap = d.point_b - d.point_a;
+    const auto& tri = s.scene_tree.triangles[size_t(d.triangle_a)];
+    const Vector3d* v = s.scene_tree.vertices.data();
+    t.normal = gap.norm() > 0 ? Vector3d(gap.normalized())
+                              : Vector3d((v[tri[1]] - v[tri[0]]).cross(v[tri[2]] - v[tri[0]]).normalized());
+    t.centre = d.point_a;
+    return t;
+  }
+  MeshContact c;
+  t.touching = mesh_contact(s.scene_tree, scene, s.tool.skin, s.proxy, s.ws, c) == Status::Ok && c.intersecting;
+  if (t.touching) return t.normal = c.penetration_direction, t.centre = c.centre, t;
+  const Status st = options.coherent ? mesh_distance(s.scene_tree, scene, s.tool_tree, s.proxy, s.ws, s.cache, d)
+                                     : mesh_distance(s.scene_tree, scene, s.tool_tree, s.proxy, s.ws, d);
+  if (st == Status::Ok && !d.intersecting) t.distance = d.distance;
+  return t;
+}
+
 // One tick with the device at `device` moving at `velocity` (the scene sits at the identity),
-// written to the report at k: the proxy moves, the skin's contact patch at the proxy gives the
-// normal and the centre the force acts at, and the spring from the device to the proxy along
-// that normal its size. Apart, the proxy's distance (coherent: started from the last tick's).
+// written to the report at k: the proxy moves, the contact at the proxy gives the normal and
+// the centre the force acts at, and the spring from the device to the proxy along that normal
+// its size. Apart, the proxy's distance (coherent: started from the last tick's).
 void tick(const Options& options, Setup& s, const Isometry3d& device, const Vector3d& velocity, long k,
           Report& report) {
-  const Isometry3d scene = Isometry3d::Identity();
   report.sweeps += move_proxy(s, device);
-  MeshContact c;
-  const bool touching =
-      mesh_contact(s.scene_tree, scene, s.tool.skin, s.proxy, s.ws, c) == Status::Ok && c.intersecting;
-  MeshDistance d;
-  double distance = 0;
-  if (!touching) {
-    const Status st = options.coherent ? mesh_distance(s.scene_tree, scene, s.tool_tree, s.proxy, s.ws, s.cache, d)
-                                       : mesh_distance(s.scene_tree, scene, s.tool_tree, s.proxy, s.ws, d);
-    if (st == Status::Ok && !d.intersecting) distance = d.distance, s.clearance = std::max(s.clearance, distance);
-  }
+  const Touch c = touch(options, s);
+  const bool touching = c.touching;
+  const double distance = c.distance;
+  if (!touching) s.clearance = std::max(s.clearance, distance);
   Vector3d force = Vector3d::Zero(), torque = Vector3d::Zero();
   double depth = 0;
   if (touching) {
-    const Vector3d& u = c.penetration_direction;
+    const Vector3d& u = c.normal;
     depth = std::max(0.0, (s.proxy.translation() - device.translation()).dot(u));
     const double push = options.stiffness * depth - options.damping * std::min(0.0, velocity.dot(u));
     if (depth > 0 && push > 0) force = push * u;
@@ -313,9 +382,9 @@ void tick(const Options& options, Setup& s, const Isometry3d& device, const Vect
     report.max_torque_jump = std::max(report.max_torque_jump, (torque - s.torque).norm());
   }
   s.force = force, s.torque = torque, s.touching = touching;
-  s.normal = touching ? c.penetration_direction : Vector3d::Zero();
+  s.normal = touching ? c.normal : Vector3d::Zero();
   report.distance[k] = distance, report.depth[k] = depth, report.force[k] = force.norm();
-  report.torque[k] = torque.norm(), report.force_dot_normal[k] = touching ? force.dot(c.penetration_direction) : 0;
+  report.torque[k] = torque.norm(), report.force_dot_normal[k] = touching ? force.dot(c.normal) : 0;
   report.force_up[k] = force.y(), report.device_y[k] = device.translation().y();
   report.proxy_y[k] = s.proxy.translation().y(), report.proxy[k] = s.proxy;
 }

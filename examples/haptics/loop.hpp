@@ -11,7 +11,9 @@ namespace minksum::haptics {
 
 /// What to run.
 struct Options {
-  std::string tool = "box";  ///< "box", "icosa", or a mesh file (its convex hull is the tool)
+  /// "sphere:R", "capsule:H:R" (mm; half length H along the tool's z), "box", "icosa", or a
+  /// mesh file (its convex hull is the tool)
+  std::string tool = "sphere:5";
   /// mesh file; empty: bunny res2; "bunny_full": the full bunny (or their fallbacks); "sheet":
   /// a 60 mm square sheet 0.5 mm thick; "bumpy_full": the full bunny's generated stand-in always
   std::string scene;

@@ -3,6 +3,7 @@
 
 #include <minksum/mesh.hpp>
 
+#include <algorithm>
 #include <vector>
 
 namespace minksum::detail {
@@ -46,6 +47,29 @@ inline size_t depth_reserve(const Octree& a, const Octree& b) { return size_t(8 
 /// B's placement in A's frame, after both poses are checked: pose_b itself when A sits at the
 /// identity (no rounding), else pose_a^-1 pose_b.
 Status relative_pose(const Eigen::Isometry3d& pose_a, const Eigen::Isometry3d& pose_b, Eigen::Isometry3d& out);
+
+/// A point or segment core placed in the mesh's frame (s0 = s1 for a point), with the lower
+/// bounds the mesh queries prune by.
+struct PlacedSegment {
+  Eigen::Vector3d s0, s1;
+  /// Its point nearest x.
+  Eigen::Vector3d nearest(const Eigen::Vector3d& x) const {
+    const Eigen::Vector3d e = s1 - s0;
+    const double len2 = e.squaredNorm();
+    return len2 > 0 ? Eigen::Vector3d(s0 + std::clamp((x - s0).dot(e) / len2, 0.0, 1.0) * e) : s0;
+  }
+  /// Its highest value along u.
+  double support(const Eigen::Vector3d& u) const { return std::max(u.dot(s0), u.dot(s1)); }
+  /// A lower bound of its distance to the box (centre c, half extents h): their projections
+  /// apart along the line from its point nearest c to c.
+  double box_gap(const Eigen::Vector3d& c, const Eigen::Vector3d& h) const {
+    const Eigen::Vector3d line = c - nearest(c);
+    const double len = line.norm();
+    if (!(len > 0)) return 0;
+    const Eigen::Vector3d u = line / len;
+    return u.dot(c) - u.cwiseAbs().dot(h) - support(u);
+  }
+};
 
 /// The unit normal of a triangle (zero if it is degenerate).
 inline Eigen::Vector3d unit_normal(const Eigen::Vector3d (&v)[3]) {

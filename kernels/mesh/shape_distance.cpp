@@ -7,7 +7,6 @@
 // triangle kernel, a solid core its faces (fanned) plus a containment test, since a triangle
 // inside the solid is nearer than the faces say.
 #include "mesh/mesh_internal.hpp"
-#include "geometry/closest.hpp"
 #include "query/cache_kinds.hpp"
 #include "query/triangle_pairs.hpp"
 #include "shape/shape_data.hpp"
@@ -36,16 +35,12 @@ struct PlacedCore {
   double reach = 0;  // the sphere's radius
   bool line = false;  // a point or a segment: `tri[0]`'s first two corners are its ends
 
+  detail::PlacedSegment segment;  // a point or segment core's ends
+
   // The core's point nearest x: exact for a point or a segment, else the sphere's centre.
-  Vector3d nearest(const Vector3d& x) const {
-    if (!line) return centre;
-    const Vector3d &s0 = tri[0][0], &s1 = tri[0][1];
-    return s0 + detail::nearest_on_segment(s0 - x, s1 - x) * (s1 - s0);
-  }
+  Vector3d nearest(const Vector3d& x) const { return line ? segment.nearest(x) : centre; }
   // The core's highest value along unit u: exact for a point or a segment, else the sphere's.
-  double support(const Vector3d& u) const {
-    return line ? std::max(u.dot(tri[0][0]), u.dot(tri[0][1])) : u.dot(centre) + reach;
-  }
+  double support(const Vector3d& u) const { return line ? segment.support(u) : u.dot(centre) + reach; }
   // Whether point p lies inside the solid core (no plane has it beyond).
   bool contains(const Vector3d& p) const {
     if (planes == 0) return false;
@@ -68,7 +63,7 @@ Status place_core(const ConvexShape& shape, const Eigen::Isometry3d& pose, Place
   if (!detail::ShapeAccess::data(shape)->has_faces()) {  // a point or a segment
     const Vector3d s0 = pose * p.vertices.front(), s1 = pose * p.vertices.back();
     core.tri[0][0] = s0, core.tri[0][1] = s1, core.tri[0][2] = s1;
-    core.count = 1, core.line = true;
+    core.count = 1, core.line = true, core.segment = {s0, s1};
     return Status::Ok;
   }
   for (const Face& f : p.faces) {

@@ -18,6 +18,7 @@
 
 #include "mesh/mesh_internal.hpp"
 #include "query/impact.hpp"
+#include "shape/shape_data.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -233,6 +234,23 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
   // close before it).
   const ToolPlanes planes(tool.polytope(), q0, d, moving.omega, moving.across, radius + tolerance + 1e-12 * reach);
   ToolPlanes at_hit;
+  // A point or segment core has no planes: its exact distance to the triangle (one triangle
+  // distance) bounds when it can come within the radius, as no point of it moves faster than
+  // |d| + angle |x| (Mirtich's bound), forward from the start and backward from the hit.
+  const ConvexPolytope& core = tool.polytope();
+  const bool line = !detail::ShapeAccess::data(tool)->has_faces();
+  const double speed = d.norm() + moving.angle * moving.radius;
+  const auto core_gap = [&](const Vector3d* t, const Isometry3d& q) {
+    const Vector3d s0 = q * core.vertices.front(), s1 = q * core.vertices.back();
+    const Vector3d c[3] = {s0, s1, s1}, u[3] = {t[0], t[1], t[2]};
+    Vector3d p0, p1;
+    return triangle_distance(u, c, p0, p1) - radius;
+  };
+  // Cheaper bounds first: the core at the start against a node's box or a triangle's sphere.
+  const detail::PlacedSegment start{q0 * core.vertices.front(), q0 * core.vertices.back()};
+  const double line_slack = radius + tolerance + 1e-12 * reach;
+  const auto entry = [&](double g) { return !(g > 0) ? 0.0 : g >= speed ? kNever : g / speed; };
+  Isometry3d hit_pose = q0;
   int last_plane = 0;
   double earliest = 1;  // no hit before it (a hit's time, an unconverged stop's, or the tick's end)
   int iterations = 0;
@@ -259,6 +277,7 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
     if (c.time > earliest || settled()) return;
     const Vector3d* corners = &a.item_corners[size_t(3) * c.node];
     if (out.hit && at_hit.apart_until(corners, earliest)) return;
+    if (out.hit && line && core_gap(corners, hit_pose) - (0.5 * tolerance - 1e-12 * reach) > earliest * speed) return;
     const detail::Mover still(corners, 3, Isometry3d::Identity(), Isometry3d::Identity());
     TimeOfImpact toi;
     detail::advance(still, moving, tolerance, reach, earliest, TriangleAnswers(corners, tool), radius, toi);
@@ -270,7 +289,8 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
       // band's contract. A face landing flat leaves every triangle under it at the hit's
       // gap, which the advancement closed to half the tolerance and no further.)
       if (out.hit)
-        at_hit = ToolPlanes(tool.polytope(), moving.at(earliest), d, moving.omega, moving.across,
+        hit_pose = moving.at(earliest),
+        at_hit = ToolPlanes(tool.polytope(), hit_pose, d, moving.omega, moving.across,
                             radius + std::max(0.5 * tolerance - 1e-12 * reach, 1e-12 * reach));
     }
   };
@@ -284,8 +304,9 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
       for (int c = n.first_child; c < n.first_child + n.child_count; ++c) {
         const Octree::Node& child = a.nodes[c];
         const Vector3d grow = child.box_half + Vector3d::Constant(r);
-        const double s = std::max(box_entry(c0, d, child.box_center - grow, child.box_center + grow),
-                                  planes.reach_time(child.box_center, child.box_half));
+        double s = std::max(box_entry(c0, d, child.box_center - grow, child.box_center + grow),
+                            planes.reach_time(child.box_center, child.box_half));
+        if (line) s = std::max(s, entry(start.box_gap(child.box_center, child.box_half) - line_slack));
         if (s <= earliest) stack[top++] = {c, s};
       }
       std::sort(stack + from, stack + top, later);
@@ -297,6 +318,11 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
       const Vector3d* corners = &a.item_corners[size_t(3) * x];
       if (s > earliest || planes.out_of_reach(corners, earliest, last_plane)) continue;  // (the cheap tests first)
       if ((s = std::max(s, planes.reach_time(corners))) > earliest) continue;
+      if (line) {  // (gaps within the tolerance, and rounding, count as none)
+        const Vector3d c = sphere.head<3>();
+        if ((s = std::max(s, entry((c - start.nearest(c)).norm() - sphere[3] - line_slack))) > earliest) continue;
+        if ((s = std::max(s, entry(core_gap(corners, q0) - tolerance - 1e-12 * reach))) > earliest) continue;
+      }
       // Of the triangles in reach at the start, those deepest in the tool's sphere first
       // (a key in [-1, 0)): the likeliest to be met at once, which ends the walk.
       if (s == 0) s = -std::max(0.0, 1 - (c0 - sphere.head<3>()).norm() / (sphere[3] + r));
