@@ -429,8 +429,9 @@ TEST(Cli, DistanceRejectsBadInput) {
 // Numbers after `key` in each JSON line of `out`.
 std::vector<double> field(const std::string& out, const std::string& key);
 
-// The 6-DOF haptic loop from the command line: a fast plunge onto the thin sheet is felt (ticks
-// in contact, times of impact swept), nothing allocated; bad options and files get exit code 2.
+// The 6-DOF haptic loop from the command line: a fast plunge of the default tool (a sphere)
+// onto the thin sheet is felt (ticks in contact, times of impact swept), nothing allocated; bad
+// options, tools and files get exit code 2.
 TEST(Cli, HapticsPlungesOntoTheSheet) {
   const CliRun r = run("haptics --scene sheet --speed 10 --press 5 --seconds 0.3 --json");
   ASSERT_EQ(r.code, 0) << r.err;
@@ -441,6 +442,9 @@ TEST(Cli, HapticsPlungesOntoTheSheet) {
   expect_rejected("haptics --speed -1", "--speed");
   expect_rejected("haptics --press nan", "--press");
   expect_rejected("haptics --tool no_such_tool.off", "no_such_tool.off");
+  expect_rejected("haptics --tool sphere:-1", "the radius must lie in");
+  expect_rejected("haptics --tool capsule:1", "expected capsule:H:R in mm");
+  expect_rejected("haptics --tool sphere:5:3", "expected sphere:R in mm");
   expect_rejected("haptics --scene " + write("empty.off", "OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n"), "empty.off");
 }
 
