@@ -86,11 +86,13 @@ const char* kHelp =
     "\n"
     "commands:\n"
     "  sum A B [--pose-b \"qw qx qy qz tx ty tz\"] [--diff] [--method fast|reference|hull]\n"
-    "          [--out M.off|M.obj|M.ply] [--json]\n"
+    "          [--radius-a R] [--radius-b R] [--out M.off|M.obj|M.ply] [--json]\n"
     "      Minkowski sum of the convex hulls of the vertices in files A and B (OFF, OBJ, PLY\n"
     "      or plain text \"x y z\" per line), B placed by a rigid pose (unit quaternion, then\n"
     "      translation; default: as read); --diff computes A (-) B = A (+) (-B). The fast\n"
-    "      method prepares both as shapes and applies the pose inside the sum.\n"
+    "      method prepares both as shapes and applies the pose inside the sum. A may be\n"
+    "      sphere:R, and --radius-a/--radius-b round A or B: the sum of rounded shapes is the sum\n"
+    "      of their cores swept by a ball of the radii added (printed; --out refuses it).\n"
     "  query A B [--pose-b \"qw qx qy qz tx ty tz\" | --poses FILE [--coherent]] [--patch MARGIN]\n"
     "          [--radius-a R] [--radius-b R] [--json]\n"
     "  query --box \"cx cy cz hx hy hz qw qx qy qz\" --box \"...\" [--patch MARGIN] [--json]\n"
@@ -190,7 +192,18 @@ bool load(const std::string& path, ConvexShape& p) {
   return true;
 }
 
-// The two operands of a query, each with its extra radius (--radius-a, --radius-b).
+// --radius-a R or --radius-b R at argv[k] into radius[0] or radius[1] (k moves past R).
+bool radius_option(int argc, char** argv, int& k, double (&radius)[2], std::string& error) {
+  const std::string a = argv[k];
+  std::vector<double> v;
+  if (k + 1 >= argc) return error = a + " needs a value", false;
+  if (!cli::parse_numbers(argv[++k], a, "R", 1, v, error)) return false;
+  if (!(v[0] >= 0)) return error = a + ": the radius " + std::string(argv[k]) + " is negative (it must be >= 0)", false;
+  radius[a == "--radius-b"] = v[0];
+  return true;
+}
+
+// The two operands of a sum or a query, each with its extra radius (--radius-a, --radius-b).
 bool load_operands(const std::vector<std::string>& files, const double (&radius)[2], ConvexShape& a, ConvexShape& b) {
   ConvexShape* shapes[2] = {&a, &b};
   for (int k = 0; k < 2; ++k) {
@@ -322,11 +335,7 @@ int cmd_query(int argc, char** argv) {
       if (k + 1 >= argc) return usage_error("--box needs a value");
       boxes.push_back(argv[++k]);
     } else if (a == "--radius-a" || a == "--radius-b") {
-      std::vector<double> v;
-      if (k + 1 >= argc) return usage_error(a + " needs a value");
-      if (!cli::parse_numbers(argv[++k], a, "R", 1, v, error)) return usage_error(error);
-      if (!(v[0] >= 0)) return usage_error(a + ": the radius " + std::string(argv[k]) + " is negative (it must be >= 0)");
-      radius[a == "--radius-b"] = v[0];
+      if (!radius_option(argc, argv, k, radius, error)) return usage_error(error);
     } else if (a == "--patch") {
       std::vector<double> v;
       if (k + 1 >= argc) return usage_error("--patch needs a value");
@@ -398,6 +407,7 @@ int cmd_sum(int argc, char** argv) {
   bool diff = false, json = false;
   Method method = Method::Fast;
   std::string out_path, error;
+  double radius[2] = {0, 0};
   Eigen::Isometry3d pose_b = Eigen::Isometry3d::Identity();
   for (int k = 0; k < argc; ++k) {
     const std::string a = argv[k];
@@ -408,6 +418,8 @@ int cmd_sum(int argc, char** argv) {
       if (!cli::parse_pose(argv[++k], "--pose-b", pose_b, error)) return usage_error(error);
     } else if (a == "--json") {
       json = true;
+    } else if (a == "--radius-a" || a == "--radius-b") {
+      if (!radius_option(argc, argv, k, radius, error)) return usage_error(error);
     } else if (a == "--method" || a == "--out") {
       if (k + 1 >= argc) return usage_error(a + " needs a value");
       const std::string v = argv[++k];
@@ -426,8 +438,12 @@ int cmd_sum(int argc, char** argv) {
   }
   if (files.size() != 2) return usage_error("sum needs two vertex files");
   ConvexShape SA, SB;
-  if (!load(files[0], SA) || !load(files[1], SB)) return 2;
+  if (!load_operands(files, radius, SA, SB)) return 2;
   const ConvexPolytope &A = SA.polytope(), &B = SB.polytope();
+  const bool rounded = SA.radius() > 0 || SB.radius() > 0;
+  if (rounded && method != Method::Fast)
+    return usage_error(std::string("--method ") + method_name(method) +
+                       " takes polytopes: a rounded operand (a sphere, a capsule, --radius-a/-b) takes the fast path");
   // The other methods take polytopes: B's hull moved by the pose (the same vertex order).
   ConvexPolytope moved_b;
   if (method != Method::Fast) {
@@ -447,7 +463,9 @@ int cmd_sum(int argc, char** argv) {
           : (diff ? minkowski_difference(A, moved_b, m, method) : minkowski_sum(A, moved_b, m, method));
   const double t1 = now_us();
   if (s != Status::Ok) {
-    std::fprintf(stderr, "minksum: %s\n", to_string(s));
+    std::fprintf(stderr, "minksum: %s\n",
+                 s == Status::Unsupported ? "sums do not take a capsule yet (spheres, rounded shapes and polytopes they do)"
+                                          : to_string(s));
     return 2;
   }
   if (!out_path.empty()) {
@@ -463,14 +481,18 @@ int cmd_sum(int argc, char** argv) {
                 m.euler_ok ? "true" : "false");
     for (size_t k = 0; k < m.planes.size(); ++k) {
       const auto& p = m.planes[k];
+      // (A sphere's core is its one point: index 0.)
+      const auto input = [](const ConvexPolytope& x, int i) { return x.input_index.empty() ? i : x.input_index[size_t(i)]; };
       std::printf("%s[%.17g, %.17g, %.17g, %.17g, %d, %d]", k ? ", " : "", p.normal.x(), p.normal.y(), p.normal.z(),
-                  p.offset, A.input_index[p.i], B.input_index[method == Method::Fast ? p.j : moved_b.input_index[p.j]]);
+                  p.offset, input(A, p.i), input(B, method == Method::Fast ? p.j : moved_b.input_index[size_t(p.j)]));
     }
-    std::printf("], \"method\": \"%s\", \"time_us\": %.17g}\n", method_name(method), t1 - t0);
+    std::printf("], \"radius\": %.17g, \"method\": \"%s\", \"time_us\": %.17g}\n", m.radius, method_name(method),
+                t1 - t0);
   } else {
     std::printf("%s %s %s: V=%d E=%d F=%d, Euler %s%s, %.1f us (%s path)\n", files[0].c_str(), diff ? "(-)" : "(+)",
                 files[1].c_str(), m.V, m.E, m.F, m.euler_ok ? "holds" : "fails", m.corrected ? " (corrected)" : "",
                 t1 - t0, method_name(method));
+    if (m.radius > 0) std::printf("rounded: this polytope swept by a ball of radius %.17g\n", m.radius);
   }
   return 0;
 }

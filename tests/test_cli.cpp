@@ -554,7 +554,21 @@ TEST(Cli, QueryTakesSpheresCapsulesAndRadii) {
   }
   r = run("sum sphere:1 capsule:1:1");
   EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.err.find("does not take this kind of shape yet"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("sums do not take a capsule yet"), std::string::npos) << r.err;
+  // A rounded sum: the cores' sum and the radii added, printed; not a mesh to write, nor a
+  // sum for the polytope methods.
+  r = run("sum sphere:0.5 " + cube + " --radius-b 0.25 --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"radius\": 0.75"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"facets\": 6"), std::string::npos) << r.out;  // the cube translated
+  r = run("sum " + cube + " sphere:0.5");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("swept by a ball of radius 0.5"), std::string::npos) << r.out;
+  for (const std::string bad : {" --out " + (scratch() / "rounded.off").string(), std::string(" --method hull")}) {
+    r = run("sum sphere:0.5 " + cube + bad);
+    EXPECT_EQ(r.code, 2) << bad;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << bad << ": " << r.err;
+  }
 }
 
 }  // namespace

@@ -3,8 +3,10 @@
 // edges through faces) minus the radii, the separating axes of the cores for the depth, and
 // closed forms written here for spheres, capsules and boxes.
 #include <gtest/gtest.h>
+#include <minksum/io.hpp>
 #include <minksum/minksum.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <random>
@@ -189,6 +191,65 @@ std::vector<std::pair<std::string, ConvexShape>> shapes() {
   add("triangle", shape_from_triangle({Vector3d(0, 0, 0), Vector3d(1.5, 0, 0), Vector3d(0, 1, 0.25)}, core), core);
   add("swept_triangle", shape_with_radius(core, 0.3, s), s);
   return out;
+}
+
+// Rounded sums and differences of every pair of kinds but the capsule, against the cores'
+// brute-force distance: p lies in A (+) B (+) B(ra + rb) exactly when the cores of p - A and B
+// lie within the radii of each other (|p - a - b| = |(p - a) - b|); and B moved along u
+// by penetration_along(A (-) B) just stops overlapping A (bisection on the cores' distance).
+TEST(RoundedShapes, SumsAreTheCoresSumsSweptByTheRadii) {
+  std::mt19937_64 rng(58);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int inside = 0, outside = 0;
+  for (const auto& [na, A] : shapes())
+    for (const auto& [nb, B] : shapes()) {
+      if (na == "capsule" || nb == "capsule" || (A.radius() == 0 && B.radius() == 0)) continue;
+      for (int k = 0; k < test::scaled(4, 2); ++k) {
+        const Isometry3d pa = test::random_pose(rng, 0.5), pb = test::random_pose(rng, 0.5);
+        MinkowskiSum sum, diff;
+        const Status s = minkowski_sum(A, pa, B, pb, sum);
+        const bool flat = A.polytope().flat || B.polytope().flat;
+        if ((na == "sphere" && (nb == "sphere" || flat)) || (nb == "sphere" && flat)) {
+          EXPECT_EQ(s, Status::DegenerateResult) << na << " / " << nb;
+          continue;
+        }
+        ASSERT_EQ(s, Status::Ok) << na << " / " << nb;
+        ASSERT_EQ(minkowski_difference(A, pa, B, pb, diff), Status::Ok) << na << " / " << nb;
+        const double r = A.radius() + B.radius();
+        EXPECT_EQ(sum.radius, r);
+        EXPECT_TRUE(sum.euler_ok) << na << " / " << nb;
+        Core a = core_of(A, pa);
+        const Core b = core_of(B, pb);
+        for (int q = 0; q < 40; ++q) {  // contains against the cores' distance
+          const Vector3d p = (pa.translation() + pb.translation()) + 3.5 * Vector3d(u(rng), u(rng), u(rng));
+          Core reflected = a;
+          for (Vector3d& x : reflected.v) x = p - x;
+          for (Vector3d& n : reflected.normals) n = -n;
+          for (auto& loop : reflected.loops) std::reverse(loop.begin(), loop.end());  // (a reflection turns them)
+          const double d = core_distance(reflected, b);
+          if (std::abs(d - r) < 1e-9) continue;
+          EXPECT_EQ(contains(sum, p), d <= r) << na << " / " << nb << " at " << p.transpose() << ": " << d;
+          ++(d <= r ? inside : outside);
+        }
+        // penetration_along on the difference: moving B by it, the cores come within the radii
+        // at it and no farther than that past it.
+        const Vector3d dir = Vector3d(u(rng), u(rng), u(rng)).normalized();
+        const double lambda = penetration_along(diff, dir);
+        const auto gap = [&](double t) {
+          Core moved = b;
+          for (Vector3d& x : moved.v) x += t * dir;
+          return core_distance(a, moved) - r;
+        };
+        if (gap(0) > 1e-9) {
+          EXPECT_EQ(lambda, 0) << na << " / " << nb;
+          continue;
+        }
+        EXPECT_NEAR(gap(lambda), 0, 1e-9) << na << " / " << nb;
+        EXPECT_GT(gap(lambda + 1e-6), 0) << na << " / " << nb;
+      }
+    }
+  EXPECT_GT(inside, 100);
+  EXPECT_GT(outside, 100);
 }
 
 TEST(RoundedShapes, EveryPairOfKindsMatchesTheCoresExactDistanceMinusTheRadii) {
@@ -778,20 +839,30 @@ TEST(RoundedShapes, BadRadiiAndLengthsAreRefused) {
 
 // The operations that do not take rounded shapes yet say so; none crashes or answers for the core.
 TEST(RoundedShapes, OperationsWithoutRoundedShapesSaySo) {
-  ConvexShape sphere, capsule, box, rounded_box;
+  ConvexShape sphere, capsule, box, rounded_box, triangle;
   ASSERT_EQ(shape_from_sphere(1, sphere), Status::Ok);
   ASSERT_EQ(shape_from_capsule(1, 1, capsule), Status::Ok);
   ASSERT_EQ(shape_from_box(Box{}, box), Status::Ok);
   ASSERT_EQ(shape_with_radius(box, 1, rounded_box), Status::Ok);
+  ASSERT_EQ(shape_from_triangle({Vector3d(0, 0, 0), Vector3d(1, 0, 0), Vector3d(0, 1, 0)}, triangle), Status::Ok);
   const Isometry3d id = Isometry3d::Identity();
   Isometry3d far = id;
   far.translation() = Vector3d(10, 0, 0);
-  for (const ConvexShape* s : {&sphere, &capsule, &rounded_box}) {
-    MinkowskiSum m;
-    EXPECT_EQ(minkowski_sum(*s, id, box, far, m), Status::Unsupported);
-    EXPECT_EQ(minkowski_difference(box, id, *s, far, m), Status::Unsupported);
-    EXPECT_EQ(m.F, 0);
-  }
+  MinkowskiSum m;
+  // A capsule's core is a segment: the sums do not take it yet. Two points, or a point and a
+  // flat triangle, have no solid sum.
+  EXPECT_EQ(minkowski_sum(capsule, id, box, far, m), Status::Unsupported);
+  EXPECT_EQ(minkowski_difference(box, id, capsule, far, m), Status::Unsupported);
+  EXPECT_EQ(m.F, 0);
+  EXPECT_EQ(minkowski_sum(sphere, id, sphere, far, m), Status::DegenerateResult);
+  EXPECT_EQ(minkowski_sum(triangle, id, sphere, far, m), Status::DegenerateResult);
+  // A rounded sum is not a polygon mesh, and its proximity needs the radii apart.
+  ASSERT_EQ(minkowski_difference(rounded_box, id, sphere, far, m), Status::Ok);
+  std::string error;
+  EXPECT_FALSE(write_mesh("/tmp/minksum_rounded_sum.off", m, error));
+  EXPECT_NE(error.find("rounded"), std::string::npos) << error;
+  Proximity p;
+  EXPECT_EQ(proximity(m, box.polytope(), sphere.polytope(), p), Status::Unsupported);
   // Mesh contact clips triangles by the tool's planes: a ball is not a polytope.
   const std::vector<Vector3d> corners = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   Octree mesh;

@@ -31,7 +31,8 @@ bool read_polygons(std::istream& in, const std::string& name, std::string format
 bool read_mesh(const std::string& path, std::vector<Eigen::Vector3d>& vertices,
                std::vector<std::array<int, 3>>& triangles, std::string& error, bool cloud_ok = false);
 
-/// Writes a sum as an OFF, OBJ or PLY mesh, chosen by the file extension.
+/// Writes a sum as an OFF, OBJ or PLY mesh, chosen by the file extension. A rounded sum
+/// (radius > 0) is not a polygon mesh: false with an error (set the radius to 0 to write its core).
 bool write_mesh(const std::string& path, const MinkowskiSum& sum, std::string& error);
 
 }  // namespace minksum

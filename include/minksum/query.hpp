@@ -77,14 +77,18 @@ struct ProximityCache {
   long searched = 0;     ///< answers that needed the exhaustive search (statistics)
 };
 
-/// True if p lies in the closed polytope m; stops at the first plane that separates p. False
-/// for an empty m (a sum that failed) and for a point with a NaN coordinate.
+/// True if p lies in the closed polytope m; stops at the first plane that separates p by more
+/// than m.radius. A rounded sum (radius > 0): within the radius of the polytope, by the
+/// distance to the facets whose planes p lies beyond. False for an empty m (a sum that failed)
+/// and for a point with a NaN coordinate.
 bool contains(const MinkowskiSum& m, const Eigen::Vector3d& p);
 
 /// The proximity of A and B read off M = A (-) B (from minkowski_difference(a, b, m)): the
 /// origin's Voronoi region of M (facet, edge or vertex) gives the exact distance, and the
 /// support pairs of that feature give the closest points on A and B. TooFewPoints for an empty
-/// m; InvalidMesh when m's support pairs index past a's or b's vertices (m is not their sum).
+/// m; InvalidMesh when m's support pairs index past a's or b's vertices (m is not their sum);
+/// Unsupported for a rounded m (how its radius splits between A and B is not known here:
+/// proximity of the posed shapes answers it).
 Status proximity(const MinkowskiSum& m, const ConvexPolytope& a, const ConvexPolytope& b, Proximity& out);
 
 /// The proximity of two convex polytopes (exact), to the fields `want` asks for.
@@ -194,7 +198,8 @@ Status time_of_impact(const ConvexShape& a, const Eigen::Isometry3d& a0, const E
                       double tolerance = 0);
 
 /// How far B must move along the unit direction u for A and B to stop overlapping (0 if they
-/// are separated, or already would be after any move along u).
+/// are separated, or already would be after any move along u), from M = A (-) B. A rounded M:
+/// where the ray leaves the balls, cylinders and slabs about M's vertices, edges and facets.
 double penetration_along(const MinkowskiSum& m, const Eigen::Vector3d& u);
 
 }  // namespace minksum

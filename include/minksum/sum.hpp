@@ -63,6 +63,9 @@ struct MinkowskiSum {
   bool corrected = false;           ///< the Section 3 hull corrector rebuilt the result
   Method method = Method::Fast;     ///< the path that produced it
   SumParts parts = SumParts::Whole;  ///< what it holds (the hull corrector's answer is whole)
+  /// The radius swept around the polytope: the sum is it (+) a ball of this radius (rounded
+  /// operands: their radii added; 0 for polytopes)
+  double radius = 0;
   /// Facet k's vertex loop, starting at its smallest index (the plane's pair); a Whole result's only.
   Loop facet(int k) const { return {loop_vertex.data() + loop_start[k], loop_start[k + 1] - loop_start[k]}; }
 };
@@ -72,9 +75,12 @@ struct MinkowskiSum {
 /// frame, support pairs (i, j) indexing a.polytope() and b.polytope(). O(|E_A| + |E_B| +
 /// output) after one linear scan for the first support. `parts`: Planes skips the vertices
 /// and loops (certified as Whole is, but for Euler's relation, which needs the loops; a flat
-/// operand takes the whole path); Vertices hands back Whole without its loops. TooFewPoints
-/// for an empty shape, InvalidPose for a pose that is not rigid, DegenerateResult for two
-/// coplanar flat shapes.
+/// operand takes the whole path); Vertices hands back Whole without its loops. Rounded shapes
+/// (a radius, a sphere): the sum of the cores, Whole whatever `parts` asks (reading it with its
+/// radius needs the loops), with `radius` the radii added; a sphere's core is a point, so with
+/// a solid core the sum is that core translated. TooFewPoints for an empty shape, InvalidPose
+/// for a pose that is not rigid, DegenerateResult for two coplanar flat shapes or a point and a
+/// point or a flat shape (not solids), Unsupported for a capsule (a segment core).
 Status minkowski_sum(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
                      const Eigen::Isometry3d& pose_b, MinkowskiSum& out, SumParts parts = SumParts::Whole);
 

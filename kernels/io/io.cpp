@@ -498,6 +498,13 @@ bool read_mesh(const std::string& path, std::vector<Vector3d>& vertices, std::ve
 }
 
 bool write_mesh(const std::string& path, const MinkowskiSum& sum, std::string& error) {
+  if (sum.radius > 0) {
+    std::ostringstream r;
+    r.precision(17);
+    r << sum.radius;
+    error = path + ": a rounded sum (radius " + r.str() + ") is not a polygon mesh; set its radius to 0 to write its core";
+    return false;
+  }
   const std::string ext = lower_extension(path);
   if (ext != "off" && ext != "obj" && ext != "ply") {
     error = path + ": unknown mesh extension (use .off, .obj or .ply)";

@@ -1,7 +1,6 @@
-// Proximity queries on M = A (-) B: the origin's Voronoi region of M gives the exact distance
-// (the paper's Sections 1 and 5.1, Fig. 8); the support pairs of the feature give the closest
-// points on A and B, since every point of M is sum_k w_k (a_(i_k) - b_(j_k)) over its feature's
-// vertices, and then sum_k w_k a_(i_k) lies on A and sum_k w_k b_(j_k) on B.
+// Proximity queries on two polytopes or posed shapes without building M = A (-) B: boxes and
+// triangles in their own form, else GJK under a certificate, EPA and the exhaustive search
+// (reading a built M is built_sum.cpp's).
 #include <minksum/query.hpp>
 
 #include <minksum/kernels.hpp>
@@ -47,127 +46,6 @@ using detail::Patch;
 using detail::patch_point;
 using detail::settle;
 using Eigen::Vector3d;
-
-namespace {
-
-// A point of M as weights over (i, j) pairs: its preimages on A and B.
-struct Witness {
-  double dist2 = std::numeric_limits<double>::infinity();
-  int pair[3] = {0, 0, 0};  // indices into the sum's vertices
-  double w[3] = {1, 0, 0};
-};
-
-// The point of the convex polygon `loop` (vertex indices of m, counter-clockwise about n) that
-// is closest to the origin, with its weights over at most three of the polygon's vertices.
-Witness closest_on_facet(const MinkowskiSum& m, const Loop& loop, const Vector3d& n) {
-  const size_t size = size_t(loop.size());
-  const auto P = [&](size_t k) -> const Vector3d& { return m.vertices[loop[int(k % size)]].point; };
-  const double d = n.dot(P(0));
-  const Vector3d q = d * n;  // the origin projected onto the facet's plane
-  bool inside = true;
-  for (size_t k = 0; k < size && inside; ++k) inside = (P(k + 1) - P(k)).cross(q - P(k)).dot(n) >= 0;
-  Witness best;
-  if (inside) {  // the facet's own region: barycentric weights in the fan triangle holding q
-    for (size_t k = 1; k + 1 < size; ++k) {
-      const Vector3d &a = P(0), &b = P(k), &c = P(k + 1);
-      const double area = (b - a).cross(c - a).dot(n);
-      const double wb = (q - a).cross(c - a).dot(n) / area, wc = (b - a).cross(q - a).dot(n) / area;
-      if (!(wb >= -1e-12 && wc >= -1e-12 && wb + wc <= 1 + 1e-12)) continue;  // NaN (a sliver): skip
-      best.dist2 = d * d;
-      best.pair[0] = loop[0], best.pair[1] = loop[int(k)], best.pair[2] = loop[int(k + 1)];
-      best.w[0] = 1 - wb - wc, best.w[1] = wb, best.w[2] = wc;
-      return best;
-    }
-  }
-  // An edge's or a vertex's region: the closest point on the nearest boundary segment.
-  for (size_t k = 0; k < size; ++k) {
-    const Vector3d &a = P(k), e = P(k + 1) - P(k);
-    const double t = detail::nearest_on_segment(a, P(k + 1));
-    const double dist2 = (a + t * e).squaredNorm();
-    if (dist2 < best.dist2) {
-      best.dist2 = dist2;
-      best.pair[0] = loop[int(k)], best.pair[1] = loop[int((k + 1) % size)], best.pair[2] = loop[0];
-      best.w[0] = 1 - t, best.w[1] = t, best.w[2] = 0;
-    }
-  }
-  return best;
-}
-
-void witness_points(const MinkowskiSum& m, const ConvexPolytope& a, const ConvexPolytope& b, const Witness& w,
-                    Vector3d& pa, Vector3d& pb) {
-  pa.setZero(), pb.setZero();
-  for (int k = 0; k < 3; ++k) {
-    pa += w.w[k] * a.vertices[m.vertices[w.pair[k]].i];
-    pb += w.w[k] * b.vertices[m.vertices[w.pair[k]].j];
-  }
-}
-
-void farthest(const MinkowskiSum& m, const ConvexPolytope& a, const ConvexPolytope& b, Proximity& out) {
-  // The farthest point of a polytope from the origin is one of its vertices.
-  int far = 0;
-  for (int k = 1; k < m.V; ++k)
-    if (m.vertices[k].point.squaredNorm() > m.vertices[far].point.squaredNorm()) far = k;
-  out.max_distance = m.vertices[far].point.norm();
-  out.far_a = a.vertices[m.vertices[far].i];
-  out.far_b = b.vertices[m.vertices[far].j];
-}
-
-}  // namespace
-
-bool contains(const MinkowskiSum& m, const Vector3d& p) {
-  if (m.planes.empty()) return false;  // (a failed sum is empty: nothing lies in it)
-  for (const auto& plane : m.planes)
-    if (!(plane.normal.dot(p) <= plane.offset)) return false;  // (a NaN point is in nothing)
-  return true;
-}
-
-Status proximity(const MinkowskiSum& m, const ConvexPolytope& a, const ConvexPolytope& b, Proximity& out) {
-  out = Proximity{};
-  if (m.F < 4 || m.V < 4 || int(m.planes.size()) != m.F || int(m.vertices.size()) != m.V) return Status::TooFewPoints;
-  for (const SumVertex& v : m.vertices)
-    if (v.i < 0 || v.j < 0 || size_t(v.i) >= a.vertices.size() || size_t(v.j) >= b.vertices.size())
-      return Status::InvalidMesh;
-  farthest(m, a, b, out);
-  // Inside M (every offset >= 0): intersecting; the nearest facet is the minimum translation.
-  // Within rounding of the boundary (offsets are exact only to a few ulps of M's size) the
-  // origin touches M: there a plane can separate it by rounding while its facet lies far away,
-  // and the facet that holds the origin's projection may not separate it.
-  double size = 0;
-  for (const auto& v : m.vertices) size = std::max(size, v.point.cwiseAbs().maxCoeff());
-  const double tol = 64 * std::numeric_limits<double>::epsilon() * size;
-  int nearest = 0;
-  for (int k = 1; k < m.F; ++k)
-    if (m.planes[k].offset < m.planes[nearest].offset) nearest = k;
-  if (m.planes[nearest].offset >= -tol) {
-    out.intersecting = true;
-    out.penetration_depth = std::max(0.0, m.planes[nearest].offset);
-    out.penetration_direction = m.planes[nearest].normal;
-    // Deepest points: the origin's projection onto that facet, pulled back to A and B.
-    witness_points(m, a, b, closest_on_facet(m, m.facet(nearest), m.planes[nearest].normal), out.point_a, out.point_b);
-    return Status::Ok;
-  }
-  // Outside: the closest point of M lies on a facet whose plane separates the origin.
-  Witness best;
-  for (int k = 0; k < m.F; ++k) {
-    if (m.planes[k].offset >= tol) continue;
-    const Witness w = closest_on_facet(m, m.facet(k), m.planes[k].normal);
-    if (w.dist2 < best.dist2) best = w;
-  }
-  out.distance = std::sqrt(best.dist2);
-  witness_points(m, a, b, best, out.point_a, out.point_b);
-  return Status::Ok;
-}
-
-double penetration_along(const MinkowskiSum& m, const Vector3d& u) {
-  // The ray from the origin along u leaves M through the first plane it crosses.
-  double t = std::numeric_limits<double>::infinity();
-  for (const auto& p : m.planes) {
-    if (p.offset < 0) return 0;  // the origin is outside M: no overlap
-    const double along = p.normal.dot(u);
-    if (along > 0) t = std::min(t, p.offset / along);
-  }
-  return std::isfinite(t) ? t : 0;
-}
 
 namespace {
 

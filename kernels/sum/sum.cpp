@@ -128,16 +128,64 @@ Status sum_dispatch(const ConvexPolytope& a, const ConvexPolytope& b, bool diffe
   return Status::Ok;
 }
 
-// Checks the shapes and poses of a posed sum.
+// The sum of a point core p (A, or B with `point_is_b`) and a solid core q placed by its pose:
+// q translated by p, or for a difference p - q or q - p (q negated: its normals, and its loops
+// reversed to stay counter-clockwise from outside). The pairs index q's vertices and the
+// point's one vertex (0); each plane's offset is the highest of q's placed vertices along it.
+void point_sum(const Vector3d& p, const ConvexPolytope& q, const Eigen::Isometry3d& pose, bool point_is_b,
+               bool difference, MinkowskiSum& out) {
+  out = MinkowskiSum{};
+  const double sign = difference && !point_is_b ? -1.0 : 1.0, shift = difference && point_is_b ? -1.0 : 1.0;
+  const int V = int(q.vertices.size());
+  for (int k = 0; k < V; ++k) {
+    SumVertex v;
+    v.i = point_is_b ? k : 0, v.j = point_is_b ? 0 : k;
+    v.point = sign * (pose * q.vertices[size_t(k)]) + shift * p;
+    out.vertices.push_back(v);
+  }
+  out.loop_start.push_back(0);
+  for (const Face& f : q.faces) {
+    SumPlane plane;
+    plane.normal = sign * (pose.linear() * f.normal);
+    plane.offset = -std::numeric_limits<double>::infinity();
+    for (const SumVertex& v : out.vertices) plane.offset = std::max(plane.offset, plane.normal.dot(v.point));
+    // The loop from its smallest vertex, reversed for a negated q.
+    const int n = int(f.loop.size());
+    const int least = int(std::min_element(f.loop.begin(), f.loop.end()) - f.loop.begin());
+    for (int k = 0; k < n; ++k) out.loop_vertex.push_back(f.loop[size_t((least + (sign > 0 ? k : n - k)) % n)]);
+    plane.i = out.vertices[size_t(out.loop_vertex[size_t(out.loop_start.back())])].i;
+    plane.j = out.vertices[size_t(out.loop_vertex[size_t(out.loop_start.back())])].j;
+    out.planes.push_back(plane);
+    out.loop_start.push_back(int(out.loop_vertex.size()));
+  }
+  out.V = V, out.F = int(q.faces.size()), out.E = int(q.edges.size());
+  out.euler_ok = out.V - out.E + out.F == 2;
+}
+
+// Checks the shapes and poses of a posed sum. Rounded shapes: the sum of the cores, whole
+// (reading it with the radius needs the loops), with the radii added; a point core and a solid
+// one: the solid translated.
 Status sum_shapes(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
                   const Eigen::Isometry3d& pose_b, bool difference, MinkowskiSum& out, SumParts parts) {
   const detail::ShapeData *da = detail::ShapeAccess::data(a), *db = detail::ShapeAccess::data(b);
   Status s = !da || !db ? Status::TooFewPoints : check_pose(pose_a);
   if (s == Status::Ok) s = check_pose(pose_b);
-  if (s == Status::Ok && (a.radius() > 0 || b.radius() > 0 || !da->has_faces() || !db->has_faces()))
-    s = Status::Unsupported;
+  using Kind = detail::ShapeData::Kind;
+  if (s == Status::Ok && (da->kind == Kind::Segment || db->kind == Kind::Segment)) s = Status::Unsupported;
+  if (s == Status::Ok && (!da->has_faces() && (!db->has_faces() || db->polytope_ref->flat)))
+    s = Status::DegenerateResult;  // (a point and a point or a flat polygon: not a solid)
+  if (s == Status::Ok && (!db->has_faces() && da->polytope_ref->flat)) s = Status::DegenerateResult;
   if (s != Status::Ok) return out = MinkowskiSum{}, s;
-  return detail::sum_placed(*da, pose_a, *db, pose_b, difference, out, parts);
+  const double radius = a.radius() + b.radius();
+  if (radius > 0) parts = SumParts::Whole;
+  if (!da->has_faces())
+    point_sum(pose_a * a.polytope().vertices.front(), b.polytope(), pose_b, false, difference, out);
+  else if (!db->has_faces())
+    point_sum(pose_b * b.polytope().vertices.front(), a.polytope(), pose_a, true, difference, out);
+  else
+    s = detail::sum_placed(*da, pose_a, *db, pose_b, difference, out, parts);
+  if (s == Status::Ok) out.radius = radius;
+  return s;
 }
 
 }  // namespace

@@ -538,6 +538,7 @@ void rounded(fuzz::Bytes& in) {
   double least = std::numeric_limits<double>::infinity();
   for (int i = 0; i < a.n; ++i)
     for (int j = 0; j < b.n; ++j) least = std::min(least, test::exact_triangle_distance(a.tri[i], b.tri[j]));
+  const double surfaces = least;  // (the cores' surfaces: a mesh of B's is a surface)
   if ((a.is_box && inside(a.placed, b.tri[0][0], 0)) || (b.is_box && inside(b.placed, a.tri[0][0], 0))) least = 0;
   const double signed_gap = p.intersecting ? -p.penetration_depth : p.distance;
   // Cores apart: the gap is their distance less the radii; meeting: deeper than the radii.
@@ -546,6 +547,34 @@ void rounded(fuzz::Bytes& in) {
     std::fprintf(stderr, "rounded: intersecting %d distance %.17g depth %.17g; cores %.17g apart, radii %.17g\n",
                  int(p.intersecting), p.distance, p.penetration_depth, least, r);
     fuzz::fail("the rounded query differs from the cores' exact distance less the radii");
+  }
+  // The difference of rounded shapes holds the origin exactly when they meet; a mesh of B's
+  // core surface is A's distance from those triangles.
+  MinkowskiSum m;
+  const Status ms = minkowski_difference(a.shape, a.pose, b.shape, b.pose, m);
+  if (ms == Status::Ok && std::abs(least - r) > tol && contains(m, Eigen::Vector3d::Zero()) != (least <= r))
+    fuzz::fail("the rounded difference's contains(origin) differs from the cores' exact distance");
+  if (ms == Status::Ok && !(penetration_along(m, Eigen::Vector3d::UnitX()) >= 0))
+    fuzz::fail("a rounded penetration_along is negative or NaN");
+  if (ms != Status::Ok && ms != Status::Unsupported && ms != Status::DegenerateResult && ms != Status::HullFailed)
+    fuzz::fail("a rounded difference failed on valid shapes");
+  std::vector<Eigen::Vector3d> corners;
+  std::vector<std::array<int, 3>> faces;
+  for (int j = 0; j < b.n; ++j) {
+    for (const auto& v : b.tri[j]) corners.push_back(v);
+    faces.push_back({3 * j, 3 * j + 1, 3 * j + 2});
+  }
+  Octree tree;
+  MeshDistance md;
+  if (build_octree(corners, faces, tree) == Status::Ok &&
+      mesh_distance(tree, Eigen::Isometry3d::Identity(), a.shape, a.pose, md) == Status::Ok) {
+    // (A solid box holding a corner of B's surface holds part of a triangle: they meet.)
+    const double core = a.is_box && inside(a.placed, b.tri[0][0], 0) ? 0.0 : surfaces;
+    const double expected = std::max(0.0, core - a.shape.radius());
+    if (std::abs(core - a.shape.radius()) > tol && std::abs(md.distance - expected) > tol) {
+      std::fprintf(stderr, "rounded mesh: distance %.17g, expected %.17g\n", md.distance, expected);
+      fuzz::fail("the shape-mesh distance differs from the exact distance of the core to the triangles");
+    }
   }
   ProximityCache cache;
   Proximity q;

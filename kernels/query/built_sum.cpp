@@ -1,0 +1,205 @@
+// Reading a built sum: whether a point lies in it, and the proximity and penetration of two
+// shapes from their difference M = A (-) B. The origin's Voronoi region of M gives the exact
+// distance (the paper's Sections 1 and 5.1, Fig. 8); the support pairs of the feature give the
+// closest points on A and B, since every point of M is sum_k w_k (a_(i_k) - b_(j_k)) over its
+// feature's vertices, and then sum_k w_k a_(i_k) lies on A and sum_k w_k b_(j_k) on B. A
+// rounded sum (radius r) is M (+) B(r): a point lies in it within r of M.
+#include <minksum/query.hpp>
+
+#include "geometry/closest.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace minksum {
+
+using Eigen::Vector3d;
+
+namespace {
+
+// A point of M as weights over (i, j) pairs: its preimages on A and B.
+struct Witness {
+  double dist2 = std::numeric_limits<double>::infinity();
+  int pair[3] = {0, 0, 0};  // indices into the sum's vertices
+  double w[3] = {1, 0, 0};
+};
+
+// The point of the convex polygon `loop` (vertex indices of m, counter-clockwise about n) that
+// is closest to p (m's vertices taken relative to p), with its weights over at most three of
+// the polygon's vertices.
+Witness closest_on_facet(const MinkowskiSum& m, const Loop& loop, const Vector3d& n,
+                         const Vector3d& p = Vector3d::Zero()) {
+  const size_t size = size_t(loop.size());
+  const auto P = [&](size_t k) -> Vector3d { return m.vertices[loop[int(k % size)]].point - p; };
+  const double d = n.dot(P(0));
+  const Vector3d q = d * n;  // p projected onto the facet's plane
+  bool inside = true;
+  for (size_t k = 0; k < size && inside; ++k) inside = (P(k + 1) - P(k)).cross(q - P(k)).dot(n) >= 0;
+  Witness best;
+  if (inside) {  // the facet's own region: barycentric weights in the fan triangle holding q
+    for (size_t k = 1; k + 1 < size; ++k) {
+      const Vector3d a = P(0), b = P(k), c = P(k + 1);
+      const double area = (b - a).cross(c - a).dot(n);
+      const double wb = (q - a).cross(c - a).dot(n) / area, wc = (b - a).cross(q - a).dot(n) / area;
+      if (!(wb >= -1e-12 && wc >= -1e-12 && wb + wc <= 1 + 1e-12)) continue;  // NaN (a sliver): skip
+      best.dist2 = d * d;
+      best.pair[0] = loop[0], best.pair[1] = loop[int(k)], best.pair[2] = loop[int(k + 1)];
+      best.w[0] = 1 - wb - wc, best.w[1] = wb, best.w[2] = wc;
+      return best;
+    }
+  }
+  // An edge's or a vertex's region: the closest point on the nearest boundary segment.
+  for (size_t k = 0; k < size; ++k) {
+    const Vector3d a = P(k), e = P(k + 1) - P(k);
+    const double t = detail::nearest_on_segment(a, P(k + 1));
+    const double dist2 = (a + t * e).squaredNorm();
+    if (dist2 < best.dist2) {
+      best.dist2 = dist2;
+      best.pair[0] = loop[int(k)], best.pair[1] = loop[int((k + 1) % size)], best.pair[2] = loop[0];
+      best.w[0] = 1 - t, best.w[1] = t, best.w[2] = 0;
+    }
+  }
+  return best;
+}
+
+void witness_points(const MinkowskiSum& m, const ConvexPolytope& a, const ConvexPolytope& b, const Witness& w,
+                    Vector3d& pa, Vector3d& pb) {
+  pa.setZero(), pb.setZero();
+  for (int k = 0; k < 3; ++k) {
+    pa += w.w[k] * a.vertices[m.vertices[w.pair[k]].i];
+    pb += w.w[k] * b.vertices[m.vertices[w.pair[k]].j];
+  }
+}
+
+void farthest(const MinkowskiSum& m, const ConvexPolytope& a, const ConvexPolytope& b, Proximity& out) {
+  // The farthest point of a polytope from the origin is one of its vertices.
+  int far = 0;
+  for (int k = 1; k < m.V; ++k)
+    if (m.vertices[k].point.squaredNorm() > m.vertices[far].point.squaredNorm()) far = k;
+  out.max_distance = m.vertices[far].point.norm();
+  out.far_a = a.vertices[m.vertices[far].i];
+  out.far_b = b.vertices[m.vertices[far].j];
+}
+
+// The squared distance of p from m (Whole: its loops), p outside it: the nearest point lies on
+// a facet whose plane has p beyond it (on an edge or a vertex, on one of its facets'), so the
+// least distance to those facets' polygons.
+double distance2_outside(const MinkowskiSum& m, const Vector3d& p) {
+  double best = std::numeric_limits<double>::infinity();
+  if (int(m.loop_start.size()) != m.F + 1) return best;  // (no loops: not a rounded sum the library built)
+  for (int k = 0; k < m.F; ++k)
+    if (m.planes[k].normal.dot(p) > m.planes[k].offset)
+      best = std::min(best, closest_on_facet(m, m.facet(k), m.planes[k].normal, p).dist2);
+  return best;
+}
+
+// How far the ray from the origin along unit u runs inside M (+) B(r), r = m.radius, the origin
+// inside it (else 0). M (+) B(r) is the union of the balls about M's vertices, the cylinders
+// about its edges and the slabs |n . x - o| <= r over its facets: the ray's last point in it
+// is the last point in one of them, so the exit is the largest of their exits where it lies
+// in that piece (the larger root on a ball; on a cylinder, where the axis point lies on the
+// edge; on a slab's far plane, where the projection lies on the facet).
+double rounded_exit(const MinkowskiSum& m, const Vector3d& u) {
+  const double r = m.radius;
+  if (!contains(m, Vector3d::Zero()) || int(m.loop_start.size()) != m.F + 1) return 0;
+  double best = 0;
+  // The larger root of |lambda u - c|^2 = rr - (c's part across an axis), along the ray.
+  const auto ball = [&](const Vector3d& c) {
+    const double along = u.dot(c), across2 = (c - along * u).squaredNorm();
+    if (across2 <= r * r) best = std::max(best, along + std::sqrt(r * r - across2));
+  };
+  for (const SumVertex& v : m.vertices) ball(v.point);
+  for (int k = 0; k < m.F; ++k) {
+    const Loop f = m.facet(k);
+    const Vector3d& n = m.planes[k].normal;
+    for (int e = 0; e < f.size(); ++e) {  // each edge twice (once per facet): the same exit
+      const Vector3d a = m.vertices[f[e]].point, d = m.vertices[f[(e + 1) % f.size()]].point - a;
+      // |lambda u - a - s d| = r with s the axis parameter: in the plane across d.
+      const double len2 = d.squaredNorm();
+      if (!(len2 > 0)) continue;
+      const Vector3d w = u - u.dot(d) / len2 * d, c = a - a.dot(d) / len2 * d;
+      const double ww = w.squaredNorm(), wc = w.dot(c), disc = wc * wc - ww * (c.squaredNorm() - r * r);
+      if (!(ww > 0) || disc < 0) continue;
+      const double lambda = (wc + std::sqrt(disc)) / ww, s = (lambda * u - a).dot(d) / len2;
+      if (s >= 0 && s <= 1) best = std::max(best, lambda);
+    }
+    const double along = n.dot(u);
+    if (along > 0) {  // the slab's far plane n . x = o + r, where p projects onto the facet
+      const double lambda = (m.planes[k].offset + r) / along;
+      const Vector3d q = lambda * u - r * n;
+      bool in = true;
+      for (int e = 0; e < f.size() && in; ++e) {
+        const Vector3d &a = m.vertices[f[e]].point, &b = m.vertices[f[(e + 1) % f.size()]].point;
+        in = (b - a).cross(q - a).dot(n) >= 0;
+      }
+      if (in) best = std::max(best, lambda);
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+bool contains(const MinkowskiSum& m, const Vector3d& p) {
+  if (m.planes.empty()) return false;  // (a failed sum is empty: nothing lies in it)
+  bool inside = true;
+  for (const auto& plane : m.planes) {
+    const double above = plane.normal.dot(p) - plane.offset;
+    if (!(above <= m.radius)) return false;  // (a NaN point is in nothing)
+    inside = inside && above <= 0;
+  }
+  return inside || distance2_outside(m, p) <= m.radius * m.radius;
+}
+
+Status proximity(const MinkowskiSum& m, const ConvexPolytope& a, const ConvexPolytope& b, Proximity& out) {
+  out = Proximity{};
+  if (m.radius > 0) return Status::Unsupported;  // (how the radius splits between a and b is not known here)
+  if (m.F < 4 || m.V < 4 || int(m.planes.size()) != m.F || int(m.vertices.size()) != m.V) return Status::TooFewPoints;
+  for (const SumVertex& v : m.vertices)
+    if (v.i < 0 || v.j < 0 || size_t(v.i) >= a.vertices.size() || size_t(v.j) >= b.vertices.size())
+      return Status::InvalidMesh;
+  farthest(m, a, b, out);
+  // Inside M (every offset >= 0): intersecting; the nearest facet is the minimum translation.
+  // Within rounding of the boundary (offsets are exact only to a few ulps of M's size) the
+  // origin touches M: there a plane can separate it by rounding while its facet lies far away,
+  // and the facet that holds the origin's projection may not separate it.
+  double size = 0;
+  for (const auto& v : m.vertices) size = std::max(size, v.point.cwiseAbs().maxCoeff());
+  const double tol = 64 * std::numeric_limits<double>::epsilon() * size;
+  int nearest = 0;
+  for (int k = 1; k < m.F; ++k)
+    if (m.planes[k].offset < m.planes[nearest].offset) nearest = k;
+  if (m.planes[nearest].offset >= -tol) {
+    out.intersecting = true;
+    out.penetration_depth = std::max(0.0, m.planes[nearest].offset);
+    out.penetration_direction = m.planes[nearest].normal;
+    // Deepest points: the origin's projection onto that facet, pulled back to A and B.
+    witness_points(m, a, b, closest_on_facet(m, m.facet(nearest), m.planes[nearest].normal), out.point_a, out.point_b);
+    return Status::Ok;
+  }
+  // Outside: the closest point of M lies on a facet whose plane separates the origin.
+  Witness best;
+  for (int k = 0; k < m.F; ++k) {
+    if (m.planes[k].offset >= tol) continue;
+    const Witness w = closest_on_facet(m, m.facet(k), m.planes[k].normal);
+    if (w.dist2 < best.dist2) best = w;
+  }
+  out.distance = std::sqrt(best.dist2);
+  witness_points(m, a, b, best, out.point_a, out.point_b);
+  return Status::Ok;
+}
+
+double penetration_along(const MinkowskiSum& m, const Vector3d& u) {
+  if (m.radius > 0) return rounded_exit(m, u);
+  // The ray from the origin along u leaves M through the first plane it crosses.
+  double t = std::numeric_limits<double>::infinity();
+  for (const auto& p : m.planes) {
+    if (p.offset < 0) return 0;  // the origin is outside M: no overlap
+    const double along = p.normal.dot(u);
+    if (along > 0) t = std::min(t, p.offset / along);
+  }
+  return std::isfinite(t) ? t : 0;
+}
+
+}  // namespace minksum
