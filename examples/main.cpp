@@ -464,8 +464,7 @@ int cmd_sum(int argc, char** argv) {
   const double t1 = now_us();
   if (s != Status::Ok) {
     std::fprintf(stderr, "minksum: %s\n",
-                 s == Status::Unsupported ? "sums do not take a capsule yet (spheres, rounded shapes and polytopes they do)"
-                                          : to_string(s));
+                 to_string(s));
     return 2;
   }
   if (!out_path.empty()) {
@@ -491,7 +490,7 @@ int cmd_sum(int argc, char** argv) {
   } else {
     std::printf("%s %s %s: V=%d E=%d F=%d, Euler %s%s, %.1f us (%s path)\n", files[0].c_str(), diff ? "(-)" : "(+)",
                 files[1].c_str(), m.V, m.E, m.F, m.euler_ok ? "holds" : "fails", m.corrected ? " (corrected)" : "",
-                t1 - t0, method_name(method));
+                t1 - t0, method_name(m.method));
     if (m.radius > 0) std::printf("rounded: this polytope swept by a ball of radius %.17g\n", m.radius);
   }
   return 0;

@@ -552,9 +552,9 @@ TEST(Cli, QueryTakesSpheresCapsulesAndRadii) {
     EXPECT_EQ(r.code, 2) << bad;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << bad << ": " << r.err;
   }
-  r = run("sum sphere:1 capsule:1:1");
+  r = run("sum sphere:1 capsule:1:1");  // (a segment: not a solid)
   EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.err.find("sums do not take a capsule yet"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("not a solid"), std::string::npos) << r.err;
   // A rounded sum: the cores' sum and the radii added, printed; not a mesh to write, nor a
   // sum for the polytope methods.
   r = run("sum sphere:0.5 " + cube + " --radius-b 0.25 --json");

@@ -16,7 +16,7 @@ enum class Status {
   InvalidMesh,       ///< bad index, face with < 3 vertices, open or non-manifold explicit mesh
   NotConvex,         ///< an explicit mesh is not convex (or a face is not planar)
   InvalidBox,        ///< a box half extent is <= 0 or its rotation is not a rotation
-  DegenerateResult,  ///< the sum is flat (two coplanar flat operands): not a solid
+  DegenerateResult,  ///< the sum is not a solid (two coplanar flat operands; a point or segment core with a thin one)
   HullFailed,        ///< Qhull reported an error on input that passed validation
   OutOfRange,        ///< a coordinate's magnitude exceeds kMaxCoordinate, or a shape is under kMinExtent across
   InvalidPose,       ///< a pose that is not a finite rigid motion (scale, shear, reflection, NaN)

@@ -29,7 +29,7 @@ const char* to_string(Status s) {
     case Status::InvalidBox:
       return "invalid box (non-positive half extent or non-orthonormal rotation)";
     case Status::DegenerateResult:
-      return "the sum of two coplanar flat polytopes is flat, not a solid";
+      return "the sum is not a solid (two coplanar flat polytopes, or a sphere's or capsule's core with a core too thin)";
     case Status::HullFailed:
       return "the convex hull (Qhull) failed";
     case Status::InvalidPose:

@@ -162,26 +162,57 @@ void point_sum(const Vector3d& p, const ConvexPolytope& q, const Eigen::Isometry
   out.euler_ok = out.V - out.E + out.F == 2;
 }
 
+// Whether the sum of two posed cores is a solid: not two points, a point and a flat polygon or a
+// segment, two segments, nor a segment in a flat polygon's plane (two coplanar flat polygons
+// are the overlay's to refuse). Exact for the points, to 1e-12 of the lengths for the planes.
+bool solid_sum(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
+               const Eigen::Isometry3d& pose_b) {
+  using Kind = detail::ShapeData::Kind;
+  const detail::ShapeData *da = detail::ShapeAccess::data(a), *db = detail::ShapeAccess::data(b);
+  const auto dims = [](const detail::ShapeData* d) {
+    return d->kind == Kind::Point ? 0 : d->kind == Kind::Segment ? 1 : d->polytope_ref->flat ? 2 : 3;
+  };
+  const int na = dims(da), nb = dims(db);
+  if (na + nb < 3) return false;
+  if (!(na == 1 && nb == 2) && !(na == 2 && nb == 1)) return true;
+  const bool seg_a = na == 1;  // (a capsule's segment runs along its z)
+  const Vector3d axis = (seg_a ? pose_a : pose_b).linear() * Vector3d::UnitZ();
+  const Vector3d normal = (seg_a ? pose_b : pose_a).linear() * (seg_a ? b : a).polytope().faces[0].normal;
+  return std::abs(axis.dot(normal)) > 1e-12;
+}
+
+// The sum of a segment core and another core (not a point): the hull of the pairwise sums of
+// their vertices (Qhull, with index tracking: the segment's two ends against every vertex),
+// whole; the overlay reads Gauss maps, which a segment has not.
+Status segment_sum(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
+                   const Eigen::Isometry3d& pose_b, bool difference, MinkowskiSum& out) {
+  std::vector<Vector3d> pa, pb;
+  for (const Vector3d& v : a.polytope().vertices) pa.push_back(pose_a * v);
+  for (const Vector3d& v : b.polytope().vertices) pb.push_back(difference ? Vector3d(-(pose_b * v)) : Vector3d(pose_b * v));
+  const Status s = detail::hull_corrector(pa, pb, out);
+  out.method = Method::Hull, out.corrected = false, out.parts = SumParts::Whole;
+  return s;
+}
+
 // Checks the shapes and poses of a posed sum. Rounded shapes: the sum of the cores, whole
 // (reading it with the radius needs the loops), with the radii added; a point core and a solid
-// one: the solid translated.
+// one: the solid translated; a segment core: the hull of the pairwise sums.
 Status sum_shapes(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
                   const Eigen::Isometry3d& pose_b, bool difference, MinkowskiSum& out, SumParts parts) {
   const detail::ShapeData *da = detail::ShapeAccess::data(a), *db = detail::ShapeAccess::data(b);
   Status s = !da || !db ? Status::TooFewPoints : check_pose(pose_a);
   if (s == Status::Ok) s = check_pose(pose_b);
-  using Kind = detail::ShapeData::Kind;
-  if (s == Status::Ok && (da->kind == Kind::Segment || db->kind == Kind::Segment)) s = Status::Unsupported;
-  if (s == Status::Ok && (!da->has_faces() && (!db->has_faces() || db->polytope_ref->flat)))
-    s = Status::DegenerateResult;  // (a point and a point or a flat polygon: not a solid)
-  if (s == Status::Ok && (!db->has_faces() && da->polytope_ref->flat)) s = Status::DegenerateResult;
+  if (s == Status::Ok && !solid_sum(a, pose_a, b, pose_b)) s = Status::DegenerateResult;
   if (s != Status::Ok) return out = MinkowskiSum{}, s;
   const double radius = a.radius() + b.radius();
   if (radius > 0) parts = SumParts::Whole;
-  if (!da->has_faces())
+  using Kind = detail::ShapeData::Kind;
+  if (da->kind == Kind::Point)
     point_sum(pose_a * a.polytope().vertices.front(), b.polytope(), pose_b, false, difference, out);
-  else if (!db->has_faces())
+  else if (db->kind == Kind::Point)
     point_sum(pose_b * b.polytope().vertices.front(), a.polytope(), pose_a, true, difference, out);
+  else if (da->kind == Kind::Segment || db->kind == Kind::Segment)
+    s = segment_sum(a, pose_a, b, pose_b, difference, out);
   else
     s = detail::sum_placed(*da, pose_a, *db, pose_b, difference, out, parts);
   if (s == Status::Ok) out.radius = radius;
