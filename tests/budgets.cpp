@@ -11,6 +11,7 @@
 
 #include <cstdio>
 #include <functional>
+#include <tuple>
 #include <string>
 #include <vector>
 
@@ -193,6 +194,20 @@ void meshes() {
   measure("mesh_distance.cold", int(path.size()), [&](int k) {
     return mesh_distance(A, Isometry3d::Identity(), B, path[size_t(k)], ws, d) == Status::Ok;
   });
+  // A 5 mm sphere and a capsule (10 mm half length, 4 mm radius) along the same path: the shape
+  // form of mesh_distance, cold and seeded by the last answer.
+  ConvexShape ball, capsule;
+  if (shape_from_sphere(0.005, ball) != Status::Ok || shape_from_capsule(0.01, 0.004, capsule) != Status::Ok) g_ok = false;
+  for (const auto& [name, shape] : {std::pair<const char*, const ConvexShape*>{"sphere", &ball}, {"capsule", &capsule}}) {
+    const std::string row = std::string("rounded.mesh_distance.") + name;
+    measure(row + ".cold", int(path.size()), [&, shape = shape](int k) {
+      return mesh_distance(A, Isometry3d::Identity(), *shape, path[size_t(k)], d) == Status::Ok;
+    });
+    ProximityCache cache;
+    measure(row + ".coherent", int(path.size()), [&, shape = shape](int k) {
+      return mesh_distance(A, Isometry3d::Identity(), *shape, path[size_t(k)], cache, d) == Status::Ok;
+    });
+  }
   // A tool the size of the mesh (an icosahedron 0.18 across) swept through it: starting across
   // its surface (time 0), and starting clear, 0.15 above it.
   ConvexShape tool_shape;
@@ -208,22 +223,27 @@ void meshes() {
     });
 }
 
-// The haptic loop on the full bunny's stand-in (box tool, 6-DOF, coherent): a run of 4,001 ticks
-// (one cycle of the path: approach, press, slide turning, leave) less a run of 1, per tick.
+// The haptic loop on the full bunny's stand-in (the box tool, and the default 5 mm sphere;
+// 6-DOF, coherent): a run of 4,001 ticks (one cycle of the path: approach, press, slide
+// turning, leave) less a run of 1, per tick.
 void haptics_loop() {
   haptics::Options o;
   o.scene = "bumpy_full", o.warmup = 0;
   haptics::Report report;
   std::string error;
-  for (double seconds : {0.001, 4.001}) {
-    o.seconds = seconds;
-    CALLGRIND_TOGGLE_COLLECT;
-    const bool ok = haptics::run(o, [] { return -1L; }, report, error);
-    CALLGRIND_TOGGLE_COLLECT;
-    CALLGRIND_DUMP_STATS_AT(seconds < 1 ? "haptic_tick.setup" : "haptic_tick.setup_and_4000");
-    if (!ok) std::fprintf(stderr, "budgets: haptics: %s\n", error.c_str()), g_ok = false;
+  for (const auto& [tool, row] : {std::pair<std::string, std::string>{"box", "haptic_tick"}, {"sphere:5", "haptic_tick_sphere"}}) {
+    o.tool = tool;
+    for (double seconds : {0.001, 4.001}) {
+      o.seconds = seconds;
+      CALLGRIND_TOGGLE_COLLECT;
+      const bool ok = haptics::run(o, [] { return -1L; }, report, error);
+      CALLGRIND_TOGGLE_COLLECT;
+      const std::string dump = row + (seconds < 1 ? ".setup" : ".setup_and_4000");  // (alive through the macro)
+      CALLGRIND_DUMP_STATS_AT(dump.c_str());
+      if (!ok) std::fprintf(stderr, "budgets: haptics: %s\n", error.c_str()), g_ok = false;
+    }
+    std::printf("%s 4000 = %s.setup_and_4000 - %s.setup\n", row.c_str(), row.c_str(), row.c_str());
   }
-  std::printf("haptic_tick 4000 = haptic_tick.setup_and_4000 - haptic_tick.setup\n");
 }
 
 // The sum of each Table 1 pair (prepared shapes, as given and B turned), of aligned rounded prisms, and
@@ -291,6 +311,17 @@ void sums() {
     measure(std::string(name) + ".first", 4, [&](int k) { return rounded_sum(k % 2); });
     measure(std::string(name) + ".again", 4, [&](int) { return rounded_sum(1); });
   }
+  // Rounded sums: a sphere and a box (the box translated), a rounded box and an icosahedron
+  // turned (the cores' overlay), each read back by contains.
+  ConvexShape sphere, box, rounded_box, icosa;
+  shape_from_sphere(0.25, sphere), shape_from_box(Box{}, box), shape_with_radius(box, 0.1, rounded_box);
+  shape_from_points(tools::icosahedron_points(), icosa);
+  const Isometry3d moved = Eigen::Translation3d(0.5, 0.25, 0) * Isometry3d(tools::axis_angle(Vector3d(1, 2, 3), 0.4));
+  for (const auto& [name, a, b] : {std::tuple{"rounded.sum.sphere_box", &sphere, &box},
+                                   std::tuple{"rounded.sum.rounded_box_icosa", &rounded_box, &icosa}})
+    measure(name, 4, [&, a = a, b = b](int k) {
+      return minkowski_sum(*a, I, *b, moved, m) == Status::Ok && contains(m, Vector3d(0.1 * k, 0, 1.2));
+    });
   static BoxBatch<double, 32> A, B;
   static BoxBoxSum<double, 32> out;
   tools::fill_table1_cubes(A, B);

@@ -167,6 +167,45 @@ double sphere_entry(const Vector3d& c0, const Vector3d& d, const Vector3d& c, do
   return s <= 1 ? s : kNever;
 }
 
+// A point or segment core (no face planes): its exact distance at the start, to a node's box, a
+// triangle's sphere or the triangle, bounds when it can come within the radius, since no point
+// of it moves faster than `speed` = |d| + angle |x| (Mirtich's bound); and its distance at the
+// hit bounds it backwards. Gaps within `slack` (the tolerance and rounding) count as none. Kept
+// out of line: the polytope tools' walk does not carry it.
+class LineCore {
+ public:
+  const bool on;  // the tool's core is a point or a segment
+  LineCore(const ConvexShape& tool, const Isometry3d& q0, double speed, double radius, double slack)
+      : on(!detail::ShapeAccess::data(tool)->has_faces()), core_(tool.polytope()), speed_(speed), radius_(radius),
+        slack_(slack), start_{q0 * core_.vertices.front(), q0 * core_.vertices.back()} {}
+  // When the core may first come within reach of a node's box (centre c, half extents h).
+  [[gnu::noinline]] double box_entry(const Vector3d& c, const Vector3d& h) const {
+    return entry(start_.box_gap(c, h) - radius_ - slack_);
+  }
+  // And of a triangle (its bounding sphere first), unless that is after `limit` anyway.
+  [[gnu::noinline]] double triangle_entry(const Vector3d* t, const Eigen::Vector4d& sphere, double limit) const {
+    const Vector3d c = sphere.head<3>();
+    const double s = entry((c - start_.nearest(c)).norm() - sphere[3] - radius_ - slack_);
+    return s > limit ? s : std::max(s, entry(gap(t, start_) - slack_));
+  }
+  // Whether the triangle, beyond `margin` at the hit (time e), was out of reach before it.
+  [[gnu::noinline]] bool apart_until(const Vector3d* t, const Isometry3d& hit, double e, double margin) const {
+    return gap(t, {hit * core_.vertices.front(), hit * core_.vertices.back()}) - margin > e * speed_;
+  }
+
+ private:
+  double entry(double g) const { return !(g > 0) ? 0.0 : g >= speed_ ? kNever : g / speed_; }
+  // The core's distance to the triangle, less the radius (the core as a flat triangle).
+  double gap(const Vector3d* t, const detail::PlacedSegment& s) const {
+    const Vector3d c[3] = {s.s0, s.s1, s.s1}, u[3] = {t[0], t[1], t[2]};
+    Vector3d p0, p1;
+    return triangle_distance(u, c, p0, p1) - radius_;
+  }
+  const ConvexPolytope& core_;
+  const double speed_, radius_, slack_;
+  const detail::PlacedSegment start_;
+};
+
 // A mesh triangle (A, still) and the tool's core (B): the exact answers the advancement asks
 // for where GJK cannot go on. The distance is the nearest of the triangle against the fan
 // triangles of the core's faces (a point or segment core: itself as a flat triangle;
@@ -234,22 +273,8 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
   // close before it).
   const ToolPlanes planes(tool.polytope(), q0, d, moving.omega, moving.across, radius + tolerance + 1e-12 * reach);
   ToolPlanes at_hit;
-  // A point or segment core has no planes: its exact distance to the triangle (one triangle
-  // distance) bounds when it can come within the radius, as no point of it moves faster than
-  // |d| + angle |x| (Mirtich's bound), forward from the start and backward from the hit.
-  const ConvexPolytope& core = tool.polytope();
-  const bool line = !detail::ShapeAccess::data(tool)->has_faces();
-  const double speed = d.norm() + moving.angle * moving.radius;
-  const auto core_gap = [&](const Vector3d* t, const Isometry3d& q) {
-    const Vector3d s0 = q * core.vertices.front(), s1 = q * core.vertices.back();
-    const Vector3d c[3] = {s0, s1, s1}, u[3] = {t[0], t[1], t[2]};
-    Vector3d p0, p1;
-    return triangle_distance(u, c, p0, p1) - radius;
-  };
-  // Cheaper bounds first: the core at the start against a node's box or a triangle's sphere.
-  const detail::PlacedSegment start{q0 * core.vertices.front(), q0 * core.vertices.back()};
-  const double line_slack = radius + tolerance + 1e-12 * reach;
-  const auto entry = [&](double g) { return !(g > 0) ? 0.0 : g >= speed ? kNever : g / speed; };
+  // A point or segment core has no planes: its distances bound when it can come within reach.
+  const LineCore line(tool, q0, d.norm() + moving.angle * moving.radius, radius, tolerance + 1e-12 * reach);
   Isometry3d hit_pose = q0;
   int last_plane = 0;
   double earliest = 1;  // no hit before it (a hit's time, an unconverged stop's, or the tick's end)
@@ -277,7 +302,7 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
     if (c.time > earliest || settled()) return;
     const Vector3d* corners = &a.item_corners[size_t(3) * c.node];
     if (out.hit && at_hit.apart_until(corners, earliest)) return;
-    if (out.hit && line && core_gap(corners, hit_pose) - (0.5 * tolerance - 1e-12 * reach) > earliest * speed) return;
+    if (out.hit && line.on && line.apart_until(corners, hit_pose, earliest, 0.5 * tolerance - 1e-12 * reach)) return;
     const detail::Mover still(corners, 3, Isometry3d::Identity(), Isometry3d::Identity());
     TimeOfImpact toi;
     detail::advance(still, moving, tolerance, reach, earliest, TriangleAnswers(corners, tool), radius, toi);
@@ -306,7 +331,7 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
         const Vector3d grow = child.box_half + Vector3d::Constant(r);
         double s = std::max(box_entry(c0, d, child.box_center - grow, child.box_center + grow),
                             planes.reach_time(child.box_center, child.box_half));
-        if (line) s = std::max(s, entry(start.box_gap(child.box_center, child.box_half) - line_slack));
+        if (line.on) s = std::max(s, line.box_entry(child.box_center, child.box_half));
         if (s <= earliest) stack[top++] = {c, s};
       }
       std::sort(stack + from, stack + top, later);
@@ -318,11 +343,7 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
       const Vector3d* corners = &a.item_corners[size_t(3) * x];
       if (s > earliest || planes.out_of_reach(corners, earliest, last_plane)) continue;  // (the cheap tests first)
       if ((s = std::max(s, planes.reach_time(corners))) > earliest) continue;
-      if (line) {  // (gaps within the tolerance, and rounding, count as none)
-        const Vector3d c = sphere.head<3>();
-        if ((s = std::max(s, entry((c - start.nearest(c)).norm() - sphere[3] - line_slack))) > earliest) continue;
-        if ((s = std::max(s, entry(core_gap(corners, q0) - tolerance - 1e-12 * reach))) > earliest) continue;
-      }
+      if (line.on && (s = std::max(s, line.triangle_entry(corners, sphere, earliest))) > earliest) continue;
       // Of the triangles in reach at the start, those deepest in the tool's sphere first
       // (a key in [-1, 0)): the likeliest to be met at once, which ends the walk.
       if (s == 0) s = -std::max(0.0, 1 - (c0 - sphere.head<3>()).norm() / (sphere[3] + r));

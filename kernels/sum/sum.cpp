@@ -134,7 +134,9 @@ Status sum_dispatch(const ConvexPolytope& a, const ConvexPolytope& b, bool diffe
 // point's one vertex (0); each plane's offset is the highest of q's placed vertices along it.
 void point_sum(const Vector3d& p, const ConvexPolytope& q, const Eigen::Isometry3d& pose, bool point_is_b,
                bool difference, MinkowskiSum& out) {
-  out = MinkowskiSum{};
+  // (Cleared, not replaced: a reused result keeps its capacity.)
+  out.planes.clear(), out.loop_start.clear(), out.loop_vertex.clear(), out.vertices.clear();
+  out.corrected = false, out.method = Method::Fast, out.parts = SumParts::Whole, out.radius = 0;
   const double sign = difference && !point_is_b ? -1.0 : 1.0, shift = difference && point_is_b ? -1.0 : 1.0;
   const int V = int(q.vertices.size());
   for (int k = 0; k < V; ++k) {
