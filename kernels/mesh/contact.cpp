@@ -154,18 +154,33 @@ int gather_parts(const Octree& a, const ToolPlanes& tool, MeshScratch& ws, int (
 // parts, the ray p - lambda u stays in the tool until the first face it leaves by.
 void push_out(const ToolPlanes& tool, const MeshScratch& ws, const int* hit, int hits, const Vector3d& u,
               MeshContact& out) {
-  int facing[kMaxPlanes], nfacing = 0;  // the faces a ray along -u can leave by
-  for (int f = 0; f < tool.count; ++f)
-    if (tool.n[f].dot(u) < 0) facing[nfacing++] = f;
+  // The faces a ray along -u can leave by, as arrays (normal, offset, and how fast the ray
+  // approaches the plane), so that the corners' loop over them vectorises.
+  alignas(64) double fx[kMaxPlanes], fy[kMaxPlanes], fz[kMaxPlanes], fo[kMaxPlanes], rate[kMaxPlanes];
+  int nfacing = 0;
+  for (int f = 0; f < tool.count; ++f) {
+    const double along = tool.n[f].dot(u);
+    if (!(along < 0)) continue;
+    fx[nfacing] = tool.nx[f], fy[nfacing] = tool.ny[f], fz[nfacing] = tool.nz[f], fo[nfacing] = tool.o[f];
+    rate[nfacing++] = -along;
+  }
+  int exit = 0, leaving = 0;  // the face the last corner leaves by
   for (int h = 0; h < hits; ++h) {
     for (int k = ws.part_start[h]; k < ws.part_start[h + 1]; ++k) {
       const Vector3d& p = ws.parts[k];
+      const double px = p.x(), py = p.y(), pz = p.z();
+      // Only a corner deeper than the deepest so far counts: its scan stops at the first face
+      // that lets it out sooner, tried first where the last corner left (neighbours leave by
+      // the same face), so most corners cost a face or two, not all.
+      const bool first = out.triangle < 0;
       double lambda = std::numeric_limits<double>::infinity();
-      for (int i = 0; i < nfacing; ++i) {
-        const int f = facing[i];
-        lambda = std::min(lambda, std::max(0.0, tool.o[f] - tool.n[f].dot(p)) / -tool.n[f].dot(u));
+      for (int j = 0; j < nfacing && (first || lambda > out.penetration_depth); ++j) {
+        const int i = j == 0 ? exit : j == exit ? 0 : j;
+        const double t = std::max(0.0, fo[i] - (fx[i] * px + fy[i] * py + fz[i] * pz)) / rate[i];
+        if (t < lambda) lambda = t, leaving = i;
       }
-      if (std::isfinite(lambda) && (lambda > out.penetration_depth || out.triangle < 0))
+      exit = leaving;
+      if (std::isfinite(lambda) && (lambda > out.penetration_depth || first))
         out.penetration_depth = lambda, out.point = p, out.triangle = hit[h];
     }
   }
