@@ -48,6 +48,36 @@ double gap_along(const ConvexShape& a, const Isometry3d& pa, const ConvexShape& 
   return bottom - top;
 }
 
+// The public motion is the one the sweeps take: against Eigen's quaternion slerp and a linear
+// translation (the loop's proxy is placed by it), its ends the poses given, and a hit's pose
+// from it touching (a box falling turning onto a box: the gap at the hit within the tolerance).
+TEST(TimeOfImpact, MotionIsSlerpAndTheSweepsPath) {
+  std::mt19937_64 rng(41);
+  std::uniform_real_distribution<double> unit(0, 1);
+  for (int k = 0; k < 200; ++k) {
+    const Eigen::Isometry3d a = test::random_pose(rng, 2), b = test::random_pose(rng, 2);
+    const Motion m{a, b};
+    const double t = k < 2 ? double(k) : unit(rng);
+    const Eigen::Isometry3d p = m.at(t);
+    const Eigen::Quaterniond qa(a.linear()), qb(b.linear());
+    EXPECT_LT((p.linear() - qa.slerp(t, qb).toRotationMatrix()).norm(), 1e-12) << k;
+    EXPECT_LT((p.translation() - (a.translation() + t * (b.translation() - a.translation()))).norm(), 1e-12) << k;
+  }
+  ConvexShape box;
+  ASSERT_EQ(shape_from_box(Box{}, box), Status::Ok);
+  Eigen::Isometry3d b0 = Eigen::Isometry3d::Identity(), b1 = b0;
+  b0.translation() = Eigen::Vector3d(0.2, 0.1, 4), b1.translation() = Eigen::Vector3d(0.2, 0.1, -1);
+  b1.linear() = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix();
+  TimeOfImpact toi;
+  const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();
+  ASSERT_EQ(time_of_impact(box, I, I, box, b0, b1, toi), Status::Ok);
+  ASSERT_TRUE(toi.hit);
+  Proximity p;
+  ASSERT_EQ(proximity(box, I, box, Motion{b0, b1}.at(toi.time), p), Status::Ok);
+  EXPECT_LE(p.intersecting ? 0.0 : p.distance, toi.tolerance);
+  EXPECT_FALSE(p.intersecting && p.penetration_depth > toi.tolerance);
+}
+
 TEST(TimeOfImpact, TranslationEqualsBisection) {
   std::mt19937_64 rng(43);
   std::uniform_real_distribution<double> unit(-1, 1);

@@ -220,15 +220,6 @@ bool set_up(const Options& options, Setup& s, Report& report, std::string& error
   return true;
 }
 
-// The pose at time t of a motion from p0 to p1 as time_of_impact moves a shape: its origin
-// along the segment, its rotation about one axis at a constant rate (the slerp).
-Isometry3d pose_at(const Isometry3d& p0, const Isometry3d& p1, double t) {
-  Isometry3d p = Isometry3d::Identity();
-  p.linear() = Eigen::Quaterniond(p0.linear()).slerp(t, Eigen::Quaterniond(p1.linear())).toRotationMatrix();
-  p.translation() = p0.translation() + t * (p1.translation() - p0.translation());
-  return p;
-}
-
 // What is left of a translation that slides along the surfaces met (their normals, pointing
 // out of the scene): no part into any of them. Against one, its tangential part; against two,
 // its part along their crease; against more, nothing.
@@ -263,7 +254,7 @@ int sweep_proxy(Setup& s, Isometry3d goal, bool sliding) {
     // along the contact normal, as far as the shapes overlap, and tries again.
     // Else, after the impact, the supporting planes along the normal lie between 0 and the
     // tolerance apart: a skin along it, they are a skin apart (and so are the shapes).
-    proxy = pose_at(proxy, goal, toi.time);
+    proxy = Motion{proxy, goal}.at(toi.time);  // (the motion the sweep took)
     proxy.translation() += (kSkin + (toi.time == 0 ? (toi.point_a - toi.point_b).norm() : 0.0)) * toi.normal;
     s.clearance = toi.time > 0 ? kSkin : 0.0;
     normals[met++] = toi.normal;

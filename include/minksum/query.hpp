@@ -161,6 +161,16 @@ Status contact_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, cons
 /// (counter-clockwise as before), as contact solvers take it. Every point of a patch lies at
 /// the patch's depth, so the deepest point stays. Patches of 4 points or fewer are unchanged.
 void reduce_contact_patch(ContactPatch& patch);
+/// The motion time_of_impact sweeps a shape along within a tick (and the mesh sweep a tool):
+/// its origin along the segment from `from` to `to`, its rotation about one body axis at a
+/// constant rate (the shorter way; as a quaternion slerp). Rigid poses.
+struct Motion {
+  Eigen::Isometry3d from = Eigen::Isometry3d::Identity();  ///< the pose at time 0
+  Eigen::Isometry3d to = Eigen::Isometry3d::Identity();    ///< the pose at time 1
+  /// The pose at time t (0 at `from`, 1 at `to`): where a time of impact's hit places the shape.
+  Eigen::Isometry3d at(double t) const;
+};
+
 /// When two shapes moving within a tick first touch. Each moves from pose0 to pose1: its
 /// origin along the segment, its rotation about one axis at a constant rate. Conservative
 /// advancement with certified bounds. The band's contract (convex pairs, a tool against a mesh,

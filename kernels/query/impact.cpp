@@ -64,6 +64,8 @@ Isometry3d Mover::at(double t) const {
 
 }  // namespace detail
 
+Isometry3d Motion::at(double t) const { return detail::Mover(nullptr, 0, from, to).at(t); }
+
 namespace {
 
 using detail::Mover;
