@@ -209,4 +209,45 @@ bool detail::nearest_on_simplex(const Vector3d* w, int n, double (&lambda)[4]) {
   return best < std::numeric_limits<double>::infinity();
 }
 
+namespace detail {
+
+double ball_exit(const Eigen::Vector3d& c, const Eigen::Vector3d& u, double r) {
+  const double along = u.dot(c), across2 = (c - along * u).squaredNorm();
+  return across2 <= r * r ? along + std::sqrt(r * r - across2) : -std::numeric_limits<double>::infinity();
+}
+
+double cylinder_exit(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& u, double r) {
+  // |lambda w - c| = r across the axis (w, c: u and a with their parts along d removed).
+  const Eigen::Vector3d d = b - a;
+  const double len2 = d.squaredNorm(), none = -std::numeric_limits<double>::infinity();
+  if (!(len2 > 0)) return none;
+  const Eigen::Vector3d w = u - u.dot(d) / len2 * d, c = a - a.dot(d) / len2 * d;
+  const double ww = w.squaredNorm(), wc = w.dot(c), disc = wc * wc - ww * (c.squaredNorm() - r * r);
+  if (!(ww > 0) || disc < 0) return none;
+  const double lambda = (wc + std::sqrt(disc)) / ww, s = (lambda * u - a).dot(d) / len2;
+  return s >= 0 && s <= 1 ? lambda : none;
+}
+
+double rounded_hull_exit(const Eigen::Vector3d* p, int n, const Eigen::Vector3d& u, double r) {
+  double best = 0;
+  for (int i = 0; i < n; ++i) {
+    best = std::max(best, ball_exit(p[i], u, r));
+    for (int j = i + 1; j < n; ++j) {
+      best = std::max(best, cylinder_exit(p[i], p[j], u, r));
+      for (int k = j + 1; k < n; ++k) {
+        const Eigen::Vector3d m = (p[j] - p[i]).cross(p[k] - p[i]);
+        const double len = m.norm();
+        if (!(len > 0)) continue;  // (a collinear triple: its cylinders cover it)
+        const Eigen::Vector3d nm = m / len;
+        const int front[3] = {i, j, k}, back[3] = {i, k, j};
+        best = std::max({best, slab_exit([&](int e) { return p[front[e]]; }, 3, nm, nm.dot(p[i]), u, r),
+                         slab_exit([&](int e) { return p[back[e]]; }, 3, -nm, -nm.dot(p[i]), u, r)});
+      }
+    }
+  }
+  return best;
+}
+
+}  // namespace detail
+
 }  // namespace minksum

@@ -2,6 +2,7 @@
 // (clip_triangle), their parts inside gathered through the octree (gather_parts), and the depth
 // the tool must move to push them out (push_out).
 #include "mesh/mesh_internal.hpp"
+#include "geometry/closest.hpp"
 #include "shape/shape_data.hpp"
 
 #include <algorithm>
@@ -186,11 +187,84 @@ void push_out(const ToolPlanes& tool, const MeshScratch& ws, const int* hit, int
   }
 }
 
+// A rounded tool with a point or segment core (a sphere, a capsule): every triangle within the
+// radius r of the core touches it, found through the octree (node boxes against the core's box
+// grown by r, then the exact distance d). The direction is the triangles' outward normals
+// weighted by their depths r - d, each term vanishing as its triangle leaves: it turns
+// continuously as the tool slides, and on a flat patch it is the patch's normal. The depth is
+// exact: how far the tool moves along u until every triangle lies r from the core, the largest
+// exit of the ray from (t (-) core) (+) B(r) (detail::rounded_hull_exit), for the triangles in
+// contact. Parts are not clipped: the area is 0.
+void contact_rounded(const Octree& a, const ConvexShape& shape, const Eigen::Isometry3d& pose, MeshContact& out) {
+  const ConvexPolytope& core = shape.polytope();
+  const double r = shape.radius();
+  const Vector3d k[2] = {pose * core.vertices.front(), pose * core.vertices.back()};
+  const Vector3d lo = k[0].cwiseMin(k[1]).array() - r, hi = k[0].cwiseMax(k[1]).array() + r;
+  const Vector3d box_c = (lo + hi) / 2, box_h = (hi - lo) / 2, segment[3] = {k[0], k[1], k[1]};
+  int hit[kMaxContactTriangles], hits = 0;
+  Vector3d near[kMaxContactTriangles];
+  Vector3d u = Vector3d::Zero();
+  double total = 0, least = std::numeric_limits<double>::infinity();
+  int stack[8 * 25 + 8], top = 0;  // depth <= 24 (OctreeOptions): at most 7 more per level
+  stack[top++] = 0;
+  while (top > 0) {
+    const Octree::Node& n = a.nodes[size_t(stack[--top])];
+    if (((n.box_center - box_c).cwiseAbs() - n.box_half - box_h).maxCoeff() > 0) continue;
+    if (n.first_child >= 0) {
+      for (int c = n.first_child; c < n.first_child + n.child_count; ++c) stack[top++] = c;
+      continue;
+    }
+    for (int x = n.first; x < n.first + n.count; ++x) {
+      const Vector3d* t = &a.item_corners[3 * size_t(x)];
+      const Vector3d tlo = t[0].cwiseMin(t[1]).cwiseMin(t[2]), thi = t[0].cwiseMax(t[1]).cwiseMax(t[2]);
+      if ((tlo.array() > hi.array()).any() || (thi.array() < lo.array()).any()) continue;
+      ++out.tested;
+      const Vector3d tri[3] = {t[0], t[1], t[2]};
+      Vector3d on_t, on_core;
+      const double d = triangle_distance(tri, segment, on_t, on_core);
+      if (!(d <= r)) continue;
+      if (hits == kMaxContactTriangles) {
+        out.overflow = true;  // more contact than capacity: flagged, the first ones count
+        continue;
+      }
+      hit[hits] = a.items[size_t(x)], near[hits] = on_t;
+      u += (r - d) * detail::unit_normal(tri), total += r - d;
+      out.centre += (r - d) * on_core, least = std::min(least, d);
+      ++hits;
+    }
+  }
+  if (hits == 0) return;
+  out.intersecting = true;
+  if (u.norm() > 0) {
+    u.normalize();
+  } else {  // (touching only, or normals that cancel: a sheet pinched from both sides)
+    Vector3d tri[3];
+    triangle_corners(a, hit[0], tri);
+    u = detail::unit_normal(tri);
+  }
+  out.penetration_direction = u;
+  // The core's nearest points weighted as the direction, moved down to the nearest triangle's
+  // level along it: a sphere's foot on a flat patch, a capsule's contact line's middle there.
+  out.centre = total > 0 ? Vector3d(out.centre / total - least * u) : near[0];
+  if (u.isZero()) return;  // (a degenerate triangle alone: no direction to push along)
+  for (int h = 0; h < hits; ++h) {
+    Vector3d tri[3], apart[6];
+    triangle_corners(a, hit[h], tri);
+    int m = 0;
+    for (const Vector3d& c : tri)
+      for (int e = 0; e < (k[0] == k[1] ? 1 : 2); ++e) apart[m++] = c - k[e];
+    const double lambda = detail::rounded_hull_exit(apart, m, u, r);
+    if (lambda > out.penetration_depth || out.triangle < 0)
+      out.penetration_depth = lambda, out.point = near[h], out.triangle = hit[h];
+  }
+}
+
 // mesh_contact with the tool placed in A's frame by `pose`.
 Status contact_in_a(const Octree& a, const ConvexShape& shape, const Eigen::Isometry3d& pose, MeshScratch& ws,
                     MeshContact& out) {
   if (a.nodes.empty() || shape.empty()) return Status::TooFewPoints;
-  if (shape.radius() > 0 || !detail::ShapeAccess::data(shape)->has_faces()) return Status::Unsupported;
+  if (!detail::ShapeAccess::data(shape)->has_faces()) return contact_rounded(a, shape, pose, out), Status::Ok;
+  if (shape.radius() > 0) return Status::Unsupported;  // (a rounded polytope: not yet)
   const ConvexPolytope& polytope = shape.polytope();
   const int nv = int(polytope.vertices.size());
   if (nv > kMaxToolVertices || polytope.flat || nv < 4) return Status::InvalidMesh;

@@ -95,46 +95,19 @@ double distance2_outside(const MinkowskiSum& m, const Vector3d& p) {
 }
 
 // How far the ray from the origin along unit u runs inside M (+) B(r), r = m.radius, the origin
-// inside it (else 0). M (+) B(r) is the union of the balls about M's vertices, the cylinders
-// about its edges and the slabs |n . x - o| <= r over its facets: the ray's last point in it
-// is the last point in one of them, so the exit is the largest of their exits where it lies
-// in that piece (the larger root on a ball; on a cylinder, where the axis point lies on the
-// edge; on a slab's far plane, where the projection lies on the facet).
+// inside it (else 0): the largest exit of the balls about M's vertices, the cylinders about its
+// edges and the slabs over its facets (see detail::ball_exit).
 double rounded_exit(const MinkowskiSum& m, const Vector3d& u) {
   const double r = m.radius;
   if (!contains(m, Vector3d::Zero()) || int(m.loop_start.size()) != m.F + 1) return 0;
   double best = 0;
-  // The larger root of |lambda u - c|^2 = rr - (c's part across an axis), along the ray.
-  const auto ball = [&](const Vector3d& c) {
-    const double along = u.dot(c), across2 = (c - along * u).squaredNorm();
-    if (across2 <= r * r) best = std::max(best, along + std::sqrt(r * r - across2));
-  };
-  for (const SumVertex& v : m.vertices) ball(v.point);
+  for (const SumVertex& v : m.vertices) best = std::max(best, detail::ball_exit(v.point, u, r));
   for (int k = 0; k < m.F; ++k) {
     const Loop f = m.facet(k);
-    const Vector3d& n = m.planes[k].normal;
-    for (int e = 0; e < f.size(); ++e) {  // each edge twice (once per facet): the same exit
-      const Vector3d a = m.vertices[f[e]].point, d = m.vertices[f[(e + 1) % f.size()]].point - a;
-      // |lambda u - a - s d| = r with s the axis parameter: in the plane across d.
-      const double len2 = d.squaredNorm();
-      if (!(len2 > 0)) continue;
-      const Vector3d w = u - u.dot(d) / len2 * d, c = a - a.dot(d) / len2 * d;
-      const double ww = w.squaredNorm(), wc = w.dot(c), disc = wc * wc - ww * (c.squaredNorm() - r * r);
-      if (!(ww > 0) || disc < 0) continue;
-      const double lambda = (wc + std::sqrt(disc)) / ww, s = (lambda * u - a).dot(d) / len2;
-      if (s >= 0 && s <= 1) best = std::max(best, lambda);
-    }
-    const double along = n.dot(u);
-    if (along > 0) {  // the slab's far plane n . x = o + r, where p projects onto the facet
-      const double lambda = (m.planes[k].offset + r) / along;
-      const Vector3d q = lambda * u - r * n;
-      bool in = true;
-      for (int e = 0; e < f.size() && in; ++e) {
-        const Vector3d &a = m.vertices[f[e]].point, &b = m.vertices[f[(e + 1) % f.size()]].point;
-        in = (b - a).cross(q - a).dot(n) >= 0;
-      }
-      if (in) best = std::max(best, lambda);
-    }
+    const auto corner = [&](int e) { return m.vertices[f[e]].point; };
+    for (int e = 0; e < f.size(); ++e)  // (each edge twice, once per facet: the same exit)
+      best = std::max(best, detail::cylinder_exit(corner(e), corner((e + 1) % f.size()), u, r));
+    best = std::max(best, detail::slab_exit(corner, f.size(), m.planes[k].normal, m.planes[k].offset, u, r));
   }
   return best;
 }

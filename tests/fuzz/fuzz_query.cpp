@@ -566,8 +566,8 @@ void rounded(fuzz::Bytes& in) {
   }
   Octree tree;
   MeshDistance md;
-  if (build_octree(corners, faces, tree) == Status::Ok &&
-      mesh_distance(tree, Eigen::Isometry3d::Identity(), a.shape, a.pose, md) == Status::Ok) {
+  if (build_octree(corners, faces, tree) != Status::Ok) tree = Octree{};
+  if (!tree.nodes.empty() && mesh_distance(tree, Eigen::Isometry3d::Identity(), a.shape, a.pose, md) == Status::Ok) {
     // (A solid box holding a corner of B's surface holds part of a triangle: they meet.)
     const double core = a.is_box && inside(a.placed, b.tri[0][0], 0) ? 0.0 : surfaces;
     const double expected = std::max(0.0, core - a.shape.radius());
@@ -575,6 +575,18 @@ void rounded(fuzz::Bytes& in) {
       std::fprintf(stderr, "rounded mesh: distance %.17g, expected %.17g\n", md.distance, expected);
       fuzz::fail("the shape-mesh distance differs from the exact distance of the core to the triangles");
     }
+  }
+  // Mesh contact of a sphere or a capsule with that mesh: it touches exactly when the core comes
+  // within the radius of B's triangles; a finite depth, a unit direction.
+  MeshWorkspace ws;
+  MeshContact mc;
+  if (!tree.nodes.empty() && a.n == 1 && (make_workspace(tree, tree, ws), true) &&
+      mesh_contact(tree, Eigen::Isometry3d::Identity(), a.shape, a.pose, ws, mc) == Status::Ok) {
+    if (std::abs(surfaces - a.shape.radius()) > tol && mc.intersecting != (surfaces <= a.shape.radius()))
+      fuzz::fail("a rounded mesh contact's verdict differs from the exact distance of the core to the triangles");
+    if (mc.intersecting && (!(mc.penetration_depth >= 0) || !std::isfinite(mc.penetration_depth) ||
+                            (!mc.penetration_direction.isZero() && std::abs(mc.penetration_direction.norm() - 1) > 1e-9)))
+      fuzz::fail("a rounded mesh contact's depth or direction is not finite or not unit");
   }
   ProximityCache cache;
   Proximity q;
