@@ -687,13 +687,25 @@ TEST(RoundedShapes, MeshDistanceOfEveryKindMatchesTheOracle) {
 // Shape-mesh distance: closed forms (a sphere and a capsule over a sheet), the mesh's pose, a
 // shape inside a closed mesh (apart: the mesh is a surface) and the mesh inside a solid shape
 // (meeting), and bad input.
-TEST(RoundedShapes, MeshDistanceClosedFormsAndBadInput) {
-  const tools::Mesh sheet = tools::box_mesh(Vector3d(-5, -5, -1), Vector3d(5, 5, 0), 10);
+// A 10 x 10 x 1 slab's surface, its top at z = 0, and the sphere (radius 0.5) and the capsule
+// (half length 1, radius 0.25) the mesh tests place over it.
+struct Sheet {
   Octree tree;
-  ASSERT_EQ(build_octree(sheet.vertices, sheet.triangles, tree), Status::Ok);
   ConvexShape ball, capsule;
-  ASSERT_EQ(shape_from_sphere(0.5, ball), Status::Ok);
-  ASSERT_EQ(shape_from_capsule(1, 0.25, capsule), Status::Ok);
+};
+Sheet sheet_and_tools() {
+  Sheet s;
+  const tools::Mesh slab = tools::box_mesh(Vector3d(-5, -5, -1), Vector3d(5, 5, 0), 10);
+  EXPECT_EQ(build_octree(slab.vertices, slab.triangles, s.tree), Status::Ok);
+  EXPECT_EQ(shape_from_sphere(0.5, s.ball), Status::Ok);
+  EXPECT_EQ(shape_from_capsule(1, 0.25, s.capsule), Status::Ok);
+  return s;
+}
+
+TEST(RoundedShapes, MeshDistanceClosedFormsAndBadInput) {
+  const Sheet sheet = sheet_and_tools();
+  const Octree& tree = sheet.tree;
+  const ConvexShape &ball = sheet.ball, &capsule = sheet.capsule;
   Isometry3d pose = Isometry3d::Identity();
   pose.translation() = Vector3d(0.3, 0.2, 2.5);
   MeshDistance d;
@@ -748,14 +760,11 @@ TEST(RoundedShapes, MeshDistanceClosedFormsAndBadInput) {
 // the radius (brute force), their depth-weighted normals for the direction, and moving the tool
 // by the depth along it just clears them all.
 TEST(RoundedShapes, MeshContactOfSpheresAndCapsules) {
-  const tools::Mesh sheet = tools::box_mesh(Vector3d(-5, -5, -1), Vector3d(5, 5, 0), 10);
-  Octree flat;
-  ASSERT_EQ(build_octree(sheet.vertices, sheet.triangles, flat), Status::Ok);
+  const Sheet sheet = sheet_and_tools();
+  const Octree& flat = sheet.tree;
+  const ConvexShape &ball = sheet.ball, &capsule = sheet.capsule;
   MeshWorkspace ws;
   make_workspace(flat, flat, ws);
-  ConvexShape ball, capsule;
-  ASSERT_EQ(shape_from_sphere(0.5, ball), Status::Ok);
-  ASSERT_EQ(shape_from_capsule(1, 0.25, capsule), Status::Ok);
   Isometry3d pose = Isometry3d::Identity();
   pose.translation() = Vector3d(0.3, 0.2, 0.375);
   MeshContact c;
