@@ -2,7 +2,8 @@
 // shape is its core swept by a ball, so its distance is the core's less the radius: the search
 // runs on the core and the bounds grow by the radius, not the triangles. The octree's nodes are
 // visited depth first, the nearest bound on top, pruned by lower bounds of their distance to the
-// core (its box and its bounding sphere against the node's box and slab); the triangles left get
+// core (its box against the node's box; both projected on the line from the core's nearest
+// point to the box's centre; the core against the node's slab); the triangles left get
 // the exact distance to the core: a point or a segment is one degenerate triangle of the batched
 // triangle kernel, a solid core its faces (fanned) plus a containment test, since a triangle
 // inside the solid is nearer than the faces say.
