@@ -18,6 +18,11 @@
 // and "flattened_tilted", the same turned off the coordinate axes (tools::tilted): FCL's
 // oriented boxes do not care, boxes aligned with the mesh's axes do.
 //
+// MeshShapeDistance/<sphere|capsule>_bunny_full/minksum|fcl_obbrss_gjk|fcl_obbrss_libccd: a 5 mm
+// sphere and a capsule (10 mm half length, 4 mm radius) against the full bunny, 99 banded poses
+// by the tool's 20 mm size (tools::banded_poses' shape form), each run 3 times; FCL's sphere and
+// capsule against its OBBRSS BVH with either solver.
+//
 // PointDistance/<pair>/minksum|nanoflann: clouds sampled from the same meshes' surfaces (50K to
 // 200K points), the same banded poses; the exact closest pair of points, both structures built
 // beforehand (PointBuild/<cloud>/minksum|nanoflann times the builds, with bytes per point).
@@ -349,7 +354,7 @@ const int kRegistered = [] {
         ->Iterations(3 * kBandedPoses);
   }
   for (const char* tool : {"sphere", "capsule"}) {
-    const std::string base = std::string("MeshShapeDistance/") + tool + "/bunny_full/";
+    const std::string base = std::string("MeshShapeDistance/") + tool + "_bunny_full/";
     benchmark::RegisterBenchmark((base + "minksum").c_str(), ShapeMinksum, tool)
         ->Unit(benchmark::kMicrosecond)
         ->Iterations(3 * kBandedPoses);
