@@ -161,6 +161,7 @@ Status contact_patch(const ConvexShape& a, const Eigen::Isometry3d& pose_a, cons
 /// (counter-clockwise as before), as contact solvers take it. Every point of a patch lies at
 /// the patch's depth, so the deepest point stays. Patches of 4 points or fewer are unchanged.
 void reduce_contact_patch(ContactPatch& patch);
+
 /// The motion time_of_impact sweeps a shape along within a tick (and the mesh sweep a tool):
 /// its origin along the segment from `from` to `to`, its rotation about one body axis at a
 /// constant rate (the shorter way; as a quaternion slerp). Rigid poses.

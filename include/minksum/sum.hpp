@@ -76,11 +76,13 @@ struct MinkowskiSum {
 /// output) after one linear scan for the first support. `parts`: Planes skips the vertices
 /// and loops (certified as Whole is, but for Euler's relation, which needs the loops; a flat
 /// operand takes the whole path); Vertices hands back Whole without its loops. Rounded shapes
-/// (a radius, a sphere): the sum of the cores, Whole whatever `parts` asks (reading it with its
-/// radius needs the loops), with `radius` the radii added; a sphere's core is a point, so with
-/// a solid core the sum is that core translated. TooFewPoints for an empty shape, InvalidPose
-/// for a pose that is not rigid, DegenerateResult for two coplanar flat shapes or a point and a
-/// point or a flat shape (not solids), Unsupported for a capsule (a segment core).
+/// (a radius, a sphere, a capsule): the sum of the cores, Whole whatever `parts` asks (reading
+/// it with its radius needs the loops), with `radius` the radii added; a sphere's core is a
+/// point, so with a solid core the sum is that core translated; a capsule's is a segment, which
+/// has no Gauss map: the hull of the pairwise sums (method Hull). TooFewPoints for an empty
+/// shape, InvalidPose for a pose that is not rigid, DegenerateResult for a sum that is not a
+/// solid (two coplanar flat shapes; two points, a point and a segment or a flat shape, two
+/// segments, a segment in a flat shape's plane).
 Status minkowski_sum(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
                      const Eigen::Isometry3d& pose_b, MinkowskiSum& out, SumParts parts = SumParts::Whole);
 
