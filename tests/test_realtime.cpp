@@ -265,7 +265,8 @@ TEST(RealTime, UncachedShapeQueriesAndMeshContactDoNotAllocate) {
 
 // Rounded shapes (spheres, capsules, a rounded box, against an icosahedron and each other):
 // proximity cold and coherent at every level, the contact patch, the time of impact and the
-// mesh sweep with a rounded tool, along a path in and out of contact: no allocation.
+// mesh sweep, the shape form of mesh distance and mesh contact with a rounded tool, along a path
+// in and out of contact: no allocation.
 TEST(RealTime, RoundedShapesDoNotAllocate) {
   SKIP_UNLESS_COUNTING();
   ConvexShape sphere, capsule, box, rounded_box, icosa;
@@ -285,7 +286,12 @@ TEST(RealTime, RoundedShapesDoNotAllocate) {
   Proximity p;
   ContactPatch patch;
   TimeOfImpact t;
-  int failed = 0, intersecting = 0, hits = 0;
+  MeshWorkspace ws;
+  make_workspace(mesh, mesh, ws);
+  ProximityCache mesh_caches[4];
+  MeshDistance d;
+  MeshContact c;
+  int failed = 0, intersecting = 0, hits = 0, touched = 0;
   EXPECT_EQ(allocations([&] {
               for (size_t k = 0; k + 1 < path.size(); ++k)
                 for (int i = 0; i < 4; ++i)
@@ -301,6 +307,13 @@ TEST(RealTime, RoundedShapesDoNotAllocate) {
                     if (i == 0) {
                       failed += time_of_impact(mesh, I, b, path[k], path[k + 1], t) != Status::Ok;
                       hits += t.hit;
+                      // The shape form of mesh_distance, cold and cached, and mesh contact (a
+                      // rounded polytope's is refused: no work, no allocation).
+                      failed += mesh_distance(mesh, I, b, path[k], d) != Status::Ok;
+                      failed += mesh_distance(mesh, I, b, path[k], mesh_caches[j], d) != Status::Ok;
+                      const Status cs = mesh_contact(mesh, I, b, path[k], ws, c);
+                      failed += cs != (j == 2 ? Status::Unsupported : Status::Ok);
+                      touched += c.intersecting;
                     }
                   }
             }),
@@ -308,6 +321,7 @@ TEST(RealTime, RoundedShapesDoNotAllocate) {
   EXPECT_EQ(failed, 0);
   EXPECT_GT(intersecting, 100);  // the path runs through contact
   EXPECT_GT(hits, 0);
+  EXPECT_GT(touched, 0);  // (the path touches the mesh: contact did work)
 }
 
 // The coherent entry points, along a trajectory with caches made at set-up: no allocation, and
