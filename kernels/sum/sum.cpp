@@ -131,7 +131,7 @@ Status sum_dispatch(const ConvexPolytope& a, const ConvexPolytope& b, bool diffe
 // The sum of a point core p (A, or B with `point_is_b`) and a solid core q placed by its pose:
 // q translated by p, or for a difference p - q or q - p (q negated: its normals, and its loops
 // reversed to stay counter-clockwise from outside). The pairs index q's vertices and the
-// point's one vertex (0); each plane's offset is the highest of q's placed vertices along it.
+// point's one vertex (0); each plane's offset is the highest of its face's placed vertices along it.
 void point_sum(const Vector3d& p, const ConvexPolytope& q, const Eigen::Isometry3d& pose, bool point_is_b,
                bool difference, MinkowskiSum& out) {
   // (Cleared, not replaced: a reused result keeps its capacity.)
@@ -150,7 +150,7 @@ void point_sum(const Vector3d& p, const ConvexPolytope& q, const Eigen::Isometry
     SumPlane plane;
     plane.normal = sign * (pose.linear() * f.normal);
     plane.offset = -std::numeric_limits<double>::infinity();
-    for (const SumVertex& v : out.vertices) plane.offset = std::max(plane.offset, plane.normal.dot(v.point));
+    for (int k : f.loop) plane.offset = std::max(plane.offset, plane.normal.dot(out.vertices[size_t(k)].point));
     // The loop from its smallest vertex, reversed for a negated q.
     const int n = int(f.loop.size());
     const int least = int(std::min_element(f.loop.begin(), f.loop.end()) - f.loop.begin());
