@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <set>
+#include <minksum/kernels.hpp>
 #include <minksum/minksum.hpp>
 
 #include "checks.hpp"

@@ -1,9 +1,11 @@
 // minksum: fixed-size structure-of-arrays kernels (box-box, box-triangle, support push,
-// triangle distance) with runtime ISA dispatch.
+// triangle distance) with runtime ISA dispatch. Opt-in: the umbrella header minksum.hpp does
+// not include it (a user of the shape API never sees the batch types).
 // No SIMD types appear here: the kernels live in kernels/, one translation unit per ISA.
 #pragma once
 
 #include <minksum/model.hpp>
+#include <minksum/sum.hpp>
 
 #include <cstdint>
 #include <type_traits>
@@ -337,5 +339,17 @@ void support_push(const float* x, const float* y, const float* z, int n, const f
 /// The same in double.
 void support_push(const double* x, const double* y, const double* z, int n, const double* dx, const double* dy,
                   const double* dz, int k, double* max_out, int* arg_out);
+
+// The topology tables of one batch lane (sum.hpp has the general one and `instantiate`).
+
+/// The table of one box-box lane: boxes are taken relative to their centres, so that tA and tB
+/// are the copies' centres; invalid axes are left out.
+template <class T, int N>
+TopologyTable topology_table(const BoxBoxPlanes<T, N>& planes, int lane, const Box& a, const Box& b, bool difference);
+
+/// The table of one box-triangle lane (box relative to its centre, triangle as given).
+template <class T, int N>
+TopologyTable topology_table(const BoxTrianglePlanes<T, N>& planes, int lane, const Box& box, const Triangle& tri,
+                             bool difference);
 
 }  // namespace minksum

@@ -1,7 +1,6 @@
 // minksum: the Minkowski sum A (+) B and difference A (-) B = A (+) (-B) of convex polytopes.
 #pragma once
 
-#include <minksum/kernels.hpp>
 #include <minksum/model.hpp>
 #include <minksum/shape.hpp>
 
@@ -117,16 +116,6 @@ struct TopologyTable {
 
 /// The table of a general sum or difference `m` of the operands a and b.
 TopologyTable topology_table(const MinkowskiSum& m, const ConvexPolytope& a, const ConvexPolytope& b, bool difference);
-
-/// The table of one box-box lane: boxes are taken relative to their centres, so that tA and tB
-/// are the copies' centres; invalid axes are left out.
-template <class T, int N>
-TopologyTable topology_table(const BoxBoxPlanes<T, N>& planes, int lane, const Box& a, const Box& b, bool difference);
-
-/// The table of one box-triangle lane (box relative to its centre, triangle as given).
-template <class T, int N>
-TopologyTable topology_table(const BoxTrianglePlanes<T, N>& planes, int lane, const Box& box, const Triangle& tri,
-                             bool difference);
 
 /// Offsets of the copy with scales sA, sB > 0 and translations tA, tB: offset_k =
 /// sA pa_k + sB pb_k + n_k . (tA + sign_b tB) (offsets: capacity >= facets). No allocation.

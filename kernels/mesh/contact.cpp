@@ -1,6 +1,7 @@
 // How a convex tool touches a mesh (haptic rendering): the mesh's triangles clipped by the tool
 // (clip_triangle), their parts inside gathered through the octree (gather_parts), and the depth
 // the tool must move to push them out (push_out).
+#include <minksum/kernels.hpp>
 #include "mesh/mesh_internal.hpp"
 #include "geometry/closest.hpp"
 #include "shape/shape_data.hpp"

@@ -14,6 +14,7 @@
 // is skipped: a tool sliding on a surface advances against the few triangles under it. So is
 // a triangle that the same planes taken at the hit's pose, bounded backwards in time, prove
 // apart until the hit: the many ties under a face resting on a face.
+#include <minksum/kernels.hpp>
 #include <minksum/mesh.hpp>
 
 #include "mesh/mesh_internal.hpp"

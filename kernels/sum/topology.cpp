@@ -1,4 +1,5 @@
 // Topology tables: the paper's Section 4 index tracking, from a general sum or a kernel lane.
+#include <minksum/kernels.hpp>
 #include <minksum/sum.hpp>
 
 namespace minksum {

@@ -1,5 +1,6 @@
 // Mesh input through the library's readers (minksum/io.hpp); libcgal-demo's meshes are read
 // from one member of its .tar.gz with zlib.
+#include <minksum/kernels.hpp>
 #include "support/mesh_io.hpp"
 
 #include <minksum/io.hpp>
