@@ -1,11 +1,14 @@
 // The box-box query through the pair kernel (simd/box_pair.hpp): its active set from the last
 // answer, the 15-facet fallback where the set does not settle, the farthest pair in closed
-// form, and pairs scaled to lengths near 1. (The patch and the caches are query.cpp's.)
+// form, and pairs scaled to lengths near 1; the patch's witnesses, the cache, and the public
+// box-box entry points.
 #include "query/box_query.hpp"
 
 #include <minksum/kernels.hpp>
 
 #include "core/scale.hpp"
+#include "query/cache_kinds.hpp"
+#include "query/patch.hpp"
 #include "simd/box_pair_data.hpp"
 
 #include <algorithm>
@@ -98,8 +101,10 @@ bool pair_proximity(const Box& a, const Box& b, Proximity& out, Want want, unsig
 
 }  // namespace
 
+namespace {
+
 // The box pair query on checked boxes, scaled when the lengths are far from 1.
-void detail::box_query(const Box& a, const Box& b, Proximity& out, Want want, unsigned& active, bool& warm) {
+void box_query(const Box& a, const Box& b, Proximity& out, Want want, unsigned& active, bool& warm) {
   out = Proximity{};
   warm = false;
   // Lengths far from 1 over- or underflow in the products of the pair computation (NaN for a
@@ -124,6 +129,92 @@ void detail::box_query(const Box& a, const Box& b, Proximity& out, Want want, un
   active = 0;
   out.distance /= k, out.penetration_depth /= k, out.max_distance /= k;
   for (Vector3d* p : {&out.point_a, &out.point_b, &out.far_a, &out.far_b}) *p = *p / k + o;
+}
+
+
+// Box pairs whose nearest (or deepest) sets are patches, a face or an edge of each across the
+// contact normal (a box resting, sliding or rocking on a box): the witnesses are the patch's
+// (patch_point), as for prepared shapes, so that they do not jump between corners and
+// the coherent answer's equal the cold one's. The normal is snapped to the axis of A or B it
+// is within 1.4e-6 rad of (the box pair's normal of a 1e-12 gap is turned by rounding / gap)
+// where that still proves the answer: the gap between the boxes' levels along it is the
+// distance (or the depth) to 64 eps of the coordinates; else the pair's normal, if that does.
+void box_patch(const Box& a, const Box& b, Proximity& out) {
+  Vector3d n = out.intersecting ? out.penetration_direction : Vector3d(out.point_b - out.point_a);
+  if (!(n.norm() > 0)) return;
+  n.normalize();
+  double align = 0;
+  Vector3d axis = n;
+  for (const Box* x : {&a, &b})
+    for (int k = 0; k < 3; ++k)
+      if (const double d = n.dot(x->rotation.col(k)); std::abs(d) > align)
+        align = std::abs(d), axis = (d < 0 ? -1.0 : 1.0) * x->rotation.col(k);
+  const double reach = std::max(
+      {a.center.cwiseAbs().maxCoeff() + a.half_extents.sum(), b.center.cwiseAbs().maxCoeff() + b.half_extents.sum()});
+  const double eps = std::numeric_limits<double>::epsilon();
+  const double tau = 256 * eps * reach, gap = out.intersecting ? -out.penetration_depth : out.distance;
+  for (int snapped = 1; snapped >= 0; --snapped) {
+    if (snapped && !(align > 1 - 1e-12)) continue;
+    const Vector3d m = snapped ? Vector3d(axis.normalized()) : n;
+    detail::BoxLevel la, lb;
+    if (!detail::box_level_of(a, m, 1.0, tau, la) || !detail::box_level_of(b, m, -1.0, tau, lb)) continue;
+    // A corner: the pair's witnesses are the only ones (most poses end here, before the sets).
+    if (la.nfree == 0 || lb.nfree == 0) return;
+    const Vector3d u = m.unitOrthogonal(), w = m.cross(u);
+    detail::Patch P, Q;
+    detail::level_patch(a, la, tau, u, w, P), detail::level_patch(b, lb, tau, u, w, Q);
+    if (P.size == 1 || Q.size == 1) return;  // (a speck of an edge or face, settled to a point)
+    const double top = m.dot(la.base), bottom = m.dot(lb.base);
+    if (!(std::abs(bottom - top - gap) <= 64 * eps * reach)) continue;
+    Eigen::Vector2d x;
+    if (!detail::patch_point(P, Q, tau, x)) return;
+    out.point_a = x.x() * u + x.y() * w + top * m;
+    out.point_b = out.point_a + (bottom - top) * m;
+    return;
+  }
+}
+
+}  // namespace
+
+namespace {
+
+// Both box queries on boxes already checked (a prepared box placed by a checked pose is: its
+// rotation is the product of two checked ones), through the active set of `cache` if given;
+// the patch's witnesses where asked.
+void answer(const Box& a, const Box& b, ProximityCache* cache, Proximity& out, Want want) {
+  unsigned active = cache && cache->kind == detail::kCacheBoxBox ? cache->active : 0u;
+  bool warm = false;
+  box_query(a, b, out, want, active, warm);
+  if (has(want, Want::Patch)) box_patch(a, b, out);
+  if (!cache) return;
+  cache->kind = detail::kCacheBoxBox, cache->active = active;
+  ++(warm ? cache->warm : cache->cold);
+}
+
+// check_box of both.
+Status check_boxes(const Box& a, const Box& b) {
+  const Status s = check_box(a);
+  return s != Status::Ok ? s : check_box(b);
+}
+
+}  // namespace
+
+Status proximity(const Box& a, const Box& b, Proximity& out, Want want) {
+  const Status s = check_boxes(a, b);
+  if (s != Status::Ok) return out = Proximity{}, s;
+  answer(a, b, nullptr, out, want);
+  return Status::Ok;
+}
+
+Status proximity(const Box& a, const Box& b, ProximityCache& cache, Proximity& out, Want want) {
+  const Status s = check_boxes(a, b);
+  if (s != Status::Ok) return out = Proximity{}, cache.kind = detail::kCacheBoxBox, cache.active = 0, ++cache.cold, s;
+  answer(a, b, &cache, out, want);
+  return Status::Ok;
+}
+
+void detail::box_answer(const Box& a, const Box& b, ProximityCache* cache, Proximity& out, Want want) {
+  answer(a, b, cache, out, want);
 }
 
 }  // namespace minksum

@@ -1,12 +1,12 @@
-// The box-box query (box_query.cpp); internal.
+// The box-box query (box_query.cpp) for prepared boxes under poses; internal.
 #pragma once
 
 #include <minksum/query.hpp>
 
 namespace minksum::detail {
 
-/// The proximity of two checked boxes to the fields `want` asks for (the patch aside), from the
-/// active set `active` (0: cold), which it leaves at the answer's; `warm`: the answer came from it.
-void box_query(const Box& a, const Box& b, Proximity& out, Want want, unsigned& active, bool& warm);
+/// The proximity of two checked boxes to the fields `want` asks for, the patch's witnesses where
+/// asked, through the active set of `cache` if given (a box-box cache, else it starts cold).
+void box_answer(const Box& a, const Box& b, ProximityCache* cache, Proximity& out, Want want);
 
 }  // namespace minksum::detail
