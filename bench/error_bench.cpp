@@ -31,7 +31,7 @@
 #include <memory>
 #include <random>
 
-#include "cgal_peer.hpp"
+#include "support/cgal_peer.hpp"
 #include "support/shapes.hpp"
 
 namespace {

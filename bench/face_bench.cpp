@@ -12,8 +12,8 @@
 
 #include <memory>
 
-#include "bullet_peer.hpp"
-#include "fcl_peer.hpp"
+#include "support/bullet_peer.hpp"
+#include "support/fcl_peer.hpp"
 #include "support/shapes.hpp"
 
 namespace {

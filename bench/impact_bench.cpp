@@ -26,8 +26,8 @@
 #include <map>
 #include <memory>
 
-#include "bullet_peer.hpp"
-#include "fcl_peer.hpp"
+#include "support/bullet_peer.hpp"
+#include "support/fcl_peer.hpp"
 #include "support/mesh_io.hpp"
 #include "support/shapes.hpp"
 

@@ -35,8 +35,8 @@
 #include <random>
 #include <tuple>
 
-#include "fcl_peer.hpp"
-#include "nanoflann_peer.hpp"
+#include "support/fcl_peer.hpp"
+#include "support/nanoflann_peer.hpp"
 #include "support/mesh_io.hpp"
 
 namespace {

@@ -42,8 +42,8 @@
 #include <memory>
 #include <stdexcept>
 
-#include "bullet_peer.hpp"
-#include "cgal_peer.hpp"
+#include "support/bullet_peer.hpp"
+#include "support/cgal_peer.hpp"
 #include "core/hull.hpp"
 #include "isa_rows.hpp"
 #include "support/shapes.hpp"

@@ -12,7 +12,7 @@
 
 #include <memory>
 
-#include "bullet_peer.hpp"
+#include "support/bullet_peer.hpp"
 #include "support/shapes.hpp"
 
 namespace {

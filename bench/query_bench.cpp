@@ -13,7 +13,7 @@
 #include <memory>
 #include <random>
 
-#include "fcl_peer.hpp"
+#include "support/fcl_peer.hpp"
 #include "isa_rows.hpp"
 #include "support/shapes.hpp"
 

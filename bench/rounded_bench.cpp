@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "bullet_peer.hpp"
-#include "fcl_peer.hpp"
+#include "support/bullet_peer.hpp"
+#include "support/fcl_peer.hpp"
 #include "support/shapes.hpp"
 
 namespace {

@@ -17,8 +17,8 @@
 #include <algorithm>
 #include <chrono>
 
-#include "bullet_peer.hpp"
-#include "fcl_peer.hpp"
+#include "support/bullet_peer.hpp"
+#include "support/fcl_peer.hpp"
 #include "support/mesh_io.hpp"
 #include "support/shapes.hpp"
 

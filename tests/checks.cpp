@@ -1,6 +1,6 @@
 #include "checks.hpp"
 
-#include "cgal_peer.hpp"
+#include "support/cgal_peer.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
 // The exact oracle: CGAL's exact kernel (Epeck) builds the hull of the pairwise sums and merges
-// exactly coplanar triangles (peers::exact_counts, in bench/cgal_peer.cpp); its V, E, F must
+// exactly coplanar triangles (peers::exact_counts, in tests/support/cgal_peer.cpp); its V, E, F must
 // equal the fast path's. CGAL's exact polytope distance checks the queries.
 #include <gtest/gtest.h>
 #include <minksum/minksum.hpp>
@@ -10,7 +10,7 @@
 #include <memory>
 #include <random>
 
-#include "cgal_peer.hpp"
+#include "support/cgal_peer.hpp"
 #include "checks.hpp"
 #include "ties.hpp"
 #include "support/shapes.hpp"

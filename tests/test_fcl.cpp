@@ -14,9 +14,9 @@
 #include "checks.hpp"
 #include "exact_distance.hpp"
 #include "ties.hpp"
-#include "bullet_peer.hpp"
-#include "fcl_peer.hpp"
-#include "nanoflann_peer.hpp"
+#include "support/bullet_peer.hpp"
+#include "support/fcl_peer.hpp"
+#include "support/nanoflann_peer.hpp"
 #include "support/mesh_io.hpp"
 #include "support/shapes.hpp"
 

@@ -13,7 +13,7 @@
 #include <set>
 #include <string>
 
-#include "cgal_peer.hpp"
+#include "support/cgal_peer.hpp"
 #include "checks.hpp"
 #include "support/shapes.hpp"
 

@@ -7,7 +7,7 @@
 #include <set>
 #include <tuple>
 
-#include "cgal_peer.hpp"
+#include "support/cgal_peer.hpp"
 #include "checks.hpp"
 #include "sum/overlay.hpp"
 #include "sum/sum_internal.hpp"

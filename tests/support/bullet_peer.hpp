@@ -5,7 +5,7 @@
 
 #include <minksum/model.hpp>
 
-#include "peer_shape.hpp"
+#include "support/peer_shape.hpp"
 
 #include <Eigen/Geometry>
 #include <memory>

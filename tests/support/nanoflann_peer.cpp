@@ -1,5 +1,5 @@
 // nanoflann 1.4's KDTreeSingleIndexAdaptor with L2_Simple_Adaptor over a vector of points.
-#include "nanoflann_peer.hpp"
+#include "support/nanoflann_peer.hpp"
 
 #include <nanoflann.hpp>
 

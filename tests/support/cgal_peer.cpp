@@ -1,7 +1,7 @@
 // CGAL as a peer and the exact oracle of the sums, in this one translation unit (CGAL is slow to
 // compile): convex_hull_3 on the pairwise sums (the paper's comparator), the exact Minkowski sum
 // of Nef polyhedra (minkowski_sum_3), and the exact facet structure of a sum.
-#include "cgal_peer.hpp"
+#include "support/cgal_peer.hpp"
 
 // The oracle and the peers run on one thread each: without this, every lazy exact number of
 // Epeck pays a std::call_once (half the oracle's time on the rounded-tie suites). This is the

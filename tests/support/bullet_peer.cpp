@@ -1,4 +1,4 @@
-#include "bullet_peer.hpp"
+#include "support/bullet_peer.hpp"
 
 #include <BulletCollision/CollisionShapes/btBoxShape.h>
 #include <BulletCollision/CollisionShapes/btCapsuleShape.h>

@@ -1,4 +1,4 @@
-#include "fcl_peer.hpp"
+#include "support/fcl_peer.hpp"
 
 #include <fcl/fcl.h>
 
