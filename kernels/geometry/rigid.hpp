@@ -1,9 +1,9 @@
 // A rigid pose as the kernels apply it to body-frame data (internal): the one piece of pose
-// arithmetic that the queries' posed shapes (query.cpp) and the overlay's operands
-// (sum/overlay.hpp) share.
+// arithmetic that the queries' posed shapes (query/views.hpp), the overlay's operands
+// (sum/overlay.hpp) and the mesh queries (mesh/) share. Eigen::Isometry3d stays at the API.
 #pragma once
 
-#include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include <cstddef>
 
@@ -20,6 +20,14 @@ struct Rigid {
   /// The pose x' = R x + t (R a rotation, or minus one for a negated operand).
   Rigid(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& translation)
       : R(rotation), t(translation), turned(rotation != Eigen::Matrix3d::Identity()) {}
+  /// The pose of an Isometry3d (the API's type).
+  explicit Rigid(const Eigen::Isometry3d& pose) : Rigid(pose.linear(), pose.translation()) {}
+  /// As an Isometry3d, for the API's calls.
+  Eigen::Isometry3d isometry() const {
+    Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+    p.linear() = R, p.translation() = t;
+    return p;
+  }
 
   /// R x + t, written out: Eigen's product is not always inlined in the support loops.
   Eigen::Vector3d point(const Eigen::Vector3d& x) const {
@@ -34,6 +42,10 @@ struct Rigid {
   Eigen::Vector3d to_body(const Eigen::Vector3d& d) const { return R.transpose() * d; }
   /// d . t.
   double shift(const Eigen::Vector3d& d) const { return d.dot(t); }
+  /// The body-frame plane n . x = offset placed: its normal R n and its offset offset + R n . t.
+  void plane(const Eigen::Vector3d& n, double offset, Eigen::Vector3d& n_out, double& offset_out) const {
+    n_out = turn(n), offset_out = offset + n_out.dot(t);
+  }
   /// A world point in the body frame, R^T (x - t).
   Eigen::Vector3d body_point(const Eigen::Vector3d& x) const { return R.transpose() * (x - t); }
   /// x' for n points stored by coordinate (x, y, z) into out[0..2], a row of R at a time (the

@@ -196,10 +196,10 @@ void push_out(const ToolPlanes& tool, const MeshScratch& ws, const int* hit, int
 // exact: how far the tool moves along u until every triangle lies r from the core, the largest
 // exit of the ray from (t (-) core) (+) B(r) (detail::rounded_hull_exit), for the triangles in
 // contact. Parts are not clipped: the area is 0.
-void contact_rounded(const Octree& a, const ConvexShape& shape, const Eigen::Isometry3d& pose, MeshContact& out) {
+void contact_rounded(const Octree& a, const ConvexShape& shape, const detail::Rigid& pose, MeshContact& out) {
   const ConvexPolytope& core = shape.polytope();
   const double r = shape.radius();
-  const Vector3d k[2] = {pose * core.vertices.front(), pose * core.vertices.back()};
+  const Vector3d k[2] = {pose.point(core.vertices.front()), pose.point(core.vertices.back())};
   const Vector3d lo = k[0].cwiseMin(k[1]).array() - r, hi = k[0].cwiseMax(k[1]).array() + r;
   const Vector3d box_c = (lo + hi) / 2, box_h = (hi - lo) / 2, segment[3] = {k[0], k[1], k[1]};
   int hit[kMaxContactTriangles], hits = 0;
@@ -261,7 +261,7 @@ void contact_rounded(const Octree& a, const ConvexShape& shape, const Eigen::Iso
 }
 
 // mesh_contact with the tool placed in A's frame by `pose`.
-Status contact_in_a(const Octree& a, const ConvexShape& shape, const Eigen::Isometry3d& pose, MeshScratch& ws,
+Status contact_in_a(const Octree& a, const ConvexShape& shape, const detail::Rigid& pose, MeshScratch& ws,
                     MeshContact& out) {
   if (a.nodes.empty() || shape.empty()) return Status::TooFewPoints;
   if (!detail::ShapeAccess::data(shape)->has_faces()) return contact_rounded(a, shape, pose, out), Status::Ok;
@@ -273,7 +273,7 @@ Status contact_in_a(const Octree& a, const ConvexShape& shape, const Eigen::Isom
   ToolPlanes tool;
   tool.lo = Vector3d::Constant(std::numeric_limits<double>::infinity()), tool.hi = -tool.lo;
   for (int k = 0; k < nv; ++k) {
-    const Vector3d v = pose * polytope.vertices[k];
+    const Vector3d v = pose.point(polytope.vertices[k]);
     tool.lo = tool.lo.cwiseMin(v), tool.hi = tool.hi.cwiseMax(v);
   }
   tool.count = int(polytope.faces.size());
@@ -281,8 +281,7 @@ Status contact_in_a(const Octree& a, const ConvexShape& shape, const Eigen::Isom
   const detail::ShapeData* data = detail::ShapeAccess::data(shape);
   if (tool.count > 32 && data && data->faces == tool.count) tool.map = &data->map[0];
   for (int f = 0; f < tool.count; ++f) {
-    tool.n[f] = pose.linear() * polytope.faces[f].normal;
-    tool.o[f] = polytope.faces[f].offset + tool.n[f].dot(pose.translation());
+    pose.plane(polytope.faces[f].normal, polytope.faces[f].offset, tool.n[f], tool.o[f]);
     tool.nx[f] = tool.n[f].x(), tool.ny[f] = tool.n[f].y(), tool.nz[f] = tool.n[f].z();
   }
   int hit[kMaxContactTriangles];
@@ -309,7 +308,7 @@ Status mesh_contact(const Octree& a, const Eigen::Isometry3d& pose_a, const Conv
                     const Eigen::Isometry3d& pose_tool, MeshWorkspace& ws, MeshContact& out) {
   out = MeshContact{};
   if (!ws.scratch()) return Status::InvalidMesh;  // not a workspace from make_workspace
-  Eigen::Isometry3d pose;
+  detail::Rigid pose;
   if (const Status s = detail::relative_pose(pose_a, pose_tool, pose); s != Status::Ok) return s;
   const Status s = contact_in_a(a, shape, pose, *ws.scratch(), out);
   if (out.intersecting) out.penetration_direction = pose_a.linear() * out.penetration_direction;

@@ -48,8 +48,8 @@ double plane_gap(const Vector3d& n, const Vector3d& p, const Vector3d (&q)[3]) {
 // their coordinates (fit_bounds), more than the error of these few products.
 class NodeBounds {
  public:
-  NodeBounds(const Octree& a, const Octree& b, const Eigen::Isometry3d& pose)
-      : a_(a), b_(b), R_(pose.linear()), absR_(R_.cwiseAbs()), t_(pose.translation()) {
+  NodeBounds(const Octree& a, const Octree& b, const detail::Rigid& pose)
+      : a_(a), b_(b), R_(pose.R), absR_(R_.cwiseAbs()), t_(pose.t) {
     for (int k = 0; k < 9; ++k) {
       const Vector3d axis = Vector3d::Unit(k / 3).cross(R_.col(k % 3));
       const double len = axis.norm();
@@ -156,11 +156,10 @@ class PairQueue {
 // the benchmark Trajectory/bunny_full/minksum_stale_cache shows it on every tick.
 class Search {
  public:
-  Search(const Octree& a, const Octree& b, const Eigen::Isometry3d& pose, MeshScratch& ws, MeshDistance& out)
+  Search(const Octree& a, const Octree& b, const detail::Rigid& pose, MeshScratch& ws, MeshDistance& out)
       : a_(a),
         b_(b),
-        R_(pose.linear()),
-        t_(pose.translation()),
+        pose_(pose),
         ws_(ws),
         out_(out),
         bounds_(a, b, pose),
@@ -172,7 +171,7 @@ class Search {
       return;
     Vector3d sa[3], sb[3];
     for (int k = 0; k < 3; ++k)
-      sa[k] = a_.vertices[a_.triangles[seed_a][k]], sb[k] = R_ * b_.vertices[b_.triangles[seed_b][k]] + t_;
+      sa[k] = a_.vertices[a_.triangles[seed_a][k]], sb[k] = pose_.point(b_.vertices[b_.triangles[seed_b][k]]);
     best_ = triangle_distance(sa, sb, out_.point_a, out_.point_b);
     out_.triangle_a = seed_a, out_.triangle_b = seed_b;
   }
@@ -242,8 +241,7 @@ class Search {
   }
 
   const Octree &a_, &b_;
-  const Eigen::Matrix3d R_;
-  const Vector3d t_;
+  const detail::Rigid pose_;  // B in A's frame
   MeshScratch& ws_;
   MeshDistance& out_;
   const NodeBounds bounds_;
@@ -258,7 +256,7 @@ void Search::first_bound(const Node& na, const Node& nb) {
   // leaves' triangles, which may reach beyond the cubes).
   Box ca, cb;
   ca.center = na.box_center, ca.half_extents = na.box_half;
-  cb.center = R_ * nb.box_center + t_, cb.rotation = R_, cb.half_extents = nb.box_half;
+  cb.center = pose_.point(nb.box_center), cb.rotation = pose_.R, cb.half_extents = nb.box_half;
   Proximity p;
   proximity(ca, cb, p, Want::MaxDistance);
   out_.stats.first_bound = p.max_distance;
@@ -274,8 +272,8 @@ void Search::first_bound(const Node& na, const Node& nb) {
 void Search::leaf_pair(const Node& na, const Node& nb) {
   if (first_leaf_pair_) first_bound(na, nb);
   Line line;
-  line.axis = R_ * nb.box_center + t_ - na.box_center, line.axis_b = R_.transpose() * line.axis;
-  line.len = line.axis.norm(), line.shift = line.axis.dot(t_);
+  line.axis = pose_.point(nb.box_center) - na.box_center, line.axis_b = pose_.to_body(line.axis);
+  line.len = line.axis.norm(), line.shift = pose_.shift(line.axis);
   line.hi_a = -std::numeric_limits<double>::infinity(), line.lo_b = -line.hi_a;
   for (int k = na.corner_first; k < na.corner_first + na.corner_count; ++k)
     line.hi_a = std::max(line.hi_a, line.axis.dot(a_.corners[k]));
@@ -305,14 +303,14 @@ int Search::near_b(const Node& na, const Node& nb, const Line& line) {
     if (ws_.proj_b[y] - line.hi_a > best_ * line.len) continue;
     const int tb = b_.items[nb.first + y];
     if (ws_.center_stamp[tb] != ws_.stamp)
-      ws_.center_stamp[tb] = ws_.stamp, ws_.moved_center[tb] = R_ * b_.spheres[tb].head<3>() + t_;
+      ws_.center_stamp[tb] = ws_.stamp, ws_.moved_center[tb] = pose_.point(b_.spheres[tb].head<3>());
     const Vector3d& c = ws_.moved_center[tb];
     if (!sphere_near(c, b_.spheres[tb][3], na)) continue;
     const Vector3d* cb = corners_b + 3 * y;
-    const Vector3d sb[3] = {R_ * cb[0] + t_, R_ * cb[1] + t_, R_ * cb[2] + t_};
+    const Vector3d sb[3] = {pose_.point(cb[0]), pose_.point(cb[1]), pose_.point(cb[2])};
     if (!slab_near(na.normal, 0, na, sb)) continue;
     for (int k = 0; k < 3; ++k) ws_.near_corners[3 * near + k] = sb[k];
-    ws_.near_normal[near] = R_ * b_.normals[tb];
+    ws_.near_normal[near] = pose_.turn(b_.normals[tb]);
     ws_.near_b[near] = tb, ws_.near_r[near] = b_.spheres[tb][3], ws_.near_lo[near] = ws_.proj_b[y];
     ws_.near_x[near] = c.x(), ws_.near_y[near] = c.y(), ws_.near_z[near] = c.z();
     ++near;
@@ -328,13 +326,13 @@ int Search::pass_a(const Node& na, const Node& nb, const Line& line) {
     const Vector3d* c = corners_a + 3 * x;
     ws_.proj_a[x] = std::max({line.axis.dot(c[0]), line.axis.dot(c[1]), line.axis.dot(c[2])});
   }
-  const Vector3d slab_b = R_ * nb.normal;  // B's slab normal in A's frame
-  const double shift_b = slab_b.dot(t_);
+  const Vector3d slab_b = pose_.turn(nb.normal);  // B's slab normal in A's frame
+  const double shift_b = pose_.shift(slab_b);
   int pass = 0;
   for (int x = 0; x < na.count; ++x) {
     if (line.lo_b - ws_.proj_a[x] > best_ * line.len) continue;
     const int ta = a_.items[na.first + x];
-    if (!sphere_near(R_.transpose() * (a_.spheres[ta].head<3>() - t_), a_.spheres[ta][3], nb)) continue;
+    if (!sphere_near(pose_.body_point(a_.spheres[ta].head<3>()), a_.spheres[ta][3], nb)) continue;
     const Vector3d* c = corners_a + 3 * x;
     const Vector3d sa[3] = {c[0], c[1], c[2]};
     if (!slab_near(slab_b, shift_b, nb, sa)) continue;
@@ -426,7 +424,7 @@ bool Search::split(Entry& e, const Node& na, const Node& nb, PairQueue& queue) {
 }
 
 // The search of mesh_distance, from the triangle pair (seed_a, seed_b) if both index triangles.
-Status search(const Octree& a, const Octree& b, const Eigen::Isometry3d& pose, MeshScratch* scratch, MeshDistance& out,
+Status search(const Octree& a, const Octree& b, const detail::Rigid& pose, MeshScratch* scratch, MeshDistance& out,
               int seed_a, int seed_b) {
   if (a.nodes.empty() || b.nodes.empty()) return Status::TooFewPoints;
   if (!scratch) return Status::InvalidMesh;  // not a workspace from make_workspace
@@ -462,7 +460,7 @@ void to_world(const Eigen::Isometry3d& pose_a, MeshDistance& out) {
 Status mesh_distance(const Octree& a, const Eigen::Isometry3d& pose_a, const Octree& b, const Eigen::Isometry3d& pose_b,
                      MeshWorkspace& ws, MeshDistance& out) {
   out = MeshDistance{};
-  Eigen::Isometry3d pose;
+  detail::Rigid pose;
   if (const Status s = detail::relative_pose(pose_a, pose_b, pose); s != Status::Ok) return s;
   const Status s = search(a, b, pose, ws.scratch(), out, -1, -1);
   if (s == Status::Ok) to_world(pose_a, out);
@@ -473,7 +471,7 @@ Status mesh_distance(const Octree& a, const Eigen::Isometry3d& pose_a, const Oct
                      MeshWorkspace& ws, ProximityCache& cache, MeshDistance& out) {
   using detail::kCacheMesh;
   out = MeshDistance{};
-  Eigen::Isometry3d pose;
+  detail::Rigid pose;
   if (const Status s = detail::relative_pose(pose_a, pose_b, pose); s != Status::Ok) return s;
   const bool seeded = cache.kind == kCacheMesh;
   const Status s = search(a, b, pose, ws.scratch(), out, seeded ? cache.a[0] : -1, seeded ? cache.b[0] : -1);

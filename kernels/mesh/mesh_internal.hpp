@@ -3,6 +3,8 @@
 
 #include <minksum/mesh.hpp>
 
+#include "geometry/rigid.hpp"
+
 #include <algorithm>
 #include <vector>
 
@@ -46,7 +48,7 @@ inline size_t depth_reserve(const Octree& a, const Octree& b) { return size_t(8 
 
 /// B's placement in A's frame, after both poses are checked: pose_b itself when A sits at the
 /// identity (no rounding), else pose_a^-1 pose_b.
-Status relative_pose(const Eigen::Isometry3d& pose_a, const Eigen::Isometry3d& pose_b, Eigen::Isometry3d& out);
+Status relative_pose(const Eigen::Isometry3d& pose_a, const Eigen::Isometry3d& pose_b, Rigid& out);
 
 /// A point or segment core placed in the mesh's frame (s0 = s1 for a point), with the lower
 /// bounds the mesh queries prune by.

@@ -51,31 +51,30 @@ struct PlacedCore {
   }
 };
 
-Status place_core(const ConvexShape& shape, const Eigen::Isometry3d& pose, PlacedCore& core) {
+Status place_core(const ConvexShape& shape, const detail::Rigid& pose, PlacedCore& core) {
   const ConvexPolytope& p = shape.polytope();
   if (p.vertices.size() > size_t(kMaxToolVertices)) return Status::CapacityExceeded;
   Vector3d lo = Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   for (const Vector3d& v : p.vertices) {
-    const Vector3d w = pose * v;
+    const Vector3d w = pose.point(v);
     lo = lo.cwiseMin(w), hi = hi.cwiseMax(w);
   }
   core.box_c = (lo + hi) / 2, core.box_h = (hi - lo) / 2, core.centre = core.box_c;
-  for (const Vector3d& v : p.vertices) core.reach = std::max(core.reach, (pose * v - core.centre).norm());
+  for (const Vector3d& v : p.vertices) core.reach = std::max(core.reach, (pose.point(v) - core.centre).norm());
   if (!detail::ShapeAccess::data(shape)->has_faces()) {  // a point or a segment
-    const Vector3d s0 = pose * p.vertices.front(), s1 = pose * p.vertices.back();
+    const Vector3d s0 = pose.point(p.vertices.front()), s1 = pose.point(p.vertices.back());
     core.tri[0][0] = s0, core.tri[0][1] = s1, core.tri[0][2] = s1;
     core.count = 1, core.line = true, core.segment = {s0, s1};
     return Status::Ok;
   }
   for (const Face& f : p.faces) {
     for (size_t k = 1; k + 1 < f.loop.size(); ++k) {
-      const Vector3d c[3] = {pose * p.vertices[size_t(f.loop[0])], pose * p.vertices[size_t(f.loop[k])],
-                             pose * p.vertices[size_t(f.loop[k + 1])]};
+      const Vector3d c[3] = {pose.point(p.vertices[size_t(f.loop[0])]), pose.point(p.vertices[size_t(f.loop[k])]),
+                             pose.point(p.vertices[size_t(f.loop[k + 1])])};
       std::copy(c, c + 3, core.tri[core.count++]);
     }
     if (p.flat) continue;
-    core.n[core.planes] = pose.linear() * f.normal;
-    core.o[core.planes] = f.offset + core.n[core.planes].dot(pose.translation());
+    pose.plane(f.normal, f.offset, core.n[core.planes], core.o[core.planes]);
     ++core.planes;
   }
   return Status::Ok;
@@ -195,7 +194,7 @@ class ShapeSearch {
 Status shape_distance(const Octree& a, const Eigen::Isometry3d& pose_a, const ConvexShape& shape,
                       const Eigen::Isometry3d& pose_shape, int seed, MeshDistance& out) {
   out = MeshDistance{};
-  Eigen::Isometry3d pose;
+  detail::Rigid pose;
   if (const Status s = detail::relative_pose(pose_a, pose_shape, pose); s != Status::Ok) return s;
   if (a.nodes.empty() || shape.empty()) return Status::TooFewPoints;
   PlacedCore core;

@@ -55,18 +55,17 @@ struct ToolPlanes {
   Vector3d d, w;
   double r = 0, slack = 0;  // slack: gaps within it count as none
   ToolPlanes() = default;
-  ToolPlanes(const ConvexPolytope& tool, const Isometry3d& q, const Vector3d& d, const Vector3d& w, double r,
+  ToolPlanes(const ConvexPolytope& tool, const detail::Rigid& q, const Vector3d& d, const Vector3d& w, double r,
              double slack)
       : d(d), w(w), r(r), slack(slack) {
     if (tool.vertices.size() <= size_t(kSeparatingPlanes)) {
       corners = int(tool.vertices.size());
-      for (int i = 0; i < corners; ++i) v[i] = q * tool.vertices[size_t(i)];
+      for (int i = 0; i < corners; ++i) v[i] = q.point(tool.vertices[size_t(i)]);
     }
     if (tool.flat) return;  // (a flat tool's two faces are its sides: no inside)
     count = int(std::min(tool.faces.size(), size_t(kSeparatingPlanes)));
     for (int f = 0; f < count; ++f) {
-      n[f] = q.linear() * tool.faces[size_t(f)].normal;
-      o[f] = tool.faces[size_t(f)].offset + n[f].dot(q.translation());
+      q.plane(tool.faces[size_t(f)].normal, tool.faces[size_t(f)].offset, n[f], o[f]);
       const double turn = n[f].cross(w).norm() * r;
       ahead[f] = n[f].dot(d) + turn, behind[f] = turn - n[f].dot(d);
     }
@@ -176,9 +175,9 @@ double sphere_entry(const Vector3d& c0, const Vector3d& d, const Vector3d& c, do
 class LineCore {
  public:
   const bool on;  // the tool's core is a point or a segment
-  LineCore(const ConvexShape& tool, const Isometry3d& q0, double speed, double radius, double slack)
+  LineCore(const ConvexShape& tool, const detail::Rigid& q0, double speed, double radius, double slack)
       : on(!detail::ShapeAccess::data(tool)->has_faces()), core_(tool.polytope()), speed_(speed), radius_(radius),
-        slack_(slack), start_{q0 * core_.vertices.front(), q0 * core_.vertices.back()} {}
+        slack_(slack), start_{q0.point(core_.vertices.front()), q0.point(core_.vertices.back())} {}
   // When the core may first come within reach of a node's box (centre c, half extents h).
   [[gnu::noinline]] double box_entry(const Vector3d& c, const Vector3d& h) const {
     return entry(start_.box_gap(c, h) - radius_ - slack_);
@@ -190,8 +189,8 @@ class LineCore {
     return s > limit ? s : std::max(s, entry(gap(t, start_) - slack_));
   }
   // Whether the triangle, beyond `margin` at the hit (time e), was out of reach before it.
-  [[gnu::noinline]] bool apart_until(const Vector3d* t, const Isometry3d& hit, double e, double margin) const {
-    return gap(t, {hit * core_.vertices.front(), hit * core_.vertices.back()}) - margin > e * speed_;
+  [[gnu::noinline]] bool apart_until(const Vector3d* t, const detail::Rigid& hit, double e, double margin) const {
+    return gap(t, {hit.point(core_.vertices.front()), hit.point(core_.vertices.back())}) - margin > e * speed_;
   }
 
  private:
@@ -217,7 +216,8 @@ class TriangleAnswers final : public detail::ExactAnswers {
   TriangleAnswers(const Vector3d* corners, const ConvexShape& tool) : corners_(corners), tool_(tool.polytope()) {}
   bool query(const Isometry3d& pa, const Isometry3d& pb, Proximity& out) const override {
     out = Proximity{};
-    const Vector3d t[3] = {pa * corners_[0], pa * corners_[1], pa * corners_[2]};
+    const detail::Rigid A(pa), B(pb);
+    const Vector3d t[3] = {A.point(corners_[0]), A.point(corners_[1]), A.point(corners_[2])};
     double best = std::numeric_limits<double>::infinity();
     const auto consider = [&](const Vector3d (&s)[3]) {
       Vector3d pt, ps;
@@ -225,12 +225,13 @@ class TriangleAnswers final : public detail::ExactAnswers {
     };
     for (const auto& face : tool_.faces)
       for (size_t k = 1; k + 1 < face.loop.size(); ++k)
-        consider({pb * tool_.vertices[face.loop[0]], pb * tool_.vertices[face.loop[k]],
-                  pb * tool_.vertices[face.loop[k + 1]]});
-    if (tool_.faces.empty()) consider({pb * tool_.vertices.front(), pb * tool_.vertices.back(), pb * tool_.vertices.back()});
+        consider({B.point(tool_.vertices[face.loop[0]]), B.point(tool_.vertices[face.loop[k]]),
+                  B.point(tool_.vertices[face.loop[k + 1]])});
+    if (tool_.faces.empty())
+      consider({B.point(tool_.vertices.front()), B.point(tool_.vertices.back()), B.point(tool_.vertices.back())});
     bool inside = !tool_.flat && !tool_.faces.empty();  // (a flat tool, a point or a segment has no inside)
-    for (const auto& face : tool_.faces)
-      inside = inside && (pb.linear() * face.normal).dot(t[0] - pb.translation()) <= face.offset;
+    const Vector3d corner = B.body_point(t[0]);  // (the tool's planes as stored)
+    for (const auto& face : tool_.faces) inside = inside && face.normal.dot(corner) <= face.offset;
     out.intersecting = inside || best == 0, out.distance = out.intersecting ? 0.0 : best;
     return std::isfinite(best);
   }
@@ -253,22 +254,22 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
                       const Isometry3d& t1, TimeOfImpact& out, double tolerance) {
   out = TimeOfImpact{};
   if (a.nodes.empty() || tool.empty()) return Status::TooFewPoints;
-  Isometry3d q0, q1;  // the tool's poses in the mesh's frame
+  detail::Rigid q0, q1;  // the tool's poses in the mesh's frame
   if (const Status s = detail::relative_pose(pose_a, t0, q0); s != Status::Ok) return s;
   if (const Status s = detail::relative_pose(pose_a, t1, q1); s != Status::Ok) return s;
   if (!(tolerance >= 0) || !std::isfinite(tolerance)) return Status::InvalidArgument;
-  const detail::Mover moving(tool, q0, q1);
+  const detail::Mover moving(tool, q0.isometry(), q1.isometry());
   const Octree::Node& root = a.nodes[0];
   // A rounded tool: its core advances until it comes within the radius of a triangle, and its
   // face planes and vertices keep triangles out of reach beyond the radius.
   const double radius = tool.radius();
-  const double reach = std::max(q0.translation().norm(), q1.translation().norm()) + moving.radius + radius +
+  const double reach = std::max(q0.t.norm(), q1.t.norm()) + moving.radius + radius +
                        root.box_center.norm() + root.box_half.norm();
   if (tolerance == 0) tolerance = detail::default_tolerance(moving, moving, reach);  // (the mesh is still)
   out.tolerance = tolerance;
   // The capsule's radius, with room for the rounding of the entry times.
   const double r = moving.radius + radius + tolerance + 1e-12 * reach;
-  const Vector3d c0 = q0.translation(), d = q1.translation() - q0.translation();
+  const Vector3d c0 = q0.t, d = q1.t - q0.t;
   // Forward from the start, gaps within the tolerance count as none (a hit is coming within
   // it); backward from the earliest hit, those within half of it, less rounding (no pass that
   // close before it).
@@ -276,7 +277,7 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
   ToolPlanes at_hit;
   // A point or segment core has no planes: its distances bound when it can come within reach.
   const LineCore line(tool, q0, d.norm() + moving.angle * moving.radius, radius, tolerance + 1e-12 * reach);
-  Isometry3d hit_pose = q0;
+  detail::Rigid hit_pose = q0;
   int last_plane = 0;
   double earliest = 1;  // no hit before it (a hit's time, an unconverged stop's, or the tick's end)
   int iterations = 0;
@@ -315,7 +316,7 @@ Status time_of_impact(const Octree& a, const Isometry3d& pose_a, const ConvexSha
       // band's contract. A face landing flat leaves every triangle under it at the hit's
       // gap, which the advancement closed to half the tolerance and no further.)
       if (out.hit)
-        hit_pose = moving.at(earliest),
+        hit_pose = detail::Rigid(moving.at(earliest)),
         at_hit = ToolPlanes(tool.polytope(), hit_pose, d, moving.omega, moving.across,
                             radius + std::max(0.5 * tolerance - 1e-12 * reach, 1e-12 * reach));
     }

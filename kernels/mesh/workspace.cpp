@@ -45,11 +45,11 @@ void make_workspace(const Octree& a, const Octree& b, MeshWorkspace& workspace, 
 
 namespace detail {
 
-Status relative_pose(const Eigen::Isometry3d& pose_a, const Eigen::Isometry3d& pose_b, Eigen::Isometry3d& out) {
+Status relative_pose(const Eigen::Isometry3d& pose_a, const Eigen::Isometry3d& pose_b, Rigid& out) {
   if (const Status s = check_pose(pose_a); s != Status::Ok) return s;
   if (const Status s = check_pose(pose_b); s != Status::Ok) return s;
   const bool identity = pose_a.linear() == Eigen::Matrix3d::Identity() && pose_a.translation() == Vector3d::Zero();
-  out = identity ? pose_b : Eigen::Isometry3d(pose_a.inverse(Eigen::Isometry) * pose_b);
+  out = Rigid(identity ? pose_b : Eigen::Isometry3d(pose_a.inverse(Eigen::Isometry) * pose_b));
   return Status::Ok;
 }
 
