@@ -25,6 +25,42 @@ double segment_segment(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, con
 /// outside the nearest feature); false if the origin lies inside the tetrahedron.
 bool nearest_on_simplex(const Eigen::Vector3d* w, int n, double (&lambda)[4]);
 
+/// GJK's simplex on M = A (-) B (Gilbert, Johnson & Keerthi, IEEE J. Robotics and Automation
+/// 4(2), 1988): up to four support pairs (a vertex of A, a vertex of B) and their points w of M,
+/// as the proximity query's GJK (query/gjk.hpp) and the time of impact's advancement
+/// (query/impact.cpp) both keep it.
+struct PairSimplex {
+  Eigen::Vector3d w[4];
+  int ia[4] = {}, ib[4] = {};
+  double l[4] = {};  // the weights of the nearest point, after reduce (0: not yet weighed)
+  int n = 0;
+
+  /// Whether the pair (ka, kb) is in it.
+  bool holds(int ka, int kb) const {
+    for (int j = 0; j < n; ++j)
+      if (ia[j] == ka && ib[j] == kb) return true;
+    return false;
+  }
+  /// Adds the pair (ka, kb) with its point of M (n < 4).
+  void add(int ka, int kb, const Eigen::Vector3d& point) { w[n] = point, ia[n] = ka, ib[n] = kb, l[n] = 0, ++n; }
+  /// Reduces it to the feature nearest the origin: keeps the pairs of positive weight (their
+  /// weights in l, their old places in kept; the nearest point is the sum of l w). Returns how
+  /// many are kept (0: no weight left, a NaN), or -1 where the origin lies inside the
+  /// tetrahedron (it is left as it was).
+  int reduce(int (&kept)[4]) {
+    double lambda[4];
+    if (!nearest_on_simplex(w, n, lambda)) return -1;
+    int m = 0;
+    for (int j = 0; j < n; ++j) {
+      if (!(lambda[j] > 0)) continue;
+      if (m < j) w[m] = w[j], ia[m] = ia[j], ib[m] = ib[j];  // (most steps keep every pair)
+      l[m] = lambda[j], kept[m++] = j;
+    }
+    if (m > 0) n = m;
+    return m;
+  }
+};
+
 /// Where the ray lambda u (u unit) leaves the ball of radius r about c: the larger root, or -inf
 /// where the ray's line misses the ball. The exits of a rounded polytope P (+) B(r), the union
 /// of the balls about P's vertices, the cylinders about its edges and the slabs over its facets,

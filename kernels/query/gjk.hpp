@@ -3,6 +3,7 @@
 // unit instantiates them, so that the calls between the query's parts stay inline.
 #pragma once
 
+#include "geometry/closest.hpp"
 #include "query/views.hpp"
 
 namespace minksum {
@@ -52,11 +53,8 @@ class Gjk {
  public:
   Gjk(const A& a, const B& b, double scale, const int* start_a, const int* start_b, int start)
       : a_(a), b_(b), scale_(scale) {
-    for (int j = 0; j < start; ++j) {
-      bool repeat = false;
-      for (int m = 0; m < n_; ++m) repeat |= ia_[m] == start_a[j] && ib_[m] == start_b[j];
-      if (!repeat) add(start_a[j], start_b[j]);
-    }
+    for (int j = 0; j < start; ++j)
+      if (!s_.holds(start_a[j], start_b[j])) add(start_a[j], start_b[j]);
   }
 
   /// Iterates until GJK ends (true) or `limit` iterations in all have passed (false).
@@ -72,50 +70,44 @@ class Gjk {
   int features(int (&fa)[4], int (&fb)[4], double (&weight)[3]) const {
     weight[0] = weight[1] = weight[2] = 0;
     if (result_ != 3) {
-      std::copy(ia_, ia_ + 4, fa), std::copy(ib_, ib_ + 4, fb);
+      std::copy(s_.ia, s_.ia + 4, fa), std::copy(s_.ib, s_.ib + 4, fb);
       return result_;
     }
-    for (int j = 0; j < 3; ++j) fa[j] = ia_[std::min(j, n_ - 1)], fb[j] = ib_[std::min(j, n_ - 1)];
-    for (int j = 0; j < 3; ++j) weight[j] = j < n_ && n_ < 4 ? l_[j] : 0.0;
+    const int n = s_.n;
+    for (int j = 0; j < 3; ++j) fa[j] = s_.ia[std::min(j, n - 1)], fb[j] = s_.ib[std::min(j, n - 1)];
+    for (int j = 0; j < 3; ++j) weight[j] = j < n && n < 4 ? s_.l[j] : 0.0;
     return 3;
   }
 
  private:
   static constexpr int kIterations = 64;
 
-  void add(int ka, int kb) {
-    w_[n_] = scale_ * (a_.vertex(ka) - b_.vertex(kb)), ia_[n_] = ka, ib_[n_] = kb, l_[n_] = 0, ++n_;
-  }
+  void add(int ka, int kb) { s_.add(ka, kb, scale_ * (a_.vertex(ka) - b_.vertex(kb))); }
 
   // One iteration; true when GJK ends.
   bool step() {
-    double lambda[4];
-    if (!detail::nearest_on_simplex(w_, n_, lambda)) return result_ = 4, true;
     // Keep the nearest feature's points only.
-    Vector3d v = Vector3d::Zero();
-    int m = 0;
-    for (int j = 0; j < n_; ++j)
-      if (lambda[j] > 0)
-        v += lambda[j] * w_[j], w_[m] = w_[j], ia_[m] = ia_[j], ib_[m] = ib_[j], l_[m] = lambda[j], ++m;
+    int kept[4];
+    const int m = s_.reduce(kept);
+    if (m < 0) return result_ = 4, true;   // the origin inside the tetrahedron
     if (m == 0) return result_ = 0, true;  // no weight left (NaN from a degenerate simplex)
-    n_ = m;
+    Vector3d v = s_.l[0] * s_.w[0];
+    for (int j = 1; j < m; ++j) v += s_.l[j] * s_.w[j];
     if (!(v.squaredNorm() < vv_)) {  // no progress: rounding has the last word; the best one stands
-      n_ = best_n_;
-      std::copy(best_a_, best_a_ + 3, ia_), std::copy(best_b_, best_b_ + 3, ib_), std::copy(best_l_, best_l_ + 3, l_);
+      s_.n = best_n_;
+      std::copy(best_a_, best_a_ + 3, s_.ia), std::copy(best_b_, best_b_ + 3, s_.ib), std::copy(best_l_, best_l_ + 3, s_.l);
       return true;
     }
     vv_ = v.squaredNorm(), v_ = v;
-    best_n_ = n_;
-    std::copy(ia_, ia_ + 3, best_a_), std::copy(ib_, ib_ + 3, best_b_), std::copy(l_, l_ + 3, best_l_);
+    best_n_ = s_.n;
+    std::copy(s_.ia, s_.ia + 3, best_a_), std::copy(s_.ib, s_.ib + 3, best_b_), std::copy(s_.l, s_.l + 3, best_l_);
     // M's support point in -v: A's lowest vertex along v minus B's highest.
     double lo, hi;
     const int ka = highest(a_, -v, lo), kb = highest(b_, v, hi);
     lo = -lo;
     // Stop when M reaches no further towards the origin than v does (to rounding), or repeats.
     if (!(vv_ - scale_ * (lo - hi) > 1e-13 * vv_)) return true;
-    bool repeat = false;
-    for (int j = 0; j < n_; ++j) repeat |= ia_[j] == ka && ib_[j] == kb;
-    if (repeat || n_ == 4) return true;
+    if (s_.holds(ka, kb) || s_.n == 4) return true;
     add(ka, kb);
     return false;
   }
@@ -123,9 +115,8 @@ class Gjk {
   const A& a_;
   const B& b_;
   double scale_;
-  Vector3d w_[4], v_ = Vector3d::Zero();
-  int ia_[4] = {}, ib_[4] = {}, n_ = 0;
-  double l_[4] = {0, 0, 0, 0};  // the weights of the nearest point of w[0, n) (0: not yet weighed)
+  detail::PairSimplex s_;
+  Vector3d v_ = Vector3d::Zero();
   double vv_ = std::numeric_limits<double>::infinity();
   int best_a_[3] = {}, best_b_[3] = {}, best_n_ = 0;  // the nearest simplex so far (ties can stall)
   double best_l_[3] = {};

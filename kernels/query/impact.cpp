@@ -126,36 +126,33 @@ struct GapBound {
   }
 };
 
-// GJK (Gilbert, Johnson and Keerthi, 1988) on M = A (-) B: its simplex of support pairs (a
-// vertex of A, a vertex of B) is kept from one step to the next and re-evaluated at each
-// step's poses, as van den Bergen's ray cast keeps it along the ray.
-struct Simplex {
-  int ia[4] = {}, ib[4] = {};
-  int size = 1;
+// GJK's simplex on M = A (-) B (detail::PairSimplex, as the proximity query's GJK keeps it),
+// kept from one step to the next and re-evaluated at each step's poses, as van den Bergen's ray
+// cast keeps it along the ray.
+struct Simplex : detail::PairSimplex {
+  Simplex() { n = 1; }
   // Its point nearest the origin at the poses: a* - b* (scaled by k), with a* on A and b* on
   // B into near_a and near_b; the simplex keeps the pairs that span it. False if the origin
   // is inside (they overlap, to rounding) or the simplex is empty.
   bool nearest(const Mover& a, const Isometry3d& pa, const Mover& b, const Isometry3d& pb, double k, Vector3d& near_a,
                Vector3d& near_b) {
-    if (size == 0) return false;
-    Vector3d w[4], xa[4], xb[4];
-    for (int j = 0; j < size; ++j)
+    if (n == 0) return false;
+    Vector3d xa[4], xb[4];
+    for (int j = 0; j < n; ++j)
       xa[j] = pa * a.vertices[ia[j]], xb[j] = pb * b.vertices[ib[j]], w[j] = k * (xa[j] - xb[j]);
-    double lambda[4];
-    if (!detail::nearest_on_simplex(w, size, lambda)) return false;
+    int kept[4];
+    const int m = reduce(kept);
+    if (m == 0) n = 0;
+    if (m <= 0) return false;
     near_a.setZero(), near_b.setZero();
-    int m = 0;
-    for (int j = 0; j < size; ++j)
-      if (lambda[j] > 0) near_a += lambda[j] * xa[j], near_b += lambda[j] * xb[j], ia[m] = ia[j], ib[m] = ib[j], ++m;
-    size = m;
-    return m > 0;
+    for (int j = 0; j < m; ++j) near_a += l[j] * xa[kept[j]], near_b += l[j] * xb[kept[j]];
+    return true;
   }
-  // Adds a support pair; false if it is there already (GJK cannot go on).
+  // Adds a support pair (its point comes with the next poses); false if it is there already
+  // or the simplex is full (GJK cannot go on).
   bool add(const int (&pair)[2]) {
-    for (int j = 0; j < size; ++j)
-      if (ia[j] == pair[0] && ib[j] == pair[1]) return false;
-    if (size == 4) return false;
-    ia[size] = pair[0], ib[size] = pair[1], ++size;
+    if (holds(pair[0], pair[1]) || n == 4) return false;
+    PairSimplex::add(pair[0], pair[1], Vector3d::Zero());
     return true;
   }
 };
@@ -241,7 +238,7 @@ Status advance(const Mover& a, const Mover& b, double tolerance, double reach, d
           const double gap = apart - radii;
           t += (gap - (gap > 2 * tolerance ? tolerance : 0.5 * gap)) / mu, n.setZero();  // (gap/2 > tol/2)
           if (!(t <= limit)) return Status::Ok;
-          simplex.size = 0;  // (the exact query again next)
+          simplex.n = 0;  // (the exact query again next)
           continue;
         }
       }
@@ -260,7 +257,7 @@ Status advance(const Mover& a, const Mover& b, double tolerance, double reach, d
     // No step where the gap is within half the tolerance (a step would close it past the
     // band's contract): GJK goes on at these poses (stalled: the exact query next).
     if (!(g - radii > 0.5 * tolerance)) {
-      if (!added) simplex.size = 0;
+      if (!added) simplex.n = 0;
       previous = apart;
       continue;
     }
