@@ -5,12 +5,61 @@
 
 namespace minksum::detail {
 
-/// Box-box sums: the 30 support planes, their loops, and the single-pair axes.
+/// The box-box sum's pieces shared by its kernels: the facets' vertex loops and the boxes'
+/// corners.
 template <class T, class Arch>
-struct BoxBoxKernels : Lanes<T, Arch> {
+struct BoxBoxParts : Lanes<T, Arch> {
   using L = Lanes<T, Arch>;
   using L::dot, L::cross, L::scaled, L::load3, L::store3, L::inv_len_or_zero, L::box_support, L::with_row_stride;
   using typename L::S, typename L::B, typename L::V3;
+
+  // The vertex loops of the parallelogram facets q and q + 15 of a box-box sum in general
+  // position, from the + plane's support pair v0 = code_a | code_b << 3 (tie bits clear): facet
+  // p moves from its first vertex v0 along the facet's two edges, e then f, with e x f along the
+  // outward normal; the opposite facet p + 15 starts at the complemented corners and goes f then
+  // e. A loop packs four 6-bit vertex codes a | b << 3 (a 24-bit integer: exact in float).
+  static void sum_loops(int q, const B& v0, CodeOf<T>* loop, int N) {
+    const T K = T(1 + 64 + 4096 + 262144);  // v0 in all four slots
+    const auto pack = [](int e, int f) { return T(e * 64 + (e + f) * 4096 + f * 262144); };
+    // The facet's edges as code increments: A's axis bits count 1, 2, 4, B's 8, 16, 32.
+    int e, f;
+    if (q < 6) {
+      const int base = q < 3 ? 1 : 8, axis = q % 3;
+      e = base << ((axis + 1) % 3), f = base << ((axis + 2) % 3);
+    } else {
+      e = 1 << ((q - 6) / 3), f = 8 << ((q - 6) % 3);
+    }
+    // v0 of the + facet: the support corners with the edges' bits clear (a face axis's own bit
+    // is set on the + side); of the - facet: the complement, the edges' bits clear too.
+    const B v0K = v0 * B(K);  // (63 - e - f - v0) K + pack(f, e) for the - facet
+    S::store_code(loop + q * N, v0K + B(pack(e, f)));
+    S::store_code(loop + (q + 15) * N, B(T(63 - e - f) * K + pack(f, e)) - v0K);
+  }
+
+  // The eight corners c + sum_a (+-h_a) u_a of a box, corner i with bit a set on the + side:
+  // the three half-edge vectors once, then sums.
+  static void box_corners(const V3& c, const V3 (&u)[3], const B (&h)[3], T* corner, int N) {
+    const V3 g[3] = {scaled(u[0], h[0]), scaled(u[1], h[1]), scaled(u[2], h[2])};
+    // Level by level, each into a new array (GCC 12 -O3 miscompiled an in-place version for
+    // scalar floats).
+    const auto step = [&](const V3& x, int a, bool plus) {
+      return plus ? V3{x.x + g[a].x, x.y + g[a].y, x.z + g[a].z} : V3{x.x - g[a].x, x.y - g[a].y, x.z - g[a].z};
+    };
+    const V3 x[2] = {step(c, 0, false), step(c, 0, true)};
+    V3 y[4];
+    for (int i = 0; i < 4; ++i) y[i] = step(x[i & 1], 1, i & 2);
+    for (int i = 0; i < 8; ++i) store3(corner + 3 * i * N, N, 0, step(y[i & 3], 2, i & 4));
+  }
+};
+
+/// Box-box sums: the 30 support planes of each lane's pair, and their loops and corners.
+template <class T, class Arch>
+struct BoxBoxKernels : BoxBoxParts<T, Arch> {
+  using L = Lanes<T, Arch>;
+  using L::dot, L::cross, L::scaled, L::load3, L::store3, L::inv_len_or_zero, L::box_support, L::with_row_stride;
+  using typename L::S, typename L::B, typename L::V3;
+  using BoxBoxParts<T, Arch>::sum_loops;
+  using BoxBoxParts<T, Arch>::box_corners;
 
   // Box-box: 15 axes, 30 planes (see BoxBoxPlanes), worked in A's frame, where A's axes are
   // e_0, e_1, e_2 and B's are the columns of C = U_A^T U_B (the OBB separating-axis formulation
@@ -115,44 +164,14 @@ struct BoxBoxKernels : Lanes<T, Arch> {
       }
     }
   }
+};
 
-  // The vertex loops of the parallelogram facets q and q + 15 of a box-box sum in general
-  // position, from the + plane's support pair v0 = code_a | code_b << 3 (tie bits clear): facet
-  // p moves from its first vertex v0 along the facet's two edges, e then f, with e x f along the
-  // outward normal; the opposite facet p + 15 starts at the complemented corners and goes f then
-  // e. A loop packs four 6-bit vertex codes a | b << 3 (a 24-bit integer: exact in float).
-  static void sum_loops(int q, const B& v0, CodeOf<T>* loop, int N) {
-    const T K = T(1 + 64 + 4096 + 262144);  // v0 in all four slots
-    const auto pack = [](int e, int f) { return T(e * 64 + (e + f) * 4096 + f * 262144); };
-    // The facet's edges as code increments: A's axis bits count 1, 2, 4, B's 8, 16, 32.
-    int e, f;
-    if (q < 6) {
-      const int base = q < 3 ? 1 : 8, axis = q % 3;
-      e = base << ((axis + 1) % 3), f = base << ((axis + 2) % 3);
-    } else {
-      e = 1 << ((q - 6) / 3), f = 8 << ((q - 6) % 3);
-    }
-    // v0 of the + facet: the support corners with the edges' bits clear (a face axis's own bit
-    // is set on the + side); of the - facet: the complement, the edges' bits clear too.
-    const B v0K = v0 * B(K);  // (63 - e - f - v0) K + pack(f, e) for the - facet
-    S::store_code(loop + q * N, v0K + B(pack(e, f)));
-    S::store_code(loop + (q + 15) * N, B(T(63 - e - f) * K + pack(f, e)) - v0K);
-  }
-
-  // The eight corners c + sum_a (+-h_a) u_a of a box, corner i with bit a set on the + side:
-  // the three half-edge vectors once, then sums.
-  static void box_corners(const V3& c, const V3 (&u)[3], const B (&h)[3], T* corner, int N) {
-    const V3 g[3] = {scaled(u[0], h[0]), scaled(u[1], h[1]), scaled(u[2], h[2])};
-    // Level by level, each into a new array (GCC 12 -O3 miscompiled an in-place version for
-    // scalar floats).
-    const auto step = [&](const V3& x, int a, bool plus) {
-      return plus ? V3{x.x + g[a].x, x.y + g[a].y, x.z + g[a].z} : V3{x.x - g[a].x, x.y - g[a].y, x.z - g[a].z};
-    };
-    const V3 x[2] = {step(c, 0, false), step(c, 0, true)};
-    V3 y[4];
-    for (int i = 0; i < 4; ++i) y[i] = step(x[i & 1], 1, i & 2);
-    for (int i = 0; i < 8; ++i) store3(corner + 3 * i * N, N, 0, step(y[i & 3], 2, i & 4));
-  }
+/// The single-pair API: one box pair with its 15 axes in the lanes.
+template <class T, class Arch>
+struct BoxBoxAxes : Lanes<T, Arch> {
+  using L = Lanes<T, Arch>;
+  using L::dot, L::cross, L::scaled, L::load3, L::store3, L::inv_len_or_zero, L::box_support, L::with_row_stride;
+  using typename L::S, typename L::B, typename L::V3;
 
   // One box pair with its 15 axes in the lanes (16 with a padding lane): the single-pair API,
   // built from the same helpers as box_box. in = c_A, c_B (3 each), the axes u_A0..2, u_B0..2

@@ -30,11 +30,14 @@ struct SatResult {
 #define MINKSUM_SCALAR_CODE
 #endif
 
-/// The box-pair query, compiled once per ISA translation unit. Arch tells the copies apart:
-/// every function here is a member, so no inline function is shared between translation units
-/// compiled with different instruction sets (the linker would keep any one copy of it).
+// The box-pair query, compiled once per ISA translation unit, in four parts by job. Arch tells
+// the copies apart: every function is a member, so no inline function is shared between
+// translation units compiled with different instruction sets (the linker would keep any one
+// copy of it).
+
+/// The small vector products of the pair's parts.
 template <class T, class Arch>
-struct BoxPairQuery {
+struct BoxPairMath {
   static T dot3(const T* x, const T* y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; }
   static void cross(const T* a, const T* b, T (&x)[3]) {
     x[0] = a[1] * b[2] - a[2] * b[1], x[1] = a[2] * b[0] - a[0] * b[2], x[2] = a[0] * b[1] - a[1] * b[0];
@@ -47,6 +50,13 @@ struct BoxPairQuery {
       x[d] = minor_accurate<T, Arch>(a[i], b[j], a[j], b[i]);
     }
   }
+};
+
+/// The zonotope M = A (-) B of a box pair, loaded, and the separating axis test on it.
+template <class T, class Arch>
+struct BoxPairSat : BoxPairMath<T, Arch> {
+  using BoxPairMath<T, Arch>::dot3;
+  using BoxPairMath<T, Arch>::cross;
 
   // The zonotope A (-) B of boxes a and b, computed from locals and stored once: reading back
   // what was just stored element by element with wider loads stalls (store forwarding fails).
@@ -106,6 +116,23 @@ struct BoxPairQuery {
     for (int d = 0; d < 3; ++d) out.normal[d] = s * n[d];
     return out;
   }
+
+  // What the warm path reads of the pair: c, ca, h and the generators (not C nor u . c).
+  MINKSUM_SCALAR_CODE static void load_generators(const BoxLanes<double>& a, const BoxLanes<double>& b, BoxPair<T>& p) {
+    for (int d = 0; d < 3; ++d) p.c[d] = T(a.c[d] - b.c[d]), p.ca[d] = T(a.c[d]);
+    for (int k = 0; k < 3; ++k) {
+      p.h[k] = T(a.h[k]), p.h[3 + k] = T(b.h[k]);
+      for (int d = 0; d < 3; ++d) p.g[k][d] = T(a.h[k] * a.u[3 * k + d]), p.g[3 + k][d] = T(-b.h[k] * b.u[3 * k + d]);
+    }
+  }
+};
+
+/// The active-set walk to M's point nearest a target.
+template <class T, class Arch>
+struct BoxPairWalk : BoxPairMath<T, Arch> {
+  using BoxPairMath<T, Arch>::dot3;
+  using BoxPairMath<T, Arch>::cross;
+  using BoxPairMath<T, Arch>::cross_accurate;
 
   /// The point of M = c + G t nearest to the point q, t in [-1, 1]^6: bounded-variable least
   /// squares min |c - q + G t|^2 by the active-set method of Stark & Parker ("Bounded-variable
@@ -220,6 +247,16 @@ struct BoxPairQuery {
     }
     return false;
   }
+};
+
+/// The query: loads the pair, answers from the last active set or cold, and writes the answer.
+template <class T, class Arch>
+struct BoxPairQuery : BoxPairSat<T, Arch>, BoxPairWalk<T, Arch> {
+  using BoxPairMath<T, Arch>::dot3;
+  using BoxPairSat<T, Arch>::load;
+  using BoxPairSat<T, Arch>::load_generators;
+  using BoxPairSat<T, Arch>::separating_axis;
+  using BoxPairWalk<T, Arch>::nearest_point;
 
   /// Loads the pair and answers to `level`: from the active set `active` if it is one
   /// (kActiveSet) and proves optimal for separated boxes (out.warm; then p holds only what
@@ -235,15 +272,6 @@ struct BoxPairQuery {
     }
     load(a, b, p);
     if (level != PairLevel::Load) run(p, level, out, active);
-  }
-
-  // What the warm path reads of the pair: c, ca, h and the generators (not C nor u . c).
-  MINKSUM_SCALAR_CODE static void load_generators(const BoxLanes<double>& a, const BoxLanes<double>& b, BoxPair<T>& p) {
-    for (int d = 0; d < 3; ++d) p.c[d] = T(a.c[d] - b.c[d]), p.ca[d] = T(a.c[d]);
-    for (int k = 0; k < 3; ++k) {
-      p.h[k] = T(a.h[k]), p.h[3 + k] = T(b.h[k]);
-      for (int d = 0; d < 3; ++d) p.g[k][d] = T(a.h[k] * a.u[3 * k + d]), p.g[3 + k][d] = T(-b.h[k] * b.u[3 * k + d]);
-    }
   }
 
   // M's point c + G t and its preimages: A's point and B's (= A's - M's).

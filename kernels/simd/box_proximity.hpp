@@ -6,26 +6,61 @@
 
 namespace minksum::detail {
 
-/// Box-box proximity on the zonotope A (-) B, and the fused separation bound.
+/// A register of box pairs in A's frame, and the fused separation bound over their 15 axes.
 template <class T, class Arch>
-struct BoxProximityKernels : Lanes<T, Arch> {
+struct BoxSeparation : Lanes<T, Arch> {
   using L = Lanes<T, Arch>;
   using L::dot, L::cross, L::cross_accurate, L::scaled, L::load3, L::store3, L::pick, L::axpy, L::pick3;
   using typename L::S, typename L::B, typename L::V3;
 
-  // Box-box proximity on the zonotope M = A (-) B = c + sum_k t_k g_k, t in [-1, 1]^6, with
-  // c = c_A - c_B and generators g = (h_Ak u_Ak, -h_Bk u_Bk). Each pair (i, j) of generators
-  // spans the facets +-(g_i x g_j); a facet is F0 + a g_i + b g_j (a, b in [-1, 1]) with the
-  // other generators at the sign that is extreme along the normal. Separated (some axis has a
-  // positive separation): the distance is the smallest distance from the origin to the facets
-  // on its side, each one a 2D box-constrained least-squares problem (the unconstrained optimum, else the optimum on an
-  // edge whose line separates it from the square, which the affine map keeps). Overlapping:
-  // the separating axis theorem's smallest overlap over the 15 axes is the exact depth.
-  // Exactly parallel generators span no facet, and the facets of the other pairs then cover
-  // the merged ones between them; nearly parallel ones (below kSliverThreshold) span slivers
-  // that are skipped, which moves the distance by at most that fraction of a half extent.
-  // Most lanes need one facet: the fast path (proximity_fast) solves only the separating axis
-  // test's choice and keeps it where a certificate proves it; the rest take all 15.
+  // The pair in A's frame, as SeparatingAxes takes it: C = U_A^T U_B, cA = U_A^T c, cB = U_B^T c.
+  using Axes = SeparatingAxes<S, Arch>;
+  struct InAFrame {
+    B C[3][3], cA[3], cB[3];
+    InAFrame(const V3 (&ua)[3], const V3 (&ub)[3], const V3& c) {
+      for (int i = 0; i < 3; ++i) {
+        cA[i] = dot(ua[i], c), cB[i] = dot(ub[i], c);
+        for (int j = 0; j < 3; ++j) C[i][j] = dot(ua[i], ub[j]);
+      }
+    }
+  };
+
+  // The separating axis test (SeparatingAxes) fused into one pass, no planes written: is the
+  // origin inside A (-) B, and a lower bound of the distance (the largest separation over the
+  // 15 axes), for octree traversal and broad phases. Edge crosses closer to parallel than
+  // kParallelThreshold are skipped.
+  static void box_box_separation(BoxLanes<T> a, BoxLanes<T> b, int count, int N, T* bound, CodeOf<T>* hit) {
+    const B zero(T(0)), one(T(1));
+    const B parallel2(kParallelThreshold<T> * kParallelThreshold<T>);
+    for (int k = 0; k < count; k += S::size) {
+      V3 ua[3], ub[3];
+      B ha[3], hb[3];
+      for (int i = 0; i < 3; ++i) {
+        ua[i] = load3(a.u + 3 * i * N, N, k), ub[i] = load3(b.u + 3 * i * N, N, k);
+        ha[i] = S::load(a.h + i * N + k), hb[i] = S::load(b.h + i * N + k);
+      }
+      const V3 ca = load3(a.c, N, k), cb = load3(b.c, N, k);
+      const InAFrame f(ua, ub, V3{ca.x - cb.x, ca.y - cb.y, ca.z - cb.z});
+      B sep(-std::numeric_limits<T>::infinity());
+      Axes::visit(
+          f.C, f.cA, f.cB, ha, hb, [&](int, const B& d) { sep = S::max(sep, d); },
+          [&](int, const B& d, const B& len2) {
+            const auto valid = len2 > parallel2;
+            sep = S::max(sep, S::select(valid, d * S::rsqrt(S::select(valid, len2, one)), sep));
+          });
+      S::store(bound + k, S::max(sep, zero));
+      S::store_code(hit + k, S::select(sep > zero, zero, one));
+    }
+  }
+};
+
+/// One facet of the zonotope A (-) B for a register of box pairs: the pieces of the proximity
+/// kernels below.
+template <class T, class Arch>
+struct BoxFacet : Lanes<T, Arch> {
+  using L = Lanes<T, Arch>;
+  using L::dot, L::cross, L::cross_accurate, L::scaled, L::load3, L::store3, L::pick, L::axpy, L::pick3;
+  using typename L::S, typename L::B, typename L::V3;
 
   using Mask = decltype(B(T(0)) < B(T(0)));
   // The facet's generator pair (I, J), known at compile time (one pair per lane group).
@@ -130,6 +165,19 @@ struct BoxProximityKernels : Lanes<T, Arch> {
     f.err = S::select(valid, dot(miss, miss), inf);
     return f;
   }
+};
+
+/// The choice over the facets of a register of box pairs: the pairs loaded, the facets folded.
+template <class T, class Arch>
+struct BoxFacetFold : BoxFacet<T, Arch> {
+  using L = Lanes<T, Arch>;
+  using L::dot, L::cross, L::cross_accurate, L::scaled, L::load3, L::store3, L::pick, L::axpy, L::pick3;
+  using typename L::S, typename L::B, typename L::V3;
+  using F = BoxFacet<T, Arch>;
+  using typename F::FacetEval, typename F::Mask;
+  template <int I, int J>
+  using FixedPair = typename F::template FixedPair<I, J>;
+  using F::facet;
 
   // Running choice over facets: the nearest separating facet, and the deepest axis. Equal depths
   // (parallel generators give several pairs per facet, each covering part of it) go to the pair
@@ -188,18 +236,35 @@ struct BoxProximityKernels : Lanes<T, Arch> {
   static void fold_all(Fold& fold, const PairRegister& r, std::integer_sequence<int, P...>) {
     (fold_pair<P>(fold, r), ...);
   }
+};
 
-  // The pair in A's frame, as SeparatingAxes takes it: C = U_A^T U_B, cA = U_A^T c, cB = U_B^T c.
-  using Axes = SeparatingAxes<S, Arch>;
-  struct InAFrame {
-    B C[3][3], cA[3], cB[3];
-    InAFrame(const V3 (&ua)[3], const V3 (&ub)[3], const V3& c) {
-      for (int i = 0; i < 3; ++i) {
-        cA[i] = dot(ua[i], c), cB[i] = dot(ub[i], c);
-        for (int j = 0; j < 3; ++j) C[i][j] = dot(ua[i], ub[j]);
-      }
-    }
-  };
+/// Box-box proximity on the zonotope A (-) B, and the fused separation bound.
+template <class T, class Arch>
+struct BoxProximityKernels : BoxFacetFold<T, Arch>, BoxSeparation<T, Arch> {
+  using L = Lanes<T, Arch>;
+  using L::dot, L::cross, L::cross_accurate, L::scaled, L::load3, L::store3, L::pick, L::axpy, L::pick3;
+  using typename L::S, typename L::B, typename L::V3;
+  using F = BoxFacetFold<T, Arch>;
+  using typename F::FacetEval, typename F::Mask, typename F::LanePair, typename F::Fold, typename F::PairRegister;
+  using typename BoxSeparation<T, Arch>::Axes, typename BoxSeparation<T, Arch>::InAFrame;
+  template <int I, int J>
+  using FixedPair = typename F::template FixedPair<I, J>;
+  using F::facet, F::generators, F::fold_all;
+
+
+  // Box-box proximity on the zonotope M = A (-) B = c + sum_k t_k g_k, t in [-1, 1]^6, with
+  // c = c_A - c_B and generators g = (h_Ak u_Ak, -h_Bk u_Bk). Each pair (i, j) of generators
+  // spans the facets +-(g_i x g_j); a facet is F0 + a g_i + b g_j (a, b in [-1, 1]) with the
+  // other generators at the sign that is extreme along the normal. Separated (some axis has a
+  // positive separation): the distance is the smallest distance from the origin to the facets
+  // on its side, each one a 2D box-constrained least-squares problem (the unconstrained optimum, else the optimum on an
+  // edge whose line separates it from the square, which the affine map keeps). Overlapping:
+  // the separating axis theorem's smallest overlap over the 15 axes is the exact depth.
+  // Exactly parallel generators span no facet, and the facets of the other pairs then cover
+  // the merged ones between them; nearly parallel ones (below kSliverThreshold) span slivers
+  // that are skipped, which moves the distance by at most that fraction of a half extent.
+  // Most lanes need one facet: the fast path (proximity_fast) solves only the separating axis
+  // test's choice and keeps it where a certificate proves it; the rest take all 15.
 
   static void store_proximity(ProximityLanes<T> out, int N, int k, const B& separated, const B& distance,
                               const B& depth, const V3& dir, const V3& pa, const V3& p) {
@@ -312,34 +377,6 @@ struct BoxProximityKernels : Lanes<T, Arch> {
     for (int k = 0; k < count; ++k)
       if (!(out.distance[k] == out.distance[k]) && (lane[n++] = k, n == L)) redo();
     if (n > 0) redo();
-  }
-
-  // The separating axis test (SeparatingAxes) fused into one pass, no planes written: is the
-  // origin inside A (-) B, and a lower bound of the distance (the largest separation over the
-  // 15 axes), for octree traversal and broad phases. Edge crosses closer to parallel than
-  // kParallelThreshold are skipped.
-  static void box_box_separation(BoxLanes<T> a, BoxLanes<T> b, int count, int N, T* bound, CodeOf<T>* hit) {
-    const B zero(T(0)), one(T(1));
-    const B parallel2(kParallelThreshold<T> * kParallelThreshold<T>);
-    for (int k = 0; k < count; k += S::size) {
-      V3 ua[3], ub[3];
-      B ha[3], hb[3];
-      for (int i = 0; i < 3; ++i) {
-        ua[i] = load3(a.u + 3 * i * N, N, k), ub[i] = load3(b.u + 3 * i * N, N, k);
-        ha[i] = S::load(a.h + i * N + k), hb[i] = S::load(b.h + i * N + k);
-      }
-      const V3 ca = load3(a.c, N, k), cb = load3(b.c, N, k);
-      const InAFrame f(ua, ub, V3{ca.x - cb.x, ca.y - cb.y, ca.z - cb.z});
-      B sep(-std::numeric_limits<T>::infinity());
-      Axes::visit(
-          f.C, f.cA, f.cB, ha, hb, [&](int, const B& d) { sep = S::max(sep, d); },
-          [&](int, const B& d, const B& len2) {
-            const auto valid = len2 > parallel2;
-            sep = S::max(sep, S::select(valid, d * S::rsqrt(S::select(valid, len2, one)), sep));
-          });
-      S::store(bound + k, S::max(sep, zero));
-      S::store_code(hit + k, S::select(sep > zero, zero, one));
-    }
   }
 };
 

@@ -25,11 +25,11 @@ constexpr KernelTable make_table() {
   t.box_tri_d = &BoxTriangleKernels<double, Arch>::box_triangle;
   t.support_f = &SupportKernels<float, Arch>::support;
   t.support_d = &SupportKernels<double, Arch>::support;
-  t.box_box_single_d = &BoxBoxKernels<double, Arch>::box_box_axes;
+  t.box_box_single_d = &BoxBoxAxes<double, Arch>::box_box_axes;
   t.box_box_proximity_f = &BoxProximityKernels<float, Arch>::box_box_proximity;
   t.box_box_proximity_d = &BoxProximityKernels<double, Arch>::box_box_proximity;
-  t.box_box_separation_f = &BoxProximityKernels<float, Arch>::box_box_separation;
-  t.box_box_separation_d = &BoxProximityKernels<double, Arch>::box_box_separation;
+  t.box_box_separation_f = &BoxSeparation<float, Arch>::box_box_separation;
+  t.box_box_separation_d = &BoxSeparation<double, Arch>::box_box_separation;
   t.box_triangle_overlap_f = &BoxTriangleKernels<float, Arch>::box_triangle_overlap;
   t.box_triangle_overlap_d = &BoxTriangleKernels<double, Arch>::box_triangle_overlap;
   t.box_pair_d = &BoxPairQuery<double, Arch>::box_pair;
