@@ -2,9 +2,10 @@
 # (and packages); examples/ and bench/ link tests/support, never tests/ or each other; tests/
 # may link all of them. Checked at configure time over the targets' link libraries, so that a
 # cycle (tests -> bench -> tests, as the peers once made) fails the configure, not a review.
+# Arguments: the folders of the three this build added.
 function(minksum_check_support)
   set(errors "")
-  foreach(dir tests/support examples bench)
+  foreach(dir IN LISTS ARGN)
     get_property(targets DIRECTORY ${PROJECT_SOURCE_DIR}/${dir} PROPERTY BUILDSYSTEM_TARGETS)
     foreach(target IN LISTS targets)
       get_target_property(libs ${target} LINK_LIBRARIES)
