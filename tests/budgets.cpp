@@ -208,6 +208,22 @@ void meshes() {
       return mesh_distance(A, Isometry3d::Identity(), *shape, path[size_t(k)], cache, d) == Status::Ok;
     });
   }
+  // Mesh contact of the sphere, the capsule and the box tool with a 2 mm radius, each pressed
+  // 1 mm into the mesh from the path's poses (moved along their nearest pair).
+  ConvexShape box_core, rounded_box;
+  if (shape_from_points(tool.vertices, box_core) != Status::Ok || shape_with_radius(box_core, 0.002, rounded_box) != Status::Ok)
+    g_ok = false;
+  MeshContact c;
+  for (const auto& [name, shape] : {std::pair<const char*, const ConvexShape*>{"sphere", &ball}, {"capsule", &capsule},
+                                    {"rounded_box", &rounded_box}}) {
+    std::vector<Isometry3d> pressed = path;
+    for (Isometry3d& at : pressed)
+      if (mesh_distance(A, Isometry3d::Identity(), *shape, at, d) == Status::Ok && !d.intersecting)
+        at.pretranslate((d.point_a - d.point_b) * (1 + 0.001 / d.distance));
+    measure(std::string("rounded.mesh_contact.") + name, int(pressed.size()), [&, shape = shape](int k) {
+      return mesh_contact(A, Isometry3d::Identity(), *shape, pressed[size_t(k)], ws, c) == Status::Ok && c.intersecting;
+    });
+  }
   // A tool the size of the mesh (an icosahedron 0.18 across) swept through it: starting across
   // its surface (time 0), and starting clear, 0.15 above it.
   ConvexShape tool_shape;

@@ -755,11 +755,13 @@ TEST(RoundedShapes, MeshDistanceClosedFormsAndBadInput) {
   EXPECT_EQ(mesh_distance(tree, Isometry3d::Identity(), many, pose, d), Status::CapacityExceeded);
 }
 
-// Mesh contact of a sphere and a capsule: over a flat sheet, the closed form (the normal, the
-// radius less the height); against a sphere mesh at random poses, the oracle's triangles within
-// the radius (brute force), their depth-weighted normals for the direction, and moving the tool
-// by the depth along it just clears them all.
-TEST(RoundedShapes, MeshContactOfSpheresAndCapsules) {
+// Mesh contact of rounded tools: over a flat sheet, the closed form (the normal, the radius less
+// the height), for a rounded box also on the sheet's lattice (its corners over the mesh's
+// vertices and edges: ties); against a sphere mesh at random poses and a cube mesh at lattice
+// poses, for every rounded kind, the oracle's triangles within the radius (brute force), their
+// depth-weighted normals for the direction, and moving the tool by the depth along it just
+// clears them all.
+TEST(RoundedShapes, MeshContactOfRoundedTools) {
   const Sheet sheet = sheet_and_tools();
   const Octree& flat = sheet.tree;
   const ConvexShape &ball = sheet.ball, &capsule = sheet.capsule;
@@ -793,48 +795,84 @@ TEST(RoundedShapes, MeshContactOfSpheresAndCapsules) {
   EXPECT_LT((c.penetration_direction - Vector3d::UnitZ()).norm(), 1e-12);
   EXPECT_NEAR(c.penetration_depth, 0.9, 1e-12);
   EXPECT_EQ(c.triangle, 1);
-  // Random poses against a sphere mesh.
-  const tools::Mesh globe = tools::sphere_mesh(2.0, 9);
-  Octree tree;
+  // A rounded box (core 1 x 1.5 x 2, radius 0.25) resting on the sheet, its core's bottom 1/8
+  // above it, quarter-turned, its corners over lattice points and edges of the mesh.
+  ConvexShape core, rounded_box;
+  Box b;
+  b.half_extents = Vector3d(0.5, 0.75, 1);
+  ASSERT_EQ(shape_from_box(b, core), Status::Ok);
+  ASSERT_EQ(shape_with_radius(core, 0.25, rounded_box), Status::Ok);
+  pose = Isometry3d::Identity();
+  for (const Vector3d& at : {Vector3d(0.3, 0.2, 1.125), Vector3d(0.5, 0.25, 1.125), Vector3d(0, 0, 1.125)}) {
+    pose.translation() = at;
+    ASSERT_EQ(mesh_contact(flat, Isometry3d::Identity(), rounded_box, pose, ws, c), Status::Ok);
+    ASSERT_TRUE(c.intersecting) << at.transpose();
+    EXPECT_EQ(c.penetration_direction, Vector3d::UnitZ()) << at.transpose();
+    EXPECT_EQ(c.penetration_depth, 0.125) << at.transpose();
+    EXPECT_EQ(c.centre.z(), 0) << at.transpose();
+  }
+  pose.linear() = Eigen::AngleAxisd(M_PI / 2, Vector3d::UnitX()).toRotationMatrix();  // its 1.5 upright
+  pose.translation() = Vector3d(0.5, 0.5, 0.625);
+  ASSERT_EQ(mesh_contact(flat, Isometry3d::Identity(), rounded_box, pose, ws, c), Status::Ok);
+  EXPECT_LT((c.penetration_direction - Vector3d::UnitZ()).norm(), 1e-12);
+  EXPECT_NEAR(c.penetration_depth, 0.375, 1e-12);
+  // The rounded kinds at random poses against a sphere mesh, and at lattice poses (integer
+  // steps of 1/4, quarter turns) against a cube mesh whose vertices lie on that lattice.
+  const tools::Mesh globe = tools::sphere_mesh(2.0, 9), cube = tools::box_mesh(Vector3d(-1, -1, -1), Vector3d(1, 1, 1), 4);
+  Octree tree, lattice_tree;
   ASSERT_EQ(build_octree(globe.vertices, globe.triangles, tree), Status::Ok);
+  ASSERT_EQ(build_octree(cube.vertices, cube.triangles, lattice_tree), Status::Ok);
+  MeshWorkspace lattice_ws;
   make_workspace(tree, tree, ws);
-  const std::vector<Core> triangles = triangle_cores(globe);
+  make_workspace(lattice_tree, lattice_tree, lattice_ws);
+  const std::vector<Core> globe_cores = triangle_cores(globe), cube_cores = triangle_cores(cube);
   std::mt19937_64 rng(59);
-  int touching = 0;
-  const int poses = test::scaled(60, 15);
-  for (const ConvexShape* tool : {&ball, &capsule})
-    for (int k = 0; k < poses; ++k) {
-      const Isometry3d at = test::random_pose(rng, 2.6);
-      ASSERT_EQ(mesh_contact(tree, Isometry3d::Identity(), *tool, at, ws, c), Status::Ok);
-      const double r = tool->radius();
+  std::uniform_int_distribution<int> step(-10, 10), turn(0, 3);
+  Eigen::Matrix3d x, y;
+  x << 1, 0, 0, 0, 0, -1, 0, 1, 0;
+  y << 0, 0, 1, 0, 1, 0, -1, 0, 0;
+  const Eigen::Matrix3d turns[4] = {Eigen::Matrix3d::Identity(), x, y, x * y};
+  const int poses = test::scaled(40, 10);
+  for (const auto& [name, tool] : shapes()) {
+    if (!(tool.radius() > 0)) continue;
+    int touching = 0;
+    for (int k = 0; k < 2 * poses; ++k) {
+      const bool on_lattice = k % 2 == 1;
+      Isometry3d at = test::random_pose(rng, 2.6);
+      if (on_lattice) at.linear() = turns[turn(rng)], at.translation() = Vector3d(step(rng), step(rng), step(rng)) / 4;
+      const Octree& mesh = on_lattice ? lattice_tree : tree;
+      const std::vector<Core>& triangles = on_lattice ? cube_cores : globe_cores;
+      ASSERT_EQ(mesh_contact(mesh, Isometry3d::Identity(), tool, at, on_lattice ? lattice_ws : ws, c), Status::Ok);
+      const double r = tool.radius();
       // The triangles within the radius, and the least core distance to them less the radius
       // with the tool moved (moving it may bring others in: the depth clears these).
       Vector3d u = Vector3d::Zero();
-      const Core core = core_of(*tool, at);
+      const Core placed = core_of(tool, at);
       std::vector<const Core*> within;
       double least = HUGE_VAL;
       for (const Core& t : triangles) {
-        const double d = core_distance(t, core);
+        const double d = core_distance(t, placed);
         least = std::min(least, d);
         if (d <= r) within.push_back(&t), u += (r - d) * (t.v[1] - t.v[0]).cross(t.v[2] - t.v[0]).normalized();
       }
       const auto gap = [&](const Vector3d& shift) {
-        Core moved = core;
-        for (Vector3d& x : moved.v) x += shift;
+        Core moved = placed;
+        for (Vector3d& v : moved.v) v += shift;
         double nearest = HUGE_VAL;
         for (const Core* t : within) nearest = std::min(nearest, core_distance(*t, moved));
         return nearest - r;
       };
       if (std::abs(least - r) < 1e-9) continue;  // (grazing: either verdict)
-      ASSERT_EQ(c.intersecting, least < r) << k;
-      if (!c.intersecting) continue;
+      ASSERT_EQ(c.intersecting, least < r) << name << " pose " << k;
+      if (!c.intersecting || u.norm() < 1e-9) continue;  // (normals that cancel: any of them)
       ++touching;
-      ASSERT_GT(u.norm(), 0) << k;
-      EXPECT_LT((c.penetration_direction - u.normalized()).norm(), 1e-9) << k;
-      EXPECT_GT(gap(c.penetration_depth * c.penetration_direction), -1e-9) << k << ": not cleared";
-      EXPECT_LT(gap((c.penetration_depth - 1e-6) * c.penetration_direction), 0) << k << ": cleared before the depth";
+      EXPECT_LT((c.penetration_direction - u.normalized()).norm(), 1e-9) << name << " pose " << k;
+      EXPECT_GT(gap(c.penetration_depth * c.penetration_direction), -1e-9) << name << " pose " << k << ": not cleared";
+      EXPECT_LT(gap((c.penetration_depth - 1e-6) * c.penetration_direction), 0)
+          << name << " pose " << k << ": cleared before the depth";
     }
-  EXPECT_GT(touching, poses / 4);  // (about a third of the poses touch)
+    EXPECT_GT(touching, poses / 4) << name;  // (about a third of the poses touch)
+  }
 }
 
 // Patches of spheres and capsules: a sphere over a box is one point, a capsule lying level on a
@@ -963,15 +1001,6 @@ TEST(RoundedShapes, RoundedOperationsThatCannotAnswerSaySo) {
   EXPECT_NE(error.find("rounded"), std::string::npos) << error;
   Proximity p;
   EXPECT_EQ(proximity(m, box.polytope(), sphere.polytope(), p), Status::Unsupported);
-  // Mesh contact of a rounded polytope would clip by curved faces: not yet.
-  const std::vector<Vector3d> corners = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
-  Octree mesh;
-  ASSERT_EQ(build_octree(corners, {{0, 1, 2}}, mesh), Status::Ok);
-  MeshWorkspace ws;
-  make_workspace(mesh, mesh, ws);
-  MeshContact c;
-  EXPECT_EQ(mesh_contact(mesh, id, rounded_box, id, ws, c), Status::Unsupported);
-  EXPECT_FALSE(c.intersecting);
 }
 
 }  // namespace

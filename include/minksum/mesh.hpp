@@ -185,13 +185,14 @@ constexpr int kMaxContactTriangles = 2048;
 /// tool's box is clipped by the tool's face planes; the parts left are inside the tool. Their summed area vector
 /// (triangle winding: counter-clockwise = outward) gives the push-out direction u, which turns continuously as the tool
 /// slides over a tessellated surface; the depth is the largest distance, over the parts' corners p, that p travels
-/// along -u inside the tool. A sphere or a capsule: every triangle within the radius of the core
-/// touches; u is their outward normals weighted by their depths (radius less distance: each
-/// term vanishes as its triangle leaves, so u turns continuously, and on a flat patch it is the
-/// patch's normal), the depth how far the tool moves along u until they all lie a radius from the
-/// core (exact), the centre the core's nearest points weighted as u, moved down to the surface
-/// along it; the area is 0. A rounded polytope: Unsupported.
-/// No allocation. InvalidMesh if the tool is flat or has more than kMaxToolVertices vertices;
+/// along -u inside the tool. A rounded tool (a sphere, a capsule, a radius on any shape): every
+/// triangle within the radius of the core touches; u is their outward normals weighted by their
+/// depths (radius less distance: each term vanishes as its triangle leaves, so u turns
+/// continuously, and on a flat patch it is the patch's normal), the depth how far the tool moves
+/// along u until they all lie a radius from the core (exact), the centre the core's nearest
+/// points weighted as u, moved down to the surface along it; the area is 0.
+/// No allocation. InvalidMesh if a tool without a radius is flat or has more than kMaxToolVertices
+/// vertices, CapacityExceeded for a rounded tool's core past kMaxToolVertices;
 /// the workspace is any made by make_workspace (its contact buffers are sized there); TooFewPoints for an empty tool,
 /// InvalidPose for a pose that is not rigid.
 Status mesh_contact(const Octree& a, const Eigen::Isometry3d& pose_a, const ConvexShape& tool,

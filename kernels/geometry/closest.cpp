@@ -228,26 +228,6 @@ double cylinder_exit(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const E
   return s >= 0 && s <= 1 ? lambda : none;
 }
 
-double rounded_hull_exit(const Eigen::Vector3d* p, int n, const Eigen::Vector3d& u, double r) {
-  double best = 0;
-  for (int i = 0; i < n; ++i) {
-    best = std::max(best, ball_exit(p[i], u, r));
-    for (int j = i + 1; j < n; ++j) {
-      best = std::max(best, cylinder_exit(p[i], p[j], u, r));
-      for (int k = j + 1; k < n; ++k) {
-        const Eigen::Vector3d m = (p[j] - p[i]).cross(p[k] - p[i]);
-        const double len = m.norm();
-        if (!(len > 0)) continue;  // (a collinear triple: its cylinders cover it)
-        const Eigen::Vector3d nm = m / len;
-        const int front[3] = {i, j, k}, back[3] = {i, k, j};
-        best = std::max({best, slab_exit([&](int e) { return p[front[e]]; }, 3, nm, nm.dot(p[i]), u, r),
-                         slab_exit([&](int e) { return p[back[e]]; }, 3, -nm, -nm.dot(p[i]), u, r)});
-      }
-    }
-  }
-  return best;
-}
-
 }  // namespace detail
 
 }  // namespace minksum

@@ -88,9 +88,4 @@ double slab_exit(Corner corner, int k, const Eigen::Vector3d& n, double o, const
   return lambda;
 }
 
-/// The exit of the ray lambda u from the rounded hull (conv p[0..n)) (+) B(r), n <= 8, from a
-/// point inside it: every vertex's ball, every pair's cylinder and both sides of every triple's
-/// slab (each lies in the rounded hull, and the hull's facets are triangulated by triples).
-double rounded_hull_exit(const Eigen::Vector3d* p, int n, const Eigen::Vector3d& u, double r);
-
 }  // namespace minksum::detail

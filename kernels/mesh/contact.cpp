@@ -2,7 +2,7 @@
 // (clip_triangle), their parts inside gathered through the octree (gather_parts), and the depth
 // the tool must move to push them out (push_out).
 #include <minksum/kernels.hpp>
-#include "mesh/mesh_internal.hpp"
+#include "mesh/placed_core.hpp"
 #include "geometry/closest.hpp"
 #include "shape/shape_data.hpp"
 
@@ -13,6 +13,8 @@
 namespace minksum {
 
 using detail::MeshScratch;
+using detail::PlacedCore;
+using detail::unit_normal;
 using Eigen::Vector3d;
 
 namespace {
@@ -188,20 +190,105 @@ void push_out(const ToolPlanes& tool, const MeshScratch& ws, const int* hit, int
   }
 }
 
-// A rounded tool with a point or segment core (a sphere, a capsule): every triangle within the
-// radius r of the core touches it, found through the octree (node boxes against the core's box
-// grown by r, then the exact distance d). The direction is the triangles' outward normals
-// weighted by their depths r - d, each term vanishing as its triangle leaves: it turns
-// continuously as the tool slides, and on a flat patch it is the patch's normal. The depth is
-// exact: how far the tool moves along u until every triangle lies r from the core, the largest
-// exit of the ray from (t (-) core) (+) B(r) (detail::rounded_hull_exit), for the triangles in
-// contact. Parts are not clipped: the area is 0.
-void contact_rounded(const Octree& a, const ConvexShape& shape, const detail::Rigid& pose, MeshContact& out) {
-  const ConvexPolytope& core = shape.polytope();
+// The core's vertices, edges and faces ranked along the push-out direction u: how high each
+// reaches along u in (t (-) core), less t's part (-u . v, the largest over the feature).
+struct CoreTops {
+  double vertex[kMaxToolVertices], edge[3 * kMaxToolVertices], face[detail::kMaxCoreTriangles];
+  int edges = 0;
+  double top = -std::numeric_limits<double>::infinity();
+
+  CoreTops(const PlacedCore& core, const Vector3d& u) {
+    for (int j = 0; j < core.vertices; ++j) vertex[j] = -u.dot(core.v[j]), top = std::max(top, vertex[j]);
+    edges = core.line ? core.vertices - 1 : int(core.shape->edges.size());
+    for (int e = 0; e < edges; ++e) {
+      const auto [a, b] = ends(core, e);
+      edge[e] = std::max(vertex[a], vertex[b]);
+    }
+    for (int f = 0; f < core.faces; ++f) {
+      face[f] = -std::numeric_limits<double>::infinity();
+      for (const int j : core.shape->faces[size_t(f)].loop) face[f] = std::max(face[f], vertex[j]);
+    }
+  }
+  // Edge e's vertices (a segment's one edge joins its ends).
+  static std::pair<int, int> ends(const PlacedCore& core, int e) {
+    if (core.line) return {0, core.vertices - 1};
+    const Edge& x = core.shape->edges[size_t(e)];
+    return {x.v0, x.v1};
+  }
+};
+
+// Where the ray lambda u leaves (t (-) core) (+) B(r), if beyond `best` (else best): the largest
+// exit of the pieces it is the union of (detail::ball_exit). The faces of a Minkowski sum are
+// sums of the operands' features (the paper's section 3: a vertex and a face, two edges), so the
+// pieces are the balls about t_i - v_j, the cylinders about t_i - (a core edge) and (an edge of
+// t) - v_j, and the slabs over t_i - (a core face), t - v_j and (an edge of t) - (a core edge).
+// A piece reaches at most its highest point along u plus r: one that cannot pass `best` is
+// skipped, so only the few pieces near the top along u are solved.
+double difference_exit(const PlacedCore& core, const CoreTops& tops, const Vector3d (&t)[3], const Vector3d& u,
+                       double r, double best) {
+  const double ut[3] = {u.dot(t[0]), u.dot(t[1]), u.dot(t[2])};
+  const double high = std::max({ut[0], ut[1], ut[2]});
+  if (!(high + tops.top + r > best)) return best;
+  const Vector3d* v = core.v;
+  Vector3d nt = unit_normal(t);
+  int order[3] = {0, 1, 2};
+  if (nt.dot(u) < 0) nt = -nt, std::swap(order[1], order[2]);  // (the side of t facing u)
+  for (int j = 0; j < core.vertices; ++j) {
+    if (!(high + tops.vertex[j] + r > best)) continue;
+    for (int i = 0; i < 3; ++i) {
+      const int i1 = (i + 1) % 3;
+      if (ut[i] + tops.vertex[j] + r > best) best = std::max(best, detail::ball_exit(t[i] - v[j], u, r));
+      if (std::max(ut[i], ut[i1]) + tops.vertex[j] + r > best)
+        best = std::max(best, detail::cylinder_exit(t[i] - v[j], t[i1] - v[j], u, r));
+    }
+    const auto corner = [&](int e) { return Vector3d(t[order[e]] - v[j]); };
+    best = std::max(best, detail::slab_exit(corner, 3, nt, nt.dot(t[0] - v[j]), u, r));
+  }
+  for (int e = 0; e < tops.edges; ++e) {
+    if (!(high + tops.edge[e] + r > best)) continue;
+    const auto [a, b] = CoreTops::ends(core, e);
+    for (int i = 0; i < 3; ++i) {
+      const int i1 = (i + 1) % 3;
+      if (ut[i] + tops.edge[e] + r > best) best = std::max(best, detail::cylinder_exit(t[i] - v[a], t[i] - v[b], u, r));
+      if (!(std::max(ut[i], ut[i1]) + tops.edge[e] + r > best)) continue;
+      Vector3d m = (t[i1] - t[i]).cross(v[a] - v[b]);
+      const double len = m.norm();
+      if (!(len > 0)) continue;  // (parallel edges: the cylinders cover their strip)
+      m /= len;
+      // (t_i - v_a, t_i1 - v_a, t_i1 - v_b, t_i - v_b) turns counter-clockwise about m.
+      const Vector3d c[4] = {t[i] - v[a], t[i1] - v[a], t[i1] - v[b], t[i] - v[b]};
+      const bool flip = m.dot(u) < 0;
+      const auto corner = [&](int k) { return c[flip ? 3 - k : k]; };
+      best = std::max(best, detail::slab_exit(corner, 4, flip ? Vector3d(-m) : m, (flip ? -m : m).dot(c[0]), u, r));
+    }
+  }
+  for (int f = 0; f < core.faces; ++f) {
+    const Vector3d nf = -core.n[f];  // (the face of -core: its normal turned, its loop reversed)
+    if (!(high + tops.face[f] + r > best) || !(nf.dot(u) > 0)) continue;
+    const std::vector<int>& loop = core.shape->faces[size_t(f)].loop;
+    const int k = int(loop.size());
+    for (int i = 0; i < 3; ++i) {
+      if (!(ut[i] + tops.face[f] + r > best)) continue;
+      const auto corner = [&](int e) { return Vector3d(t[i] - v[loop[size_t(k - 1 - e)]]); };
+      best = std::max(best, detail::slab_exit(corner, k, nf, nf.dot(t[i]) + core.o[f], u, r));
+    }
+  }
+  return best;
+}
+
+// A rounded tool (a sphere, a capsule, a radius on any shape): every triangle within the radius
+// r of the core touches it, found through the octree (node boxes against the core's box grown
+// by r, then the exact distance d). The direction is the triangles' outward normals weighted by
+// their depths r - d, each term vanishing as its triangle leaves: it turns continuously as the
+// tool slides, and on a flat patch it is the patch's normal. The depth is exact: how far the
+// tool moves along u until every triangle lies r from the core, the largest exit of the ray
+// from (t (-) core) (+) B(r) (difference_exit), for the triangles in contact. Parts are not
+// clipped: the area is 0.
+Status contact_rounded(const Octree& a, const ConvexShape& shape, const detail::Rigid& pose, MeshContact& out) {
+  PlacedCore core;
+  if (const Status s = detail::place_core(shape, pose, core); s != Status::Ok) return s;
   const double r = shape.radius();
-  const Vector3d k[2] = {pose.point(core.vertices.front()), pose.point(core.vertices.back())};
-  const Vector3d lo = k[0].cwiseMin(k[1]).array() - r, hi = k[0].cwiseMax(k[1]).array() + r;
-  const Vector3d box_c = (lo + hi) / 2, box_h = (hi - lo) / 2, segment[3] = {k[0], k[1], k[1]};
+  const Vector3d box_c = core.box_c, box_h = core.box_h.array() + r, lo = box_c - box_h, hi = box_c + box_h;
   int hit[kMaxContactTriangles], hits = 0;
   Vector3d near[kMaxContactTriangles];
   Vector3d u = Vector3d::Zero();
@@ -222,7 +309,7 @@ void contact_rounded(const Octree& a, const ConvexShape& shape, const detail::Ri
       ++out.tested;
       const Vector3d tri[3] = {t[0], t[1], t[2]};
       Vector3d on_t, on_core;
-      const double d = triangle_distance(tri, segment, on_t, on_core);
+      const double d = core.distance(tri, on_t, on_core, r);
       if (!(d <= r)) continue;
       if (hits == kMaxContactTriangles) {
         out.overflow = true;  // more contact than capacity: flagged, the first ones count
@@ -234,7 +321,7 @@ void contact_rounded(const Octree& a, const ConvexShape& shape, const detail::Ri
       ++hits;
     }
   }
-  if (hits == 0) return;
+  if (hits == 0) return Status::Ok;
   out.intersecting = true;
   if (u.norm() > 0) {
     u.normalize();
@@ -247,25 +334,24 @@ void contact_rounded(const Octree& a, const ConvexShape& shape, const detail::Ri
   // The core's nearest points weighted as the direction, moved down to the nearest triangle's
   // level along it: a sphere's foot on a flat patch, a capsule's contact line's middle there.
   out.centre = total > 0 ? Vector3d(out.centre / total - least * u) : near[0];
-  if (u.isZero()) return;  // (a degenerate triangle alone: no direction to push along)
+  if (u.isZero()) return Status::Ok;  // (a degenerate triangle alone: no direction to push along)
+  const CoreTops tops(core, u);
+  double best = -std::numeric_limits<double>::infinity();
   for (int h = 0; h < hits; ++h) {
-    Vector3d tri[3], apart[6];
+    Vector3d tri[3];
     triangle_corners(a, hit[h], tri);
-    int m = 0;
-    for (const Vector3d& c : tri)
-      for (int e = 0; e < (k[0] == k[1] ? 1 : 2); ++e) apart[m++] = c - k[e];
-    const double lambda = detail::rounded_hull_exit(apart, m, u, r);
-    if (lambda > out.penetration_depth || out.triangle < 0)
-      out.penetration_depth = lambda, out.point = near[h], out.triangle = hit[h];
+    const double lambda = difference_exit(core, tops, tri, u, r, best);
+    if (lambda > best || out.triangle < 0) best = lambda, out.point = near[h], out.triangle = hit[h];
   }
+  out.penetration_depth = std::max(best, 0.0);
+  return Status::Ok;
 }
 
 // mesh_contact with the tool placed in A's frame by `pose`.
 Status contact_in_a(const Octree& a, const ConvexShape& shape, const detail::Rigid& pose, MeshScratch& ws,
                     MeshContact& out) {
   if (a.nodes.empty() || shape.empty()) return Status::TooFewPoints;
-  if (!detail::ShapeAccess::data(shape)->has_faces()) return contact_rounded(a, shape, pose, out), Status::Ok;
-  if (shape.radius() > 0) return Status::Unsupported;  // (a rounded polytope: not yet)
+  if (shape.radius() > 0) return contact_rounded(a, shape, pose, out);  // (a sphere or a capsule has one)
   const ConvexPolytope& polytope = shape.polytope();
   const int nv = int(polytope.vertices.size());
   if (nv > kMaxToolVertices || polytope.flat || nv < 4) return Status::InvalidMesh;

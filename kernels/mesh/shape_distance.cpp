@@ -7,10 +7,9 @@
 // the exact distance to the core: a point or a segment is one degenerate triangle of the batched
 // triangle kernel, a solid core its faces (fanned) plus a containment test, since a triangle
 // inside the solid is nearer than the faces say.
-#include "mesh/mesh_internal.hpp"
+#include "mesh/placed_core.hpp"
 #include "query/cache_kinds.hpp"
 #include "query/triangle_pairs.hpp"
-#include "shape/shape_data.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -22,63 +21,7 @@ using Eigen::Vector3d;
 
 namespace {
 
-constexpr int kMaxCoreTriangles = 2 * kMaxToolVertices;  // a fan of all faces: 2V - 4
-
-// The core placed in A's frame: its triangles (a point: (p, p, p); a segment: (p, q, q); a
-// solid: its faces fanned), its face planes (n . x <= o inside; none for a point, a segment or
-// a flat polygon, which have no inside), its box, and a sphere about the box's centre.
-struct PlacedCore {
-  int count = 0, planes = 0;
-  Vector3d tri[kMaxCoreTriangles][3];
-  Vector3d n[kMaxCoreTriangles];
-  double o[kMaxCoreTriangles];
-  Vector3d box_c, box_h, centre;
-  double reach = 0;  // the sphere's radius
-  bool line = false;  // a point or a segment: `tri[0]`'s first two corners are its ends
-
-  detail::PlacedSegment segment;  // a point or segment core's ends
-
-  // The core's point nearest x: exact for a point or a segment, else the sphere's centre.
-  Vector3d nearest(const Vector3d& x) const { return line ? segment.nearest(x) : centre; }
-  // The core's highest value along unit u: exact for a point or a segment, else the sphere's.
-  double support(const Vector3d& u) const { return line ? segment.support(u) : u.dot(centre) + reach; }
-  // Whether point p lies inside the solid core (no plane has it beyond).
-  bool contains(const Vector3d& p) const {
-    if (planes == 0) return false;
-    for (int f = 0; f < planes; ++f)
-      if (n[f].dot(p) > o[f]) return false;
-    return true;
-  }
-};
-
-Status place_core(const ConvexShape& shape, const detail::Rigid& pose, PlacedCore& core) {
-  const ConvexPolytope& p = shape.polytope();
-  if (p.vertices.size() > size_t(kMaxToolVertices)) return Status::CapacityExceeded;
-  Vector3d lo = Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-  for (const Vector3d& v : p.vertices) {
-    const Vector3d w = pose.point(v);
-    lo = lo.cwiseMin(w), hi = hi.cwiseMax(w);
-  }
-  core.box_c = (lo + hi) / 2, core.box_h = (hi - lo) / 2, core.centre = core.box_c;
-  for (const Vector3d& v : p.vertices) core.reach = std::max(core.reach, (pose.point(v) - core.centre).norm());
-  if (!detail::ShapeAccess::data(shape)->has_faces()) {  // a point or a segment
-    const Vector3d s0 = pose.point(p.vertices.front()), s1 = pose.point(p.vertices.back());
-    core.tri[0][0] = s0, core.tri[0][1] = s1, core.tri[0][2] = s1;
-    core.count = 1, core.line = true, core.segment = {s0, s1};
-    return Status::Ok;
-  }
-  for (const Face& f : p.faces) {
-    for (size_t k = 1; k + 1 < f.loop.size(); ++k) {
-      const Vector3d c[3] = {pose.point(p.vertices[size_t(f.loop[0])]), pose.point(p.vertices[size_t(f.loop[k])]),
-                             pose.point(p.vertices[size_t(f.loop[k + 1])])};
-      std::copy(c, c + 3, core.tri[core.count++]);
-    }
-    if (p.flat) continue;
-    pose.plane(f.normal, f.offset, core.n[core.planes], core.o[core.planes]);
-    ++core.planes;
-  }
-  return Status::Ok;
-}
+using detail::PlacedCore;
 
 // The search: the nearest core distance found so far (`best`), its points and triangle.
 class ShapeSearch {
@@ -198,7 +141,7 @@ Status shape_distance(const Octree& a, const Eigen::Isometry3d& pose_a, const Co
   if (const Status s = detail::relative_pose(pose_a, pose_shape, pose); s != Status::Ok) return s;
   if (a.nodes.empty() || shape.empty()) return Status::TooFewPoints;
   PlacedCore core;
-  if (const Status s = place_core(shape, pose, core); s != Status::Ok) return s;
+  if (const Status s = detail::place_core(shape, pose, core); s != Status::Ok) return s;
   const double r = shape.radius();
   ShapeSearch search(a, core, r, out);
   search.run(seed);

@@ -576,17 +576,37 @@ void rounded(fuzz::Bytes& in) {
       fuzz::fail("the shape-mesh distance differs from the exact distance of the core to the triangles");
     }
   }
-  // Mesh contact of a sphere or a capsule with that mesh: it touches exactly when the core comes
-  // within the radius of B's triangles; a finite depth, a unit direction.
+  // Mesh contact of A with that mesh: it touches exactly when the core comes within the radius
+  // of B's triangles; a finite depth, a unit direction; moved by the depth along it, the core
+  // lies at least the radius from each triangle that was within it.
   MeshWorkspace ws;
   MeshContact mc;
-  if (!tree.nodes.empty() && a.n == 1 && (make_workspace(tree, tree, ws), true) &&
+  const double ra = a.shape.radius();
+  const auto core_to = [&](int j, const Eigen::Vector3d& shift) {  // B's triangle j from A's core moved
+    if (a.is_box && inside(a.placed, b.tri[j][0] - shift, 0)) return 0.0;
+    double d = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < a.n; ++i) {
+      Eigen::Vector3d moved[3] = {a.tri[i][0] + shift, a.tri[i][1] + shift, a.tri[i][2] + shift};
+      d = std::min(d, test::exact_triangle_distance(moved, b.tri[j]));
+    }
+    return d;
+  };
+  if (!tree.nodes.empty() && (make_workspace(tree, tree, ws), true) &&
       mesh_contact(tree, Eigen::Isometry3d::Identity(), a.shape, a.pose, ws, mc) == Status::Ok) {
-    if (std::abs(surfaces - a.shape.radius()) > tol && mc.intersecting != (surfaces <= a.shape.radius()))
+    const double core = a.is_box && inside(a.placed, b.tri[0][0], 0) ? 0.0 : surfaces;
+    if (std::abs(core - ra) > tol && mc.intersecting != (core <= ra))
       fuzz::fail("a rounded mesh contact's verdict differs from the exact distance of the core to the triangles");
     if (mc.intersecting && (!(mc.penetration_depth >= 0) || !std::isfinite(mc.penetration_depth) ||
                             (!mc.penetration_direction.isZero() && std::abs(mc.penetration_direction.norm() - 1) > 1e-9)))
       fuzz::fail("a rounded mesh contact's depth or direction is not finite or not unit");
+    const Eigen::Vector3d shift = mc.penetration_depth * mc.penetration_direction;
+    const double moved_tol = tol + 1e-12 * mc.penetration_depth;
+    for (int j = 0; j < b.n && mc.intersecting && !shift.isZero(); ++j)
+      if (core_to(j, Eigen::Vector3d::Zero()) <= ra - tol && core_to(j, shift) < ra - moved_tol) {
+        std::fprintf(stderr, "rounded mesh contact: depth %.17g leaves triangle %d at %.17g, radius %.17g\n",
+                     mc.penetration_depth, j, core_to(j, shift), ra);
+        fuzz::fail("a rounded mesh contact's depth does not clear the triangles it touched");
+      }
   }
   ProximityCache cache;
   Proximity q;
