@@ -417,6 +417,22 @@ TEST(MeshContact, PosedBoxOnAFloorIsPushedStraightUp) {
   EXPECT_EQ(mesh_contact(A, Eigen::Isometry3d::Identity(), tool, Eigen::Isometry3d::Identity(), none, c),
             Status::InvalidMesh);
   EXPECT_FALSE(c.intersecting);
+  // Past the fixed scratch (kMaxToolVertices), with a radius or not: the capacity, as
+  // mesh_distance says. A flat tool has no inside to clip by; with a radius it has.
+  ConvexShape many, rounded_many, flat, swept;
+  ASSERT_EQ(shape_from_points(tools::sphere_mesh(0.1, 20).vertices, many), Status::Ok);
+  ASSERT_GT(many.polytope().vertices.size(), size_t(kMaxToolVertices));
+  ASSERT_EQ(shape_with_radius(many, 0.01, rounded_many), Status::Ok);
+  EXPECT_EQ(mesh_contact(A, Eigen::Isometry3d::Identity(), many, Eigen::Isometry3d::Identity(), ws, c),
+            Status::CapacityExceeded);
+  EXPECT_EQ(mesh_contact(A, Eigen::Isometry3d::Identity(), rounded_many, Eigen::Isometry3d::Identity(), ws, c),
+            Status::CapacityExceeded);
+  ASSERT_EQ(shape_from_triangle({Eigen::Vector3d(0, 0, 0.05), Eigen::Vector3d(1, 0, 0.05), Eigen::Vector3d(0, 1, 0.05)}, flat),
+            Status::Ok);
+  EXPECT_EQ(mesh_contact(A, Eigen::Isometry3d::Identity(), flat, Eigen::Isometry3d::Identity(), ws, c), Status::InvalidMesh);
+  ASSERT_EQ(shape_with_radius(flat, 0.125, swept), Status::Ok);
+  ASSERT_EQ(mesh_contact(A, Eigen::Isometry3d::Identity(), swept, Eigen::Isometry3d::Identity(), ws, c), Status::Ok);
+  EXPECT_TRUE(c.intersecting);
 }
 
 // mesh_contact of a tool of many faces (a 64-sided prism: its faces are climbed across their

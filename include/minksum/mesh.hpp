@@ -191,8 +191,8 @@ constexpr int kMaxContactTriangles = 2048;
 /// continuously, and on a flat patch it is the patch's normal), the depth how far the tool moves
 /// along u until they all lie a radius from the core (exact), the centre the core's nearest
 /// points weighted as u, moved down to the surface along it; the area is 0.
-/// No allocation. InvalidMesh if a tool without a radius is flat or has more than kMaxToolVertices
-/// vertices, CapacityExceeded for a rounded tool's core past kMaxToolVertices;
+/// No allocation. InvalidMesh if a tool without a radius is flat (a triangle: give it a radius),
+/// CapacityExceeded for a tool (or a rounded tool's core) of more than kMaxToolVertices vertices;
 /// the workspace is any made by make_workspace (its contact buffers are sized there); TooFewPoints for an empty tool,
 /// InvalidPose for a pose that is not rigid.
 Status mesh_contact(const Octree& a, const Eigen::Isometry3d& pose_a, const ConvexShape& tool,

@@ -354,8 +354,8 @@ Status contact_in_a(const Octree& a, const ConvexShape& shape, const detail::Rig
   if (shape.radius() > 0) return contact_rounded(a, shape, pose, out);  // (a sphere or a capsule has one)
   const ConvexPolytope& polytope = shape.polytope();
   const int nv = int(polytope.vertices.size());
-  if (nv > kMaxToolVertices || polytope.flat || nv < 4) return Status::InvalidMesh;
-  if (polytope.faces.size() > size_t(kMaxPlanes)) return Status::InvalidMesh;
+  if (nv > kMaxToolVertices || polytope.faces.size() > size_t(kMaxPlanes)) return Status::CapacityExceeded;
+  if (polytope.flat || nv < 4) return Status::InvalidMesh;  // (no inside to clip by)
   ToolPlanes tool;
   tool.lo = Vector3d::Constant(std::numeric_limits<double>::infinity()), tool.hi = -tool.lo;
   for (int k = 0; k < nv; ++k) {
