@@ -93,6 +93,7 @@ int directions(const Triangle& t, Eigen::Vector3d* edges, Eigen::Vector3d* norma
 // normals of A (-) B: the minimum translation is along one of them), as an interval [lo, hi]
 // that holds it despite rounding: an axis x cross y is turned by about eps |x| |y| / |x cross y|,
 // which moves the projections by that times the reach (near-parallel edges at 1e83: 1e77).
+// Crosses of edges past 1e154 have squares past the doubles: their lengths are taken stably.
 template <class A, class B>
 void sat_depth(const A& a, const B& b, double reach, double& lo, double& hi) {
   Eigen::Vector3d ca[8], cb[8], ea[3], eb[3], axes[3 + 3 + 9];
@@ -105,12 +106,12 @@ void sat_depth(const A& a, const B& b, double reach, double& lo, double& hi) {
   for (int k = 0; k < n; ++k) turn[k] = 4;
   for (const auto& x : ea)
     for (const auto& y : eb) {
-      const double cross = x.cross(y).norm(), product = x.norm() * y.norm();
+      const double cross = x.cross(y).stableNorm(), product = x.stableNorm() * y.stableNorm();
       if (cross > 1e-9 * product) turn[n] = 4 * product / cross, axes[n++] = x.cross(y);  // (parallel: no axis)
     }
   lo = hi = std::numeric_limits<double>::infinity();
   for (int k = 0; k < n; ++k) {
-    const double length = axes[k].norm();
+    const double length = axes[k].stableNorm();  // (past 1e154 a plain norm squares to inf)
     if (!(length > 0)) continue;
     const Eigen::Vector3d u = axes[k] / length;
     double lo_a = INFINITY, hi_a = -INFINITY, lo_b = INFINITY, hi_b = -INFINITY;
