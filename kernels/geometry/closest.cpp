@@ -81,6 +81,22 @@ void apex_first(Vector3d (&v)[3]) {
   std::rotate(v, v + k, v + 3);
 }
 
+// Which edges and corners of triangle v to test: all, unless corners repeat (a segment as
+// (p, q, q), a point as (p, p, p): the mesh queries' point and segment cores), where an edge of
+// length 0 or one already listed, and a corner already listed, would only repeat a test.
+void distinct_parts(const Vector3d (&v)[3], bool (&edge)[3], bool (&corner)[3]) {
+  for (int k = 0; k < 3; ++k) {
+    const Vector3d &a = v[k], &b = v[(k + 1) % 3];
+    edge[k] = a != b, corner[k] = true;
+    for (int j = 0; j < k; ++j) {
+      const Vector3d &c = v[j], &d = v[(j + 1) % 3];
+      edge[k] = edge[k] && !(edge[j] && ((a == c && b == d) || (a == d && b == c)));
+      corner[k] = corner[k] && v[j] != a;
+    }
+  }
+  if (!edge[0] && !edge[1] && !edge[2]) edge[0] = true;  // (a point: its one edge, of length 0)
+}
+
 }  // namespace
 
 double triangle_distance(const Vector3d (&s_in)[3], const Vector3d (&t_in)[3], Vector3d& ps, Vector3d& pt) {
@@ -103,6 +119,10 @@ double triangle_distance(const Vector3d (&s_in)[3], const Vector3d (&t_in)[3], V
     return !(n.squaredNorm() > 1e-24 * scale * scale);
   };
   const bool s_flat = flat(ns, s), t_flat = flat(nt, t);
+  bool s_edge[3] = {true, true, true}, t_edge[3] = {true, true, true};
+  bool s_corner[3] = {true, true, true}, t_corner[3] = {true, true, true};
+  if (s_flat) distinct_parts(s, s_edge, s_corner);
+  if (t_flat) distinct_parts(t, t_edge, t_corner);
   // Intersecting, not coplanar: an edge of one crosses the other's interior. Impossible if
   // either triangle lies strictly on one side of the other's plane (the common case).
   const auto one_side = [](const Vector3d& n, const Vector3d& p, const Vector3d(&q)[3]) {
@@ -113,11 +133,11 @@ double triangle_distance(const Vector3d (&s_in)[3], const Vector3d (&t_in)[3], V
   const bool apart = (!s_flat && one_side(ns, s[0], t)) || (!t_flat && one_side(nt, t[0], s));
   Vector3d x;
   for (int k = 0; k < 3 && !apart; ++k) {
-    if (!t_flat && pierces(s[k], s[(k + 1) % 3], t, nt, x)) {
+    if (!t_flat && s_edge[k] && pierces(s[k], s[(k + 1) % 3], t, nt, x)) {
       ps = pt = x / shrink + o;
       return 0;
     }
-    if (!s_flat && pierces(t[k], t[(k + 1) % 3], s, ns, x)) {
+    if (!s_flat && t_edge[k] && pierces(t[k], t[(k + 1) % 3], s, ns, x)) {
       ps = pt = x / shrink + o;
       return 0;
     }
@@ -127,14 +147,15 @@ double triangle_distance(const Vector3d (&s_in)[3], const Vector3d (&t_in)[3], V
   Vector3d bs = s[0], bt = t[0], cp, cq;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) {
+      if (!s_edge[i] || !t_edge[j]) continue;
       const double d2 = detail::segment_segment(s[i], s[(i + 1) % 3], t[j], t[(j + 1) % 3], cp, cq);
       if (d2 < best) best = d2, bs = cp, bt = cq;
     }
   const double inv_s = s_flat ? 0.0 : 1 / ns.squaredNorm(), inv_t = t_flat ? 0.0 : 1 / nt.squaredNorm();
   for (int k = 0; k < 3; ++k) {
-    if (!t_flat && onto_face(s[k], t, nt, inv_t, cq))
+    if (!t_flat && s_corner[k] && onto_face(s[k], t, nt, inv_t, cq))
       if (const double d2 = (s[k] - cq).squaredNorm(); d2 < best) best = d2, bs = s[k], bt = cq;
-    if (!s_flat && onto_face(t[k], s, ns, inv_s, cp))
+    if (!s_flat && t_corner[k] && onto_face(t[k], s, ns, inv_s, cp))
       if (const double d2 = (t[k] - cp).squaredNorm(); d2 < best) best = d2, bs = cp, bt = t[k];
   }
   ps = bs / shrink + o, pt = bt / shrink + o;
