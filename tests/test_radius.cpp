@@ -816,6 +816,16 @@ TEST(RoundedShapes, MeshContactOfRoundedTools) {
   ASSERT_EQ(mesh_contact(flat, Isometry3d::Identity(), rounded_box, pose, ws, c), Status::Ok);
   EXPECT_LT((c.penetration_direction - Vector3d::UnitZ()).norm(), 1e-12);
   EXPECT_NEAR(c.penetration_depth, 0.375, 1e-12);
+  // A swept triangle lying in the sheet's top plane (its core meets the triangles there, edge on
+  // and coplanar): pushed up by its radius.
+  ConvexShape flat_core, swept;
+  ASSERT_EQ(shape_from_triangle({Vector3d(0.25, 0.25, 0), Vector3d(1.25, 0.25, 0), Vector3d(0.25, 1.25, 0)}, flat_core),
+            Status::Ok);
+  ASSERT_EQ(shape_with_radius(flat_core, 0.125, swept), Status::Ok);
+  ASSERT_EQ(mesh_contact(flat, Isometry3d::Identity(), swept, Isometry3d::Identity(), ws, c), Status::Ok);
+  ASSERT_TRUE(c.intersecting);
+  EXPECT_EQ(c.penetration_direction, Vector3d::UnitZ());
+  EXPECT_EQ(c.penetration_depth, 0.125);
   // The rounded kinds at random poses against a sphere mesh, and at lattice poses (integer
   // steps of 1/4, quarter turns) against a cube mesh whose vertices lie on that lattice.
   const tools::Mesh globe = tools::sphere_mesh(2.0, 9), cube = tools::box_mesh(Vector3d(-1, -1, -1), Vector3d(1, 1, 1), 4);

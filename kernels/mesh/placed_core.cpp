@@ -68,9 +68,10 @@ double PlacedCore::distance(const Vector3d (&t)[3], Vector3d& on_t, Vector3d& on
     if (d < best) best = d, on_core = pc, on_t = pt;
   };
   // The nearest point of the core lies on a face whose normal points towards t's nearest point
-  // (its normal cone), so some corner of t lies beyond that face's plane: the others are skipped.
+  // (its normal cone), so no corner of t lies behind that face's plane only where all do: those
+  // faces are skipped. (A corner on the plane counts: t in a flat core's plane.)
   for (int f = 0; f < faces; ++f)
-    for (int k = first[f]; k < first[f + 1] && above[f] > 0; ++k)
+    for (int k = first[f]; k < first[f + 1] && !(above[f] < 0); ++k)
       if (pairs.add(tri[k], t)) pairs.flush(found);
   pairs.flush(found);
   return best;
