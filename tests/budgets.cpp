@@ -137,8 +137,8 @@ void impacts() {
 }
 
 // Rounded shapes along the convex pairs' kind of path (in and out of contact): a sphere and a
-// capsule against an icosahedron, cold and coherent; two capsules; a sphere and a box (closed
-// forms); two rounded boxes, coherent; a capsule crossing a box within a tick.
+// capsule against an icosahedron, cold and coherent; two capsules; a sphere or a capsule and a
+// box (closed forms); two rounded boxes, coherent; a capsule crossing a box within a tick.
 void rounded_shapes() {
   ConvexShape sphere, capsule, icosa, box, rounded_box, core;
   shape_from_sphere(0.5, sphere), shape_from_capsule(0.6, 0.3, capsule);
@@ -161,6 +161,7 @@ void rounded_shapes() {
   pair("rounded.capsule_polytope", capsule, icosa, true, true);
   pair("rounded.capsule_capsule", capsule, capsule, true, false);
   pair("rounded.sphere_box", sphere, box, true, false);
+  pair("rounded.capsule_box", capsule, box, true, false);
   pair("rounded.rounded_boxes", rounded_box, rounded_box, false, true);
   TimeOfImpact t;
   constexpr int m = 64;

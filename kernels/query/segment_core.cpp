@@ -229,6 +229,46 @@ void point_box(const Vector3d& x, const Box& box, double tol, Proximity& out) {
   out.point_b = x - depth * u;
 }
 
+// A segment and a box in the box's frame (centre c, axes R, half extents h), in closed form:
+// the squared distance of the point a + t d to the box is convex along the segment and
+// piecewise quadratic, each piece fixed by the face planes the point lies beyond (at most six
+// cuts where it crosses one). Its least value is where its slope, sum over those axes of
+// d_i (x_i -+ h_i), turns from negative: the pieces are visited in order to the one where it
+// does, and the slope, linear there, solved. Sets the distance and nearest points; false where
+// they meet (within tol), for the depth.
+bool segment_box(const Segment& s, const Box& box, double tol, Proximity& out) {
+  const Eigen::Matrix3d& R = box.rotation;
+  const Vector3d a = R.transpose() * (s.s0 - box.center), d = R.transpose() * (s.s1 - s.s0), h = box.half_extents;
+  const auto slope = [&](double t) {
+    const Vector3d x = a + t * d;
+    return d.dot(x - x.cwiseMax(-h).cwiseMin(h));
+  };
+  double t = 0;
+  if (slope(0) < 0) {
+    t = 1;
+    if (slope(1) > 0) {
+      double cut[8] = {0, 1};
+      int n = 2;
+      for (int i = 0; i < 3; ++i)
+        for (const double side : {-h[i], h[i]})
+          if (const double c = (side - a[i]) / d[i]; c > 0 && c < 1) cut[n++] = c;  // (d_i = 0: inf or NaN)
+      std::sort(cut, cut + n);
+      int k = 1;
+      while (k < n - 1 && slope(cut[k]) < 0) ++k;
+      const Vector3d mid = a + 0.5 * (cut[k - 1] + cut[k]) * d;
+      double num = 0, den = 0;
+      for (int i = 0; i < 3; ++i)
+        if (mid[i] > h[i] || mid[i] < -h[i]) num += d[i] * (a[i] - (mid[i] > 0 ? h[i] : -h[i])), den += d[i] * d[i];
+      t = den > 0 ? std::clamp(-num / den, cut[k - 1], cut[k]) : cut[k - 1];
+    }
+  }
+  const Vector3d x = a + t * d, q = x.cwiseMax(-h).cwiseMin(h);
+  const double dist = (x - q).norm();
+  if (!(dist > tol)) return false;
+  out.distance = dist, out.point_a = s.s0 + t * (s.s1 - s.s0), out.point_b = box.center + R * q;
+  return true;
+}
+
 // The face of p whose plane s's middle lies farthest in front of: a cold query's guess of the
 // face that holds the nearest points (right unless they lie past its edges).
 int facing_face(const Segment& s, const ConvexPolytope& p, int faces) {
@@ -248,7 +288,11 @@ bool body_proximity(const Segment& s, const ConvexShape& shape, int& cached, Pro
   const ShapeData& data = *ShapeAccess::data(shape);
   const ConvexPolytope& p = shape.polytope();
   const double tol = touching(std::max({data.size, largest(s.s0), largest(s.s1)}));
-  if (data.kind == ShapeData::Kind::Box && s.s0 == s.s1) return point_box(s.s0, data.box, tol, out), false;
+  if (data.kind == ShapeData::Kind::Box) {
+    if (s.s0 == s.s1) return point_box(s.s0, data.box, tol, out), false;
+    if (segment_box(s, data.box, tol, out)) return cached = -1, false;
+    return cached = -1, segment_depth(s, p, 4 * tol, out), false;
+  }
   const int F = p.flat ? 1 : int(p.faces.size());
   Vector3d x, y;
   bool over;
