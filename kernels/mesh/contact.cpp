@@ -1,6 +1,7 @@
 // How a convex tool touches a mesh (haptic rendering): the mesh's triangles clipped by the tool
 // (clip_triangle), their parts inside gathered through the octree (gather_parts), and the depth
-// the tool must move to push them out (push_out).
+// the tool must move to push them out (push_out). A rounded tool instead takes the triangles
+// within its radius of the core and the exact exit of each (contact_rounded).
 #include <minksum/kernels.hpp>
 #include "mesh/placed_core.hpp"
 #include "geometry/closest.hpp"
