@@ -44,35 +44,15 @@ Status place_core(const ConvexShape& shape, const Rigid& pose, PlacedCore& core)
 
 double PlacedCore::distance(const Vector3d (&t)[3], Vector3d& on_t, Vector3d& on_core, double beyond) const {
   if (line) return minksum::triangle_distance(t, tri[0], on_t, on_core);
-  // A face plane with every corner of t beyond it separates them: the widest such gap bounds the
-  // distance from below, and is the distance where the corner nearest that plane lies over the
-  // face (its foot is a point of the core that far away): a face resting over a surface.
-  double gap = 0, above[kMaxCoreTriangles];
-  int face = -1, corner = 0;
-  for (int f = 0; f < faces; ++f) {
-    const double h[3] = {n[f].dot(t[0]) - o[f], n[f].dot(t[1]) - o[f], n[f].dot(t[2]) - o[f]};
-    const int k = h[0] <= h[1] ? (h[0] <= h[2] ? 0 : 2) : (h[1] <= h[2] ? 1 : 2);
-    if (h[k] > gap) gap = h[k], face = f, corner = k;
-    above[f] = std::max({h[0], h[1], h[2]});
-  }
-  if (face >= 0) {
-    if (gap > beyond) return gap;
-    const Vector3d foot = t[corner] - gap * n[face];
-    if (over_face(face, foot)) return on_t = t[corner], on_core = foot, gap;
-  }
-  for (const Vector3d& p : t)
-    if (contains(p)) return on_t = on_core = p, 0.0;
   double best = std::numeric_limits<double>::infinity();
   TrianglePairs pairs;
   const auto found = [&](double d, const Vector3d& pc, const Vector3d& pt, int, int) {
     if (d < best) best = d, on_core = pc, on_t = pt;
   };
-  // The nearest point of the core lies on a face whose normal points towards t's nearest point
-  // (its normal cone), so no corner of t lies behind that face's plane only where all do: those
-  // faces are skipped. (A corner on the plane counts: t in a flat core's plane.)
-  for (int f = 0; f < faces; ++f)
-    for (int k = first[f]; k < first[f + 1] && !(above[f] < 0); ++k)
-      if (pairs.add(tri[k], t)) pairs.flush(found);
+  const auto add = [&](int k) {
+    if (pairs.add(tri[k], t)) pairs.flush(found);
+  };
+  if (const double d = screen(t, on_t, on_core, beyond, add); d >= 0) return d;
   pairs.flush(found);
   return best;
 }

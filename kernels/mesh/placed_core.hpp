@@ -6,6 +6,7 @@
 
 #include "mesh/mesh_internal.hpp"
 
+#include <algorithm>
 #include <limits>
 
 namespace minksum::detail {
@@ -36,6 +37,35 @@ struct PlacedCore {
     for (int f = 0; f < faces; ++f)
       if (n[f].dot(p) > o[f]) return false;
     return true;
+  }
+  /// Triangle t before the exact kernel. Where its distance is proven without it, returns it
+  /// and the pair: a corner inside a solid core, 0; a face plane with every corner beyond it
+  /// and the nearest corner's foot on the face, that gap (a face resting over a surface); a gap
+  /// past `beyond`, that lower bound, without the pair. Else returns -1 and calls add(k) for each
+  /// core triangle k that can hold the nearest point: those of the faces that some corner of t
+  /// does not lie behind (the nearest point's normal cone holds such a face), a line's one.
+  template <class Add>
+  double screen(const Eigen::Vector3d (&t)[3], Eigen::Vector3d& on_t, Eigen::Vector3d& on_core, double beyond,
+                Add&& add) const {
+    if (line) return add(0), -1.0;
+    double gap = 0, above[kMaxCoreTriangles];
+    int face = -1, corner = 0;
+    for (int f = 0; f < faces; ++f) {
+      const double h[3] = {n[f].dot(t[0]) - o[f], n[f].dot(t[1]) - o[f], n[f].dot(t[2]) - o[f]};
+      const int k = h[0] <= h[1] ? (h[0] <= h[2] ? 0 : 2) : (h[1] <= h[2] ? 1 : 2);
+      if (h[k] > gap) gap = h[k], face = f, corner = k;
+      above[f] = std::max({h[0], h[1], h[2]});
+    }
+    if (face >= 0) {
+      if (gap > beyond) return gap;
+      const Eigen::Vector3d foot = t[corner] - gap * n[face];
+      if (over_face(face, foot)) return on_t = t[corner], on_core = foot, gap;
+    }
+    for (const Eigen::Vector3d& p : t)
+      if (contains(p)) return on_t = on_core = p, 0.0;
+    for (int f = 0; f < faces; ++f)  // (a corner on the plane counts: t in a flat core's plane)
+      for (int k = first[f]; k < first[f + 1] && !(above[f] < 0); ++k) add(k);
+    return -1;
   }
   /// The exact distance of triangle t to the core and a nearest pair (0 with a shared point where
   /// they meet); past `beyond`, it may be any lower bound over it, without the pair.

@@ -4,9 +4,10 @@
 // visited depth first, the nearest bound on top, pruned by lower bounds of their distance to the
 // core (its box against the node's box; both projected on the line from the core's nearest
 // point to the box's centre; the core against the node's slab); the triangles left get
-// the exact distance to the core: a point or a segment is one degenerate triangle of the batched
-// triangle kernel, a solid core its faces (fanned) plus a containment test, since a triangle
-// inside the solid is nearer than the faces say.
+// the exact distance to the core (PlacedCore::screen, then the batched triangle kernel): a
+// point or a segment is one degenerate triangle, a solid core the fans of the faces that can
+// hold the nearest point, after a containment test (a triangle inside the solid is nearer than
+// the faces say) and a face's certificate (a face resting over the triangle).
 #include "mesh/placed_core.hpp"
 #include "query/cache_kinds.hpp"
 #include "query/triangle_pairs.hpp"
@@ -103,18 +104,15 @@ class ShapeSearch {
     flush();
   }
 
-  // Queues triangle t's exact distance to the core (or finds it inside the solid core).
+  // Triangle t's exact distance to the core: proven at once, or queued for the kernel.
   void test(int tri, const Vector3d (&t)[3]) {
     ++out_.stats.candidates_a;
-    for (const Vector3d& p : t)
-      if (core_.contains(p)) {
-        best_ = 0, point_mesh_ = point_core_ = p, out_.triangle_a = tri;
-        return;
-      }
-    for (int k = 0; k < core_.count; ++k) {
+    Vector3d on_t, on_core;
+    const double d = core_.screen(t, on_t, on_core, best_, [&](int k) {
       ++out_.stats.triangle_pairs;
       if (pairs_.add(core_.tri[k], t, k, tri)) flush();
-    }
+    });
+    if (d >= 0 && d < best_) best_ = d, point_mesh_ = on_t, point_core_ = on_core, out_.triangle_a = tri;
   }
 
   void flush() {

@@ -247,12 +247,14 @@ bool segment_box(const Segment& s, const Box& box, double tol, Proximity& out) {
   if (slope(0) < 0) {
     t = 1;
     if (slope(1) > 0) {
-      double cut[8] = {0, 1};
-      int n = 2;
+      double cut[8] = {0};
+      int n = 1;
       for (int i = 0; i < 3; ++i)
         for (const double side : {-h[i], h[i]})
           if (const double c = (side - a[i]) / d[i]; c > 0 && c < 1) cut[n++] = c;  // (d_i = 0: inf or NaN)
-      std::sort(cut, cut + n);
+      for (int i = 2; i < n; ++i)  // (at most six cuts: an insertion sort)
+        for (int j = i; j > 1 && cut[j] < cut[j - 1]; --j) std::swap(cut[j], cut[j - 1]);
+      cut[n++] = 1;
       int k = 1;
       while (k < n - 1 && slope(cut[k]) < 0) ++k;
       const Vector3d mid = a + 0.5 * (cut[k - 1] + cut[k]) * d;
