@@ -1,0 +1,174 @@
+# Type stubs of the minksum module (kernels/python/*.cpp). tests/python/test_stubs.py checks that
+# they name exactly what the module defines.
+from enum import IntEnum
+from typing import Optional, Sequence, Tuple, Union, overload
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+ArrayLike = npt.ArrayLike
+Array = npt.NDArray[np.float64]
+IntArray = npt.NDArray[np.int32]
+# None (the identity), a 4x4 array with last row (0, 0, 0, 1), or (rotation 3x3, translation 3).
+Pose = Union[None, ArrayLike, Tuple[ArrayLike, ArrayLike]]
+
+class Error(ValueError):
+    """A call the library refused; .status says why."""
+    status: Status
+
+class Status(IntEnum):
+    OK = 0
+    NON_FINITE = 1
+    TOO_FEW_POINTS = 2
+    COLLINEAR = 3
+    INVALID_MESH = 4
+    NOT_CONVEX = 5
+    INVALID_BOX = 6
+    DEGENERATE_RESULT = 7
+    HULL_FAILED = 8
+    OUT_OF_RANGE = 9
+    INVALID_POSE = 10
+    INVALID_ARGUMENT = 11
+    CAPACITY_EXCEEDED = 12
+    UNSUPPORTED = 13
+
+class Want(IntEnum):
+    VERDICT = 1
+    DISTANCE = 3
+    WITNESSES = 7
+    PATCH = 15
+    MAX_DISTANCE = 16
+    ALL = 31
+
+class SumParts(IntEnum):
+    PLANES = 0
+    VERTICES = 1
+    WHOLE = 2
+
+class Shape:
+    """An immutable convex shape: a core swept by a ball of `radius`, placed by a pose per call."""
+    @staticmethod
+    def from_points(points: ArrayLike) -> Shape: ...
+    @staticmethod
+    def from_mesh(vertices: ArrayLike, faces: Sequence[Sequence[int]]) -> Shape: ...
+    @staticmethod
+    def box(half_extents: ArrayLike = (1.0, 1.0, 1.0), center: Optional[ArrayLike] = None,
+            rotation: Optional[ArrayLike] = None) -> Shape: ...
+    @staticmethod
+    def triangle(corners: ArrayLike) -> Shape: ...
+    @staticmethod
+    def sphere(radius: float) -> Shape: ...
+    @staticmethod
+    def capsule(half_length: float, radius: float) -> Shape: ...
+    def with_radius(self, radius: float) -> Shape: ...
+    @property
+    def radius(self) -> float: ...
+    @property
+    def vertices(self) -> Array: ...
+    @property
+    def faces(self) -> Tuple[Array, IntArray, IntArray]: ...
+
+class Proximity:
+    intersecting: bool
+    distance: float
+    point_a: Array
+    point_b: Array
+    max_distance: float
+    far_a: Array
+    far_b: Array
+    penetration_depth: float
+    penetration_direction: Array
+    searched: bool
+
+class ProximityCache:
+    def __init__(self) -> None: ...
+    warm: int
+    cold: int
+    searched: int
+
+class ContactPatch:
+    points: Array
+    normal: Array
+    depth: float
+    feature_a: Tuple[str, int, int]
+    feature_b: Tuple[str, int, int]
+
+class TimeOfImpact:
+    hit: bool
+    time: float
+    distance: float
+    normal: Array
+    point_a: Array
+    point_b: Array
+    tolerance: float
+    converged: bool
+    iterations: int
+    triangle: int
+
+class Sum:
+    planes: Array
+    plane_pairs: IntArray
+    vertices: Array
+    vertex_pairs: IntArray
+    loop_start: IntArray
+    loop_vertex: IntArray
+    V: int
+    E: int
+    F: int
+    euler_ok: bool
+    radius: float
+    parts: SumParts
+    def contains(self, point: ArrayLike) -> bool: ...
+
+class Mesh:
+    def __init__(self, vertices: ArrayLike, triangles: ArrayLike, leaf_size: int = 64) -> None: ...
+    @staticmethod
+    def from_points(points: ArrayLike, leaf_size: int = 64) -> Mesh: ...
+    vertices: Array
+    triangles: IntArray
+    is_cloud: bool
+
+class MeshWorkspace:
+    def __init__(self, a: Mesh, b: Mesh) -> None: ...
+
+class MeshDistance:
+    distance: float
+    point_a: Array
+    point_b: Array
+    triangle_a: int
+    triangle_b: int
+    intersecting: bool
+
+class MeshContact:
+    intersecting: bool
+    penetration_depth: float
+    penetration_direction: Array
+    point: Array
+    triangle: int
+    area: float
+    centre: Array
+    overflow: bool
+
+def proximity(a: Shape, pose_a: Pose, b: Shape, pose_b: Pose, want: Union[Want, int] = Want.WITNESSES,
+              cache: Optional[ProximityCache] = None) -> Proximity: ...
+def contact_patch(a: Shape, pose_a: Pose, b: Shape, pose_b: Pose, margin: float = 0.0,
+                  cache: Optional[ProximityCache] = None, reduce: bool = False) -> ContactPatch: ...
+@overload
+def time_of_impact(a: Shape, a0: Pose, a1: Pose, b: Shape, b0: Pose, b1: Pose, tolerance: float = 0.0) -> TimeOfImpact: ...
+@overload
+def time_of_impact(a: Mesh, pose_a: Pose, tool: Shape, t0: Pose, t1: Pose, tolerance: float = 0.0) -> TimeOfImpact: ...
+def minkowski_sum(a: Shape, pose_a: Pose, b: Shape, pose_b: Pose, parts: SumParts = SumParts.WHOLE) -> Sum: ...
+def minkowski_difference(a: Shape, pose_a: Pose, b: Shape, pose_b: Pose, parts: SumParts = SumParts.WHOLE) -> Sum: ...
+@overload
+def mesh_distance(a: Mesh, pose_a: Pose, b: Mesh, pose_b: Pose, workspace: Optional[MeshWorkspace] = None,
+                  cache: Optional[ProximityCache] = None) -> MeshDistance: ...
+@overload
+def mesh_distance(a: Mesh, pose_a: Pose, b: Shape, pose_b: Pose, workspace: None = None,
+                  cache: Optional[ProximityCache] = None) -> MeshDistance: ...
+def mesh_contact(a: Mesh, pose_a: Pose, tool: Shape, pose_tool: Pose,
+                 workspace: Optional[MeshWorkspace] = None) -> MeshContact: ...
+def read_mesh(path: str, cloud_ok: bool = False) -> Tuple[Array, IntArray]: ...
+def read_points(path: str) -> Array: ...
+def write_mesh(path: str, sum: Sum) -> None: ...
