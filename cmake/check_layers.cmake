@@ -6,7 +6,7 @@ cmake_minimum_required(VERSION 3.22)
 #    and the ones it leaves undefined), or
 #  - a cycle of calls between objects of one stage.
 # Inputs: KERNELS (the kernels/ directory), OBJECTS (the library's objects, separated by |).
-set(stages core geometry simd shape sum query mesh io python)
+set(stages core geometry simd shape sum query mesh io parallel python)
 
 function(stage_of path out)
   string(REGEX MATCH "kernels/([a-z]+)/[^/]+$" m "${path}")

@@ -1,8 +1,10 @@
 // Prepared shapes are shared read-only across threads: 4 threads run sums, differences and
 // proximity queries on the same shapes at once, and every answer equals, bit for bit, the one
-// computed on one thread. ci/test also runs this executable under ThreadSanitizer.
+// computed on one thread. The batches (minksum/parallel.hpp) give, bit for bit, the single
+// calls' answers on 1 and 2 threads. ci/test also runs this executable under ThreadSanitizer.
 #include <gtest/gtest.h>
 #include <minksum/minksum.hpp>
+#include <minksum/parallel.hpp>
 
 #include <atomic>
 #include <random>
@@ -83,6 +85,134 @@ TEST(Threads, SharedShapesGiveTheSameAnswersOnFourThreads) {
   for (auto& t : threads) t.join();
   EXPECT_EQ(done.load(), 4 * 5 * int(tasks.size()));
   EXPECT_EQ(mismatches.load(), 0);
+}
+
+// A trajectory of n poses that passes near, through and away from the origin's shape, with ties:
+// every fourth pose a quarter turn at a lattice point.
+std::vector<Isometry3d> batch_poses(long n, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::vector<Isometry3d> poses(size_t(n), Isometry3d::Identity());
+  for (long k = 0; k < n; ++k) {
+    const double t = double(k) / double(n);
+    Isometry3d& p = poses[size_t(k)];
+    p.linear() = tools::axis_angle(Vector3d(1, 2, 3), 9 * t);
+    p.translation() = Vector3d(2.5 * std::cos(40 * t), 2.5 * std::sin(30 * t), 0.4 * std::sin(7 * t));
+    if (k % 4 == 3) p.linear() = test::ties::quarter_turn(rng), p.translation() = test::ties::lattice_point(rng, 2, 1);
+  }
+  return poses;
+}
+
+// The batch's answers against the single calls made in order, the cache cleared every block.
+TEST(Batches, ProximityAndTimeOfImpactAreTheSingleCallsOnOneAndTwoThreads) {
+  ConvexShape a, b;
+  ASSERT_EQ(shape_from_points(tools::sphere_points(40, 7), a), Status::Ok);
+  ASSERT_EQ(shape_from_box(Box{}, b), Status::Ok);
+  const long n = 3 * kBatchBlock + 17;  // a partial last block
+  const std::vector<Isometry3d> poses = batch_poses(n, 3), ends = batch_poses(n, 4);
+  const Isometry3d here = Isometry3d::Identity();
+  std::vector<Proximity> single(static_cast<size_t>(n));
+  std::vector<TimeOfImpact> single_toi(static_cast<size_t>(n));
+  ProximityCache cache;
+  for (long k = 0; k < n; ++k) {
+    if (k % kBatchBlock == 0) cache = ProximityCache{};
+    ASSERT_EQ(proximity(a, here, b, poses[size_t(k)], cache, single[size_t(k)], Want::All), Status::Ok);
+    ASSERT_EQ(time_of_impact(a, here, here, b, poses[size_t(k)], ends[size_t(k)], single_toi[size_t(k)]), Status::Ok);
+  }
+  EXPECT_GT(cache.warm, 0);
+  for (int threads : {1, 2}) {
+    std::vector<Proximity> out(static_cast<size_t>(n));
+    std::vector<TimeOfImpact> toi(static_cast<size_t>(n));
+    const BatchStatus s = proximity_batch(a, {&here, 1}, b, {poses.data(), n}, n, out.data(), Want::All, {threads});
+    ASSERT_EQ(s.status, Status::Ok);
+    ASSERT_EQ(time_of_impact_batch(a, {&here, 1}, {&here, 1}, b, {poses.data(), n}, {ends.data(), n}, n, toi.data(), 0, {threads})
+                  .status,
+              Status::Ok);
+    for (long k = 0; k < n; ++k) {
+      const Proximity &x = out[size_t(k)], &y = single[size_t(k)];
+      ASSERT_TRUE(x.distance == y.distance && x.point_a == y.point_a && x.point_b == y.point_b &&
+                  x.penetration_depth == y.penetration_depth && x.penetration_direction == y.penetration_direction &&
+                  x.max_distance == y.max_distance && x.intersecting == y.intersecting)
+          << "item " << k << " on " << threads << " threads";
+      ASSERT_TRUE(toi[size_t(k)].time == single_toi[size_t(k)].time && toi[size_t(k)].point_a == single_toi[size_t(k)].point_a)
+          << "item " << k << " on " << threads << " threads";
+    }
+  }
+}
+
+TEST(Batches, MeshDistancesAndSumsAreTheSingleCallsOnOneAndTwoThreads) {
+  // A lumpy sheet of 2 x 16 x 16 triangles, and a sphere-like hull.
+  std::vector<Vector3d> v;
+  std::vector<std::array<int, 3>> t;
+  for (int i = 0; i <= 16; ++i)
+    for (int j = 0; j <= 16; ++j) v.emplace_back(0.25 * i - 2, 0.25 * j - 2, 0.2 * std::sin(i + 2.0 * j));
+  for (int i = 0; i < 16; ++i)
+    for (int j = 0; j < 16; ++j) {
+      const int c = i * 17 + j;
+      t.push_back({c, c + 17, c + 1}), t.push_back({c + 1, c + 17, c + 18});
+    }
+  Octree mesh;
+  ASSERT_EQ(build_octree(v, t, mesh), Status::Ok);
+  ConvexShape hull, box;
+  ASSERT_EQ(shape_from_points(tools::sphere_points(30, 9), hull), Status::Ok);
+  ASSERT_EQ(shape_from_box(Box{}, box), Status::Ok);
+  const long n = 2 * kBatchBlock + 5;
+  std::vector<Isometry3d> poses = batch_poses(n, 5);
+  for (Isometry3d& p : poses) p.translation().z() += 1.2;
+  const Isometry3d here = Isometry3d::Identity();
+  std::vector<MeshDistance> single(static_cast<size_t>(n)), single_shape(static_cast<size_t>(n));
+  MeshWorkspace ws;
+  make_workspace(mesh, mesh, ws);
+  ProximityCache cache, shape_cache;
+  for (long k = 0; k < n; ++k) {
+    if (k % kBatchBlock == 0) cache = shape_cache = ProximityCache{};
+    ASSERT_EQ(mesh_distance(mesh, here, mesh, poses[size_t(k)], ws, cache, single[size_t(k)]), Status::Ok);
+    ASSERT_EQ(mesh_distance(mesh, here, hull, poses[size_t(k)], shape_cache, single_shape[size_t(k)]), Status::Ok);
+  }
+  const std::vector<ConvexShape> as(static_cast<size_t>(n), hull), bs(static_cast<size_t>(n), box);
+  for (int threads : {1, 2}) {
+    std::vector<MeshDistance> out(static_cast<size_t>(n)), out_shape(static_cast<size_t>(n));
+    ASSERT_EQ(mesh_distance_batch(mesh, {&here, 1}, mesh, {poses.data(), n}, n, out.data(), {threads}).status, Status::Ok);
+    ASSERT_EQ(mesh_distance_batch(mesh, {&here, 1}, hull, {poses.data(), n}, n, out_shape.data(), {threads}).status, Status::Ok);
+    std::vector<MinkowskiSum> sums(static_cast<size_t>(n));
+    ASSERT_EQ(minkowski_sum_batch(as.data(), {&here, 1}, bs.data(), {poses.data(), n}, n, sums.data(), true, SumParts::Whole, {threads})
+                  .status,
+              Status::Ok);
+    for (long k = 0; k < n; ++k) {
+      const size_t i = size_t(k);
+      ASSERT_TRUE(out[i].distance == single[i].distance && out[i].point_a == single[i].point_a &&
+                  out_shape[i].distance == single_shape[i].distance && out_shape[i].point_b == single_shape[i].point_b)
+          << "item " << k << " on " << threads << " threads";
+      MinkowskiSum m;
+      ASSERT_EQ(minkowski_difference(hull, here, box, poses[i], m), Status::Ok);
+      ASSERT_TRUE(identical(m, sums[i])) << "sum " << k << " on " << threads << " threads";
+    }
+  }
+}
+
+TEST(Batches, BadArgumentsAndTheFirstFailedItem) {
+  ConvexShape a, b;
+  ASSERT_EQ(shape_from_box(Box{}, a), Status::Ok);
+  ASSERT_EQ(shape_from_box(Box{}, b), Status::Ok);
+  const long n = 2 * kBatchBlock;
+  std::vector<Isometry3d> poses = batch_poses(n, 6);
+  poses[size_t(n - 3)].linear() *= 2;  // not rigid: in the second block
+  poses[size_t(kBatchBlock + 2)].translation().x() = std::nan("");
+  const Isometry3d here = Isometry3d::Identity();
+  std::vector<Proximity> out(static_cast<size_t>(n));
+  for (int threads : {1, 2}) {
+    const BatchStatus s = proximity_batch(a, {&here, 1}, b, {poses.data(), n}, n, out.data(), Want::Witnesses, {threads});
+    EXPECT_EQ(s.status, Status::InvalidPose);
+    EXPECT_EQ(s.index, kBatchBlock + 2);
+    EXPECT_EQ(out[size_t(kBatchBlock + 2)].distance, 0);  // a failed item keeps the defaults
+    EXPECT_FALSE(out[size_t(kBatchBlock + 2)].intersecting);
+    Proximity one;
+    ASSERT_EQ(proximity(a, here, b, poses[size_t(n - 1)], one), Status::Ok);
+    EXPECT_EQ(out[size_t(n - 1)].distance, one.distance);  // the rest are computed
+  }
+  EXPECT_EQ(proximity_batch(a, {&here, 1}, b, {poses.data(), n - 1}, n, out.data()).status, Status::InvalidArgument);
+  EXPECT_EQ(proximity_batch(a, {&here, 1}, b, {nullptr, 1}, n, out.data()).status, Status::InvalidArgument);
+  EXPECT_EQ(proximity_batch(a, {&here, 1}, b, {&here, 1}, -1, out.data()).status, Status::InvalidArgument);
+  EXPECT_EQ(proximity_batch(a, {&here, 1}, b, {&here, 1}, 0, nullptr).status, Status::Ok);
 }
 
 }  // namespace
