@@ -110,6 +110,12 @@ Eigen::Isometry3d pose_of(const py::handle& value, const char* what) {
   return pose;
 }
 
+Want want_of(const py::handle& value) {
+  const unsigned mask = py::cast<unsigned>(py::int_(py::reinterpret_borrow<py::object>(value)));
+  if (mask == 0 || mask > unsigned(Want::All)) refuse("want", "expected a Want or a combination of them");
+  return Want(mask);
+}
+
 py::array_t<double> array_of(const Eigen::Vector3d& v) {
   py::array_t<double> out(3);
   std::copy(v.data(), v.data() + 3, out.mutable_data());

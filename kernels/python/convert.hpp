@@ -3,7 +3,7 @@
 // dtype and says which argument was wrong; the library checks the values (NaN, rigidity).
 #pragma once
 
-#include <minksum/model.hpp>
+#include <minksum/query.hpp>
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -40,6 +40,9 @@ std::vector<std::array<int, 3>> triangles_of(const py::handle& array, const char
 /// A pose: None (the identity), a 4x4 array with last row (0, 0, 0, 1), or a pair
 /// (rotation 3x3, translation 3). Rigidity is checked (check_pose): InvalidPose.
 Eigen::Isometry3d pose_of(const py::handle& value, const char* what);
+
+/// A Want, or an integer mask of them.
+Want want_of(const py::handle& value);
 
 /// A 3-vector as a new (3,) float64 array.
 py::array_t<double> array_of(const Eigen::Vector3d& v);

@@ -172,3 +172,43 @@ def mesh_contact(a: Mesh, pose_a: Pose, tool: Shape, pose_tool: Pose,
 def read_mesh(path: str, cloud_ok: bool = False) -> Tuple[Array, IntArray]: ...
 def read_points(path: str) -> Array: ...
 def write_mesh(path: str, sum: Sum) -> None: ...
+
+# Batches: N poses as an (N, 4, 4) array (or one pose for all), results as arrays of N rows;
+# threads 0 is one per core. The same answers on any number of threads.
+class _ProximityBatch:
+    intersecting: npt.NDArray[np.bool_]
+    distance: Array
+    point_a: Array
+    point_b: Array
+    penetration_depth: Array
+    penetration_direction: Array
+    max_distance: Array
+
+class _TimeOfImpactBatch:
+    hit: npt.NDArray[np.bool_]
+    time: Array
+    distance: Array
+    normal: Array
+    point_a: Array
+    point_b: Array
+
+class _MeshDistanceBatch:
+    distance: Array
+    point_a: Array
+    point_b: Array
+    triangle_a: IntArray
+    triangle_b: IntArray
+    intersecting: npt.NDArray[np.bool_]
+
+def proximity_batch(a: Shape, poses_a: ArrayLike, b: Shape, poses_b: ArrayLike, want: Union[Want, int] = Want.WITNESSES,
+                    threads: int = 0) -> _ProximityBatch: ...
+def time_of_impact_batch(a: Shape, a0: ArrayLike, a1: ArrayLike, b: Shape, b0: ArrayLike, b1: ArrayLike,
+                         tolerance: float = 0.0, threads: int = 0) -> _TimeOfImpactBatch: ...
+@overload
+def mesh_distance_batch(a: Mesh, poses_a: ArrayLike, b: Mesh, poses_b: ArrayLike, threads: int = 0) -> _MeshDistanceBatch: ...
+@overload
+def mesh_distance_batch(a: Mesh, poses_a: ArrayLike, b: Shape, poses_b: ArrayLike, threads: int = 0) -> _MeshDistanceBatch: ...
+def minkowski_sum_batch(a: Sequence[Shape], poses_a: ArrayLike, b: Sequence[Shape], poses_b: ArrayLike,
+                        parts: SumParts = SumParts.WHOLE, threads: int = 0) -> list[Sum]: ...
+def minkowski_difference_batch(a: Sequence[Shape], poses_a: ArrayLike, b: Sequence[Shape], poses_b: ArrayLike,
+                               parts: SumParts = SumParts.WHOLE, threads: int = 0) -> list[Sum]: ...

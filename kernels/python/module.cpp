@@ -49,4 +49,5 @@ PYBIND11_MODULE(minksum, m) {
   python::register_queries(m);
   python::register_sums(m);
   python::register_meshes(m);
+  python::register_batches(m);
 }

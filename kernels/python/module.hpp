@@ -14,4 +14,7 @@ void register_sums(pybind11::module_& m);
 /// minksum.Mesh, mesh_distance, mesh_contact, a tool's time of impact, and the file readers.
 void register_meshes(pybind11::module_& m);
 
+/// The batches of minksum/parallel.hpp.
+void register_batches(pybind11::module_& m);
+
 }  // namespace minksum::python

@@ -11,13 +11,6 @@ namespace minksum::python {
 
 namespace {
 
-// A Want, or its integer mask (Want.DISTANCE | Want.MAX_DISTANCE gives an int).
-Want want_of(const py::handle& value) {
-  const unsigned mask = py::cast<unsigned>(py::int_(py::reinterpret_borrow<py::object>(value)));
-  if (mask == 0 || mask > unsigned(Want::All)) refuse("want", "expected a Want or a combination of them");
-  return Want(mask);
-}
-
 Proximity proximity_of(const ConvexShape& a, const py::handle& pose_a, const ConvexShape& b, const py::handle& pose_b,
                        const py::handle& want, ProximityCache* cache) {
   const Eigen::Isometry3d pa = pose_of(pose_a, "pose_a"), pb = pose_of(pose_b, "pose_b");

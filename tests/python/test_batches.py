@@ -1,0 +1,85 @@
+# Batches from Python: bit for bit the single calls (made in order, the cache cleared every 256
+# items), on 1 and 2 threads; one pose broadcast to every item; a bad item named by its index.
+import numpy as np
+import pytest
+
+import minksum as mk
+from conftest import pose, random_rotation
+
+BLOCK = 256
+QUARTER = np.array([[0.0, -1, 0], [1, 0, 0], [0, 0, 1]])  # a quarter turn about z
+
+
+def trajectory(rng, n, lift=0.0):
+    poses = np.tile(np.eye(4), (n, 1, 1))
+    t = np.linspace(0, 1, n)
+    poses[:, 0, 3], poses[:, 1, 3], poses[:, 2, 3] = 2.5 * np.cos(40 * t), 2.5 * np.sin(30 * t), lift + 0.4 * np.sin(7 * t)
+    for k in range(3, n, 4):  # ties: quarter turns at lattice points
+        poses[k] = pose(np.linalg.matrix_power(QUARTER, k % 4), rng.integers(-2, 3, size=3) / 2)
+    return poses
+
+
+def test_proximity_batch_is_the_single_calls(rng):
+    a, b = mk.Shape.from_points(rng.normal(size=(30, 3))), mk.Shape.box((0.5, 0.5, 0.5))
+    poses = trajectory(rng, 2 * BLOCK + 9)
+    cache, single = None, []
+    for k, p in enumerate(poses):
+        cache = mk.ProximityCache() if k % BLOCK == 0 else cache
+        single.append(mk.proximity(a, None, b, p, want=mk.Want.ALL, cache=cache))
+    for threads in (1, 2):
+        batch = mk.proximity_batch(a, None, b, poses, want=mk.Want.ALL, threads=threads)
+        for field in ("intersecting", "distance", "point_a", "point_b", "penetration_depth", "penetration_direction", "max_distance"):
+            np.testing.assert_array_equal(getattr(batch, field), np.array([getattr(s, field) for s in single]), err_msg=field)
+
+
+def test_time_of_impact_and_mesh_batches_are_the_single_calls(rng):
+    box, ball = mk.Shape.box(), mk.Shape.sphere(0.3)
+    starts, ends = trajectory(rng, BLOCK + 3, lift=3), trajectory(rng, BLOCK + 3, lift=-3)
+    toi = [mk.time_of_impact(box, None, None, ball, s, e) for s, e in zip(starts, ends)]
+    grid = np.array([[x, y, 0.2 * np.sin(x + 2 * y)] for x in range(8) for y in range(8)], float) - [3.5, 3.5, 0]
+    tris = np.array([[i * 8 + j, i * 8 + j + 8, i * 8 + j + 1] for i in range(7) for j in range(7)])
+    mesh = mk.Mesh(grid, tris)
+    lifted = trajectory(rng, BLOCK + 3, lift=1.5)
+    cache, near = None, []
+    for k, p in enumerate(lifted):
+        cache = mk.ProximityCache() if k % BLOCK == 0 else cache
+        near.append(mk.mesh_distance(mesh, None, ball, p, cache=cache).distance)
+    for threads in (1, 2):
+        batch = mk.time_of_impact_batch(box, None, None, ball, starts, ends, threads=threads)
+        np.testing.assert_array_equal(batch.time, [t.time for t in toi])
+        np.testing.assert_array_equal(batch.hit, [t.hit for t in toi])
+        distances = mk.mesh_distance_batch(mesh, None, ball, lifted, threads=threads)
+        np.testing.assert_array_equal(distances.distance, near)
+
+
+def test_sum_batch_is_the_single_sums(rng):
+    shapes = [mk.Shape.from_points(rng.normal(size=(12, 3))) for _ in range(40)]
+    others = [mk.Shape.from_points(rng.integers(-2, 3, size=(10, 3)).astype(float) + [0, 0, 0.5 * k % 3]) for k in range(40)]
+    poses = np.stack([pose(random_rotation(rng), rng.normal(size=3)) for _ in range(40)])
+    for threads in (1, 2):
+        batch = mk.minkowski_difference_batch(shapes, poses, others, None, threads=threads)
+        for s, a, b, p in zip(batch, shapes, others, poses):
+            one = mk.minkowski_difference(a, p, b, None)
+            np.testing.assert_array_equal(s.planes, one.planes)
+            np.testing.assert_array_equal(s.vertices, one.vertices)
+            np.testing.assert_array_equal(s.loop_vertex, one.loop_vertex)
+
+
+def test_batch_refusals(rng):
+    box = mk.Shape.box()
+    poses = trajectory(rng, 600)
+    poses[400, :3, :3] *= 2  # not rigid
+    poses[300, 0, 3] = np.nan
+    with pytest.raises(mk.Error, match="item 300") as caught:
+        mk.proximity_batch(box, None, box, poses)
+    assert caught.value.status == mk.Status.INVALID_POSE
+    with pytest.raises(ValueError, match="one pose or the same N"):
+        mk.proximity_batch(box, poses[:5], box, poses)
+    bad_row = poses.copy()
+    bad_row[7, 3, 3] = 2
+    with pytest.raises(ValueError, match="pose 7: the last row"):
+        mk.proximity_batch(box, None, box, bad_row)
+    with pytest.raises(ValueError, match=r"\(N, 4, 4\)"):
+        mk.proximity_batch(box, None, box, np.zeros((3, 3, 3)))
+    with pytest.raises(ValueError, match="as many shapes"):
+        mk.minkowski_sum_batch([box, box], None, [box], None)
