@@ -189,6 +189,33 @@ TEST(Batches, MeshDistancesAndSumsAreTheSingleCallsOnOneAndTwoThreads) {
   }
 }
 
+// Batches from several threads at once share one pool: a batch that finds it busy runs on its
+// caller alone, with the same answers.
+TEST(Batches, ConcurrentBatchesShareThePoolAndKeepTheirAnswers) {
+  ConvexShape a, b;
+  ASSERT_EQ(shape_from_points(tools::sphere_points(30, 11), a), Status::Ok);
+  ASSERT_EQ(shape_from_box(Box{}, b), Status::Ok);
+  const long n = 6 * kBatchBlock;
+  const std::vector<Isometry3d> poses = batch_poses(n, 8);
+  const Isometry3d here = Isometry3d::Identity();
+  std::vector<Proximity> expected(static_cast<size_t>(n));
+  ASSERT_EQ(proximity_batch(a, {&here, 1}, b, {poses.data(), n}, n, expected.data(), Want::Witnesses, {1}).status, Status::Ok);
+  std::atomic<int> mismatches{0};
+  std::vector<std::thread> callers;
+  for (int c = 0; c < 3; ++c)
+    callers.emplace_back([&] {
+      std::vector<Proximity> out(static_cast<size_t>(n));
+      for (int round = 0; round < 4; ++round) {
+        if (proximity_batch(a, {&here, 1}, b, {poses.data(), n}, n, out.data(), Want::Witnesses, {2}).status != Status::Ok) ++mismatches;
+        for (long k = 0; k < n; ++k)
+          if (out[size_t(k)].distance != expected[size_t(k)].distance || out[size_t(k)].point_b != expected[size_t(k)].point_b)
+            ++mismatches;
+      }
+    });
+  for (std::thread& t : callers) t.join();
+  EXPECT_EQ(mismatches.load(), 0);
+}
+
 TEST(Batches, BadArgumentsAndTheFirstFailedItem) {
   ConvexShape a, b;
   ASSERT_EQ(shape_from_box(Box{}, a), Status::Ok);
