@@ -89,11 +89,28 @@ std::vector<std::array<int, 3>> triangles_of(const py::handle& array, const char
   return out;
 }
 
+namespace {
+
+// A 4x4 pose from 16 doubles, row-major.
+Eigen::Isometry3d pose_from_rows(const double* m, const char* what) {
+  if (m[12] != 0 || m[13] != 0 || m[14] != 0 || m[15] != 1) refuse(what, "the last row of a 4x4 pose must be (0, 0, 0, 1)");
+  Eigen::Isometry3d pose;
+  pose.matrix() = Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(m);
+  return pose;
+}
+
+}  // namespace
+
 Eigen::Isometry3d pose_of(const py::handle& value, const char* what) {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   if (value.is_none()) return pose;
-  // A pair (rotation, translation); any other sequence is read as a 4x4 array (nested lists).
-  if ((py::isinstance<py::tuple>(value) || py::isinstance<py::list>(value)) && py::len(value) == 2) {
+  if (Doubles::check_(value)) {  // a C-ordered float64 array, read in place: the common case, fast
+    const auto a = py::reinterpret_borrow<Doubles>(value);
+    if (a.ndim() != 2 || a.shape(0) != 4 || a.shape(1) != 4)
+      refuse(what, "expected a 4x4 array or a pair (rotation 3x3, translation 3), got shape " + shape_text(a));
+    pose = pose_from_rows(a.data(), what);
+  } else if ((py::isinstance<py::tuple>(value) || py::isinstance<py::list>(value)) && py::len(value) == 2) {
+    // A pair (rotation, translation); any other sequence is read as a 4x4 array (nested lists).
     const py::sequence pair = py::reinterpret_borrow<py::sequence>(value);
     pose.linear() = matrix_of(pair[0], what);
     pose.translation() = vector_of(pair[1], what);
@@ -101,19 +118,15 @@ Eigen::Isometry3d pose_of(const py::handle& value, const char* what) {
     const Doubles a = doubles_of(value, what);
     if (a.ndim() != 2 || a.shape(0) != 4 || a.shape(1) != 4)
       refuse(what, "expected a 4x4 array or a pair (rotation 3x3, translation 3), got shape " + shape_text(a));
-    if (a.at(3, 0) != 0 || a.at(3, 1) != 0 || a.at(3, 2) != 0 || a.at(3, 3) != 1)
-      refuse(what, "the last row of a 4x4 pose must be (0, 0, 0, 1)");
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 4; ++c) pose.matrix()(r, c) = a.at(r, c);
+    pose = pose_from_rows(a.data(), what);
   }
   check(check_pose(pose), what);
   return pose;
 }
 
-Want want_of(const py::handle& value) {
-  const unsigned mask = py::cast<unsigned>(py::int_(py::reinterpret_borrow<py::object>(value)));
-  if (mask == 0 || mask > unsigned(Want::All)) refuse("want", "expected a Want or a combination of them");
-  return Want(mask);
+Want want_of(Want want) {
+  if (unsigned(want) == 0 || unsigned(want) > unsigned(Want::All)) refuse("want", "expected a Want or a combination of them");
+  return want;
 }
 
 py::array_t<double> array_of(const Eigen::Vector3d& v) {

@@ -41,8 +41,8 @@ std::vector<std::array<int, 3>> triangles_of(const py::handle& array, const char
 /// (rotation 3x3, translation 3). Rigidity is checked (check_pose): InvalidPose.
 Eigen::Isometry3d pose_of(const py::handle& value, const char* what);
 
-/// A Want, or an integer mask of them.
-Want want_of(const py::handle& value);
+/// `want`, checked to be a combination of the Want levels (Want(64) is not).
+Want want_of(Want want);
 
 /// A 3-vector as a new (3,) float64 array.
 py::array_t<double> array_of(const Eigen::Vector3d& v);

@@ -89,9 +89,22 @@ def test_bad_numbers():
     with pytest.raises(mk.Error, match="outside its documented range"):
         mk.time_of_impact(box, None, None, box, None, None, tolerance=np.nan)
     with pytest.raises(ValueError, match="want"):
-        mk.proximity(box, None, box, None, want=64)
+        mk.proximity(box, None, box, None, want=mk.Want(64))
     with pytest.raises(TypeError):
-        mk.proximity(CUBE, None, box, None)
+        mk.proximity(box, None, box, None, want=7)
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda box: mk.proximity(box), "missing required argument 'pose_a'"),
+    (lambda box: mk.proximity(box, None, box, None, cach=None), "unexpected keyword argument 'cach'"),
+    (lambda box: mk.proximity(box, None, box, None, a=box), "multiple values for argument 'a'"),
+    (lambda box: mk.proximity(box, None, box, None, None, None, None), "at most 6 arguments"),
+    (lambda box: mk.proximity(CUBE, None, box, None), "a must be a minksum.Shape, not numpy.ndarray"),
+    (lambda box: mk.proximity(box, None, box, None, cache="x"), "cache must be a minksum.ProximityCache, not str"),
+])
+def test_proximity_arguments(call, message):
+    with pytest.raises(TypeError, match=message):
+        call(mk.Shape.box())
 
 
 def test_bad_files(tmp_path):

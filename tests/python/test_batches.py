@@ -65,6 +65,36 @@ def test_sum_batch_is_the_single_sums(rng):
             np.testing.assert_array_equal(s.loop_vertex, one.loop_vertex)
 
 
+def test_long_batches_run_in_chunks_with_the_same_answers(rng):
+    # Past 4,096 items the module runs a batch a chunk at a time: the answers and the index of
+    # a failed item are the whole batch's.
+    a, b = mk.Shape.from_points(rng.normal(size=(20, 3))), mk.Shape.sphere(0.4)
+    poses = trajectory(rng, 9000)
+    batch = mk.proximity_batch(a, None, b, poses, threads=2)
+    cache = None
+    for k, p in enumerate(poses):
+        cache = mk.ProximityCache() if k % BLOCK == 0 else cache
+        assert batch.distance[k] == mk.proximity(a, None, b, p, cache=cache).distance, k
+    poses[8500, 0, 3] = np.inf
+    with pytest.raises(mk.Error, match="item 8500"):
+        mk.proximity_batch(a, None, b, poses)
+
+
+def test_out_is_refilled_in_place(rng):
+    a, b = mk.Shape.box(), mk.Shape.sphere(0.5)
+    first, second = trajectory(rng, 700), trajectory(rng, 700, lift=1)
+    out = mk.proximity_batch(a, None, b, first)
+    distance = out.distance
+    again = mk.proximity_batch(a, None, b, second, out=out)
+    assert again is out and out.distance is distance  # the same arrays, refilled
+    np.testing.assert_array_equal(out.distance, mk.proximity_batch(a, None, b, second).distance)
+    with pytest.raises(ValueError, match="out: its intersecting is not the array a batch of 699 items returns"):
+        mk.proximity_batch(a, None, b, second[:699], out=out)
+    out.point_a = np.asfortranarray(out.point_a)  # C order or nothing
+    with pytest.raises(ValueError, match="out: its point_a"):
+        mk.proximity_batch(a, None, b, second, out=out)
+
+
 def test_batch_refusals(rng):
     box = mk.Shape.box()
     poses = trajectory(rng, 600)

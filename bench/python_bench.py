@@ -1,0 +1,164 @@
+#!/usr/bin/env python3
+"""The Python and multi-core figures of REPORT.md.
+
+Usage: PYTHONPATH=build/python python3 bench/python_bench.py DIR [BENCH_BINARY]
+
+Runs the C++ batches first (BENCH_BINARY, default build/bench/minksum_bench, its Batch/ rows into
+DIR/batch.json), then times from Python the same workloads (bench/batch_bench.cpp's, built the
+same way here), one right after the other so that the machine's speed is the same for both: each
+batch on 1 and 2 threads, a single coherent query per call, and the sums of the paper's Table 1
+pairs against SciPy's ConvexHull of the pairwise sums (Qhull, which a Python user would reach
+for). Writes DIR/python.md. Each Python figure is the best of five repeats; the batches refill one result
+(out=), as the C++ rows reuse theirs.
+"""
+import json
+import subprocess
+import sys
+import time
+
+import numpy as np
+from scipy.spatial import ConvexHull
+
+import minksum
+
+PHI = (1 + 5 ** 0.5) / 2
+
+
+def best(f, repeat=5):
+    times = []
+    for _ in range(repeat):
+        start = time.perf_counter()
+        f()
+        times.append(time.perf_counter() - start)
+    return min(times)
+
+
+def turn(axis, angle):
+    """Rodrigues' rotation about a unit axis."""
+    x, y, z = np.asarray(axis, float) / np.linalg.norm(axis)
+    k = np.array([[0, -z, y], [z, 0, -x], [-y, x, 0]])
+    return np.eye(3) + np.sin(angle) * k + (1 - np.cos(angle)) * k @ k
+
+
+def orbit(n, lift):
+    """bench/batch_bench.cpp's orbit: n poses round the origin, turning about z."""
+    t = np.arange(n) / n
+    poses = np.tile(np.eye(4), (n, 1, 1))
+    c, s = np.cos(9 * t), np.sin(9 * t)
+    poses[:, 0, 0], poses[:, 0, 1], poses[:, 1, 0], poses[:, 1, 1] = c, -s, s, c
+    poses[:, 0, 3], poses[:, 1, 3], poses[:, 2, 3] = 2.5 * np.cos(40 * t), 2.5 * np.sin(30 * t), lift + 0.4 * np.sin(7 * t)
+    return poses
+
+
+def cyclic(a, b):
+    return [p for s in (-a, a) for u in (-b, b) for p in ((0, s, u), (s, u, 0), (u, 0, s))]
+
+
+CUBE = np.array([(x, y, z) for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], float)
+ICOSAHEDRON = np.array(cyclic(1, PHI), float)
+DODECAHEDRON = np.vstack([CUBE, cyclic(1 / PHI, PHI)])
+
+
+def sheet():
+    xs = -4 + 0.125 * np.arange(65)
+    x, y = np.meshgrid(xs, xs, indexing="ij")
+    vertices = np.column_stack([x.ravel(), y.ravel(), 0.2 * np.sin(0.5 * x.ravel() + y.ravel())])
+    c = (np.arange(64)[:, None] * 65 + np.arange(64)[None, :]).ravel()
+    triangles = np.vstack([np.column_stack([c, c + 65, c + 1]), np.column_stack([c + 1, c + 65, c + 66])])
+    return minksum.Mesh(vertices, triangles)
+
+
+def batches():
+    """Per workload: (name, items, the batch as a function of threads and the result to refill)."""
+    box, unit_box = minksum.Shape.box((0.5, 0.5, 0.5)), minksum.Shape.box()
+    icosahedron, ball, mesh = minksum.Shape.from_points(ICOSAHEDRON), minksum.Shape.sphere(0.3), sheet()
+    p100k, from20k, to20k, lift20k, p5k = orbit(100000, 0), orbit(20000, 3), orbit(20000, -3), orbit(20000, 1), orbit(5000, 0)
+    boxes, icosahedra = [box] * 5000, [icosahedron] * 5000
+    return [
+        ("proximity", 100000, lambda th, out: minksum.proximity_batch(box, None, icosahedron, p100k, threads=th, out=out)),
+        ("time_of_impact", 20000,
+         lambda th, out: minksum.time_of_impact_batch(unit_box, None, None, ball, from20k, to20k, threads=th, out=out)),
+        ("mesh_distance", 20000, lambda th, out: minksum.mesh_distance_batch(mesh, None, ball, lift20k, threads=th, out=out)),
+        ("sum", 5000, lambda th, out: minksum.minkowski_sum_batch(boxes, None, icosahedra, p5k, threads=th)),
+    ]
+
+
+def single_query_ns():
+    """One coherent proximity call per pose from Python, as a loop of single calls would."""
+    box, icosahedron = minksum.Shape.box((0.5, 0.5, 0.5)), minksum.Shape.from_points(ICOSAHEDRON)
+    poses = orbit(100000, 0)[:20000]
+    cache = minksum.ProximityCache()
+
+    def run():
+        for p in poses:
+            minksum.proximity(box, None, icosahedron, p, cache=cache)
+    return 1e9 * best(run) / len(poses)
+
+
+def table1_rows():
+    r = turn((1, 2, 3), 0.7)
+    pairs = [("cube_rotcube", CUBE, CUBE), ("cube_icosa", CUBE, ICOSAHEDRON), ("icosa_icosa", ICOSAHEDRON, ICOSAHEDRON),
+             ("cube_dodeca", CUBE, DODECAHEDRON), ("dodeca_dodeca", DODECAHEDRON, DODECAHEDRON),
+             ("icosa_dodeca", ICOSAHEDRON, DODECAHEDRON)]
+    rows = []
+    for name, a, b in pairs:
+        b = b @ r.T
+        sa, sb = minksum.Shape.from_points(a), minksum.Shape.from_points(b)
+        repeats = 2000
+        ours = best(lambda: [minksum.minkowski_sum(sa, None, sb, None) for _ in range(repeats)]) / repeats
+        theirs = best(lambda: [ConvexHull((a[:, None, :] + b[None, :, :]).reshape(-1, 3)) for _ in range(200)]) / 200
+        facets = minksum.minkowski_sum(sa, None, sb, None).F
+        rows.append((name, facets, ours * 1e6, theirs * 1e6))
+    return rows
+
+
+def cpp_rows(directory, binary):
+    """Runs the C++ Batch/ rows: Batch/<name>/threads:<k>/real_time -> ms per batch."""
+    subprocess.run([binary, "--benchmark_filter=^Batch/", "--benchmark_min_time=0.3", f"--benchmark_out={directory}/batch.json",
+                    "--benchmark_out_format=json"], check=True, stdout=subprocess.DEVNULL)
+    with open(f"{directory}/batch.json") as f:
+        run = json.load(f)
+    out = {}
+    for b in run["benchmarks"]:
+        if b["name"].startswith("Batch/") and b.get("run_type", "iteration") == "iteration":
+            parts = b["name"].split("/")
+            scale = {"ns": 1e-6, "us": 1e-3, "ms": 1, "s": 1e3}[b["time_unit"]]
+            out[(parts[1], int(parts[2].split(":")[1]))] = b["real_time"] * scale
+    return out
+
+
+def main(directory, binary="build/bench/minksum_bench"):
+    cpp = cpp_rows(directory, binary)
+    lines = ["### Batches on 1 and 2 threads (ms per batch; the same workloads, C++ and Python, in the same run)", "",
+             "| workload | items | C++, 1 thread | C++, 2 threads | C++ 2 / 1 threads (target >= 1.8x) "
+             "| Python, 1 thread | Python / C++, 1 thread (target <= 1.2x) | Python, 2 threads | Python 2 / 1 threads |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    per_item_cpp = {}
+    for name, items, run in batches():
+        # As the C++ rows reuse their results, the batches refill theirs (out=): no new memory.
+        out = run(1, None)
+        one, two = best(lambda: run(1, out)), best(lambda: run(2, out))
+        c1, c2 = cpp.get((name, 1)), cpp.get((name, 2))
+        per_item_cpp[name] = c1 * 1e6 / items if c1 else None
+        cell = lambda x: f"{x:.2f}" if x else "-"
+        lines.append(f"| {name} | {items:,} | {cell(c1)} | {cell(c2)} | {c1 / c2:.2f}x | {one * 1e3:.2f} | "
+                     f"{one * 1e3 / c1:.2f}x | {two * 1e3:.2f} | {one / two:.2f}x |" if c1 and c2 else
+                     f"| {name} | {items:,} | - | - | - | {one * 1e3:.2f} | - | {two * 1e3:.2f} | {one / two:.2f}x |")
+    single = single_query_ns()
+    base = per_item_cpp.get("proximity")
+    lines += ["", "### One coherent query from Python (ns per call)", "",
+              "| Python, one call per pose | C++, per item of the 1-thread batch | Python's overhead (target <= 1000 ns) |",
+              "|---|---|---|",
+              f"| {single:.0f} | {base:.0f} | {single - base:.0f} |" if base else f"| {single:.0f} | - | - |"]
+    lines += ["", "### Table 1 from Python: minksum.minkowski_sum against SciPy's ConvexHull of the pairwise sums (us per sum)", "",
+              "| pair | facets | minksum (prepared shapes) | scipy ConvexHull | ConvexHull / minksum (target >= 50x) |",
+              "|---|---|---|---|---|"]
+    for name, facets, ours, theirs in table1_rows():
+        lines.append(f"| {name} | {facets} | {ours:.2f} | {theirs:.1f} | {theirs / ours:.0f}x |")
+    with open(f"{directory}/python.md", "w") as f:
+        f.write("\n".join(lines) + "\n")
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    main(*sys.argv[1:])
