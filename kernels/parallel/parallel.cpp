@@ -15,6 +15,8 @@
 #include <thread>
 #include <vector>
 
+#include <unistd.h>
+
 namespace minksum {
 
 namespace {
@@ -31,8 +33,9 @@ struct Failure {
 
 // The process's batch threads: work(worker) runs on `helpers` of them (workers 1 to helpers)
 // while the caller runs work(0). One batch at a time; a batch that finds the pool busy (another
-// thread's batch) runs on its caller alone, with the same answers. Never destroyed: its threads
-// sleep until the process ends.
+// thread's batch) runs on its caller alone, with the same answers, and so does a batch in a
+// child of fork(), which has none of the pool's threads (Python's multiprocessing forks).
+// Never destroyed: its threads sleep until the process ends.
 class Pool {
  public:
   static Pool& instance() {
@@ -42,6 +45,7 @@ class Pool {
 
   template <class Work>
   void run(int helpers, const Work& work) {
+    if (getpid() != owner_) return work(0);  // a forked child: its mutexes may be held for good
     std::unique_lock<std::mutex> one(busy_, std::try_to_lock);
     if (!one || (helpers = grow(helpers)) == 0) return work(0);
     {
@@ -82,7 +86,8 @@ class Pool {
     }
   }
 
-  std::mutex busy_;  // one batch at a time
+  const pid_t owner_ = getpid();  // the process whose threads these are
+  std::mutex busy_;                // one batch at a time
   std::mutex m_;     // guards the job below
   std::condition_variable wake_, done_;
   std::vector<std::thread> threads_;

@@ -95,6 +95,23 @@ def test_out_is_refilled_in_place(rng):
         mk.proximity_batch(a, None, b, second, out=out)
 
 
+def test_a_forked_child_runs_batches_alone(rng):
+    # The pool's threads stay in the parent: a child of fork() (multiprocessing's default on
+    # Linux) must neither hang waiting for them nor answer differently.
+    import os
+    import signal
+    a, b = mk.Shape.box(), mk.Shape.sphere(0.5)
+    poses = trajectory(rng, 2000)
+    expected = mk.proximity_batch(a, None, b, poses, threads=2).distance  # the pool is running
+    pid = os.fork()
+    if pid == 0:
+        signal.alarm(60)  # a hang kills the child, and fails the test
+        same = np.array_equal(mk.proximity_batch(a, None, b, poses, threads=2).distance, expected)
+        os._exit(0 if same else 1)
+    _, status = os.waitpid(pid, 0)
+    assert os.WIFEXITED(status) and os.WEXITSTATUS(status) == 0
+
+
 def test_batch_refusals(rng):
     box = mk.Shape.box()
     poses = trajectory(rng, 600)
