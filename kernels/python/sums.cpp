@@ -18,10 +18,14 @@ using SumFunction = Status (*)(const ConvexShape&, const Eigen::Isometry3d&, con
 // shapes takes milliseconds); smaller ones hold it, as releasing it would cost a tenth of theirs.
 constexpr size_t kUnlockedVertices = 256;
 
-MinkowskiSum sum_of(SumFunction f, const char* what, const ConvexShape& a, const py::handle& pose_a, const ConvexShape& b,
-                    const py::handle& pose_b, SumParts parts) {
+// The sum into `out` (a Sum from an earlier call, refilled in place: its arrays keep their
+// capacity, so a loop of sums stops allocating), or into a new Sum.
+py::object sum_of(SumFunction f, const char* what, const ConvexShape& a, const py::handle& pose_a, const ConvexShape& b,
+                  const py::handle& pose_b, SumParts parts, const py::handle& into) {
   const Eigen::Isometry3d pa = pose_of(pose_a, "pose_a"), pb = pose_of(pose_b, "pose_b");
-  MinkowskiSum out;
+  py::object result = into.is_none() ? py::cast(MinkowskiSum{}) : py::reinterpret_borrow<py::object>(into);
+  if (!py::isinstance<MinkowskiSum>(result)) refuse("out", "expected a minksum.Sum");
+  MinkowskiSum& out = py::cast<MinkowskiSum&>(result);
   Status s;
   if (a.polytope().vertices.size() + b.polytope().vertices.size() > kUnlockedVertices) {
     py::gil_scoped_release unlocked;
@@ -30,7 +34,7 @@ MinkowskiSum sum_of(SumFunction f, const char* what, const ConvexShape& a, const
     s = f(a, pa, b, pb, out, parts);
   }
   check(s, what);
-  return out;
+  return result;
 }
 
 py::array_t<double> planes_of(const MinkowskiSum& m) {
@@ -62,7 +66,8 @@ std::string sum_doc(const char* op) {
   return std::string("(R_A A + t_A) ") + op +
          " (R_B B + t_B) of two shapes, each placed by its pose: planes and vertices in the world frame,\n"
          "support pairs (i, j) indexing a.vertices and b.vertices. parts: SumParts.PLANES skips the vertices and loops,\n"
-         "SumParts.VERTICES the loops. Rounded shapes: the sum of the cores, whole, with `radius` the radii added.";
+         "SumParts.VERTICES the loops. Rounded shapes: the sum of the cores, whole, with `radius` the radii added.\n"
+         "out: a Sum from an earlier call, refilled in place and returned (a loop of sums then stops allocating).";
 }
 
 }  // namespace
@@ -95,17 +100,15 @@ void register_sums(py::module_& m) {
       });
   m.def(
       "minkowski_sum",
-      [](const ConvexShape& a, const py::handle& pa, const ConvexShape& b, const py::handle& pb, SumParts parts) {
-        return sum_of(&minkowski_sum, "minkowski_sum", a, pa, b, pb, parts);
-      },
-      py::arg("a"), py::arg("pose_a"), py::arg("b"), py::arg("pose_b"), py::arg("parts") = SumParts::Whole,
+      [](const ConvexShape& a, const py::handle& pa, const ConvexShape& b, const py::handle& pb, SumParts parts,
+         const py::handle& out) { return sum_of(&minkowski_sum, "minkowski_sum", a, pa, b, pb, parts, out); },
+      py::arg("a"), py::arg("pose_a"), py::arg("b"), py::arg("pose_b"), py::arg("parts") = SumParts::Whole, py::arg("out") = py::none(),
       sum_doc("(+)").c_str());
   m.def(
       "minkowski_difference",
-      [](const ConvexShape& a, const py::handle& pa, const ConvexShape& b, const py::handle& pb, SumParts parts) {
-        return sum_of(&minkowski_difference, "minkowski_difference", a, pa, b, pb, parts);
-      },
-      py::arg("a"), py::arg("pose_a"), py::arg("b"), py::arg("pose_b"), py::arg("parts") = SumParts::Whole,
+      [](const ConvexShape& a, const py::handle& pa, const ConvexShape& b, const py::handle& pb, SumParts parts,
+         const py::handle& out) { return sum_of(&minkowski_difference, "minkowski_difference", a, pa, b, pb, parts, out); },
+      py::arg("a"), py::arg("pose_a"), py::arg("b"), py::arg("pose_b"), py::arg("parts") = SumParts::Whole, py::arg("out") = py::none(),
       (sum_doc("(-)") + "\nThe configuration-space obstacle of the placed shapes.").c_str());
 }
 

@@ -97,3 +97,15 @@ def test_written_sum_reads_back(tmp_path):
     vertices, triangles = mk.read_mesh(path)
     np.testing.assert_array_equal(np.sort(vertices, axis=0), np.sort(s.vertices, axis=0))
     assert triangles.shape == (12, 3)
+
+
+def test_out_refills_a_sum_in_place(rng):
+    a, b = mk.Shape.from_points(rng.normal(size=(20, 3))), mk.Shape.from_points(rng.normal(size=(15, 3)))
+    first = mk.minkowski_sum(a, None, b, None)
+    planes = first.planes  # a copy: refilling the sum leaves it as it was
+    again = mk.minkowski_difference(a, None, b, None, out=first)
+    assert again is first
+    np.testing.assert_array_equal(first.planes, mk.minkowski_difference(a, None, b, None).planes)
+    assert not np.array_equal(planes, first.planes)
+    with pytest.raises(ValueError, match="out: expected a minksum.Sum"):
+        mk.minkowski_sum(a, None, b, None, out=mk.ProximityCache())
