@@ -3,11 +3,12 @@
 // that a real-time user starts no threads. A batch starts its threads itself (tens of
 // microseconds): give it thousands of items, not tens.
 //
-// A batch is cut into blocks of kBatchBlock items. Each block is one task: it runs its items in
-// order with one cache, cold at the block's start (coherence along a trajectory), and one
-// workspace per thread. The blocks are the same on any number of threads, so a batch's answers
-// are bit for bit those of the single calls made in order with a cache cleared every
-// kBatchBlock items, on 1 thread or on many. Results go into caller-owned arrays; once a
+// A batch of queries that keep a cache (proximity, mesh distance) is cut into blocks of
+// kBatchBlock items. Each block is one task: it runs its items in order with one cache, cold at
+// the block's start (coherence along a trajectory), and one workspace per thread. The blocks are
+// the same on any number of threads, so a batch's answers are bit for bit those of the single
+// calls made in order with a cache cleared every kBatchBlock items, on 1 thread or on many. Time
+// of impact and sums keep no cache: their answers are the single calls', in smaller blocks. Results go into caller-owned arrays; once a
 // thread's workspace exists, no item allocates (a sum's result allocates only while it grows).
 #pragma once
 
@@ -17,7 +18,7 @@
 
 namespace minksum {
 
-/// Items one task of a batch runs in order from one cold cache.
+/// Items one task of a cached batch (proximity, mesh distance) runs in order from one cold cache.
 constexpr long kBatchBlock = 256;
 
 /// n poses, or one pose for every item of the batch (count 1).
