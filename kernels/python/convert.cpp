@@ -17,6 +17,12 @@ void check(Status s, const char* what) {
   throw py::error_already_set();
 }
 
+void check(Status s, const char* what, std::initializer_list<NamedPose> poses) {
+  if (s == Status::InvalidPose)
+    for (const NamedPose& p : poses) check(check_pose(p.pose), p.name);
+  check(s, what);
+}
+
 void refuse(const char* what, const std::string& message) { throw py::value_error(std::string(what) + ": " + message); }
 
 namespace {
@@ -120,7 +126,6 @@ Eigen::Isometry3d pose_of(const py::handle& value, const char* what) {
       refuse(what, "expected a 4x4 array or a pair (rotation 3x3, translation 3), got shape " + shape_text(a));
     pose = pose_from_rows(a.data(), what);
   }
-  check(check_pose(pose), what);
   return pose;
 }
 

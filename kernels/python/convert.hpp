@@ -9,6 +9,7 @@
 #include <pybind11/pybind11.h>
 
 #include <array>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,16 @@ using Doubles = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
 /// Raises minksum.Error (a ValueError) carrying `s`, unless it is Ok.
 void check(Status s, const char* what);
+
+/// A pose and the argument it came from.
+struct NamedPose {
+  const Eigen::Isometry3d& pose;  ///< the pose
+  const char* name;               ///< its argument
+};
+
+/// check(s, what), but an InvalidPose names the first of `poses` that is not rigid: the library
+/// checks the poses inside the call, so they are not checked twice on the way in.
+void check(Status s, const char* what, std::initializer_list<NamedPose> poses);
 
 /// Raises ValueError("<what>: <message>").
 [[noreturn]] void refuse(const char* what, const std::string& message);
@@ -38,7 +49,7 @@ Eigen::Matrix3d matrix_of(const py::handle& value, const char* what);
 std::vector<std::array<int, 3>> triangles_of(const py::handle& array, const char* what, long vertex_count);
 
 /// A pose: None (the identity), a 4x4 array with last row (0, 0, 0, 1), or a pair
-/// (rotation 3x3, translation 3). Rigidity is checked (check_pose): InvalidPose.
+/// (rotation 3x3, translation 3). Its rigidity is the call's to check (see check).
 Eigen::Isometry3d pose_of(const py::handle& value, const char* what);
 
 /// `want`, checked to be a combination of the Want levels (Want(64) is not).

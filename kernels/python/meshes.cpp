@@ -65,7 +65,7 @@ MeshDistance distance_of(const Octree& a, const py::handle& pose_a, const Other&
     py::gil_scoped_release unlocked;
     s = cache ? mesh_distance(a, pa, b, pb, *cache, out) : mesh_distance(a, pa, b, pb, out);
   }
-  check(s, "mesh_distance");
+  check(s, "mesh_distance", {{pa, "pose_a"}, {pb, "pose_b"}});
   return out;
 }
 
@@ -80,7 +80,7 @@ MeshContact contact_of(const Octree& a, const py::handle& pose_a, const ConvexSh
     py::gil_scoped_release unlocked;
     s = mesh_contact(a, pa, tool, pt, ws, out);
   }
-  check(s, "mesh_contact");
+  check(s, "mesh_contact", {{pa, "pose_a"}, {pt, "pose_tool"}});
   return out;
 }
 
@@ -93,7 +93,7 @@ TimeOfImpact sweep_of(const Octree& a, const py::handle& pose_a, const ConvexSha
     py::gil_scoped_release unlocked;
     s = time_of_impact(a, pa, tool, p0, p1, out, tolerance);
   }
-  check(s, "time_of_impact");
+  check(s, "time_of_impact", {{pa, "pose_a"}, {p0, "t0"}, {p1, "t1"}});
   return out;
 }
 

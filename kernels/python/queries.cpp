@@ -50,12 +50,15 @@ PyObject* proximity_call(PyObject*, PyObject* const* args, Py_ssize_t nargs, PyO
     ProximityCache* cache = v[5] && v[5] != Py_None ? &argument<ProximityCache&>(v[5], "cache", "minksum.ProximityCache") : nullptr;
     const Eigen::Isometry3d pa = pose_of(v[1], "pose_a"), pb = pose_of(v[3], "pose_b");
     Proximity out;
-    check(cache ? proximity(a, pa, b, pb, *cache, out, want) : proximity(a, pa, b, pb, out, want), "proximity");
+    check(cache ? proximity(a, pa, b, pb, *cache, out, want) : proximity(a, pa, b, pb, out, want), "proximity",
+          {{pa, "pose_a"}, {pb, "pose_b"}});
     return py::cast(out, py::return_value_policy::move).release().ptr();
   } catch (py::error_already_set& e) {
     e.restore();
   } catch (py::builtin_exception& e) {
     e.set_error();
+  } catch (const std::exception& e) {  // (bad_alloc): an exception must not leave a C function
+    PyErr_SetString(PyExc_RuntimeError, e.what());
   }
   return nullptr;
 }
@@ -72,7 +75,8 @@ ContactPatch patch_of(const ConvexShape& a, const py::handle& pose_a, const Conv
                       double margin, ProximityCache* cache, bool reduce) {
   const Eigen::Isometry3d pa = pose_of(pose_a, "pose_a"), pb = pose_of(pose_b, "pose_b");
   ContactPatch out;
-  check(cache ? contact_patch(a, pa, b, pb, margin, *cache, out) : contact_patch(a, pa, b, pb, margin, out), "contact_patch");
+  check(cache ? contact_patch(a, pa, b, pb, margin, *cache, out) : contact_patch(a, pa, b, pb, margin, out), "contact_patch",
+        {{pa, "pose_a"}, {pb, "pose_b"}});
   if (reduce) reduce_contact_patch(out);
   return out;
 }
@@ -81,7 +85,8 @@ TimeOfImpact impact_of(const ConvexShape& a, const py::handle& a0, const py::han
                        const py::handle& b0, const py::handle& b1, double tolerance) {
   const Eigen::Isometry3d pa0 = pose_of(a0, "a0"), pa1 = pose_of(a1, "a1"), pb0 = pose_of(b0, "b0"), pb1 = pose_of(b1, "b1");
   TimeOfImpact out;
-  check(time_of_impact(a, pa0, pa1, b, pb0, pb1, out, tolerance), "time_of_impact");
+  check(time_of_impact(a, pa0, pa1, b, pb0, pb1, out, tolerance), "time_of_impact",
+        {{pa0, "a0"}, {pa1, "a1"}, {pb0, "b0"}, {pb1, "b1"}});
   return out;
 }
 

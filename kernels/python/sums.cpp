@@ -33,7 +33,7 @@ py::object sum_of(SumFunction f, const char* what, const ConvexShape& a, const p
   } else {
     s = f(a, pa, b, pb, out, parts);
   }
-  check(s, what);
+  check(s, what, {{pa, "pose_a"}, {pb, "pose_b"}});
   return result;
 }
 
