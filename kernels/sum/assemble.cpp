@@ -47,6 +47,7 @@ void assemble(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, st
   facets.resize(kept);
   // The loops as pair codes, then as vertex indices once every pair is known.
   pairs.reset(int(a.size()), int(b.size()), entries);
+  out.loop_vertex.reserve(entries), out.loop_start.reserve(facets.size() + 1), out.planes.reserve(facets.size());
   for (const auto& f : facets) {
     for (const auto& p : f.loop) out.loop_vertex.push_back(pairs.code(p.first, p.second));
     out.loop_start.push_back(int(out.loop_vertex.size()));

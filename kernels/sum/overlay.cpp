@@ -852,7 +852,8 @@ bool Overlay::number_and_write(const Placed& A, const Placed& B, MinkowskiSum& o
   const int F = nf, S = nl, V = pairs.count();
   // A closed polytope: every edge in two loops (E = S / 2), and V - E + F = 2.
   if (S % 2 != 0 || F < 4 || V - S / 2 + F != 2) return false;
-  out.vertices.clear(), out.planes.clear();
+  // Reserved to their exact sizes: a new result allocates each array once, not by doubling.
+  out.vertices.clear(), out.planes.clear(), out.vertices.reserve(size_t(V)), out.planes.reserve(size_t(F));
   out.loop_start.assign(facet_start.begin(), facet_start.begin() + F + 1);
   out.loop_vertex.assign(codes.begin(), codes.begin() + S);
   int* loop = out.loop_vertex.data();

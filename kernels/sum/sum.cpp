@@ -139,6 +139,7 @@ void point_sum(const Vector3d& p, const ConvexPolytope& q, const Eigen::Isometry
   out.corrected = false, out.method = Method::Fast, out.parts = SumParts::Whole, out.radius = 0;
   const double sign = difference && !point_is_b ? -1.0 : 1.0, shift = difference && point_is_b ? -1.0 : 1.0;
   const int V = int(q.vertices.size());
+  out.vertices.reserve(size_t(V)), out.planes.reserve(q.faces.size()), out.loop_start.reserve(q.faces.size() + 1);
   for (int k = 0; k < V; ++k) {
     SumVertex v;
     v.i = point_is_b ? k : 0, v.j = point_is_b ? 0 : k;
