@@ -173,6 +173,8 @@ TEST(Batches, MeshDistancesAndSumsAreTheSingleCallsOnOneAndTwoThreads) {
     std::vector<MeshDistance> out(static_cast<size_t>(n)), out_shape(static_cast<size_t>(n));
     ASSERT_EQ(mesh_distance_batch(mesh, {&here, 1}, mesh, {poses.data(), n}, n, out.data(), {threads}).status, Status::Ok);
     ASSERT_EQ(mesh_distance_batch(mesh, {&here, 1}, hull, {poses.data(), n}, n, out_shape.data(), {threads}).status, Status::Ok);
+    std::vector<MeshDistance> out_ws(static_cast<size_t>(n));  // the caller's workspace, on the caller
+    ASSERT_EQ(mesh_distance_batch(mesh, {&here, 1}, mesh, {poses.data(), n}, n, out_ws.data(), ws).status, Status::Ok);
     std::vector<MinkowskiSum> sums(static_cast<size_t>(n));
     ASSERT_EQ(minkowski_sum_batch(as.data(), {&here, 1}, bs.data(), {poses.data(), n}, n, sums.data(), true, SumParts::Whole, {threads})
                   .status,
@@ -180,6 +182,7 @@ TEST(Batches, MeshDistancesAndSumsAreTheSingleCallsOnOneAndTwoThreads) {
     for (long k = 0; k < n; ++k) {
       const size_t i = size_t(k);
       ASSERT_TRUE(out[i].distance == single[i].distance && out[i].point_a == single[i].point_a &&
+                  out_ws[i].distance == single[i].distance && out_ws[i].point_b == single[i].point_b &&
                   out_shape[i].distance == single_shape[i].distance && out_shape[i].point_b == single_shape[i].point_b)
           << "item " << k << " on " << threads << " threads";
       MinkowskiSum m;
@@ -243,3 +246,34 @@ TEST(Batches, BadArgumentsAndTheFirstFailedItem) {
 }
 
 }  // namespace
+
+// run_batch, the batches' runner: every item in exactly one block, blocks of the asked size, the
+// worker's index within the threads, and the first failure by index whatever thread found it.
+TEST(Batches, RunBatchRunsEachBlockOnceAndReportsTheFirstFailure) {
+  const long n = 1000, block = 7;
+  for (int threads : {1, 2, 3}) {
+    std::vector<std::atomic<int>> seen(static_cast<size_t>(n));
+    std::atomic<bool> bad_block{false};
+    const BatchStatus s = run_batch(
+        n, block,
+        [&](int worker, long begin, long end) {
+          if (begin % block != 0 || end - begin > block || worker < 0 || worker >= threads) bad_block = true;
+          for (long k = begin; k < end; ++k) ++seen[size_t(k)];
+          for (long k : {500L, 820L})  // two failures, in different blocks
+            if (k >= begin && k < end) return BatchStatus{Status::InvalidPose, k};
+          return BatchStatus{};
+        },
+        {threads});
+    EXPECT_FALSE(bad_block) << threads << " threads";
+    for (long k = 0; k < n; ++k) ASSERT_EQ(seen[size_t(k)], 1) << "item " << k << " on " << threads << " threads";
+    EXPECT_EQ(s.status, Status::InvalidPose);
+    EXPECT_EQ(s.index, 500);
+  }
+  const BatchWork nothing = [](int, long, long) { return BatchStatus{}; };
+  EXPECT_EQ(run_batch(0, 4, nothing).status, Status::Ok);
+  EXPECT_EQ(run_batch(-1, 4, nothing).status, Status::InvalidArgument);
+  EXPECT_EQ(run_batch(10, 0, nothing).status, Status::InvalidArgument);
+  EXPECT_EQ(run_batch(10, 4, BatchWork{}).status, Status::InvalidArgument);
+  EXPECT_EQ(batch_threads({3}), 3);
+  EXPECT_GE(batch_threads({}), 1);
+}

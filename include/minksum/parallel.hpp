@@ -16,10 +16,16 @@
 #include <minksum/query.hpp>
 #include <minksum/sum.hpp>
 
+#include <functional>
+
 namespace minksum {
 
 /// Items one task of a cached batch (proximity, mesh distance) runs in order from one cold cache.
 constexpr long kBatchBlock = 256;
+
+/// Items one task of a batch without a cache (time of impact, sums) runs: any cut gives the same
+/// answers there, and small blocks even out the threads' last ones.
+constexpr long kUncachedBatchBlock = 32;
 
 /// n poses, or one pose for every item of the batch (count 1).
 struct Poses {
@@ -55,6 +61,10 @@ BatchStatus time_of_impact_batch(const ConvexShape& a, Poses a0, Poses a1, const
 BatchStatus mesh_distance_batch(const Octree& a, Poses poses_a, const Octree& b, Poses poses_b, long n, MeshDistance* out,
                                 const BatchOptions& options = {});
 
+/// The same on the calling thread alone, with the caller's workspace (from make_workspace(a, b)).
+BatchStatus mesh_distance_batch(const Octree& a, Poses poses_a, const Octree& b, Poses poses_b, long n, MeshDistance* out,
+                                MeshWorkspace& workspace);
+
 /// mesh_distance(a, poses_a[k], shape, poses_shape[k], cache, out[k]) for k < n.
 BatchStatus mesh_distance_batch(const Octree& a, Poses poses_a, const ConvexShape& shape, Poses poses_shape, long n,
                                 MeshDistance* out, const BatchOptions& options = {});
@@ -64,5 +74,17 @@ BatchStatus mesh_distance_batch(const Octree& a, Poses poses_a, const ConvexShap
 BatchStatus minkowski_sum_batch(const ConvexShape* a, Poses poses_a, const ConvexShape* b, Poses poses_b, long n,
                                 MinkowskiSum* out, bool difference = false, SumParts parts = SumParts::Whole,
                                 const BatchOptions& options = {});
+
+/// A block of a batch: its items [begin, end) on thread `worker` (0, the caller, to threads - 1);
+/// its first failure by index, or {}. It must not throw.
+using BatchWork = std::function<BatchStatus(int worker, long begin, long end)>;
+
+/// The threads a batch with these options runs on (workers 0 to this - 1).
+int batch_threads(const BatchOptions& options);
+
+/// Runs `work` over [0, n) in blocks of `block` items (>= 1), each once, on the batch threads,
+/// the caller among them: the batches' own runner, for callers that convert their inputs and
+/// results a block at a time (the Python module). The first failure by index.
+BatchStatus run_batch(long n, long block, const BatchWork& work, const BatchOptions& options = {});
 
 }  // namespace minksum

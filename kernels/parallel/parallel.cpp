@@ -97,55 +97,52 @@ class Pool {
   int wanted_ = 0, active_ = 0;
 };
 
-// Items a block of a batch without a cache holds (time of impact, sums): any cut gives the same
-// answers there, and smaller blocks even out the threads' last blocks. The 5,000 sums of the
-// benchmark made 20 blocks of 256, and 2 threads ran 1.58-1.78x one; 1.79-1.88x in blocks of 32.
-// Blocks of 8 ran time of impact at 1.4x: the threads shared the counter's and the results'
-// cache lines every few microseconds.
-constexpr long kSmallBlock = 32;
+// Blocks of kUncachedBatchBlock: the 5,000 sums of the benchmark made 20 blocks of 256, and 2
+// threads ran 1.58-1.78x one; 1.79-1.88x in blocks of 32. Blocks of 8 ran time of impact at 1.4x:
+// the threads shared the counter's and the results' cache lines every few microseconds.
 
 // Runs block(worker, begin, end) -> BatchStatus over the batch's blocks of `size` items on up to
-// `options.threads` threads (the caller is worker 0), and returns the first failure by index.
-// One vector per batch (not per item) keeps each block's failure; `worker` picks a thread's own
-// scratch (0 to workers - 1). Each worker runs its own copy of `block`,
-// which holds its arguments by value: read through references, they sat in the caller's stack
-// frame beside the locals the caller writes, and every item's read pulled that cache line across
-// (2 threads ran 1.59x one; 1.89x with their own copies).
+// `workers` threads (the caller is worker 0), and returns the first failure by index. One vector
+// per batch (not per item) keeps each block's failure; `worker` picks a thread's own scratch.
+// Each worker runs its own copy of `block`, which holds its arguments by value: read through
+// references, they sat in the caller's stack frame beside the locals the caller writes, and every
+// item's read pulled that cache line across (2 threads ran 1.59x one; 1.89x with their own copies).
 template <class Block>
 BatchStatus run_blocks(long n, long size, int workers, const Block& block) {
   const long blocks = (n + size - 1) / size;
-  std::vector<BatchStatus> failures(size_t(std::max(blocks, 0L)));
+  const int helpers = int(std::min<long>(workers, blocks)) - 1;
+  if (helpers <= 0) {  // the caller alone, in order: no vector
+    BatchStatus first;
+    for (long b = 0; b < blocks; ++b) {
+      const BatchStatus f = block(0, b * size, std::min(n, (b + 1) * size));
+      if (first.status == Status::Ok) first = f;
+    }
+    return first;
+  }
+  std::vector<BatchStatus> failures(static_cast<size_t>(blocks));
   alignas(64) std::atomic<long> next{0};  // its own cache line: the workers take blocks from it
   const auto work = [&](int worker) {
     const Block own = block;
     for (long b = next++; b < blocks; b = next++)
       failures[size_t(b)] = own(worker, b * size, std::min(n, (b + 1) * size));
   };
-  const int helpers = int(std::min<long>(workers, blocks)) - 1;
-  if (helpers > 0)
-    Pool::instance().run(helpers, work);
-  else
-    work(0);
+  Pool::instance().run(helpers, work);
   for (const BatchStatus& f : failures)
     if (f.status != Status::Ok) return f;
   return {};
 }
 
-// The threads a batch runs on: one per core by default.
-int workers_of(const BatchOptions& options) {
-  if (options.threads > 0) return options.threads;
-  return std::max(1, int(std::thread::hardware_concurrency()));
-}
-
 constexpr BatchStatus kBadBatch{Status::InvalidArgument, -1};
 
+// Items [begin, begin + count) of a batch's poses.
+Poses part(Poses p, long begin, long count) { return p.count == 1 ? p : Poses{p.data + begin, count}; }
 
 }  // namespace
 
 BatchStatus proximity_batch(const ConvexShape& a, Poses poses_a, const ConvexShape& b, Poses poses_b, long n, Proximity* out,
                             Want want, const BatchOptions& options) {
   if (n < 0 || (n > 0 && (!valid(poses_a, n) || !valid(poses_b, n) || !out))) return kBadBatch;
-  return run_blocks(n, kBatchBlock, workers_of(options), [sa = &a, poses_a, sb = &b, poses_b, out, want](int, long begin, long end) {
+  return run_blocks(n, kBatchBlock, batch_threads(options), [sa = &a, poses_a, sb = &b, poses_b, out, want](int, long begin, long end) {
     ProximityCache cache{};
     Failure f;
     for (long k = begin; k < end; ++k) f.note(proximity(*sa, poses_a[k], *sb, poses_b[k], cache, out[k], want), k);
@@ -156,9 +153,20 @@ BatchStatus proximity_batch(const ConvexShape& a, Poses poses_a, const ConvexSha
 BatchStatus time_of_impact_batch(const ConvexShape& a, Poses a0, Poses a1, const ConvexShape& b, Poses b0, Poses b1, long n,
                                  TimeOfImpact* out, double tolerance, const BatchOptions& options) {
   if (n < 0 || (n > 0 && (!valid(a0, n) || !valid(a1, n) || !valid(b0, n) || !valid(b1, n) || !out))) return kBadBatch;
-  return run_blocks(n, kSmallBlock, workers_of(options), [sa = &a, a0, a1, sb = &b, b0, b1, out, tolerance](int, long begin, long end) {
+  return run_blocks(n, kUncachedBatchBlock, batch_threads(options), [sa = &a, a0, a1, sb = &b, b0, b1, out, tolerance](int, long begin, long end) {
     Failure f;
     for (long k = begin; k < end; ++k) f.note(time_of_impact(*sa, a0[k], a1[k], *sb, b0[k], b1[k], out[k], tolerance), k);
+    return f.first;
+  });
+}
+
+BatchStatus mesh_distance_batch(const Octree& a, Poses poses_a, const Octree& b, Poses poses_b, long n, MeshDistance* out,
+                                MeshWorkspace& workspace) {
+  if (n < 0 || (n > 0 && (!valid(poses_a, n) || !valid(poses_b, n) || !out))) return kBadBatch;
+  return run_blocks(n, kBatchBlock, 1, [&](int, long begin, long end) {
+    ProximityCache cache{};
+    Failure f;
+    for (long k = begin; k < end; ++k) f.note(mesh_distance(a, poses_a[k], b, poses_b[k], workspace, cache, out[k]), k);
     return f.first;
   });
 }
@@ -167,22 +175,22 @@ BatchStatus mesh_distance_batch(const Octree& a, Poses poses_a, const Octree& b,
                                 const BatchOptions& options) {
   if (n < 0 || (n > 0 && (!valid(poses_a, n) || !valid(poses_b, n) || !out))) return kBadBatch;
   // One workspace per thread, made before the threads start (not per item).
-  const int workers = workers_of(options);
+  const int workers = batch_threads(options);
   std::vector<MeshWorkspace> workspaces(size_t(std::min<long>(workers, (n + kBatchBlock - 1) / kBatchBlock)));
   for (MeshWorkspace& ws : workspaces) make_workspace(a, b, ws);
   return run_blocks(n, kBatchBlock, workers,
                     [ma = &a, poses_a, mb = &b, poses_b, out, ws = workspaces.data()](int worker, long begin, long end) {
-    ProximityCache cache{};
-    Failure f;
-    for (long k = begin; k < end; ++k) f.note(mesh_distance(*ma, poses_a[k], *mb, poses_b[k], ws[worker], cache, out[k]), k);
-    return f.first;
+    const long count = end - begin;
+    BatchStatus s = mesh_distance_batch(*ma, part(poses_a, begin, count), *mb, part(poses_b, begin, count), count, out + begin, ws[worker]);
+    if (s.status != Status::Ok) s.index += begin;
+    return s;
   });
 }
 
 BatchStatus mesh_distance_batch(const Octree& a, Poses poses_a, const ConvexShape& shape, Poses poses_shape, long n,
                                 MeshDistance* out, const BatchOptions& options) {
   if (n < 0 || (n > 0 && (!valid(poses_a, n) || !valid(poses_shape, n) || !out))) return kBadBatch;
-  return run_blocks(n, kBatchBlock, workers_of(options), [ma = &a, poses_a, s = &shape, poses_shape, out](int, long begin, long end) {
+  return run_blocks(n, kBatchBlock, batch_threads(options), [ma = &a, poses_a, s = &shape, poses_shape, out](int, long begin, long end) {
     ProximityCache cache{};
     Failure f;
     for (long k = begin; k < end; ++k) f.note(mesh_distance(*ma, poses_a[k], *s, poses_shape[k], cache, out[k]), k);
@@ -196,11 +204,21 @@ BatchStatus minkowski_sum_batch(const ConvexShape* a, Poses poses_a, const Conve
   using Sum = Status (*)(const ConvexShape&, const Eigen::Isometry3d&, const ConvexShape&, const Eigen::Isometry3d&,
                          MinkowskiSum&, SumParts);
   const Sum sum = difference ? Sum(&minkowski_difference) : Sum(&minkowski_sum);
-  return run_blocks(n, kSmallBlock, workers_of(options), [a, poses_a, b, poses_b, out, sum, parts](int, long begin, long end) {
+  return run_blocks(n, kUncachedBatchBlock, batch_threads(options), [a, poses_a, b, poses_b, out, sum, parts](int, long begin, long end) {
     Failure f;
     for (long k = begin; k < end; ++k) f.note(sum(a[k], poses_a[k], b[k], poses_b[k], out[k], parts), k);
     return f.first;
   });
+}
+
+int batch_threads(const BatchOptions& options) {
+  if (options.threads > 0) return options.threads;
+  return std::max(1, int(std::thread::hardware_concurrency()));
+}
+
+BatchStatus run_batch(long n, long block, const BatchWork& work, const BatchOptions& options) {
+  if (n < 0 || block < 1 || !work) return kBadBatch;
+  return run_blocks(n, block, batch_threads(options), work);
 }
 
 }  // namespace minksum

@@ -12,7 +12,7 @@ namespace minksum::python {
 
 namespace {
 
-// N poses in an (N, 4, 4) float64 array, read in place a chunk at a time, or one pose (anything
+// N poses in an (N, 4, 4) float64 array, read in place a block at a time, or one pose (anything
 // pose_of takes) for every item. The last rows are checked here, with the GIL; rigidity is each
 // item's to check (the batch reports the first item that fails).
 class PoseArray {
@@ -26,7 +26,7 @@ class PoseArray {
     array_ = Doubles::ensure(raw);
     if (!array_ || array_.shape(1) != 4 || array_.shape(2) != 4) refuse(what, "expected an (N, 4, 4) array of poses");
     size_ = long(array_.shape(0));
-    const double* m = array_.data();
+    const double* m = data_ = array_.data();
     for (long k = 0; k < size_; ++k, m += 16)
       if (m[12] != 0 || m[13] != 0 || m[14] != 0 || m[15] != 1)
         refuse(what, "pose " + std::to_string(k) + ": the last row of a 4x4 pose must be (0, 0, 0, 1)");
@@ -34,15 +34,17 @@ class PoseArray {
   /// 1 (one pose for every item) or N.
   long size() const { return size_; }
   /// The poses of items [begin, begin + count), converted into `buffer` (count poses) if need be.
-  Poses chunk(long begin, long count, Eigen::Isometry3d* buffer) const {
+  /// Needs no GIL.
+  Poses block(long begin, long count, Eigen::Isometry3d* buffer) const {
     if (!array_) return {&one_, 1};
-    const double* m = array_.data() + 16 * begin;
+    const double* m = data_ + 16 * begin;
     for (long k = 0; k < count; ++k, m += 16) buffer[k].matrix() = Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(m);
     return {buffer, count};
   }
 
  private:
   Doubles array_{py::reinterpret_steal<Doubles>(py::handle())};
+  const double* data_ = nullptr;  // array_'s
   Eigen::Isometry3d one_ = Eigen::Isometry3d::Identity();
   long size_ = 1;
 };
@@ -61,13 +63,9 @@ void check_batch(const BatchStatus& s, const char* what) {
   check(s.status, (std::string(what) + ": item " + std::to_string(s.index)).c_str());
 }
 
-// Items per chunk: the batch runs a chunk at a time into scratch that stays in cache, and each
-// chunk is copied into the result's columns. A multiple of kBatchBlock, so that the blocks, and
-// the answers, are the whole batch's.
-constexpr long kChunk = 16 * kBatchBlock;
-
-// A calling thread's scratch, kept from one batch to the next (at most about 3 MB): a loop of
-// batches touches no new memory, where a fresh page can cost microseconds (in a VM, often).
+// A thread's scratch for its blocks' poses and results, kept from one batch to the next (a
+// block's worth, some hundred kB): a loop of batches touches no new memory, where a fresh page
+// can cost microseconds (in a VM, often). Each batch thread, the caller among them, has its own.
 struct Scratch {
   std::vector<Eigen::Isometry3d> poses[4];
   std::vector<Proximity> proximity;
@@ -107,25 +105,32 @@ T* column(py::dict& fields, const py::handle& out, const char* name, long n, int
 
 void put(double* column, long k, const Eigen::Vector3d& v) { std::copy(v.data(), v.data() + 3, column + 3 * k); }
 
-// Runs run(begin, count, results) -> BatchStatus chunk by chunk into `results` (the thread's
-// scratch), then store(k, result) for each item, without the GIL; stops at the first chunk with
-// a failure (its index is the batch's first).
+// Runs run(worker, begin, count, results) -> BatchStatus on the batch's blocks of `block` items over the
+// batch threads, without the GIL, each block into its thread's scratch (`results`), then
+// store(k, result) for the block's items: the poses are converted and the results stored by the
+// threads, each its own blocks (done a chunk at a time on the caller, they left 2 threads at
+// 1.3-1.7x one). The first failure by index. `store` holds its columns by value, and each thread
+// runs its own copy: read through references, they would sit in the caller's stack frame, whose
+// cache line the other thread would pull across on every item (as parallel.cpp's comment tells).
 template <class T, class Run, class Store>
-BatchStatus chunked(long n, std::vector<T>& results, const Run& run, const Store& store) {
+BatchStatus blocked(long n, long block, int threads, std::vector<T> Scratch::*results, const Run& run, const Store& store) {
   py::gil_scoped_release unlocked;
-  T* r = sized(results, std::min(n, kChunk));
-  for (long begin = 0; begin < n; begin += kChunk) {
-    const long count = std::min(kChunk, n - begin);
-    const BatchStatus s = run(begin, count, r);
-    if (s.status != Status::Ok) return {s.status, begin + s.index};
-    for (long k = 0; k < count; ++k) store(begin + k, r[k]);
-  }
-  return {};
+  return run_batch(
+      n, block,
+      [run, store, results](int worker, long begin, long end) {
+        const long count = end - begin;
+        T* r = sized(scratch().*results, count);
+        BatchStatus s = run(worker, begin, count, r);
+        for (long k = 0; k < count; ++k) store(begin + k, r[k]);
+        if (s.status != Status::Ok) s.index += begin;
+        return s;
+      },
+      {threads});
 }
 
-// The poses of a chunk, the i-th array's converted into the thread's i-th pose scratch.
-Poses chunk_of(const PoseArray& p, int i, long begin, long count) {
-  return p.chunk(begin, count, sized(scratch().poses[i], count));
+// The poses of a block, the i-th array's converted into the thread's i-th pose scratch.
+Poses block_of(const PoseArray& p, int i, long begin, long count) {
+  return p.block(begin, count, sized(scratch().poses[i], count));
 }
 
 py::object result(py::dict& fields, const py::handle& out) {
@@ -146,12 +151,12 @@ py::object proximities(const ConvexShape& a, const py::handle& pose_a, const Con
   double* depth = column<double>(f, out, "penetration_depth", n);
   double* direction = column<double>(f, out, "penetration_direction", n, 3);
   double* max_distance = column<double>(f, out, "max_distance", n);
-  const BatchStatus s = chunked(
-      n, scratch().proximity,
-      [&](long begin, long count, Proximity* r) {
-        return proximity_batch(a, chunk_of(pa, 0, begin, count), b, chunk_of(pb, 1, begin, count), count, r, w, {threads});
+  const BatchStatus s = blocked(
+      n, kBatchBlock, threads, &Scratch::proximity,
+      [&](int, long begin, long count, Proximity* r) {
+        return proximity_batch(a, block_of(pa, 0, begin, count), b, block_of(pb, 1, begin, count), count, r, w, {1});
       },
-      [&](long k, const Proximity& p) {
+      [=](long k, const Proximity& p) {
         intersecting[k] = p.intersecting, distance[k] = p.distance, depth[k] = p.penetration_depth;
         max_distance[k] = p.max_distance;
         put(point_a, k, p.point_a), put(point_b, k, p.point_b), put(direction, k, p.penetration_direction);
@@ -171,13 +176,13 @@ py::object impacts(const ConvexShape& a, const py::handle& a0, const py::handle&
   double* normal = column<double>(f, out, "normal", n, 3);
   double* point_a = column<double>(f, out, "point_a", n, 3);
   double* point_b = column<double>(f, out, "point_b", n, 3);
-  const BatchStatus s = chunked(
-      n, scratch().impact,
-      [&](long begin, long count, TimeOfImpact* r) {
-        return time_of_impact_batch(a, chunk_of(p0, 0, begin, count), chunk_of(p1, 1, begin, count), b, chunk_of(q0, 2, begin, count),
-                                    chunk_of(q1, 3, begin, count), count, r, tolerance, {threads});
+  const BatchStatus s = blocked(
+      n, kUncachedBatchBlock, threads, &Scratch::impact,
+      [&](int, long begin, long count, TimeOfImpact* r) {
+        return time_of_impact_batch(a, block_of(p0, 0, begin, count), block_of(p1, 1, begin, count), b, block_of(q0, 2, begin, count),
+                                    block_of(q1, 3, begin, count), count, r, tolerance, {1});
       },
-      [&](long k, const TimeOfImpact& t) {
+      [=](long k, const TimeOfImpact& t) {
         hit[k] = t.hit, time[k] = t.time, distance[k] = t.distance;
         put(normal, k, t.normal), put(point_a, k, t.point_a), put(point_b, k, t.point_b);
       });
@@ -197,12 +202,22 @@ py::object mesh_distances(const Octree& a, const py::handle& pose_a, const Other
   int* triangle_a = column<int>(f, out, "triangle_a", n);
   int* triangle_b = column<int>(f, out, "triangle_b", n);
   bool* intersecting = column<bool>(f, out, "intersecting", n);
-  const BatchStatus s = chunked(
-      n, scratch().distance,
-      [&](long begin, long count, MeshDistance* r) {
-        return mesh_distance_batch(a, chunk_of(pa, 0, begin, count), b, chunk_of(pb, 1, begin, count), count, r, {threads});
+  // One workspace per thread for two meshes, made before the threads start (none for a shape).
+  std::vector<MeshWorkspace> workspaces;
+  if constexpr (std::is_same_v<Other, Octree>) {
+    workspaces.resize(size_t(batch_threads({threads})));
+    for (MeshWorkspace& ws : workspaces) make_workspace(a, b, ws);
+  }
+  const BatchStatus s = blocked(
+      n, kBatchBlock, threads, &Scratch::distance,
+      [&](int worker, long begin, long count, MeshDistance* r) {
+        const Poses ka = block_of(pa, 0, begin, count), kb = block_of(pb, 1, begin, count);
+        if constexpr (std::is_same_v<Other, Octree>)
+          return mesh_distance_batch(a, ka, b, kb, count, r, workspaces[size_t(worker)]);
+        else
+          return mesh_distance_batch(a, ka, b, kb, count, r, {1});
       },
-      [&](long k, const MeshDistance& d) {
+      [=](long k, const MeshDistance& d) {
         distance[k] = d.distance, triangle_a[k] = d.triangle_a, triangle_b[k] = d.triangle_b, intersecting[k] = d.intersecting;
         put(point_a, k, d.point_a), put(point_b, k, d.point_b);
       });
@@ -222,7 +237,7 @@ std::vector<MinkowskiSum> sums(const std::vector<ConvexShape>& a, const py::hand
   BatchStatus s;
   {
     py::gil_scoped_release unlocked;
-    s = minkowski_sum_batch(a.data(), pa.chunk(0, n, ba.data()), b.data(), pb.chunk(0, n, bb.data()), n, out.data(), difference, parts,
+    s = minkowski_sum_batch(a.data(), pa.block(0, n, ba.data()), b.data(), pb.block(0, n, bb.data()), n, out.data(), difference, parts,
                             {threads});
   }
   check_batch(s, difference ? "minkowski_difference_batch" : "minkowski_sum_batch");

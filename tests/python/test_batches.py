@@ -65,9 +65,9 @@ def test_sum_batch_is_the_single_sums(rng):
             np.testing.assert_array_equal(s.loop_vertex, one.loop_vertex)
 
 
-def test_long_batches_run_in_chunks_with_the_same_answers(rng):
-    # Past 4,096 items the module runs a batch a chunk at a time: the answers and the index of
-    # a failed item are the whole batch's.
+def test_long_batches_keep_the_answers_and_the_first_failure(rng):
+    # Many blocks over two threads, each converting its own poses and storing its own rows: the
+    # answers are the single calls', and the failed item named is the first of two.
     a, b = mk.Shape.from_points(rng.normal(size=(20, 3))), mk.Shape.sphere(0.4)
     poses = trajectory(rng, 9000)
     batch = mk.proximity_batch(a, None, b, poses, threads=2)
@@ -76,8 +76,26 @@ def test_long_batches_run_in_chunks_with_the_same_answers(rng):
         cache = mk.ProximityCache() if k % BLOCK == 0 else cache
         assert batch.distance[k] == mk.proximity(a, None, b, p, cache=cache).distance, k
     poses[8500, 0, 3] = np.inf
-    with pytest.raises(mk.Error, match="item 8500"):
-        mk.proximity_batch(a, None, b, poses)
+    poses[8900, 1, 3] = np.nan
+    for threads in (1, 2):
+        with pytest.raises(mk.Error, match="item 8500"):
+            mk.proximity_batch(a, None, b, poses, threads=threads)
+
+
+def test_mesh_mesh_batch_is_the_single_calls(rng):
+    grid = np.array([[x, y, 0.3 * np.sin(x + 2 * y)] for x in range(8) for y in range(8)], float) - [3.5, 3.5, 0]
+    tris = np.array([[i * 8 + j, i * 8 + j + 8, i * 8 + j + 1] for i in range(7) for j in range(7)])
+    mesh = mk.Mesh(grid, tris)
+    poses = trajectory(rng, BLOCK + 9, lift=1.5)
+    ws, cache, near = mk.MeshWorkspace(mesh, mesh), None, []
+    for k, p in enumerate(poses):
+        cache = mk.ProximityCache() if k % BLOCK == 0 else cache
+        near.append(mk.mesh_distance(mesh, None, mesh, p, workspace=ws, cache=cache))
+    for threads in (1, 2):
+        batch = mk.mesh_distance_batch(mesh, None, mesh, poses, threads=threads)
+        np.testing.assert_array_equal(batch.distance, [d.distance for d in near])
+        np.testing.assert_array_equal(batch.point_a, [d.point_a for d in near])
+        np.testing.assert_array_equal(batch.triangle_b, [d.triangle_b for d in near])
 
 
 def test_out_is_refilled_in_place(rng):
