@@ -163,7 +163,8 @@ void register_meshes(py::module_& m) {
         "The exact minimum distance between a mesh and a convex shape (solid: a triangle inside it touches it).");
   m.def("mesh_contact", &contact_of, py::arg("a"), py::arg("pose_a"), py::arg("tool"), py::arg("pose_tool"),
         py::arg("workspace") = nullptr,
-        "The contact of a convex tool with a mesh: the push-out direction and depth, the contact centre.");
+        "The contact of a convex tool with a mesh: the push-out direction and depth, the contact centre. Without a\n"
+        "workspace, one is made for the call (it allocates): pass a MeshWorkspace (any pair's) to reuse it.");
   m.def("time_of_impact", &sweep_of, py::arg("a"), py::arg("pose_a"), py::arg("tool"), py::arg("t0"), py::arg("t1"),
         py::arg("tolerance") = 0.0,
         "When a convex tool moving from pose t0 to t1 first touches the mesh a, and the triangle it touches.");
