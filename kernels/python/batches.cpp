@@ -63,20 +63,13 @@ void check_batch(const BatchStatus& s, const char* what) {
   check(s.status, (std::string(what) + ": item " + std::to_string(s.index)).c_str());
 }
 
-// A thread's scratch for its blocks' poses and results, kept from one batch to the next (a
-// block's worth, some hundred kB): a loop of batches touches no new memory, where a fresh page
-// can cost microseconds (in a VM, often). Each batch thread, the caller among them, has its own.
+// A batch thread's scratch for a block's poses and results.
 struct Scratch {
   std::vector<Eigen::Isometry3d> poses[4];
   std::vector<Proximity> proximity;
   std::vector<TimeOfImpact> impact;
   std::vector<MeshDistance> distance;
 };
-
-Scratch& scratch() {
-  thread_local Scratch s;
-  return s;
-}
 
 template <class T>
 T* sized(std::vector<T>& v, long n) {
@@ -105,22 +98,42 @@ T* column(py::dict& fields, const py::handle& out, const char* name, long n, int
 
 void put(double* column, long k, const Eigen::Vector3d& v) { std::copy(v.data(), v.data() + 3, column + 3 * k); }
 
-// Runs run(worker, begin, count, results) -> BatchStatus on the batch's blocks of `block` items over the
-// batch threads, without the GIL, each block into its thread's scratch (`results`), then
-// store(k, result) for the block's items: the poses are converted and the results stored by the
-// threads, each its own blocks (done a chunk at a time on the caller, they left 2 threads at
-// 1.3-1.7x one). The first failure by index. `store` holds its columns by value, and each thread
-// runs its own copy: read through references, they would sit in the caller's stack frame, whose
-// cache line the other thread would pull across on every item (as parallel.cpp's comment tells).
+// The scratch of each of `workers` batch threads, sized for blocks of `block` items with their
+// results in `results`. Sized here, on the calling thread with the GIL (the batch threads
+// allocate nothing: an exception there would end the process; here it is Python's MemoryError),
+// and kept by the calling thread from one batch to the next (a block's worth per thread, some
+// hundred kB): a loop of batches touches no new memory, where a fresh page can cost microseconds
+// (in a VM, often).
+template <class T>
+Scratch* scratch_for(int workers, long block, std::vector<T> Scratch::*results) {
+  thread_local std::vector<Scratch> scratch;
+  if (scratch.size() < size_t(workers)) scratch.resize(size_t(workers));
+  for (Scratch& s : scratch) {
+    sized(s.*results, block);
+    for (std::vector<Eigen::Isometry3d>& p : s.poses) sized(p, block);
+  }
+  return scratch.data();
+}
+
+// Runs run(worker's scratch, worker, begin, count, results) -> BatchStatus on the batch's blocks
+// of `block` items over the batch threads, without the GIL, each block's results into its
+// thread's scratch, then store(k, result) for the block's items: the poses are converted and the
+// results stored by the threads, each its own blocks (done a chunk at a time on the caller, they
+// left 2 threads at 1.3-1.7x one). The first failure by index. `store` holds its columns by
+// value, and each thread runs its own copy: read through references, they would sit in the
+// caller's stack frame, whose cache line the other thread would pull across on every item (as
+// parallel.cpp's comment tells).
 template <class T, class Run, class Store>
 BatchStatus blocked(long n, long block, int threads, std::vector<T> Scratch::*results, const Run& run, const Store& store) {
+  Scratch* const scratch = scratch_for(batch_threads({threads}), block, results);
   py::gil_scoped_release unlocked;
   return run_batch(
       n, block,
-      [run, store, results](int worker, long begin, long end) {
+      [run, store, results, scratch](int worker, long begin, long end) {
         const long count = end - begin;
-        T* r = sized(scratch().*results, count);
-        BatchStatus s = run(worker, begin, count, r);
+        Scratch& mine = scratch[worker];
+        T* r = (mine.*results).data();
+        BatchStatus s = run(mine, worker, begin, count, r);
         for (long k = 0; k < count; ++k) store(begin + k, r[k]);
         if (s.status != Status::Ok) s.index += begin;
         return s;
@@ -128,9 +141,9 @@ BatchStatus blocked(long n, long block, int threads, std::vector<T> Scratch::*re
       {threads});
 }
 
-// The poses of a block, the i-th array's converted into the thread's i-th pose scratch.
-Poses block_of(const PoseArray& p, int i, long begin, long count) {
-  return p.block(begin, count, sized(scratch().poses[i], count));
+// The poses of a block, converted into the i-th pose scratch of the block's thread.
+Poses block_of(const PoseArray& p, Scratch& scratch, int i, long begin, long count) {
+  return p.block(begin, count, scratch.poses[i].data());
 }
 
 py::object result(py::dict& fields, const py::handle& out) {
@@ -153,8 +166,8 @@ py::object proximities(const ConvexShape& a, const py::handle& pose_a, const Con
   double* max_distance = column<double>(f, out, "max_distance", n);
   const BatchStatus s = blocked(
       n, kBatchBlock, threads, &Scratch::proximity,
-      [&](int, long begin, long count, Proximity* r) {
-        return proximity_batch(a, block_of(pa, 0, begin, count), b, block_of(pb, 1, begin, count), count, r, w, {1});
+      [&](Scratch& mine, int, long begin, long count, Proximity* r) {
+        return proximity_batch(a, block_of(pa, mine, 0, begin, count), b, block_of(pb, mine, 1, begin, count), count, r, w, {1});
       },
       [=](long k, const Proximity& p) {
         intersecting[k] = p.intersecting, distance[k] = p.distance, depth[k] = p.penetration_depth;
@@ -178,9 +191,9 @@ py::object impacts(const ConvexShape& a, const py::handle& a0, const py::handle&
   double* point_b = column<double>(f, out, "point_b", n, 3);
   const BatchStatus s = blocked(
       n, kUncachedBatchBlock, threads, &Scratch::impact,
-      [&](int, long begin, long count, TimeOfImpact* r) {
-        return time_of_impact_batch(a, block_of(p0, 0, begin, count), block_of(p1, 1, begin, count), b, block_of(q0, 2, begin, count),
-                                    block_of(q1, 3, begin, count), count, r, tolerance, {1});
+      [&](Scratch& mine, int, long begin, long count, TimeOfImpact* r) {
+        return time_of_impact_batch(a, block_of(p0, mine, 0, begin, count), block_of(p1, mine, 1, begin, count), b, block_of(q0, mine, 2, begin, count),
+                                    block_of(q1, mine, 3, begin, count), count, r, tolerance, {1});
       },
       [=](long k, const TimeOfImpact& t) {
         hit[k] = t.hit, time[k] = t.time, distance[k] = t.distance;
@@ -210,8 +223,8 @@ py::object mesh_distances(const Octree& a, const py::handle& pose_a, const Other
   }
   const BatchStatus s = blocked(
       n, kBatchBlock, threads, &Scratch::distance,
-      [&](int worker, long begin, long count, MeshDistance* r) {
-        const Poses ka = block_of(pa, 0, begin, count), kb = block_of(pb, 1, begin, count);
+      [&](Scratch& mine, int worker, long begin, long count, MeshDistance* r) {
+        const Poses ka = block_of(pa, mine, 0, begin, count), kb = block_of(pb, mine, 1, begin, count);
         if constexpr (std::is_same_v<Other, Octree>)
           return mesh_distance_batch(a, ka, b, kb, count, r, workspaces[size_t(worker)]);
         else
