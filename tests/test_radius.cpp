@@ -827,6 +827,21 @@ TEST(RoundedShapes, MeshContactOfRoundedTools) {
   ASSERT_TRUE(c.intersecting);
   EXPECT_EQ(c.penetration_direction, Vector3d::UnitZ());
   EXPECT_EQ(c.penetration_depth, 0.125);
+  // A fuzz finding: a triangle in z = 0 but for a denormal z at its corner on the cube's face
+  // x = 1, so that its normal, the push -z, has a denormal x. The slab over the face x = -1 was
+  // all but parallel to the push and gave an infinite depth. Moved down by lambda, the core's
+  // edge (x = 1, z = 1 - lambda) lies lambda - 1 from the triangle: it clears at 1.25.
+  ConvexShape unit_cube, rounded_cube;
+  ASSERT_EQ(shape_from_box(Box{}, unit_cube), Status::Ok);
+  ASSERT_EQ(shape_with_radius(unit_cube, 0.25, rounded_cube), Status::Ok);
+  Octree sliver;
+  ASSERT_EQ(build_octree({{3, 0.25, 0}, {1, 0.25, -4e-323}, {3, 2.25, 0}}, {{0, 1, 2}}, sliver), Status::Ok);
+  MeshWorkspace sliver_ws;
+  make_workspace(sliver, sliver, sliver_ws);
+  ASSERT_EQ(mesh_contact(sliver, Isometry3d::Identity(), rounded_cube, Isometry3d::Identity(), sliver_ws, c), Status::Ok);
+  ASSERT_TRUE(c.intersecting);
+  EXPECT_LT((c.penetration_direction - Vector3d(0, 0, -1)).norm(), 1e-15);
+  EXPECT_NEAR(c.penetration_depth, 1.25, 1e-12);
   // The rounded kinds at random poses against a sphere mesh, and at lattice poses (integer
   // steps of 1/4, quarter turns) against a cube mesh whose vertices lie on that lattice.
   const tools::Mesh globe = tools::sphere_mesh(2.0, 9), cube = tools::box_mesh(Vector3d(-1, -1, -1), Vector3d(1, 1, 1), 4);

@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace minksum::detail {
@@ -80,10 +81,13 @@ double slab_exit(Corner corner, int k, const Eigen::Vector3d& n, double o, const
   const double along = n.dot(u), none = -std::numeric_limits<double>::infinity();
   if (!(along > 0)) return none;
   const double lambda = (o + r) / along;
+  // A ray all but parallel to the slab (n . u denormal) leaves it at infinity, where q is NaN
+  // (inf * 0): no exit. The side tests fail on NaN too (a fuzz finding: an infinite depth).
+  if (!std::isfinite(lambda)) return none;
   const Eigen::Vector3d q = lambda * u - r * n;  // (its projection onto the polygon's plane)
   for (int e = 0; e < k; ++e) {
     const Eigen::Vector3d a = corner(e), b = corner((e + 1) % k);
-    if ((b - a).cross(q - a).dot(n) < 0) return none;
+    if (!((b - a).cross(q - a).dot(n) >= 0)) return none;
   }
   return lambda;
 }
