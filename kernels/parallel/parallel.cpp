@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <atomic>
 #include <condition_variable>
+#include <functional>
 #include <mutex>
 #include <system_error>
 #include <thread>
@@ -218,7 +219,9 @@ int batch_threads(const BatchOptions& options) {
 
 BatchStatus run_batch(long n, long block, const BatchWork& work, const BatchOptions& options) {
   if (n < 0 || block < 1 || !work) return kBadBatch;
-  return run_blocks(n, block, batch_threads(options), work);
+  // By reference: a worker's copy of a std::function could allocate (and throw) on a pool thread;
+  // `work` is called once a block, so reading it where the caller keeps it costs nothing.
+  return run_blocks(n, block, batch_threads(options), std::cref(work));
 }
 
 }  // namespace minksum
