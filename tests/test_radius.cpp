@@ -744,6 +744,22 @@ TEST(RoundedShapes, MeshDistanceClosedFormsAndBadInput) {
   ASSERT_EQ(mesh_distance(one, Isometry3d::Identity(), box, Isometry3d::Identity(), d), Status::Ok);
   EXPECT_TRUE(d.intersecting);
   EXPECT_EQ(d.distance, 0);
+  // A cube posed at 1e20 (its placed corners all round to one point: the doubles there are 16384
+  // apart) against a triangle whose nearest corner, (4, 0, 3) e19 from it, lies over no face of
+  // the cube: 5e19 away. The corner is 4e19 above the plane x = 1, and on the collapsed placed
+  // loops every point "lies over" the face, which gave 4e19 (fuzz_query, seed 20261207: 1e55
+  // for 1e57, the same way).
+  const double T = 1e20, e = 1e19;
+  const std::vector<Vector3d> far_corners = {{T + 4 * e, T, T + 3 * e}, {T + 4 * e, T + e, T + 3 * e},
+                                             {T + 5 * e, T, T + 3 * e}};
+  Octree far;
+  ASSERT_EQ(build_octree(far_corners, {{0, 1, 2}}, far), Status::Ok);
+  ConvexShape cube;
+  ASSERT_EQ(shape_from_box(Box{}, cube), Status::Ok);
+  Isometry3d out_there = Isometry3d::Identity();
+  out_there.translation() = Vector3d(T, T, T);
+  ASSERT_EQ(mesh_distance(far, Isometry3d::Identity(), cube, out_there, d), Status::Ok);
+  EXPECT_NEAR(d.distance, 5 * e, 1e-12 * T);
   // Bad input: a pose that is not rigid, an empty shape, an empty octree, a core over capacity.
   Isometry3d scaled = Isometry3d::Identity();
   scaled.linear() *= 2;

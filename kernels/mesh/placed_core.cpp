@@ -15,7 +15,7 @@ using Eigen::Vector3d;
 Status place_core(const ConvexShape& shape, const Rigid& pose, PlacedCore& core) {
   const ConvexPolytope& p = shape.polytope();
   if (p.vertices.size() > size_t(kMaxToolVertices)) return Status::CapacityExceeded;
-  core.shape = &p, core.vertices = int(p.vertices.size());
+  core.shape = &p, core.pose = pose, core.vertices = int(p.vertices.size());
   Vector3d lo = Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   for (int k = 0; k < core.vertices; ++k) {
     core.v[k] = pose.point(p.vertices[size_t(k)]);
@@ -57,11 +57,16 @@ double PlacedCore::distance(const Vector3d (&t)[3], Vector3d& on_t, Vector3d& on
   return best;
 }
 
+// In the body frame, where the face is as given: placed far from the origin, its corners round
+// by eps |t| each, and past its size they collapse to one point, over which every point "lies"
+// (a cube at 1e57 took 1e55 for the distance 1e57). p brought back errs by eps |p| alone.
 bool PlacedCore::over_face(int f, const Vector3d& p) const {
-  const std::vector<int>& loop = shape->faces[size_t(f)].loop;
-  for (size_t k = 0; k < loop.size(); ++k) {
-    const Vector3d &a = v[loop[k]], &b = v[loop[(k + 1) % loop.size()]];
-    if ((b - a).cross(p - a).dot(n[f]) < 0) return false;
+  const Face& face = shape->faces[size_t(f)];
+  const Vector3d x = pose.body_point(p);
+  for (size_t k = 0; k < face.loop.size(); ++k) {
+    const Vector3d &a = shape->vertices[size_t(face.loop[k])],
+                   &b = shape->vertices[size_t(face.loop[(k + 1) % face.loop.size()])];
+    if ((b - a).cross(x - a).dot(face.normal) < 0) return false;
   }
   return true;
 }

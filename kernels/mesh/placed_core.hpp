@@ -15,6 +15,7 @@ constexpr int kMaxCoreTriangles = 2 * kMaxToolVertices;  // a fan of all faces: 
 
 struct PlacedCore {
   const ConvexPolytope* shape = nullptr;  // the core in its own frame (edges' and faces' indices)
+  Rigid pose;                             // where it is placed
   int vertices = 0, count = 0, faces = 0;
   bool solid = false;  // it has an inside (a point, a segment or a flat polygon has none)
   bool line = false;   // a point or a segment: `segment` holds its ends
@@ -71,7 +72,7 @@ struct PlacedCore {
   /// they meet); past `beyond`, it may be any lower bound over it, without the pair.
   double distance(const Eigen::Vector3d (&t)[3], Eigen::Vector3d& on_t, Eigen::Vector3d& on_core,
                   double beyond = std::numeric_limits<double>::infinity()) const;
-  /// Whether point p of face f's plane lies on the face (to rounding).
+  /// Whether point p of face f's plane lies on the face (to the rounding of p's coordinates).
   bool over_face(int f, const Eigen::Vector3d& p) const;
 };
 
