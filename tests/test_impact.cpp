@@ -376,6 +376,35 @@ TEST(TimeOfImpact, AMeshSweepThatStartsInContactStopsAtOnce) {
   }
 }
 
+// A box beside a mesh triangle's edge, within the tolerance of it at the start: a hit at 0, and
+// its normal separates them (to the tolerance), as the normal of every hit must. Here that is
+// -x, from the triangle to the box; the triangle's own normal (+z towards the box, the normal
+// before) has the box 0.3 below the triangle's plane along it, a plane through the box.
+TEST(TimeOfImpact, AMeshHitAtTheStartHasASeparatingNormal) {
+  Octree mesh;
+  ASSERT_EQ(build_octree({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}}, mesh), Status::Ok);
+  Box half;
+  half.half_extents = Vector3d::Constant(0.5);
+  ConvexShape box;
+  ASSERT_EQ(shape_from_box(half, box), Status::Ok);
+  const double tolerance = 1e-6;
+  for (const double turn : {0.0, 0.3}) {
+    const Isometry3d t0(Eigen::Translation3d(-0.5 - tolerance / 4, 0.3, 0.2));
+    Isometry3d t1 = t0;
+    t1.translation().x() += 0.1;
+    t1.linear() = Eigen::AngleAxisd(turn, Vector3d::UnitZ()).toRotationMatrix();
+    TimeOfImpact toi;
+    ASSERT_EQ(time_of_impact(mesh, kIdentity, box, t0, t1, toi, tolerance), Status::Ok);
+    ASSERT_TRUE(toi.hit);
+    EXPECT_EQ(toi.time, 0);
+    EXPECT_NEAR(toi.normal.norm(), 1, 1e-12);
+    double top = -HUGE_VAL, bottom = HUGE_VAL;  // the triangle's highest corner and the box's lowest along it
+    for (const Vector3d& x : {Vector3d(0, 0, 0), Vector3d(1, 0, 0), Vector3d(0, 1, 0)}) top = std::max(top, toi.normal.dot(x));
+    for (const Vector3d& x : box.polytope().vertices) bottom = std::min(bottom, toi.normal.dot(t0 * x));
+    EXPECT_GE(bottom - top, -tolerance) << "normal " << toi.normal.transpose();
+  }
+}
+
 TEST(TimeOfImpact, NoTunnellingThroughAThinSheetMesh) {
   // The 0.5 mm sheet of NoTunnellingThroughAThinSheet as a mesh (its top and bottom split into
   // a 10 x 10 grid, and its four sides), swept by the same 0.3 mm tool at 1, 3 and 10 m/s.
@@ -491,6 +520,10 @@ TEST(TimeOfImpact, BadInputAndOverlapAtTheStart) {
   Isometry3d scaled = far;
   scaled.linear() *= 1.01;
   EXPECT_EQ(time_of_impact(A, scaled, kIdentity, B, far, far, toi), Status::InvalidPose);
+  // One object as both poses of a still shape (a batch's, whose start and end are one array):
+  // checked all the same (it was skipped as "the end pose, checked as the start").
+  EXPECT_EQ(time_of_impact(A, kIdentity, kIdentity, B, scaled, scaled, toi), Status::InvalidPose);
+  EXPECT_EQ(time_of_impact(A, scaled, scaled, B, far, far, toi), Status::InvalidPose);
   EXPECT_EQ(time_of_impact(A, kIdentity, kIdentity, B, far, far, toi, -1), Status::InvalidArgument);
   EXPECT_EQ(time_of_impact(A, kIdentity, kIdentity, B, far, far, toi, std::nan("")), Status::InvalidArgument);
   EXPECT_EQ(time_of_impact(empty, kIdentity, kIdentity, B, far, far, toi), Status::TooFewPoints);

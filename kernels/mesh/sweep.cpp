@@ -209,8 +209,13 @@ class LineCore {
 // A mesh triangle (A, still) and the tool's core (B): the exact answers the advancement asks
 // for where GJK cannot go on. The distance is the nearest of the triangle against the fan
 // triangles of the core's faces (a point or segment core: itself as a flat triangle;
-// triangle_distance, exact), 0 where they cross or a corner lies inside a solid core; the
-// normal at the start is the triangle's, towards the tool.
+// triangle_distance, exact), 0 where they cross or a corner lies inside a solid core. The
+// normal at a contact is the separating axis whose planes lie farthest apart (section 4 of
+// Gottschalk, Lin and Manocha's OBBTree, 1996: the triangle's normal, the core's face normals,
+// the crosses of their edges, and the nearest points' direction where they are apart), the
+// tool on its side: a separating plane, or at an overlap the least push apart along those axes.
+// (The triangle's normal alone is no such plane where the tool meets an edge of it from the
+// side: a haptic proxy backed off along it went into the scene.)
 class TriangleAnswers final : public detail::ExactAnswers {
  public:
   TriangleAnswers(const Vector3d* corners, const ConvexShape& tool) : corners_(corners), tool_(tool.polytope()) {}
@@ -236,11 +241,34 @@ class TriangleAnswers final : public detail::ExactAnswers {
     return std::isfinite(best);
   }
   bool normal(const Isometry3d& pa, const Isometry3d& pb, double, Vector3d& out) const override {
-    const Vector3d t[3] = {pa * corners_[0], pa * corners_[1], pa * corners_[2]};
-    out = detail::unit_normal(t);
-    if (out.isZero()) return false;
-    if (out.dot(pb.translation() - t[0]) < 0) out = -out;
-    return true;
+    const detail::Rigid A(pa), B(pb);
+    const Vector3d t[3] = {A.point(corners_[0]), A.point(corners_[1]), A.point(corners_[2])};
+    double best = -std::numeric_limits<double>::infinity();
+    // The gap between the planes along axis c (either sign), the tool on the far side.
+    const auto consider = [&](const Vector3d& c) {
+      const double length = c.norm();
+      if (!(length > 0) || !std::isfinite(length)) return;
+      const Vector3d u = c / length;
+      double lo_t = std::numeric_limits<double>::infinity(), hi_t = -lo_t, lo_b = lo_t, hi_b = -lo_t;
+      for (const Vector3d& x : t) lo_t = std::min(lo_t, u.dot(x)), hi_t = std::max(hi_t, u.dot(x));
+      for (const Vector3d& v : tool_.vertices) {
+        const double h = u.dot(B.point(v));
+        lo_b = std::min(lo_b, h), hi_b = std::max(hi_b, h);
+      }
+      if (lo_b - hi_t > best) best = lo_b - hi_t, out = u;
+      if (lo_t - hi_b > best) best = lo_t - hi_b, out = -u;
+    };
+    const Vector3d edge[3] = {t[1] - t[0], t[2] - t[1], t[0] - t[2]};
+    consider(edge[0].cross(edge[1]));
+    for (const auto& face : tool_.faces) consider(B.turn(face.normal));
+    const auto crosses = [&](const Vector3d& e) {
+      for (const Vector3d& f : edge) consider(e.cross(f));
+    };
+    for (const Edge& e : tool_.edges) crosses(B.turn(tool_.vertices[size_t(e.v1)] - tool_.vertices[size_t(e.v0)]));
+    if (tool_.edges.empty() && tool_.vertices.size() == 2) crosses(B.turn(tool_.vertices[1] - tool_.vertices[0]));
+    Proximity p;
+    if (query(pa, pb, p) && !p.intersecting) consider(p.point_b - p.point_a);
+    return best > -std::numeric_limits<double>::infinity();
   }
 
  private:

@@ -302,10 +302,12 @@ Status time_of_impact(const ConvexShape& a, const Isometry3d& a0, const Isometry
                       const Isometry3d& b0, const Isometry3d& b1, TimeOfImpact& out, double tolerance) {
   out = TimeOfImpact{};
   if (a.empty() || b.empty()) return Status::TooFewPoints;
-  for (const Isometry3d* pose : {&a0, &a1, &b0, &b1}) {
-    if ((pose == &a1 && a1.matrix() == a0.matrix()) || (pose == &b1 && b1.matrix() == b0.matrix()))
-      continue;  // (a still shape's end pose is its start pose, checked)
-    if (const Status s = check_pose(*pose); s != Status::Ok) return s;
+  const Isometry3d* poses[4] = {&a0, &a1, &b0, &b1};
+  for (int k = 0; k < 4; ++k) {
+    // (A still shape's end pose is its start pose, checked: by position, not address, for one
+    // object passed as both poses is a still shape too, and was left unchecked.)
+    if (k % 2 == 1 && poses[k]->matrix() == poses[k - 1]->matrix()) continue;
+    if (const Status s = check_pose(*poses[k]); s != Status::Ok) return s;
   }
   if (!(tolerance >= 0) || !std::isfinite(tolerance)) return Status::InvalidArgument;
   // The cores advance until they come within the radii (plus the tolerance) of each other; the
