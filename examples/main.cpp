@@ -33,7 +33,10 @@ bool parse_numbers(const std::string& text, const std::string& what, const std::
     if (*end != '\0') return error = what + ": '" + token + "' is not a number", false;
     if (!std::isfinite(v.back())) return error = what + ": a number is NaN or Inf", false;
   }
-  if (v.size() != count) return error = what + " needs " + std::to_string(count) + " numbers: " + layout, false;
+  if (v.size() != count)
+    return error = what + " needs " + std::to_string(count) + (count == 1 ? " number (" : " numbers (") + layout +
+                   "), got " + std::to_string(v.size()),
+           false;
   return true;
 }
 
@@ -86,13 +89,14 @@ const char* kHelp =
     "\n"
     "commands:\n"
     "  sum A B [--pose-b \"qw qx qy qz tx ty tz\"] [--diff] [--method fast|reference|hull]\n"
-    "          [--radius-a R] [--radius-b R] [--out M.off|M.obj|M.ply] [--json]\n"
+    "          [--radius-a R] [--radius-b R] [--out M.off|M.obj|M.ply [--core]] [--json]\n"
     "      Minkowski sum of the convex hulls of the vertices in files A and B (OFF, OBJ, PLY\n"
     "      or plain text \"x y z\" per line), B placed by a rigid pose (unit quaternion, then\n"
     "      translation; default: as read); --diff computes A (-) B = A (+) (-B). The fast\n"
     "      method prepares both as shapes and applies the pose inside the sum. A may be\n"
     "      sphere:R, and --radius-a/--radius-b round A or B: the sum of rounded shapes is the sum\n"
-    "      of their cores swept by a ball of the radii added (printed; --out refuses it).\n"
+    "      of their cores swept by a ball of the radii added (printed; --out writes the core with\n"
+    "      --core, and refuses it without).\n"
     "  query A B [--pose-b \"qw qx qy qz tx ty tz\" | --poses FILE [--coherent]] [--patch MARGIN]\n"
     "          [--radius-a R] [--radius-b R] [--json]\n"
     "  query --box \"cx cy cz hx hy hz qw qx qy qz\" --box \"...\" [--patch MARGIN] [--json]\n"
@@ -110,25 +114,28 @@ const char* kHelp =
     "  distance [MESH_A MESH_B] [--pose \"qw qx qy qz tx ty tz\"] [--poses FILE [--coherent]]\n"
     "           [--json] [--brute]\n"
     "      Exact minimum distance between two triangle meshes (PLY, OBJ, OFF, STL) through\n"
-    "      octrees; the pose places B in A's frame (default: B shifted along +x by 1.1 x A's\n"
-    "      width); --poses reads one pose per line and prints one JSON line each (--coherent:\n"
+    "      octrees; the pose places B in A's frame (default: the files as given);\n"
+    "      --poses reads one pose per line and prints one JSON line each (--coherent:\n"
     "      each search seeded by the last answer, the same distances); --brute checks by all\n"
     "      pairs. No meshes: two bunnies (../shared/data beside the source tree, else a generated\n"
-    "      mesh of the same size).\n"
+    "      mesh of the same size), the second shifted along +x by 1.1 x the first's width.\n"
     "  haptics [--tool sphere:R|capsule:H:R|box|icosa|MESH] [--scene MESH|bunny_full|bumpy_full|sheet]\n"
-    "          [--seconds S] [--rate HZ]\n"
-    "          [--press MM] [--speed M/S] [--realtime] [--plot out.png] [--trace out.csv] [--json]\n"
+    "          [--seconds S] [--rate HZ] [--press MM] [--slide MM] [--speed M/S] [--realtime]\n"
+    "          [--plot out.png] [--trace out.csv] [--json]\n"
     "      A 1 kHz 6-DOF haptic loop: a device approaches, presses MM (default 2) into and slides\n"
     "      (--tool: a sphere of radius R mm, the default sphere:5 as in CHAI3D; a capsule of half\n"
     "      length H and radius R mm along the tool's z; a box 20 x 16 x 12 mm; an icosahedron; or\n"
-    "      MESH, its convex hull centred and scaled to 30 mm across)\n"
-    "      turning over the scene mesh (--speed: plunges straight down at that speed); a proxy\n"
+    "      MESH, the convex hull of its vertices centred and scaled to 30 mm across) turning\n"
+    "      over the scene mesh, --slide MM (default 8) each way (0: turning in place; --speed:\n"
+    "      plunges straight down at that speed); --rate within [1, 100000] Hz; a proxy\n"
     "      swept by time of impact stays out of the scene, and the contact patch at it gives\n"
     "      force and torque. Run twice on the same path: cold, then with each tick's mesh\n"
-    "      distance seeded by the last tick's answer. Tick latency percentiles on the wall clock and in thread CPU\n"
-    "      time, missed deadlines (--realtime paces the ticks; late starts by the OS are counted\n"
-    "      apart from ticks whose own CPU time overran), allocations and exceptions inside the\n"
-    "      loop, contacts; --plot draws the run (gnuplot), --trace writes every tick's times.\n"
+    "      distance seeded by the last tick's answer. Tick latency percentiles on the wall clock\n"
+    "      and in thread CPU time over every tick, missed deadlines (--realtime paces the ticks;\n"
+    "      late starts by the OS are counted apart from ticks whose own CPU time overran; back\n"
+    "      to back, the ticks longer than the period), allocations and exceptions inside the\n"
+    "      loop, contacts; --plot draws the run (gnuplot), --trace writes the times of the first\n"
+    "      10,000 ticks (the run's memory is fixed, whatever its length).\n"
     "  demo\n"
     "      The paper's Table 1 pairs: V, E, F and the time of each path.\n"
     "  --version, --help\n"
@@ -404,7 +411,7 @@ int cmd_query(int argc, char** argv) {
 
 int cmd_sum(int argc, char** argv) {
   std::vector<std::string> files;
-  bool diff = false, json = false;
+  bool diff = false, json = false, core = false;
   Method method = Method::Fast;
   std::string out_path, error;
   double radius[2] = {0, 0};
@@ -413,6 +420,8 @@ int cmd_sum(int argc, char** argv) {
     const std::string a = argv[k];
     if (a == "--diff") {
       diff = true;
+    } else if (a == "--core") {
+      core = true;
     } else if (a == "--pose-b") {
       if (k + 1 >= argc) return usage_error("--pose-b needs a value");
       if (!cli::parse_pose(argv[++k], "--pose-b", pose_b, error)) return usage_error(error);
@@ -437,6 +446,7 @@ int cmd_sum(int argc, char** argv) {
     }
   }
   if (files.size() != 2) return usage_error("sum needs two vertex files");
+  if (core && out_path.empty()) return usage_error("--core needs --out");
   ConvexShape SA, SB;
   if (!load_operands(files, radius, SA, SB)) return 2;
   const ConvexPolytope &A = SA.polytope(), &B = SB.polytope();
@@ -469,7 +479,12 @@ int cmd_sum(int argc, char** argv) {
   }
   if (!out_path.empty()) {
     std::string error;
-    if (!write_mesh(out_path, m, error)) {
+    if (m.radius > 0 && !core) {
+      std::fprintf(stderr, "minksum: --out: a rounded sum (radius %.17g) is not a polygon mesh; add --core to write its core\n",
+                   m.radius);
+      return 2;
+    }
+    if (!write_mesh(out_path, m, error, core)) {
       std::fprintf(stderr, "minksum: %s\n", error.c_str());
       return 2;
     }
@@ -491,7 +506,9 @@ int cmd_sum(int argc, char** argv) {
     std::printf("%s %s %s: V=%d E=%d F=%d, Euler %s%s, %.1f us (%s path)\n", files[0].c_str(), diff ? "(-)" : "(+)",
                 files[1].c_str(), m.V, m.E, m.F, m.euler_ok ? "holds" : "fails", m.corrected ? " (corrected)" : "",
                 t1 - t0, method_name(m.method));
-    if (m.radius > 0) std::printf("rounded: this polytope swept by a ball of radius %.17g\n", m.radius);
+    if (m.radius > 0)
+      std::printf("rounded: this %s swept by a ball of radius %.17g\n",
+                  m.F > 0 ? (m.F == 2 ? "polygon" : "polytope") : m.V == 1 ? "point" : "segment", m.radius);
   }
   return 0;
 }

@@ -2,6 +2,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <algorithm>
 #include <string>
 
 #include "commands.hpp"
@@ -28,12 +29,16 @@ int cmd_haptics(int argc, char** argv) {
     } else if (a == "--tool" || a == "--scene" || a == "--plot" || a == "--trace") {
       if (!value(v)) return usage_error(a + " needs a value");
       (a == "--tool" ? o.tool : a == "--scene" ? o.scene : a == "--plot" ? png : trace) = v;
-    } else if (a == "--seconds" || a == "--rate" || a == "--press" || a == "--speed") {
+    } else if (a == "--seconds" || a == "--rate" || a == "--press" || a == "--speed" || a == "--slide") {
       if (!value(v)) return usage_error(a + " needs a value");
       char* end = nullptr;
       const double x = std::strtod(v.c_str(), &end);
-      if (*end != '\0' || !(x > 0) || !std::isfinite(x)) return usage_error(a + ": '" + v + "' is not a positive number");
-      (a == "--seconds" ? o.seconds : a == "--rate" ? o.rate : a == "--press" ? o.press : o.speed) = a == "--press" ? x / 1000 : x;
+      const bool zero_ok = a == "--slide" || a == "--press";  // (0: in place, or just touching)
+      if (*end != '\0' || !(zero_ok ? x >= 0 : x > 0) || !std::isfinite(x))
+        return usage_error(a + ": '" + v + "' is not a " + (zero_ok ? "non-negative" : "positive") + " number");
+      if (a == "--rate" && !(x >= 1 && x <= 1e5)) return usage_error("--rate: " + v + " Hz is outside [1, 100000] Hz");
+      (a == "--seconds" ? o.seconds : a == "--rate" ? o.rate : a == "--press" ? o.press : a == "--slide" ? o.slide : o.speed) =
+          a == "--press" || a == "--slide" ? x / 1000 : x;
     } else {
       return usage_error("unknown option '" + a + "'");
     }
@@ -81,10 +86,12 @@ int cmd_haptics(int argc, char** argv) {
                   x->cpu_max_us);
     }
     for (const haptics::Report* x : {&cold, &r}) {
-      std::printf("%s: %ld missed deadlines", x == &cold ? "cold" : "coherent", x->misses);
+      const char* name = x == &cold ? "cold" : "coherent";
       if (o.realtime)
-        std::printf(", %ld ticks started over 50 us late by the OS (latest %.1f us)", x->late_starts,
-                    x->max_late_start_us);
+        std::printf("%s: %ld missed deadlines, %ld ticks started over 50 us late by the OS (latest %.1f us)", name,
+                    x->misses, x->late_starts, x->max_late_start_us);
+      else  // (no schedule, so no deadline: the ticks that would have missed one)
+        std::printf("%s: %ld ticks longer than the period on the wall clock", name, x->misses);
       std::printf(", %ld ticks whose own CPU time overran the period\n", x->overruns);
     }
     std::printf("allocations after warm-up %ld and %ld, exceptions %ld and %ld, ticks in contact %ld, swept %ld\n",
@@ -99,7 +106,7 @@ int cmd_haptics(int argc, char** argv) {
       return 2;
     }
     std::fprintf(f, "tick,cold_wall_us,cold_cpu_us,coherent_wall_us,coherent_cpu_us,contact\n");
-    for (size_t k = 0; k < r.latency_us.size(); ++k)
+    for (size_t k = 0; k < std::min(r.latency_us.size(), cold.latency_us.size()); ++k)
       std::fprintf(f, "%zu,%.3f,%.3f,%.3f,%.3f,%d\n", k, cold.latency_us[k], cold.cpu_us[k], r.latency_us[k],
                    r.cpu_us[k], int(r.depth[k] > 0));
     std::fclose(f);

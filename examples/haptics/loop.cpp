@@ -3,6 +3,7 @@
 // over the run.
 #include "haptics/loop.hpp"
 
+#include <minksum/io.hpp>
 #include <minksum/minksum.hpp>
 
 #include <algorithm>
@@ -83,15 +84,14 @@ bool make_tool(const std::string& what, Tool& tool, std::string& name, std::stri
     for (auto& p : points) p = what == "box" ? Vector3d(0.010 * p.x(), 0.008 * p.y(), 0.006 * p.z()) : Vector3d(s * p);
     name = what == "box" ? "box 20 x 16 x 12 mm" : "icosahedron, 8 mm circumradius";
   } else {
-    tools::Mesh mesh;
-    if (!tools::read_mesh(what, mesh, error)) return false;
-    if (mesh.triangles.empty()) return error = what + ": no triangles", false;
-    // Scaled to 30 mm across and centred, so that it is a tool, not a second scene.
-    Vector3d lo = mesh.vertices[mesh.triangles[0][0]], hi = lo;
-    for (const auto& t : mesh.triangles)
-      for (int k : t) lo = lo.cwiseMin(mesh.vertices[k]), hi = hi.cwiseMax(mesh.vertices[k]);
+    // The hull of the file's vertices (faces or none), scaled to 30 mm across and centred, so
+    // that it is a tool, not a second scene.
+    std::vector<Vector3d> read;
+    if (!read_points(what, read, error)) return false;
+    Vector3d lo = read.front(), hi = lo;
+    for (const Vector3d& v : read) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
     const double scale = 0.03 / (hi - lo).maxCoeff();
-    for (auto& v : mesh.vertices) points.push_back(scale * (v - (lo + hi) / 2));
+    for (const Vector3d& v : read) points.push_back(scale * (v - (lo + hi) / 2));
     name = what + " (its hull, scaled to 30 mm)";
   }
   if (const Status s = shape_from_points(points, tool.hull); s != Status::Ok)
@@ -126,7 +126,7 @@ bool make_tool(const std::string& what, Tool& tool, std::string& name, std::stri
 struct Path {
   Vector3d top;     // the scene's highest vertex (of those, the nearest to the middle)
   double lift = 0;  // the tool's reach below its origin (touching clearance)
-  double press = 0.002, speed = 0;
+  double press = 0.002, speed = 0, reach = 0.008;  // (reach: the slide's, each way)
   Isometry3d at(double t) const {
     const double u = std::fmod(t, 4.0);
     const auto ramp = [](double x) { return 0.5 - 0.5 * std::cos(M_PI * std::clamp(x, 0.0, 1.0)); };
@@ -134,7 +134,7 @@ struct Path {
     if (u < 1)  // approach, touch, press
       clearance = speed > 0 ? std::max(-press, 0.03 - speed * u) : 0.03 - (0.03 + press) * ramp(u);
     else if (u < 3)  // slide there and back, turning
-      slide = 0.008 * std::sin(M_PI * (u - 1)), turn = std::sin(M_PI * (u - 1));
+      slide = reach * std::sin(M_PI * (u - 1)), turn = std::sin(M_PI * (u - 1));
     else  // leave
       clearance = -press + (0.03 + press) * ramp(u - 3);
     Isometry3d pose(Eigen::Translation3d(top + Vector3d(slide, lift + clearance, 0)));
@@ -149,11 +149,6 @@ double thread_cpu_us() {
   timespec t{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
   return 1e6 * double(t.tv_sec) + 1e-3 * double(t.tv_nsec);
-}
-
-double percentile(std::vector<double> v, double q) {  // (a run has at least one tick)
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, size_t(q * double(v.size())))];
 }
 
 // Everything a run sets up before its first tick (all of its allocation happens here), and the
@@ -215,7 +210,7 @@ bool set_up(const Options& options, Setup& s, Report& report, std::string& error
     }
   for (const auto& v : s.tool.hull.polytope().vertices)
     s.path.lift = std::max(s.path.lift, -v.y() + s.tool.hull.radius());
-  s.path.press = options.press, s.path.speed = options.speed;
+  s.path.press = options.press, s.path.speed = options.speed, s.path.reach = options.slide;
   s.proxy = s.path.at(0);
   return true;
 }
@@ -348,7 +343,7 @@ Touch touch(const Options& options, Setup& s) {
 }
 
 // One tick with the device at `device` moving at `velocity` (the scene sits at the identity),
-// written to the report at k: the proxy moves, the contact at the proxy gives the normal and
+// written to the report at k (-1: not traced): the proxy moves, the contact at the proxy gives the normal and
 // the centre the force acts at, and the spring from the device to the proxy along that normal
 // its size. Apart, the proxy's distance (coherent: started from the last tick's).
 void tick(const Options& options, Setup& s, const Isometry3d& device, const Vector3d& velocity, long k,
@@ -374,38 +369,33 @@ void tick(const Options& options, Setup& s, const Isometry3d& device, const Vect
   }
   s.force = force, s.torque = torque, s.touching = touching;
   s.normal = touching ? c.normal : Vector3d::Zero();
-  report.distance[k] = distance, report.depth[k] = depth, report.force[k] = force.norm();
-  report.torque[k] = torque.norm(), report.force_dot_normal[k] = touching ? force.dot(c.normal) : 0;
-  report.force_up[k] = force.y(), report.device_y[k] = device.translation().y();
-  report.proxy_y[k] = s.proxy.translation().y(), report.proxy[k] = s.proxy;
-}
-
-// The latency percentiles of a finished run.
-void summarise(Report& report) {
-  report.p50_us = percentile(report.latency_us, 0.5), report.p99_us = percentile(report.latency_us, 0.99);
-  report.p999_us = percentile(report.latency_us, 0.999);
-  report.max_us = *std::max_element(report.latency_us.begin(), report.latency_us.end());
-  report.cpu_p50_us = percentile(report.cpu_us, 0.5), report.cpu_p99_us = percentile(report.cpu_us, 0.99);
-  report.cpu_p999_us = percentile(report.cpu_us, 0.999);
-  report.cpu_max_us = *std::max_element(report.cpu_us.begin(), report.cpu_us.end());
+  if (k < 0) return;  // (past the traced ticks)
+  const size_t i = size_t(k);
+  report.distance[i] = distance, report.depth[i] = depth, report.force[i] = force.norm();
+  report.torque[i] = torque.norm(), report.force_dot_normal[i] = touching ? force.dot(c.normal) : 0;
+  report.force_up[i] = force.y(), report.device_y[i] = device.translation().y();
+  report.proxy_y[i] = s.proxy.translation().y(), report.proxy[i] = s.proxy;
 }
 
 }  // namespace
 
 bool run(const Options& options, long (*allocations)(), Report& report, std::string& error) {
   report = Report{};
-  if (!(options.seconds > 0) || !(options.rate > 0) || options.seconds * options.rate > 1e8)
-    return error = "--seconds and --rate must be positive (at most 1e8 ticks)", false;
+  if (!(options.seconds > 0) || !(options.rate >= 1 && options.rate <= 1e5) || options.seconds * options.rate > 1e8)
+    return error = "--seconds must be positive and --rate within [1, 100000] Hz (at most 1e8 ticks)", false;
   if (std::llround(options.seconds * options.rate) < 1)  // (no tick: no latency to report)
     return error = "--seconds " + std::to_string(options.seconds) + " at --rate " + std::to_string(options.rate) +
                    " Hz is less than one tick", false;
+  if (!(options.slide >= 0 && options.slide <= 0.1)) return error = "--slide must lie in [0, 100] mm", false;
   Setup s;
   if (!set_up(options, s, report, error)) return false;
   const long n = long(std::llround(options.seconds * options.rate));
+  const size_t traced = size_t(std::clamp(options.traced, 0L, n));
   for (auto* v : {&report.time, &report.distance, &report.depth, &report.force, &report.latency_us, &report.cpu_us,
                   &report.force_dot_normal, &report.force_up, &report.torque, &report.device_y, &report.proxy_y})
-    v->assign(size_t(n), 0.0);
-  report.proxy.assign(size_t(n), Isometry3d::Identity());
+    v->assign(traced, 0.0);
+  report.proxy.assign(traced, Isometry3d::Identity());
+  Latencies wall_us, cpu_us;  // (every tick's, in fixed memory)
   const double dt = 1 / options.rate;
   using clock = std::chrono::steady_clock;
   if (options.realtime) ask_for_realtime(report);
@@ -430,26 +420,57 @@ bool run(const Options& options, long (*allocations)(), Report& report, std::str
       const Isometry3d device = s.path.at(double(k) * dt);
       const Vector3d velocity = (device.translation() - previous) / dt;
       previous = device.translation();
-      report.time[k] = double(k) * dt;
-      tick(options, s, device, velocity, k, report);
+      tick(options, s, device, velocity, k < long(traced) ? k : -1, report);
+      if (k < long(traced)) report.time[size_t(k)] = double(k) * dt;
     } catch (...) {
       ++report.exceptions;
     }
     const auto t1 = clock::now();
-    report.cpu_us[k] = thread_cpu_us() - cpu0;
-    report.latency_us[k] = std::chrono::duration<double, std::micro>(t1 - t0).count();
-    report.overruns += report.cpu_us[k] > 1e6 * dt;
+    const double cpu = thread_cpu_us() - cpu0, wall = std::chrono::duration<double, std::micro>(t1 - t0).count();
+    cpu_us.add(cpu), wall_us.add(wall);
+    if (k < long(traced)) report.cpu_us[size_t(k)] = cpu, report.latency_us[size_t(k)] = wall;
+    report.overruns += cpu > 1e6 * dt;
     if (options.realtime) {
       const double late = std::chrono::duration<double, std::micro>(t0 - (start + k * period)).count();
       report.misses += t1 > deadline, report.late_starts += late > 50;
       report.max_late_start_us = std::max(report.max_late_start_us, late);
+    } else {
+      report.misses += wall > 1e6 * dt;  // (no schedule: a tick longer than the period)
     }
   }
   // -1: this build does not count (allocations() says -1).
   report.allocations = allocations() < 0 ? -1 : n > options.warmup ? allocations() - allocations_after_warmup : 0;
   report.ticks = n;
-  summarise(report);
+  report.p50_us = wall_us.percentile(0.5), report.p99_us = wall_us.percentile(0.99);
+  report.p999_us = wall_us.percentile(0.999), report.max_us = wall_us.max();
+  report.cpu_p50_us = cpu_us.percentile(0.5), report.cpu_p99_us = cpu_us.percentile(0.99);
+  report.cpu_p999_us = cpu_us.percentile(0.999), report.cpu_max_us = cpu_us.max();
   return true;
+}
+
+void Latencies::add(double us) {
+  // In 0.01 us: below 2 kSub one bucket each, then kSub buckets per doubling.
+  const auto x = static_cast<unsigned long long>(std::clamp(us * 100, 0.0, 1.6e10));
+  int b = int(x);
+  if (x >= 2 * kSub) {
+    const int e = 63 - __builtin_clzll(x) - 9;  // x >> e in [kSub, 2 kSub)
+    b = 2 * kSub + (e - 1) * kSub + int(x >> e) - kSub;
+  }
+  ++count_[size_t(std::min(b, kBuckets - 1))], ++n_;
+  max_ = std::max(max_, us);
+}
+
+double Latencies::percentile(double q) const {
+  const long rank = std::min(n_ - 1, long(q * double(n_)));
+  long seen = 0;
+  for (int b = 0; b < kBuckets; ++b) {
+    seen += count_[size_t(b)];
+    if (seen <= rank) continue;
+    if (b < 2 * kSub) return std::min(max_, 0.01 * (b + 1));
+    const int e = (b - 2 * kSub) / kSub + 1, m = (b - 2 * kSub) % kSub + kSub;
+    return std::min(max_, 0.01 * double((static_cast<unsigned long long>(m) + 1) << e));
+  }
+  return max_;
 }
 
 bool plot(const Report& r, const std::string& png, std::string& error) {

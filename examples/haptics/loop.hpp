@@ -18,7 +18,8 @@ struct Options {
   /// a 60 mm square sheet 0.5 mm thick; "bumpy_full": the full bunny's generated stand-in always
   std::string scene;
   double seconds = 60;       ///< simulated time
-  double press = 0.002;      ///< how far the device is pressed below touching the scene [m]
+  double press = 0.002;      ///< how far the device is pressed below touching the scene [m] (< 0: above)
+  double slide = 0.008;      ///< how far it slides each way while turning [m] (0: it turns in place)
   double speed = 0;          ///< > 0: the device plunges straight down at this speed [m/s]
   double stiffness = 2000;   ///< the virtual coupling's spring from the device to the proxy [N/m]
   double damping = 5;        ///< and its damper on the device's approach speed [N s/m]
@@ -26,6 +27,27 @@ struct Options {
   bool realtime = false;     ///< pace ticks with sleep-until and count missed deadlines
   bool coherent = true;      ///< start each tick's mesh distance from the last tick's answer
   int warmup = 1000;         ///< ticks before allocations are counted
+  /// Ticks whose per-tick values the report keeps (the first ones): a run's memory is fixed,
+  /// whatever its length; its percentiles and counts cover every tick.
+  long traced = 10000;
+};
+
+/// Tick latencies in fixed memory, whatever the run's length (HdrHistogram's layout, Tene 2012):
+/// 0.01 us steps up to 10.24 us, then 512 steps per doubling (0.2 %) up to 1.7e8 us.
+class Latencies {
+ public:
+  /// Adds one tick's latency [us].
+  void add(double us);
+  /// The q-quantile (the tick at rank floor(q n) of n): its bucket's upper edge, at most the max.
+  double percentile(double q) const;
+  /// The largest latency added.
+  double max() const { return max_; }
+
+ private:
+  static constexpr int kSub = 512, kBuckets = 2 * kSub + 24 * kSub;
+  std::vector<unsigned> count_ = std::vector<unsigned>(kBuckets, 0);
+  long n_ = 0;
+  double max_ = 0;
 };
 
 /// What one run measured, with per-tick traces for plots and tests.
@@ -36,7 +58,8 @@ struct Report {
   /// The same percentiles of the tick's own CPU time (CLOCK_THREAD_CPUTIME_ID): what the tick
   /// computed, without the time the OS gave to others while it ran.
   double cpu_p50_us = 0, cpu_p99_us = 0, cpu_p999_us = 0, cpu_max_us = 0;
-  long misses = 0;                 ///< ticks that ended after their deadline (realtime only)
+  /// Paced: ticks that ended after their deadline; back to back: ticks longer than the period
+  long misses = 0;
   long late_starts = 0;            ///< ticks the OS started over 50 us after their time (realtime only)
   long overruns = 0;               ///< ticks whose own CPU time exceeded the period (ours, not the OS's)
   double max_late_start_us = 0;    ///< worst start after the tick's time (realtime: OS jitter)
@@ -48,8 +71,8 @@ struct Report {
   /// both in contact after the first tick of contact (an impact's first tick jumps by design)
   double max_force_jump = 0, max_torque_jump = 0;
   bool realtime_priority = false;  ///< a paced run got SCHED_FIFO
-  /// Per tick: the proxy's distance to the scene, the device's depth past the proxy along the
-  /// contact normal, |force|, latency
+  /// Per tick, for the first Options::traced ticks: the proxy's distance to the scene, the
+  /// device's depth past the proxy along the contact normal, |force|, latency
   std::vector<double> time, distance, depth, force, latency_us;
   std::vector<double> torque;                                    ///< per tick: |torque| about the device's origin
   std::vector<double> device_y, proxy_y;                         ///< per tick: the origins' heights

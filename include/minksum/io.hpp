@@ -31,8 +31,10 @@ bool read_polygons(std::istream& in, const std::string& name, std::string format
 bool read_mesh(const std::string& path, std::vector<Eigen::Vector3d>& vertices,
                std::vector<std::array<int, 3>>& triangles, std::string& error, bool cloud_ok = false);
 
-/// Writes a sum as an OFF, OBJ or PLY mesh, chosen by the file extension. A rounded sum
-/// (radius > 0) is not a polygon mesh: false with an error (set the radius to 0 to write its core).
-bool write_mesh(const std::string& path, const MinkowskiSum& sum, std::string& error);
+/// Writes a whole sum as an OFF, OBJ or PLY mesh, chosen by the file extension (a rounded sum's
+/// point or segment core: its vertices, no faces). False with a one-line `error`, writing
+/// nothing, for an empty sum (a failed call's), one without loops (SumParts::Planes or
+/// Vertices), or a rounded one (radius > 0: not a polygon mesh) unless `core` (its core is written).
+bool write_mesh(const std::string& path, const MinkowskiSum& sum, std::string& error, bool core = false);
 
 }  // namespace minksum

@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -497,12 +498,17 @@ bool read_mesh(const std::string& path, std::vector<Vector3d>& vertices, std::ve
   return true;
 }
 
-bool write_mesh(const std::string& path, const MinkowskiSum& sum, std::string& error) {
-  if (sum.radius > 0) {
+bool write_mesh(const std::string& path, const MinkowskiSum& sum, std::string& error, bool core) {
+  if (sum.vertices.empty() && sum.planes.empty())
+    return error = path + ": the sum is empty (a failed call's result): nothing to write", false;
+  if (sum.parts != SumParts::Whole || int(sum.loop_start.size()) != sum.F + 1 || int(sum.vertices.size()) != sum.V)
+    return error = path + ": the sum has no facet loops (computed with SumParts::Planes or Vertices): compute it whole",
+           false;
+  if (sum.radius > 0 && !core) {
     std::ostringstream r;
     r.precision(17);
     r << sum.radius;
-    error = path + ": a rounded sum (radius " + r.str() + ") is not a polygon mesh; set its radius to 0 to write its core";
+    error = path + ": a rounded sum (radius " + r.str() + ") is not a polygon mesh; ask for its core (core=True)";
     return false;
   }
   const std::string ext = lower_extension(path);
@@ -531,6 +537,8 @@ bool write_mesh(const std::string& path, const MinkowskiSum& sum, std::string& e
     out << '\n';
   }
   if (!out) {
+    out.close();
+    std::remove(path.c_str());  // (not half a mesh)
     error = path + ": write failed";
     return false;
   }
