@@ -193,66 +193,121 @@ std::vector<std::pair<std::string, ConvexShape>> shapes() {
   return out;
 }
 
-// Rounded sums and differences of every pair of kinds, against the cores' brute-force distance: p lies in A (+) B (+) B(ra + rb) exactly when the cores of p - A and B
-// lie within the radii of each other (|p - a - b| = |(p - a) - b|); and B moved along u
-// by penetration_along(A (-) B) just stops overlapping A (bisection on the cores' distance).
+// A rounded sum and difference of A and B posed against the cores' brute-force distance: p lies
+// in A (+) B (+) B(ra + rb) exactly when the cores of p - A and B lie within the radii of each
+// other (|p - a - b| = |(p - a) - b|); and B moved along u by penetration_along(A (-) B) just
+// stops overlapping A (bisection on the cores' distance). Counts the points inside and outside.
+void expect_rounded_sum(const ConvexShape& A, const Isometry3d& pa, const ConvexShape& B, const Isometry3d& pb,
+                        const std::string& name, std::mt19937_64& rng, int& inside, int& outside) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  MinkowskiSum sum, diff;
+  ASSERT_EQ(minkowski_sum(A, pa, B, pb, sum), Status::Ok) << name;
+  ASSERT_EQ(minkowski_difference(A, pa, B, pb, diff), Status::Ok) << name;
+  const double r = A.radius() + B.radius();
+  EXPECT_EQ(sum.radius, r);
+  EXPECT_TRUE(sum.euler_ok) << name;
+  Core a = core_of(A, pa);
+  const Core b = core_of(B, pb);
+  for (int q = 0; q < 40; ++q) {  // contains against the cores' distance
+    const Vector3d p = (pa.translation() + pb.translation()) + 3.5 * Vector3d(u(rng), u(rng), u(rng));
+    Core reflected = a;
+    for (Vector3d& x : reflected.v) x = p - x;
+    for (Vector3d& n : reflected.normals) n = -n;
+    for (auto& loop : reflected.loops) std::reverse(loop.begin(), loop.end());  // (a reflection turns them)
+    const double d = core_distance(reflected, b);
+    if (std::abs(d - r) < 1e-9) continue;
+    EXPECT_EQ(contains(sum, p), d <= r) << name << " at " << p.transpose() << ": " << d;
+    ++(d <= r ? inside : outside);
+  }
+  // penetration_along on the difference: moving B by it, the cores come within the radii
+  // at it and no farther than that past it.
+  const Vector3d dir = Vector3d(u(rng), u(rng), u(rng)).normalized();
+  const double lambda = penetration_along(diff, dir);
+  const auto gap = [&](double t) {
+    Core moved = b;
+    for (Vector3d& x : moved.v) x += t * dir;
+    return core_distance(a, moved) - r;
+  };
+  if (gap(0) > 1e-9) {
+    EXPECT_EQ(lambda, 0) << name;
+    return;
+  }
+  EXPECT_NEAR(gap(lambda), 0, 1e-9) << name;
+  EXPECT_GT(gap(lambda + 1e-6), 0) << name;
+}
+
+// Every pair of kinds at random poses, those whose cores sum to a point, a segment or a polygon
+// (a sphere and a sphere, a capsule or a triangle; two capsules) included: swept by the radii
+// they are solids.
 TEST(RoundedShapes, SumsAreTheCoresSumsSweptByTheRadii) {
   std::mt19937_64 rng(58);
-  std::uniform_real_distribution<double> u(-1, 1);
   int inside = 0, outside = 0;
   for (const auto& [na, A] : shapes())
     for (const auto& [nb, B] : shapes()) {
       if (A.radius() == 0 && B.radius() == 0) continue;
-      for (int k = 0; k < test::scaled(4, 2); ++k) {
-        const Isometry3d pa = test::random_pose(rng, 0.5), pb = test::random_pose(rng, 0.5);
-        MinkowskiSum sum, diff;
-        const Status s = minkowski_sum(A, pa, B, pb, sum);
-        // (Dimensions of the cores: a sum of fewer than three, or a segment in a triangle's
-        // plane, is not a solid; random poses never lay one exactly in the other's plane.)
-        const auto dims = [](const std::string& n) {
-          return n == "sphere" ? 0 : n == "capsule" ? 1 : n.find("triangle") != std::string::npos ? 2 : 3;
-        };
-        if (dims(na) + dims(nb) < 3) {
-          EXPECT_EQ(s, Status::DegenerateResult) << na << " / " << nb;
-          continue;
-        }
-        ASSERT_EQ(s, Status::Ok) << na << " / " << nb;
-        ASSERT_EQ(minkowski_difference(A, pa, B, pb, diff), Status::Ok) << na << " / " << nb;
-        const double r = A.radius() + B.radius();
-        EXPECT_EQ(sum.radius, r);
-        EXPECT_TRUE(sum.euler_ok) << na << " / " << nb;
-        Core a = core_of(A, pa);
-        const Core b = core_of(B, pb);
-        for (int q = 0; q < 40; ++q) {  // contains against the cores' distance
-          const Vector3d p = (pa.translation() + pb.translation()) + 3.5 * Vector3d(u(rng), u(rng), u(rng));
-          Core reflected = a;
-          for (Vector3d& x : reflected.v) x = p - x;
-          for (Vector3d& n : reflected.normals) n = -n;
-          for (auto& loop : reflected.loops) std::reverse(loop.begin(), loop.end());  // (a reflection turns them)
-          const double d = core_distance(reflected, b);
-          if (std::abs(d - r) < 1e-9) continue;
-          EXPECT_EQ(contains(sum, p), d <= r) << na << " / " << nb << " at " << p.transpose() << ": " << d;
-          ++(d <= r ? inside : outside);
-        }
-        // penetration_along on the difference: moving B by it, the cores come within the radii
-        // at it and no farther than that past it.
-        const Vector3d dir = Vector3d(u(rng), u(rng), u(rng)).normalized();
-        const double lambda = penetration_along(diff, dir);
-        const auto gap = [&](double t) {
-          Core moved = b;
-          for (Vector3d& x : moved.v) x += t * dir;
-          return core_distance(a, moved) - r;
-        };
-        if (gap(0) > 1e-9) {
-          EXPECT_EQ(lambda, 0) << na << " / " << nb;
-          continue;
-        }
-        EXPECT_NEAR(gap(lambda), 0, 1e-9) << na << " / " << nb;
-        EXPECT_GT(gap(lambda + 1e-6), 0) << na << " / " << nb;
-      }
+      for (int k = 0; k < test::scaled(4, 2); ++k)
+        expect_rounded_sum(A, test::random_pose(rng, 0.5), B, test::random_pose(rng, 0.5), na + " / " + nb, rng,
+                           inside, outside);
     }
   EXPECT_GT(inside, 100);
   EXPECT_GT(outside, 100);
+}
+
+// Cores whose sum is a point, a segment or a polygon in the poses random ones never hit: parallel
+// capsules (a segment), a capsule lying in a triangle's plane, coplanar swept triangles (polygons),
+// and the structure of each: a ball of radius 3 is V 1, E 0, F 0, and contains says so exactly.
+TEST(RoundedShapes, SumsOfLowerDimensionalCoresAreSolids) {
+  std::mt19937_64 rng(59);
+  int inside = 0, outside = 0;
+  ConvexShape one, two, capsule, triangle, swept;
+  ASSERT_EQ(shape_from_sphere(1, one), Status::Ok);
+  ASSERT_EQ(shape_from_sphere(2, two), Status::Ok);
+  ASSERT_EQ(shape_from_capsule(1, 0.5, capsule), Status::Ok);
+  ASSERT_EQ(shape_from_triangle({Vector3d(0, 0, 0), Vector3d(2, 0, 0), Vector3d(0, 1, 0)}, triangle), Status::Ok);
+  ASSERT_EQ(shape_with_radius(triangle, 0.25, swept), Status::Ok);
+  const Isometry3d id = Isometry3d::Identity();
+  Isometry3d there = id, lying = id;
+  there.translation() = Vector3d(10, 0, 0);
+  lying.linear() = Eigen::AngleAxisd(M_PI / 2, Vector3d::UnitY()).toRotationMatrix();  // z into the plane z = 0
+  lying.translation() = Vector3d(0.5, 0.25, 0);
+  MinkowskiSum m;
+  ASSERT_EQ(minkowski_sum(one, id, two, there, m), Status::Ok);
+  EXPECT_EQ(m.V, 1); EXPECT_EQ(m.E, 0); EXPECT_EQ(m.F, 0); EXPECT_EQ(m.radius, 3);
+  EXPECT_TRUE(contains(m, Vector3d(10, 2.999, 0)));
+  EXPECT_FALSE(contains(m, Vector3d(10, 0, 3.001)));
+  EXPECT_NEAR(penetration_along(m, Vector3d::UnitX()), 0, 0);  // (the origin is 10 from the point: outside)
+  ASSERT_EQ(minkowski_difference(one, id, two, id, m), Status::Ok);
+  EXPECT_NEAR(penetration_along(m, Vector3d::UnitX()), 3, 1e-15);
+  ASSERT_EQ(minkowski_sum(capsule, id, capsule, there, m), Status::Ok);  // parallel: a segment 4 long
+  EXPECT_EQ(m.V, 2); EXPECT_EQ(m.E, 1); EXPECT_EQ(m.F, 0);
+  EXPECT_NEAR((m.vertices[0].point - m.vertices[1].point).norm(), 4, 1e-15);
+  ASSERT_EQ(minkowski_sum(capsule, id, capsule, lying, m), Status::Ok);  // crossed: a 2 x 2 square
+  EXPECT_EQ(m.V, 4); EXPECT_EQ(m.E, 4); EXPECT_EQ(m.F, 2);
+  // In its plane (z = 0) but 2 beyond its edge x = 1.5: outside (its two sides' planes hold every
+  // point of the plane; fuzz_query found contains answering true there).
+  EXPECT_FALSE(contains(m, Vector3d(3.5, 0.25, 0)));
+  EXPECT_TRUE(contains(m, Vector3d(1.9, 0.25, 0)));  // within the radius 1 of the square
+  // In its plane, along the triangle's edge on the x axis: (-0.5, 0.25), (3.5, 0.25), (1.5, 1.25) and
+  // (-0.5, 1.25), a trapezoid.
+  ASSERT_EQ(minkowski_sum(triangle, id, capsule, lying, m), Status::Ok);
+  EXPECT_EQ(m.V, 4); EXPECT_EQ(m.E, 4); EXPECT_EQ(m.F, 2);
+  for (const Vector3d& corner : {Vector3d(-0.5, 0.25, 0), Vector3d(3.5, 0.25, 0), Vector3d(1.5, 1.25, 0), Vector3d(-0.5, 1.25, 0)})
+    EXPECT_TRUE(std::any_of(m.vertices.begin(), m.vertices.end(),
+                            [&](const SumVertex& v) { return (v.point - corner).norm() < 1e-15; }))
+        << corner.transpose();
+  ASSERT_EQ(minkowski_sum(swept, id, swept, there, m), Status::Ok);  // coplanar: a triangle twice as large
+  EXPECT_EQ(m.V, 3); EXPECT_EQ(m.F, 2); EXPECT_EQ(m.radius, 0.5);
+  // Without a radius, coplanar triangles have no solid sum.
+  EXPECT_EQ(minkowski_sum(triangle, id, triangle, there, m), Status::DegenerateResult);
+  EXPECT_EQ(m.V, 0);
+  const std::pair<const ConvexShape*, const ConvexShape*> pairs[] = {
+      {&one, &two}, {&one, &capsule}, {&capsule, &capsule}, {&capsule, &swept}, {&swept, &capsule}, {&swept, &swept},
+      {&swept, &one}};
+  for (const auto& [A, B] : pairs)
+    for (const Isometry3d& pose : {there, lying})
+      for (int k = 0; k < 4; ++k) expect_rounded_sum(*A, id, *B, pose, "special", rng, inside, outside);
+  EXPECT_GT(inside, 20);
+  EXPECT_GT(outside, 20);
 }
 
 TEST(RoundedShapes, EveryPairOfKindsMatchesTheCoresExactDistanceMinusTheRadii) {
@@ -1026,16 +1081,6 @@ TEST(RoundedShapes, RoundedOperationsThatCannotAnswerSaySo) {
   Isometry3d far = id;
   far.translation() = Vector3d(10, 0, 0);
   MinkowskiSum m;
-  // Two points, a point and a flat triangle or a segment, two segments, or a segment in a
-  // triangle's plane have no solid sum.
-  EXPECT_EQ(minkowski_sum(sphere, id, sphere, far, m), Status::DegenerateResult);
-  EXPECT_EQ(minkowski_sum(triangle, id, sphere, far, m), Status::DegenerateResult);
-  EXPECT_EQ(minkowski_sum(capsule, id, sphere, far, m), Status::DegenerateResult);
-  EXPECT_EQ(minkowski_difference(capsule, id, capsule, far, m), Status::DegenerateResult);
-  Isometry3d lying = far;  // the capsule's z turned into the triangle's plane
-  lying.linear() = Eigen::AngleAxisd(M_PI / 2, Vector3d::UnitY()).toRotationMatrix();
-  EXPECT_EQ(minkowski_sum(triangle, id, capsule, lying, m), Status::DegenerateResult);
-  EXPECT_EQ(m.F, 0);
   // A rounded sum is not a polygon mesh, and its proximity needs the radii apart.
   ASSERT_EQ(minkowski_difference(rounded_box, id, sphere, far, m), Status::Ok);
   std::string error;

@@ -58,7 +58,7 @@ struct MinkowskiSum {
   std::vector<int> loop_vertex;     ///< the facets' loops back to back (indices into `vertices`)
   std::vector<SumVertex> vertices;  ///< sorted by (i, j)
   int V = 0, E = 0, F = 0;          ///< counts of vertices, edges and facets
-  bool euler_ok = false;            ///< V - E + F == 2 and every edge has two facets
+  bool euler_ok = false;            ///< V - E + F == 2 and every edge has two facets (a rounded sum's point or segment core: true)
   bool corrected = false;           ///< the Section 3 hull corrector rebuilt the result
   Method method = Method::Fast;     ///< the path that produced it
   SumParts parts = SumParts::Whole;  ///< what it holds (the hull corrector's answer is whole)
@@ -78,10 +78,11 @@ struct MinkowskiSum {
 /// (a radius, a sphere, a capsule): the sum of the cores, Whole whatever `parts` asks (reading
 /// it with its radius needs the loops), with `radius` the radii added; a sphere's core is a
 /// point, so with a solid core the sum is that core translated; a capsule's is a segment, which
-/// has no Gauss map: the hull of the pairwise sums (method Hull). TooFewPoints for an empty
-/// shape, InvalidPose for a pose that is not rigid, DegenerateResult for a sum that is not a
-/// solid (two coplanar flat shapes; two points, a point and a segment or a flat shape, two
-/// segments, a segment in a flat shape's plane).
+/// has no Gauss map: the hull of the pairwise sums (method Hull). Rounded cores that sum to a
+/// point, a segment or a polygon (two spheres, a sphere and a capsule, two capsules, ...) give
+/// that core: V 1 (E 0, F 0), V 2 (E 1, F 0) or a polygon's corners with its two sides (F 2).
+/// TooFewPoints for an empty shape, InvalidPose for a pose that is not rigid,
+/// DegenerateResult for polytopes (no radius) whose sum is not a solid (two coplanar flat shapes).
 Status minkowski_sum(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
                      const Eigen::Isometry3d& pose_b, MinkowskiSum& out, SumParts parts = SumParts::Whole);
 

@@ -102,6 +102,8 @@ double rounded_exit(const MinkowskiSum& m, const Vector3d& u) {
   if (!contains(m, Vector3d::Zero()) || int(m.loop_start.size()) != m.F + 1) return 0;
   double best = 0;
   for (const SumVertex& v : m.vertices) best = std::max(best, detail::ball_exit(v.point, u, r));
+  if (m.F == 0 && m.V == 2)  // a segment core
+    best = std::max(best, detail::cylinder_exit(m.vertices[0].point, m.vertices[1].point, u, r));
   for (int k = 0; k < m.F; ++k) {
     const Loop f = m.facet(k);
     const auto corner = [&](int e) { return m.vertices[f[e]].point; };
@@ -112,10 +114,19 @@ double rounded_exit(const MinkowskiSum& m, const Vector3d& u) {
   return best;
 }
 
+// The squared distance of p from a sum without facets: a rounded sum's point or segment core.
+double distance2_to_edge(const MinkowskiSum& m, const Vector3d& p) {
+  const Vector3d a = m.vertices.front().point - p, b = m.vertices.back().point - p;
+  return (a + detail::nearest_on_segment(a, b) * (b - a)).squaredNorm();
+}
+
 }  // namespace
 
 bool contains(const MinkowskiSum& m, const Vector3d& p) {
-  if (m.planes.empty()) return false;  // (a failed sum is empty: nothing lies in it)
+  if (m.vertices.empty()) return false;  // (a failed sum is empty: nothing lies in it)
+  if (m.planes.empty()) return distance2_to_edge(m, p) <= m.radius * m.radius;  // (NaN: false)
+  if (m.F == 2 && int(m.loop_start.size()) == 3)  // a rounded sum's polygon: its sides' planes hold no edge
+    return closest_on_facet(m, m.facet(0), m.planes[0].normal, p).dist2 <= m.radius * m.radius;
   bool inside = true;
   for (const auto& plane : m.planes) {
     const double above = plane.normal.dot(p) - plane.offset;

@@ -165,23 +165,101 @@ void point_sum(const Vector3d& p, const ConvexPolytope& q, const Eigen::Isometry
   out.euler_ok = out.V - out.E + out.F == 2;
 }
 
-// Whether the sum of two posed cores is a solid: not two points, a point and a flat polygon or a
-// segment, two segments, nor a segment in a flat polygon's plane (two coplanar flat polygons
-// are the overlay's to refuse). Exact for the points, to 1e-12 of the lengths for the planes.
-bool solid_sum(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
-               const Eigen::Isometry3d& pose_b) {
+// The dimension of a posed sum of cores (3: a solid), for a point (0), a segment (1), a flat
+// polygon (2) or a solid (3): the sum of two points is a point; a point and a segment, or two
+// parallel segments, a segment; two segments, a point and a polygon, a segment in a polygon's
+// plane or two coplanar polygons, a polygon; `normal` is then its plane's. Parallel to 1e-12.
+int sum_dimension(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
+                  const Eigen::Isometry3d& pose_b, Vector3d& normal) {
   using Kind = detail::ShapeData::Kind;
-  const detail::ShapeData *da = detail::ShapeAccess::data(a), *db = detail::ShapeAccess::data(b);
-  const auto dims = [](const detail::ShapeData* d) {
+  const auto dims = [](const ConvexShape& s) {
+    const detail::ShapeData* d = detail::ShapeAccess::data(s);
     return d->kind == Kind::Point ? 0 : d->kind == Kind::Segment ? 1 : d->polytope_ref->flat ? 2 : 3;
   };
-  const int na = dims(da), nb = dims(db);
-  if (na + nb < 3) return false;
-  if (!(na == 1 && nb == 2) && !(na == 2 && nb == 1)) return true;
-  const bool seg_a = na == 1;  // (a capsule's segment runs along its z)
-  const Vector3d axis = (seg_a ? pose_a : pose_b).linear() * Vector3d::UnitZ();
-  const Vector3d normal = (seg_a ? pose_b : pose_a).linear() * (seg_a ? b : a).polytope().faces[0].normal;
-  return std::abs(axis.dot(normal)) > 1e-12;
+  const int na = dims(a), nb = dims(b);
+  const auto axis = [](const Eigen::Isometry3d& pose) { return Vector3d(pose.linear() * Vector3d::UnitZ()); };
+  const auto plane = [](const ConvexShape& s, const Eigen::Isometry3d& pose) {
+    return Vector3d(pose.linear() * s.polytope().faces[0].normal);
+  };
+  if (na == 3 || nb == 3 || na + nb < 2) return std::max({na, nb, 0});
+  if (na == 1 && nb == 1) {  // (a capsule's segment runs along its z)
+    const Vector3d c = axis(pose_a).cross(axis(pose_b));
+    if (c.norm() <= 1e-12) return 1;
+    return normal = c.normalized(), 2;
+  }
+  if (na + nb == 1) return 1;
+  if (na == 2 && nb == 2) {
+    normal = plane(a, pose_a);
+    return normal.cross(plane(b, pose_b)).norm() <= 1e-12 ? 2 : 3;
+  }
+  if (na == 1 || nb == 1) {
+    normal = na == 2 ? plane(a, pose_a) : plane(b, pose_b);
+    return std::abs(axis(na == 1 ? pose_a : pose_b).dot(normal)) > 1e-12 ? 3 : 2;
+  }
+  return normal = na == 2 ? plane(a, pose_a) : plane(b, pose_b), 2;  // a point and a polygon
+}
+
+// A rounded sum whose cores sum to a point, a segment or a polygon (dimension `dims`; a
+// polygon's plane `normal`): swept by the radii it is a solid. Its core is the hull of the
+// pairwise sums in their line or plane: a point (V 1, no edges, no facets), a segment (V 2,
+// E 1, no facets) or a polygon with its two sides (V = E, F 2), as a flat polytope has them.
+void low_sum(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
+             const Eigen::Isometry3d& pose_b, bool difference, int dims, const Vector3d& normal, MinkowskiSum& out) {
+  out.planes.clear(), out.loop_start.clear(), out.loop_vertex.clear(), out.vertices.clear();
+  out.corrected = false, out.method = Method::Fast, out.parts = SumParts::Whole, out.euler_ok = true;
+  const std::vector<Vector3d> &va = a.polytope().vertices, &vb = b.polytope().vertices;
+  std::vector<Vector3d> sums;
+  std::vector<std::pair<int, int>> pair;
+  for (size_t i = 0; i < va.size(); ++i)
+    for (size_t j = 0; j < vb.size(); ++j) {
+      const Vector3d q = pose_b * vb[j];
+      sums.push_back(pose_a * va[i] + (difference ? Vector3d(-q) : q));
+      pair.emplace_back(int(i), int(j));
+    }
+  std::vector<int> corners;  // into sums: the point, the segment's ends, the polygon counter-clockwise
+  if (dims == 0) {
+    corners = {0};
+  } else if (dims == 1) {  // the extremes along the line (two points of it that differ)
+    Vector3d d = Vector3d::Zero();
+    for (const Vector3d& q : sums)
+      if ((q - sums.front()).squaredNorm() > d.squaredNorm()) d = q - sums.front();
+    int lo = 0, hi = 0;
+    for (int k = 1; k < int(sums.size()); ++k) {
+      if (d.dot(sums[size_t(k)]) < d.dot(sums[size_t(lo)])) lo = k;
+      if (d.dot(sums[size_t(k)]) > d.dot(sums[size_t(hi)])) hi = k;
+    }
+    corners = lo == hi ? std::vector<int>{lo} : std::vector<int>{lo, hi};
+  } else {
+    std::vector<int> all(sums.size());
+    for (size_t k = 0; k < all.size(); ++k) all[k] = int(k);
+    corners = detail::planar_hull(sums, all, normal, 0);
+  }
+  // The vertices sorted by their pairs, as every sum's are.
+  std::vector<int> order = corners;
+  std::sort(order.begin(), order.end(), [&](int x, int y) { return pair[size_t(x)] < pair[size_t(y)]; });
+  std::vector<int> number(sums.size(), -1);
+  for (int k : order) {
+    number[size_t(k)] = int(out.vertices.size());
+    out.vertices.push_back(SumVertex{pair[size_t(k)].first, pair[size_t(k)].second, sums[size_t(k)]});
+  }
+  out.V = int(out.vertices.size()), out.E = out.V < 3 ? out.V - 1 : out.V, out.F = 0;
+  out.loop_start.push_back(0);
+  if (out.V < 3) return;
+  for (const double side : {1.0, -1.0}) {  // the top side counter-clockwise about normal, the bottom reversed
+    std::vector<int> loop;
+    for (int k : corners) loop.push_back(number[size_t(k)]);
+    if (side < 0) std::reverse(loop.begin(), loop.end());
+    std::rotate(loop.begin(), std::min_element(loop.begin(), loop.end()), loop.end());
+    SumPlane plane;
+    plane.normal = side * normal;
+    plane.offset = -std::numeric_limits<double>::infinity();
+    for (int v : loop) plane.offset = std::max(plane.offset, plane.normal.dot(out.vertices[size_t(v)].point));
+    plane.i = out.vertices[size_t(loop[0])].i, plane.j = out.vertices[size_t(loop[0])].j;
+    out.planes.push_back(plane);
+    out.loop_vertex.insert(out.loop_vertex.end(), loop.begin(), loop.end());
+    out.loop_start.push_back(int(out.loop_vertex.size()));
+  }
+  out.F = 2;
 }
 
 // The sum of a segment core and another core (not a point): the hull of the pairwise sums of
@@ -199,18 +277,23 @@ Status segment_sum(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const 
 
 // Checks the shapes and poses of a posed sum. Rounded shapes: the sum of the cores, whole
 // (reading it with the radius needs the loops), with the radii added; a point core and a solid
-// one: the solid translated; a segment core: the hull of the pairwise sums.
+// one: the solid translated; a segment core: the hull of the pairwise sums; cores that sum to
+// less than a solid: low_sum. Polytopes whose sum is not a solid: DegenerateResult.
 Status sum_shapes(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
                   const Eigen::Isometry3d& pose_b, bool difference, MinkowskiSum& out, SumParts parts) {
   const detail::ShapeData *da = detail::ShapeAccess::data(a), *db = detail::ShapeAccess::data(b);
   Status s = !da || !db ? Status::TooFewPoints : check_pose(pose_a);
   if (s == Status::Ok) s = check_pose(pose_b);
-  if (s == Status::Ok && !solid_sum(a, pose_a, b, pose_b)) s = Status::DegenerateResult;
   if (s != Status::Ok) return out = MinkowskiSum{}, s;
   const double radius = a.radius() + b.radius();
+  Vector3d normal = Vector3d::Zero();
+  const int dims = sum_dimension(a, pose_a, b, pose_b, normal);
+  if (dims < 3 && !(radius > 0)) return out = MinkowskiSum{}, Status::DegenerateResult;
   if (radius > 0) parts = SumParts::Whole;
   using Kind = detail::ShapeData::Kind;
-  if (da->kind == Kind::Point)
+  if (dims < 3)
+    low_sum(a, pose_a, b, pose_b, difference, dims, normal, out);
+  else if (da->kind == Kind::Point)
     point_sum(pose_a * a.polytope().vertices.front(), b.polytope(), pose_b, false, difference, out);
   else if (db->kind == Kind::Point)
     point_sum(pose_b * b.polytope().vertices.front(), a.polytope(), pose_a, true, difference, out);

@@ -109,3 +109,15 @@ def test_out_refills_a_sum_in_place(rng):
     assert not np.array_equal(planes, first.planes)
     with pytest.raises(ValueError, match="out: expected a minksum.Sum"):
         mk.minkowski_sum(a, None, b, None, out=mk.ProximityCache())
+
+
+def test_rounded_cores_of_lower_dimension_sum_to_solids():
+    # Two balls are a ball: was "not a solid". Its core is a point (V 1, F 0), and contains
+    # answers for the ball of the radii added; a ball and a triangle are a rounded triangle.
+    s = mk.minkowski_sum(mk.Shape.sphere(1), None, mk.Shape.sphere(2), (np.eye(3), [5, 0, 0]))
+    assert (s.V, s.E, s.F, s.radius) == (1, 0, 0, 3)
+    assert s.contains([5, 2.99, 0]) and not s.contains([5, 0, 3.01])
+    tri = mk.Shape.triangle([[0, 0, 0], [1, 0, 0], [0, 1, 0]])
+    t = mk.minkowski_sum(tri, None, mk.Shape.sphere(0.5), None)
+    assert (t.V, t.E, t.F) == (3, 3, 2)
+    assert t.contains([0.2, 0.2, 0.49]) and not t.contains([0.2, 0.2, 0.51]) and not t.contains([2, 0, 0])
