@@ -255,7 +255,7 @@ TEST(PointCloud, AgainstAMeshEqualsBruteForce) {
 
 TEST(PointCloud, RejectsBadClouds) {
   Octree t;
-  EXPECT_EQ(build_octree(std::vector<Vector3d>{}, t), Status::TooFewPoints);
+  EXPECT_EQ(build_octree(std::vector<Vector3d>{}, t), Status::EmptyMesh);
   EXPECT_EQ(build_octree({Vector3d(0, 0, 0), Vector3d(std::nan(""), 0, 0)}, t), Status::NonFinite);
   EXPECT_EQ(build_octree({Vector3d(0, 0, 0), Vector3d(1e300, 0, 0)}, t), Status::OutOfRange);
 }

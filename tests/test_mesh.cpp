@@ -307,7 +307,7 @@ TEST(TriangleDistance, VertexInsideASliver) {
 TEST(Octree, RejectsBadMeshes) {
   Octree o;
   const std::vector<Vector3d> v = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
-  EXPECT_EQ(build_octree(v, {}, o), Status::TooFewPoints);
+  EXPECT_EQ(build_octree(v, {}, o), Status::EmptyMesh);  // (3 points and no triangle: no mesh, and it says so)
   EXPECT_EQ(build_octree(v, {{0, 1, 3}}, o), Status::InvalidMesh);
   EXPECT_EQ(build_octree(v, {{0, -1, 2}}, o), Status::InvalidMesh);
   auto bad = v;
@@ -319,7 +319,9 @@ TEST(Octree, RejectsBadMeshes) {
   EXPECT_EQ(build_octree(bad, {{0, 1, 2}}, o), Status::OutOfRange);
   OctreeOptions options;
   options.leaf_size = 0;
-  EXPECT_EQ(build_octree(v, {{0, 1, 2}}, o, options), Status::InvalidMesh);
+  EXPECT_EQ(build_octree(v, {{0, 1, 2}}, o, options), Status::InvalidArgument);  // (the option, not the mesh)
+  options.leaf_size = 1, options.max_depth = 25;
+  EXPECT_EQ(build_octree(v, {{0, 1, 2}}, o, options), Status::InvalidArgument);
   // Unused vertices and degenerate triangles are fine.
   auto extra = v;
   extra.emplace_back(5, 5, 5);
@@ -344,10 +346,10 @@ TEST(Octree, RejectsABadPoseAndAForeignWorkspace) {
     EXPECT_EQ(mesh_distance(A, bad, A, identity, ws, d), Status::InvalidPose);
   }
   EXPECT_EQ(mesh_distance(A, Eigen::Isometry3d::Identity(), small, Eigen::Isometry3d::Identity(), ws, d),
-            Status::InvalidMesh);
+            Status::WorkspaceMismatch);  // (made for A and A: the meshes are fine)
   // A workspace make_workspace never sized is refused; a copy of a sized one works.
   MeshWorkspace empty;
-  EXPECT_EQ(mesh_distance(A, identity, A, identity, empty, d), Status::InvalidMesh);
+  EXPECT_EQ(mesh_distance(A, identity, A, identity, empty, d), Status::WorkspaceMismatch);
   MeshWorkspace copy = ws;
   EXPECT_EQ(mesh_distance(A, identity, A, identity, copy, d), Status::Ok);
   EXPECT_TRUE(d.intersecting);
@@ -415,7 +417,7 @@ TEST(MeshContact, PosedBoxOnAFloorIsPushedStraightUp) {
   EXPECT_EQ(mesh_contact(A, scaled, tool, Eigen::Isometry3d::Identity(), ws, c), Status::InvalidPose);
   MeshWorkspace none;
   EXPECT_EQ(mesh_contact(A, Eigen::Isometry3d::Identity(), tool, Eigen::Isometry3d::Identity(), none, c),
-            Status::InvalidMesh);
+            Status::WorkspaceMismatch);
   EXPECT_FALSE(c.intersecting);
   // Past the fixed scratch (kMaxToolVertices), with a radius or not: the capacity, as
   // mesh_distance says. A flat tool has no inside to clip by; with a radius it has.

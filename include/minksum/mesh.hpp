@@ -61,7 +61,8 @@ struct Octree {
 
 /// Builds the octree of a mesh. Unused vertices, boundary and non-manifold edges and
 /// degenerate triangles are accepted; NaN/Inf coordinates (NonFinite), indices out of range
-/// (InvalidMesh) and meshes without triangles (TooFewPoints) are rejected. A triangle with
+/// (InvalidMesh), meshes without triangles (EmptyMesh) and options out of range (a leaf size
+/// under 1, a depth past 24: InvalidArgument) are rejected. A triangle with
 /// exactly the corners of an earlier one is not listed in the leaves (it cannot be nearer).
 Status build_octree(const std::vector<Eigen::Vector3d>& vertices, const std::vector<std::array<int, 3>>& triangles,
                     Octree& out, const OctreeOptions& options = {});
@@ -70,7 +71,7 @@ Status build_octree(const std::vector<Eigen::Vector3d>& vertices, const std::vec
 /// Section 5.1 closing remark): point k becomes the zero-area triangle (k, k, k), so
 /// mesh_distance gives the exact closest pair of points of two clouds, or of a cloud and a mesh,
 /// and triangle_a/b name the points. Duplicate points are listed once; the same rejections as
-/// for a mesh (TooFewPoints for no points).
+/// for a mesh (EmptyMesh for no points).
 Status build_octree(const std::vector<Eigen::Vector3d>& points, Octree& out, const OctreeOptions& options = {});
 
 namespace detail {
@@ -87,7 +88,8 @@ void make_workspace(const Octree& a, const Octree& b, MeshWorkspace& ws, int hea
 
 /// Scratch memory of mesh_distance and mesh_contact, sized once for a pair of octrees by
 /// make_workspace so that queries never allocate; reuse it for every query of that pair. Its
-/// layout is the library's own. An empty workspace (not from make_workspace) gets InvalidMesh.
+/// layout is the library's own. An empty workspace (not from make_workspace), or one made for
+/// other meshes, gets WorkspaceMismatch.
 class MeshWorkspace {
  public:
   MeshWorkspace();                                           ///< empty
@@ -129,7 +131,8 @@ struct MeshDistance {
 /// branch-and-bound over node pairs (a fixed-size heap, then depth first if it fills), pruning
 /// pairs whose distance bound reaches the best triangle distance found so far. B is placed in
 /// A's frame by pose_a^-1 pose_b (with A at the identity, exactly pose_b). No allocation with a
-/// workspace from make_workspace(a, b); InvalidPose for a pose that is not rigid.
+/// workspace from make_workspace(a, b) (WorkspaceMismatch with another); InvalidPose for a pose
+/// that is not rigid.
 Status mesh_distance(const Octree& a, const Eigen::Isometry3d& pose_a, const Octree& b, const Eigen::Isometry3d& pose_b,
                      MeshWorkspace& ws, MeshDistance& out);
 
@@ -193,7 +196,8 @@ constexpr int kMaxContactTriangles = 2048;
 /// points weighted as u, moved down to the surface along it; the area is 0.
 /// No allocation. InvalidMesh if a tool without a radius is flat (a triangle: give it a radius),
 /// CapacityExceeded for a tool (or a rounded tool's core) of more than kMaxToolVertices vertices;
-/// the workspace is any made by make_workspace (its contact buffers are sized there); TooFewPoints for an empty tool,
+/// the workspace is any made by make_workspace (its contact buffers are sized there; WorkspaceMismatch
+/// for one that is not); TooFewPoints for an empty tool,
 /// InvalidPose for a pose that is not rigid.
 Status mesh_contact(const Octree& a, const Eigen::Isometry3d& pose_a, const ConvexShape& tool,
                     const Eigen::Isometry3d& pose_tool, MeshWorkspace& ws, MeshContact& out);

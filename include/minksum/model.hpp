@@ -16,18 +16,23 @@ enum class Status {
   InvalidMesh,       ///< bad index, face with < 3 vertices, open or non-manifold explicit mesh
   NotConvex,         ///< an explicit mesh is not convex (or a face is not planar)
   InvalidBox,        ///< a box half extent is <= 0 or its rotation is not a rotation
-  DegenerateResult,  ///< the sum is not a solid (two coplanar flat operands; a point or segment core with a thin one)
+  DegenerateResult,  ///< the sum is not a solid (two coplanar flat operands without a radius)
   HullFailed,        ///< Qhull reported an error on input that passed validation
   OutOfRange,        ///< a coordinate's magnitude exceeds kMaxCoordinate, or a shape is under kMinExtent across
   InvalidPose,       ///< a pose that is not a finite rigid motion (scale, shear, reflection, NaN)
   InvalidArgument,   ///< a number outside its documented range (a negative or NaN margin)
   CapacityExceeded,  ///< a result larger than its fixed capacity (a contact patch's 128 points)
   Unsupported,       ///< an operation that does not take this kind of shape yet (see its comment)
+  EmptyMesh,         ///< a mesh without triangles, or a point cloud without points
+  WorkspaceMismatch, ///< a MeshWorkspace not made (make_workspace) for the meshes of the call
 };
 
 /// Largest coordinate magnitude accepted: products of three stay finite in double, so the
 /// exact predicates and the distances never meet an overflow.
 constexpr double kMaxCoordinate = 1e100;
+/// How far a pose's (or a box's) rotation R may be from a proper rotation: every entry of
+/// R^T R - I (rotation_deviation) within it, and det R > 0.
+constexpr double kRotationTolerance = 1e-9;
 /// Smallest extent (bounding-box diagonal) of a shape built from points or a mesh: squares and
 /// cubes of its lengths stay normal doubles, so no test of its shape underflows to zero.
 constexpr double kMinExtent = 1e-100;

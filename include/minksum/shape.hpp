@@ -76,7 +76,16 @@ Status shape_from_capsule(double half_length, double radius, ConvexShape& out);
 Status shape_with_radius(const ConvexShape& core, double radius, ConvexShape& out);
 
 /// Ok for a rigid pose: finite, translation within kMaxCoordinate, linear part a proper
-/// rotation to 1e-9 (no scale, shear or reflection); InvalidPose otherwise.
+/// rotation to kRotationTolerance (1e-9: no scale, shear or reflection); InvalidPose otherwise.
 Status check_pose(const Eigen::Isometry3d& pose);
+
+/// How far r is from a proper rotation: the largest entry of |R^T R - I|; infinity where det r
+/// <= 0 or an entry is not finite. check_pose accepts up to kRotationTolerance.
+double rotation_deviation(const Eigen::Matrix3d& r);
+
+/// The proper rotation nearest r (its orthogonal polar factor, by Higham's iteration), for a
+/// rotation stored in float or accumulated in products; r itself where it is not within 0.1 of a
+/// rotation (rotation_deviation), which check_pose then refuses.
+Eigen::Matrix3d nearest_rotation(const Eigen::Matrix3d& r);
 
 }  // namespace minksum

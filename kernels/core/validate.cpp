@@ -5,6 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+
+#include <Eigen/LU>
 
 namespace minksum {
 
@@ -29,17 +32,21 @@ const char* to_string(Status s) {
     case Status::InvalidBox:
       return "invalid box (non-positive half extent or non-orthonormal rotation)";
     case Status::DegenerateResult:
-      return "the sum is not a solid (two coplanar flat polytopes, or a sphere's or capsule's core with a core too thin)";
+      return "the sum is not a solid (two coplanar flat polytopes without a radius)";
     case Status::HullFailed:
       return "the convex hull (Qhull) failed";
     case Status::InvalidPose:
-      return "the pose is not a rigid motion (a proper rotation, and a finite translation within 1e100)";
+      return "the pose is not a rigid motion (a proper rotation, every entry of R^T R - I within 1e-9, and a finite translation within 1e100)";
     case Status::InvalidArgument:
-      return "a number is outside its documented range (a contact margin, a time-of-impact tolerance, a radius or a half length that is negative, NaN or infinite)";
+      return "a number is outside its documented range (a negative, NaN or infinite margin, tolerance or half length; a radius that is not positive and finite; an octree's leaf size under 1)";
     case Status::CapacityExceeded:
       return "the result exceeds its fixed capacity";
     case Status::Unsupported:
       return "this operation does not take this kind of shape yet (a sphere, a capsule or a radius)";
+    case Status::EmptyMesh:
+      return "the mesh has no triangles (a point cloud has its own builder), or the point cloud no points";
+    case Status::WorkspaceMismatch:
+      return "the workspace was not made for these meshes (make_workspace with the call's meshes)";
   }
   return "unknown status";
 }
@@ -68,7 +75,7 @@ bool proper_rotation(const double* r, int stride) {
   const auto dot = [](const double* u, const double* v) { return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]; };
   const double det =
       (x[1] * y[2] - x[2] * y[1]) * z[0] + (x[2] * y[0] - x[0] * y[2]) * z[1] + (x[0] * y[1] - x[1] * y[0]) * z[2];
-  const double tol = 1e-9;
+  const double tol = kRotationTolerance;
   return std::abs(dot(x, x) - 1) <= tol && std::abs(dot(y, y) - 1) <= tol && std::abs(dot(z, z) - 1) <= tol &&
          std::abs(dot(x, y)) <= tol && std::abs(dot(x, z)) <= tol && std::abs(dot(y, z)) <= tol && det > 0;
 }
@@ -100,6 +107,21 @@ Status check_triangle(const Triangle& t) {
   // Relative to the diagonal first: the cross product of raw edges overflows beyond 1e154.
   if (((t.b - t.a) / D).cross((t.c - t.a) / D).norm() <= detail::kLineTol) return Status::Collinear;
   return Status::Ok;
+}
+
+double rotation_deviation(const Eigen::Matrix3d& r) {
+  if (!r.allFinite() || !(r.determinant() > 0)) return std::numeric_limits<double>::infinity();
+  return (r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+}
+
+Eigen::Matrix3d nearest_rotation(const Eigen::Matrix3d& r) {
+  if (!(rotation_deviation(r) <= 0.1)) return r;
+  // X <- (X + X^-T) / 2 converges quadratically to the orthogonal polar factor, the nearest
+  // orthogonal matrix in the Frobenius norm (Higham, SIAM J. Sci. Stat. Comput. 7(4), 1986); det > 0
+  // keeps it a rotation. From 0.1 off, six steps reach rounding.
+  Eigen::Matrix3d x = r;
+  for (int k = 0; k < 6; ++k) x = 0.5 * (x + x.inverse().transpose());
+  return x;
 }
 
 Status check_pose(const Eigen::Isometry3d& pose) {

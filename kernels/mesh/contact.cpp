@@ -394,7 +394,7 @@ Status contact_in_a(const Octree& a, const ConvexShape& shape, const detail::Rig
 Status mesh_contact(const Octree& a, const Eigen::Isometry3d& pose_a, const ConvexShape& shape,
                     const Eigen::Isometry3d& pose_tool, MeshWorkspace& ws, MeshContact& out) {
   out = MeshContact{};
-  if (!ws.scratch()) return Status::InvalidMesh;  // not a workspace from make_workspace
+  if (!ws.scratch()) return Status::WorkspaceMismatch;  // not a workspace from make_workspace
   detail::Rigid pose;
   if (const Status s = detail::relative_pose(pose_a, pose_tool, pose); s != Status::Ok) return s;
   const Status s = contact_in_a(a, shape, pose, *ws.scratch(), out);

@@ -427,7 +427,7 @@ bool Search::split(Entry& e, const Node& na, const Node& nb, PairQueue& queue) {
 Status search(const Octree& a, const Octree& b, const detail::Rigid& pose, MeshScratch* scratch, MeshDistance& out,
               int seed_a, int seed_b) {
   if (a.nodes.empty() || b.nodes.empty()) return Status::TooFewPoints;
-  if (!scratch) return Status::InvalidMesh;  // not a workspace from make_workspace
+  if (!scratch) return Status::WorkspaceMismatch;  // not a workspace from make_workspace
   MeshScratch& ws = *scratch;
   if (ws.seen_a.size() != a.triangles.size() || ws.seen_b.size() != b.triangles.size() ||
       ws.center_stamp.size() != b.triangles.size() || ws.hits.size() < size_t(b.max_leaf) ||
@@ -435,7 +435,7 @@ Status search(const Octree& a, const Octree& b, const detail::Rigid& pose, MeshS
       ws.proj_b.size() < size_t(b.max_leaf) || ws.proj_a.size() < size_t(a.max_leaf) ||
       ws.pass_a.size() < size_t(a.max_leaf) || ws.near_normal.size() < size_t(b.max_leaf) ||
       ws.near_corners.size() < size_t(3 * b.max_leaf) || ws.stack.size() <= detail::depth_reserve(a, b))
-    return Status::InvalidMesh;  // a workspace made for other octrees
+    return Status::WorkspaceMismatch;  // a workspace made for other octrees
   if (++ws.stamp == 0) {         // stamps wrapped: forget every old mark
     std::fill(ws.center_stamp.begin(), ws.center_stamp.end(), 0u);
     std::fill(ws.seen_a.begin(), ws.seen_a.end(), 0u);

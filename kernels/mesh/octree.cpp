@@ -160,8 +160,8 @@ bool part(Octree& out, size_t i, const std::vector<int>& list, std::vector<int> 
 Status build_octree(const std::vector<Vector3d>& vertices, const std::vector<std::array<int, 3>>& triangles,
                     Octree& out, const OctreeOptions& options) {
   out = Octree{};
-  if (triangles.empty()) return Status::TooFewPoints;
-  if (options.max_depth < -1 || options.max_depth > 24 || options.leaf_size < 1) return Status::InvalidMesh;
+  if (triangles.empty()) return Status::EmptyMesh;
+  if (options.max_depth < -1 || options.max_depth > 24 || options.leaf_size < 1) return Status::InvalidArgument;
   const int max_depth = options.max_depth >= 0 ? options.max_depth : kDepthCap;
   if (const Status s = detail::check_coordinates(vertices.data(), vertices.size()); s != Status::Ok) return s;
   const int nv = int(vertices.size());
