@@ -243,6 +243,28 @@ TEST(Batches, BadArgumentsAndTheFirstFailedItem) {
   EXPECT_EQ(proximity_batch(a, {&here, 1}, b, {nullptr, 1}, n, out.data()).status, Status::InvalidArgument);
   EXPECT_EQ(proximity_batch(a, {&here, 1}, b, {&here, 1}, -1, out.data()).status, Status::InvalidArgument);
   EXPECT_EQ(proximity_batch(a, {&here, 1}, b, {&here, 1}, 0, nullptr).status, Status::Ok);
+  // Each item's own status, where the caller asks for them: the two bad poses, and Ok elsewhere,
+  // for every batch kind (time of impact and sums too), on 1 and 2 threads.
+  for (int threads : {1, 2}) {
+    std::vector<Status> each(static_cast<size_t>(n), Status::HullFailed);
+    const auto bad = [&](long k) { return k == kBatchBlock + 2 || k == n - 3; };
+    const auto expect_each = [&](const char* what) {
+      for (long k = 0; k < n; ++k)
+        ASSERT_EQ(each[size_t(k)], bad(k) ? Status::InvalidPose : Status::Ok) << what << " item " << k << ", " << threads;
+      std::fill(each.begin(), each.end(), Status::HullFailed);
+    };
+    proximity_batch(a, {&here, 1}, b, {poses.data(), n}, n, out.data(), Want::Witnesses, {threads, each.data()});
+    expect_each("proximity");
+    std::vector<TimeOfImpact> toi(static_cast<size_t>(n));
+    time_of_impact_batch(a, {&here, 1}, {&here, 1}, b, {poses.data(), n}, {poses.data(), n}, n, toi.data(), 0,
+                         {threads, each.data()});
+    expect_each("time of impact");
+    std::vector<ConvexShape> as(static_cast<size_t>(n), a), bs(static_cast<size_t>(n), b);
+    std::vector<MinkowskiSum> sums(static_cast<size_t>(n));
+    minkowski_sum_batch(as.data(), {&here, 1}, bs.data(), {poses.data(), n}, n, sums.data(), false, SumParts::Whole,
+                        {threads, each.data()});
+    expect_each("sums");
+  }
 }
 
 }  // namespace

@@ -1,7 +1,7 @@
 // minksum: many independent queries or sums in one call, split over the cores. Opt-in: the
 // umbrella header does not include it, and it lives in its own library, minksum::parallel, so
-// that a real-time user starts no threads. A batch starts its threads itself (tens of
-// microseconds): give it thousands of items, not tens.
+// that a real-time user starts no threads. The batches share one pool of threads, started on
+// the first batch and asleep between batches: give a batch thousands of items, not tens.
 //
 // A batch of queries that keep a cache (proximity, mesh distance) is cut into blocks of
 // kBatchBlock items. Each block is one task: it runs its items in order with one cache, cold at
@@ -37,7 +37,8 @@ struct Poses {
 
 /// How a batch runs.
 struct BatchOptions {
-  int threads = 0;  ///< worker threads (0: one per core; 1: the calling thread alone)
+  int threads = 0;             ///< worker threads (0: one per core; 1: the calling thread alone)
+  Status* statuses = nullptr;  ///< if not null, n entries: each item's own status
 };
 
 /// A batch's outcome: Ok, or the status of its first failed item (by index) and that index. A
@@ -61,9 +62,10 @@ BatchStatus time_of_impact_batch(const ConvexShape& a, Poses a0, Poses a1, const
 BatchStatus mesh_distance_batch(const Octree& a, Poses poses_a, const Octree& b, Poses poses_b, long n, MeshDistance* out,
                                 const BatchOptions& options = {});
 
-/// The same on the calling thread alone, with the caller's workspace (from make_workspace(a, b)).
+/// The same on the calling thread alone, with the caller's workspace (from make_workspace(a, b));
+/// each item's status into `statuses` if not null.
 BatchStatus mesh_distance_batch(const Octree& a, Poses poses_a, const Octree& b, Poses poses_b, long n, MeshDistance* out,
-                                MeshWorkspace& workspace);
+                                MeshWorkspace& workspace, Status* statuses = nullptr);
 
 /// mesh_distance(a, poses_a[k], shape, poses_shape[k], cache, out[k]) for k < n.
 BatchStatus mesh_distance_batch(const Octree& a, Poses poses_a, const ConvexShape& shape, Poses poses_shape, long n,

@@ -24,10 +24,12 @@ namespace {
 
 bool valid(const Poses& p, long n) { return p.data != nullptr && (p.count == 1 || p.count == n); }
 
-// The first failure of a block, by index.
+// The first failure of a block, by index, and each item's status where the caller keeps them.
 struct Failure {
   BatchStatus first;
+  Status* each = nullptr;
   void note(Status s, long k) {
+    if (each) each[k] = s;
     if (s != Status::Ok && first.status == Status::Ok) first = {s, k};
   }
 };
@@ -143,9 +145,10 @@ Poses part(Poses p, long begin, long count) { return p.count == 1 ? p : Poses{p.
 BatchStatus proximity_batch(const ConvexShape& a, Poses poses_a, const ConvexShape& b, Poses poses_b, long n, Proximity* out,
                             Want want, const BatchOptions& options) {
   if (n < 0 || (n > 0 && (!valid(poses_a, n) || !valid(poses_b, n) || !out))) return kBadBatch;
-  return run_blocks(n, kBatchBlock, batch_threads(options), [sa = &a, poses_a, sb = &b, poses_b, out, want](int, long begin, long end) {
+  return run_blocks(n, kBatchBlock, batch_threads(options),
+                    [sa = &a, poses_a, sb = &b, poses_b, out, want, each = options.statuses](int, long begin, long end) {
     ProximityCache cache{};
-    Failure f;
+    Failure f{{}, each};
     for (long k = begin; k < end; ++k) f.note(proximity(*sa, poses_a[k], *sb, poses_b[k], cache, out[k], want), k);
     return f.first;
   });
@@ -154,19 +157,20 @@ BatchStatus proximity_batch(const ConvexShape& a, Poses poses_a, const ConvexSha
 BatchStatus time_of_impact_batch(const ConvexShape& a, Poses a0, Poses a1, const ConvexShape& b, Poses b0, Poses b1, long n,
                                  TimeOfImpact* out, double tolerance, const BatchOptions& options) {
   if (n < 0 || (n > 0 && (!valid(a0, n) || !valid(a1, n) || !valid(b0, n) || !valid(b1, n) || !out))) return kBadBatch;
-  return run_blocks(n, kUncachedBatchBlock, batch_threads(options), [sa = &a, a0, a1, sb = &b, b0, b1, out, tolerance](int, long begin, long end) {
-    Failure f;
+  return run_blocks(n, kUncachedBatchBlock, batch_threads(options),
+                    [sa = &a, a0, a1, sb = &b, b0, b1, out, tolerance, each = options.statuses](int, long begin, long end) {
+    Failure f{{}, each};
     for (long k = begin; k < end; ++k) f.note(time_of_impact(*sa, a0[k], a1[k], *sb, b0[k], b1[k], out[k], tolerance), k);
     return f.first;
   });
 }
 
 BatchStatus mesh_distance_batch(const Octree& a, Poses poses_a, const Octree& b, Poses poses_b, long n, MeshDistance* out,
-                                MeshWorkspace& workspace) {
+                                MeshWorkspace& workspace, Status* statuses) {
   if (n < 0 || (n > 0 && (!valid(poses_a, n) || !valid(poses_b, n) || !out))) return kBadBatch;
   return run_blocks(n, kBatchBlock, 1, [&](int, long begin, long end) {
     ProximityCache cache{};
-    Failure f;
+    Failure f{{}, statuses};
     for (long k = begin; k < end; ++k) f.note(mesh_distance(a, poses_a[k], b, poses_b[k], workspace, cache, out[k]), k);
     return f.first;
   });
@@ -180,9 +184,10 @@ BatchStatus mesh_distance_batch(const Octree& a, Poses poses_a, const Octree& b,
   std::vector<MeshWorkspace> workspaces(size_t(std::min<long>(workers, (n + kBatchBlock - 1) / kBatchBlock)));
   for (MeshWorkspace& ws : workspaces) make_workspace(a, b, ws);
   return run_blocks(n, kBatchBlock, workers,
-                    [ma = &a, poses_a, mb = &b, poses_b, out, ws = workspaces.data()](int worker, long begin, long end) {
+                    [ma = &a, poses_a, mb = &b, poses_b, out, ws = workspaces.data(), each = options.statuses](int worker, long begin, long end) {
     const long count = end - begin;
-    BatchStatus s = mesh_distance_batch(*ma, part(poses_a, begin, count), *mb, part(poses_b, begin, count), count, out + begin, ws[worker]);
+    BatchStatus s = mesh_distance_batch(*ma, part(poses_a, begin, count), *mb, part(poses_b, begin, count), count, out + begin,
+                                        ws[worker], each ? each + begin : nullptr);
     if (s.status != Status::Ok) s.index += begin;
     return s;
   });
@@ -191,9 +196,10 @@ BatchStatus mesh_distance_batch(const Octree& a, Poses poses_a, const Octree& b,
 BatchStatus mesh_distance_batch(const Octree& a, Poses poses_a, const ConvexShape& shape, Poses poses_shape, long n,
                                 MeshDistance* out, const BatchOptions& options) {
   if (n < 0 || (n > 0 && (!valid(poses_a, n) || !valid(poses_shape, n) || !out))) return kBadBatch;
-  return run_blocks(n, kBatchBlock, batch_threads(options), [ma = &a, poses_a, s = &shape, poses_shape, out](int, long begin, long end) {
+  return run_blocks(n, kBatchBlock, batch_threads(options),
+                    [ma = &a, poses_a, s = &shape, poses_shape, out, each = options.statuses](int, long begin, long end) {
     ProximityCache cache{};
-    Failure f;
+    Failure f{{}, each};
     for (long k = begin; k < end; ++k) f.note(mesh_distance(*ma, poses_a[k], *s, poses_shape[k], cache, out[k]), k);
     return f.first;
   });
@@ -205,8 +211,9 @@ BatchStatus minkowski_sum_batch(const ConvexShape* a, Poses poses_a, const Conve
   using Sum = Status (*)(const ConvexShape&, const Eigen::Isometry3d&, const ConvexShape&, const Eigen::Isometry3d&,
                          MinkowskiSum&, SumParts);
   const Sum sum = difference ? Sum(&minkowski_difference) : Sum(&minkowski_sum);
-  return run_blocks(n, kUncachedBatchBlock, batch_threads(options), [a, poses_a, b, poses_b, out, sum, parts](int, long begin, long end) {
-    Failure f;
+  return run_blocks(n, kUncachedBatchBlock, batch_threads(options),
+                    [a, poses_a, b, poses_b, out, sum, parts, each = options.statuses](int, long begin, long end) {
+    Failure f{{}, each};
     for (long k = begin; k < end; ++k) f.note(sum(a[k], poses_a[k], b[k], poses_b[k], out[k], parts), k);
     return f.first;
   });
