@@ -3,24 +3,56 @@
 #include <minksum/shape.hpp>
 
 #include <climits>
+#include <limits>
 
 namespace minksum::python {
 
 PyObject* error_type = nullptr;
 
-void check(Status s, const char* what) {
-  if (s == Status::Ok) return;
-  const std::string message = std::string(what) + ": " + to_string(s);
+void raise(Status s, const std::string& message) {
   py::object error = py::reinterpret_borrow<py::object>(error_type)(message);
   error.attr("status") = py::cast(s);
   PyErr_SetObject(error_type, error.ptr());
   throw py::error_already_set();
 }
 
+void check(Status s, const char* what) {
+  if (s != Status::Ok) raise(s, std::string(what) + ": " + to_string(s));
+}
+
+std::string pose_problem(const Eigen::Isometry3d& pose) {
+  if (check_pose(pose) == Status::Ok) return "";
+  const auto number = [](double x) { return std::string(py::repr(py::float_(x))); };
+  if (!pose.matrix().allFinite()) return "not a rigid motion: an entry is NaN or infinite";
+  const double far = pose.translation().cwiseAbs().maxCoeff();
+  if (far > kMaxCoordinate) return "not a rigid motion: its translation " + number(far) + " exceeds 1e100";
+  if (!(pose.linear().determinant() > 0))
+    return "not a rigid motion: its rotation's determinant is " + number(pose.linear().determinant()) +
+           " (a reflection or a collapse)";
+  return "not a rigid motion: its rotation is " + number(rotation_deviation(pose.linear())) +
+         " from a rotation (the largest entry of R^T R - I; the tolerance is 1e-09, and a float32 rotation within 1e-05 is "
+         "projected onto the nearest one)";
+}
+
 void check(Status s, const char* what, std::initializer_list<NamedPose> poses) {
   if (s == Status::InvalidPose)
-    for (const NamedPose& p : poses) check(check_pose(p.pose), p.name);
+    for (const NamedPose& p : poses)
+      if (const std::string problem = pose_problem(p.pose); !problem.empty()) raise(s, std::string(p.name) + ": " + problem);
   check(s, what);
+}
+
+bool single_precision(const py::handle& value) {
+  if (!py::isinstance<py::array>(value)) return false;  // (lists and scalars are Python's doubles)
+  const py::dtype d = py::reinterpret_borrow<py::array>(value).dtype();
+  return d.kind() == 'f' && d.itemsize() < 8;
+}
+
+Eigen::Matrix3d float32_rotation(const Eigen::Matrix3d& r) {
+  return rotation_deviation(r) <= kFloat32PoseTolerance ? nearest_rotation(r) : r;
+}
+
+std::string path_of(const py::handle& value) {
+  return py::module_::import("os").attr("fsdecode")(value).cast<std::string>();
 }
 
 void refuse(const char* what, const std::string& message) { throw py::value_error(std::string(what) + ": " + message); }
@@ -120,11 +152,13 @@ Eigen::Isometry3d pose_of(const py::handle& value, const char* what) {
     const py::sequence pair = py::reinterpret_borrow<py::sequence>(value);
     pose.linear() = matrix_of(pair[0], what);
     pose.translation() = vector_of(pair[1], what);
+    if (single_precision(pair[0])) pose.linear() = float32_rotation(pose.linear());
   } else {
     const Doubles a = doubles_of(value, what);
     if (a.ndim() != 2 || a.shape(0) != 4 || a.shape(1) != 4)
       refuse(what, "expected a 4x4 array or a pair (rotation 3x3, translation 3), got shape " + shape_text(a));
     pose = pose_from_rows(a.data(), what);
+    if (single_precision(value)) pose.linear() = float32_rotation(pose.linear());
   }
   return pose;
 }
@@ -132,6 +166,14 @@ Eigen::Isometry3d pose_of(const py::handle& value, const char* what) {
 Want want_of(Want want) {
   if (unsigned(want) == 0 || unsigned(want) > unsigned(Want::All)) refuse("want", "expected a Want or a combination of them");
   return want;
+}
+
+void not_asked(Want want, Proximity& p) {
+  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  const Eigen::Vector3d none = Eigen::Vector3d::Constant(nan);
+  if (!has(want, Want::Distance)) p.distance = p.penetration_depth = nan, p.penetration_direction = none;
+  if (!has(want, Want::Witnesses)) p.point_a = p.point_b = none;
+  if (!has(want, Want::MaxDistance)) p.max_distance = nan, p.far_a = p.far_b = none;
 }
 
 py::array_t<double> array_of(const Eigen::Vector3d& v) {

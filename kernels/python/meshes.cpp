@@ -24,6 +24,8 @@ Octree mesh_of(const py::handle& vertices, const py::handle& triangles, int leaf
     py::gil_scoped_release unlocked;
     s = build_octree(v, t, out, options);
   }
+  if (s == Status::InvalidArgument) raise(s, "Mesh: leaf_size must be at least 1, got " + std::to_string(leaf_size));
+  if (s == Status::EmptyMesh) raise(s, "Mesh: no triangles (Mesh.from_points builds a point cloud)");
   check(s, "Mesh");
   return out;
 }
@@ -38,6 +40,7 @@ Octree cloud_of(const py::handle& points, int leaf_size) {
     py::gil_scoped_release unlocked;
     s = build_octree(p, out, options);
   }
+  if (s == Status::InvalidArgument) raise(s, "Mesh.from_points: leaf_size must be at least 1, got " + std::to_string(leaf_size));
   check(s, "Mesh.from_points");
   return out;
 }
@@ -170,7 +173,8 @@ void register_meshes(py::module_& m) {
         "When a convex tool moving from pose t0 to t1 first touches the mesh a, and the triangle it touches.");
   m.def(
       "read_mesh",
-      [](const std::string& path, bool cloud_ok) {
+      [](const py::handle& file, bool cloud_ok) {
+        const std::string path = path_of(file);
         std::vector<Eigen::Vector3d> v;
         std::vector<std::array<int, 3>> t;
         std::string error;
@@ -181,20 +185,22 @@ void register_meshes(py::module_& m) {
       "Reads (vertices (n, 3), triangles (m, 3)) from an OFF, OBJ, PLY or STL file. ValueError 'path:line: what is wrong'.");
   m.def(
       "read_points",
-      [](const std::string& path) {
+      [](const py::handle& file) {
         std::vector<Eigen::Vector3d> p;
         std::string error;
-        if (!read_points(path, p, error)) throw py::value_error(error);
+        if (!read_points(path_of(file), p, error)) throw py::value_error(error);
         return array_of(p.data(), long(p.size()));
       },
       py::arg("path"), "Reads the vertices (n, 3) of an OFF, OBJ, PLY or plain 'x y z' text file.");
   m.def(
       "write_mesh",
-      [](const std::string& path, const MinkowskiSum& sum) {
+      [](const py::handle& file, const MinkowskiSum& sum, bool core) {
         std::string error;
-        if (!write_mesh(path, sum, error)) throw py::value_error(error);
+        if (!write_mesh(path_of(file), sum, error, core)) throw py::value_error(error);
       },
-      py::arg("path"), py::arg("sum"), "Writes a whole sum as an OFF, OBJ or PLY mesh, by the file's extension.");
+      py::arg("path"), py::arg("sum"), py::arg("core") = false,
+      "Writes a whole sum as an OFF, OBJ or PLY mesh, by the file's extension. ValueError, writing nothing, for an empty\n"
+      "sum, one without loops (parts PLANES or VERTICES), or a rounded one unless core=True (its core is written).");
 }
 
 }  // namespace minksum::python

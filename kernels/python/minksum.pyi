@@ -1,5 +1,6 @@
 # Type stubs of the minksum module (kernels/python/*.cpp). tests/python/test_stubs.py checks that
 # they name exactly what the module defines.
+import os
 from enum import IntEnum
 from typing import Optional, Sequence, Tuple, Union, overload
 
@@ -33,6 +34,8 @@ class Status(IntEnum):
     INVALID_ARGUMENT = 11
     CAPACITY_EXCEEDED = 12
     UNSUPPORTED = 13
+    EMPTY_MESH = 14
+    WORKSPACE_MISMATCH = 15
 
 class Want(IntEnum):
     VERDICT = 1
@@ -68,9 +71,12 @@ class Shape:
     @property
     def vertices(self) -> Array: ...
     @property
+    def input_index(self) -> IntArray: ...
+    @property
     def faces(self) -> Tuple[Array, IntArray, IntArray]: ...
 
 class Proximity:
+    """The fields the call's `want` did not ask for are NaN."""
     intersecting: bool
     distance: float
     point_a: Array
@@ -171,12 +177,14 @@ def mesh_distance(a: Mesh, pose_a: Pose, b: Shape, pose_b: Pose, workspace: None
                   cache: Optional[ProximityCache] = None) -> MeshDistance: ...
 def mesh_contact(a: Mesh, pose_a: Pose, tool: Shape, pose_tool: Pose,
                  workspace: Optional[MeshWorkspace] = None) -> MeshContact: ...
-def read_mesh(path: str, cloud_ok: bool = False) -> Tuple[Array, IntArray]: ...
-def read_points(path: str) -> Array: ...
-def write_mesh(path: str, sum: Sum) -> None: ...
+PathLike = Union[str, bytes, "os.PathLike[str]"]
+def read_mesh(path: PathLike, cloud_ok: bool = False) -> Tuple[Array, IntArray]: ...
+def read_points(path: PathLike) -> Array: ...
+def write_mesh(path: PathLike, sum: Sum, core: bool = False) -> None: ...
 
-# Batches: N poses as an (N, 4, 4) array (or one pose for all), results as arrays of N rows;
-# threads 0 is one per core. The same answers on any number of threads.
+# Batches: N poses as an (N, 4, 4) array (or one pose for all; N may be 0), results as arrays
+# of N rows, every item answered: `status` is each item's Status code, and a failed item's
+# numbers are NaN. threads 0 is one per core. The same answers on any number of threads.
 class _ProximityBatch:
     intersecting: npt.NDArray[np.bool_]
     distance: Array
@@ -185,6 +193,7 @@ class _ProximityBatch:
     penetration_depth: Array
     penetration_direction: Array
     max_distance: Array
+    status: IntArray
 
 class _TimeOfImpactBatch:
     hit: npt.NDArray[np.bool_]
@@ -193,6 +202,7 @@ class _TimeOfImpactBatch:
     normal: Array
     point_a: Array
     point_b: Array
+    status: IntArray
 
 class _MeshDistanceBatch:
     distance: Array
@@ -201,6 +211,11 @@ class _MeshDistanceBatch:
     triangle_a: IntArray
     triangle_b: IntArray
     intersecting: npt.NDArray[np.bool_]
+    status: IntArray
+
+class SumList(list[Sum]):
+    """A list of Sum, one per pair (a failed pair's is empty), and each pair's Status code."""
+    status: IntArray
 
 # out: a result of an earlier call with the same N, refilled in place and returned.
 def proximity_batch(a: Shape, poses_a: ArrayLike, b: Shape, poses_b: ArrayLike, want: Want = Want.WITNESSES,
@@ -215,6 +230,6 @@ def mesh_distance_batch(a: Mesh, poses_a: ArrayLike, b: Mesh, poses_b: ArrayLike
 def mesh_distance_batch(a: Mesh, poses_a: ArrayLike, b: Shape, poses_b: ArrayLike, threads: int = 0,
                         out: Optional[_MeshDistanceBatch] = None) -> _MeshDistanceBatch: ...
 def minkowski_sum_batch(a: Sequence[Shape], poses_a: ArrayLike, b: Sequence[Shape], poses_b: ArrayLike,
-                        parts: SumParts = SumParts.WHOLE, threads: int = 0) -> list[Sum]: ...
+                        parts: SumParts = SumParts.WHOLE, threads: int = 0) -> SumList: ...
 def minkowski_difference_batch(a: Sequence[Shape], poses_a: ArrayLike, b: Sequence[Shape], poses_b: ArrayLike,
-                               parts: SumParts = SumParts.WHOLE, threads: int = 0) -> list[Sum]: ...
+                               parts: SumParts = SumParts.WHOLE, threads: int = 0) -> SumList: ...

@@ -9,6 +9,8 @@
 #include "python/convert.hpp"
 #include "python/module.hpp"
 
+#include <pybind11/eval.h>
+
 namespace py = pybind11;
 using namespace minksum;
 
@@ -29,7 +31,9 @@ PYBIND11_MODULE(minksum, m) {
       .value("INVALID_POSE", Status::InvalidPose)
       .value("INVALID_ARGUMENT", Status::InvalidArgument)
       .value("CAPACITY_EXCEEDED", Status::CapacityExceeded)
-      .value("UNSUPPORTED", Status::Unsupported);
+      .value("UNSUPPORTED", Status::Unsupported)
+      .value("EMPTY_MESH", Status::EmptyMesh)
+      .value("WORKSPACE_MISMATCH", Status::WorkspaceMismatch);
   py::enum_<Want>(m, "Want", "What a proximity call computes; each level includes the ones above it. Combine with |.")
       .value("VERDICT", Want::Verdict, "intersecting alone")
       .value("DISTANCE", Want::Distance, "and the distance, or the depth and direction")
@@ -50,4 +54,9 @@ PYBIND11_MODULE(minksum, m) {
   python::register_sums(m);
   python::register_meshes(m);
   python::register_batches(m);
+  // The sum batches' result: a list that carries each pair's status.
+  py::exec(R"(
+class SumList(list):
+    """A list of Sum, one per pair (a failed pair's is empty: V 0), and `status`, each pair's Status code (int32, 0: OK)."""
+)", m.attr("__dict__"));
 }

@@ -17,10 +17,15 @@ namespace {
 // Argument `name` as a T, or TypeError naming it and the type it takes.
 template <class T>
 T argument(PyObject* value, const char* name, const char* type) {
+  const auto wrong = [&] {
+    return py::type_error(std::string("proximity(): ") + name + " must be a " + type + ", not " + Py_TYPE(value)->tp_name);
+  };
   try {
     return py::cast<T>(py::handle(value));
   } catch (const py::cast_error&) {
-    throw py::type_error(std::string("proximity(): ") + name + " must be a " + type + ", not " + Py_TYPE(value)->tp_name);
+    throw wrong();
+  } catch (const py::reference_cast_error&) {  // (None for a reference: pybind11 said RuntimeError(''))
+    throw wrong();
   }
 }
 
@@ -52,6 +57,7 @@ PyObject* proximity_call(PyObject*, PyObject* const* args, Py_ssize_t nargs, PyO
     Proximity out;
     check(cache ? proximity(a, pa, b, pb, *cache, out, want) : proximity(a, pa, b, pb, out, want), "proximity",
           {{pa, "pose_a"}, {pb, "pose_b"}});
+    not_asked(want, out);
     return py::cast(out, py::return_value_policy::move).release().ptr();
   } catch (py::error_already_set& e) {
     e.restore();
@@ -100,7 +106,10 @@ py::tuple feature_of(const ContactPatch::Feature& f) {
   def_property_readonly(#field, [](const Type& r) { return array_of(r.field); }, doc)
 
 void register_results(py::module_& m) {
-  py::class_<Proximity>(m, "Proximity", "Everything a collision or haptics caller asks of two convex objects A and B.")
+  py::class_<Proximity>(m, "Proximity",
+                        "Everything a collision or haptics caller asks of two convex objects A and B. A field the call's\n"
+                        "`want` did not ask for is NaN (distance and depth below Want.DISTANCE, the points below\n"
+                        "Want.WITNESSES, the farthest pair without Want.MAX_DISTANCE).")
       .def_readonly("intersecting", &Proximity::intersecting, "A and B share a point (touching counts).")
       .def_readonly("distance", &Proximity::distance, "The length of the shortest segment between A and B; 0 if intersecting.")
       .MINKSUM_VECTOR(Proximity, point_a, "Its end on A (separated), or A's deepest point.")

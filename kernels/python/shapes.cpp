@@ -7,6 +7,8 @@
 
 #include <pybind11/stl.h>
 
+#include <cmath>
+
 namespace minksum::python {
 
 namespace {
@@ -14,6 +16,16 @@ namespace {
 ConvexShape built(Status s, ConvexShape&& shape, const char* what) {
   check(s, what);
   return std::move(shape);
+}
+
+// A rounded shape's lengths, refused by the library (InvalidArgument): which one, and its value.
+ConvexShape rounded(Status s, ConvexShape&& shape, const char* what, double half_length, double radius, bool added) {
+  const auto text = [](double x) { return std::string(py::repr(py::float_(x))); };
+  if (s == Status::InvalidArgument && !(half_length >= 0 && std::isfinite(half_length)))
+    raise(s, std::string(what) + ": half_length must be >= 0 and finite, got " + text(half_length));
+  if (s == Status::InvalidArgument)
+    raise(s, std::string(what) + ": radius must be " + (added ? ">= 0" : "> 0") + " and finite, got " + text(radius));
+  return built(s, std::move(shape), what);
 }
 
 ConvexShape from_points(const py::handle& points) {
@@ -42,6 +54,14 @@ ConvexShape triangle(const py::handle& corners) {
   if (c.size() != 3) refuse("corners", "expected a (3, 3) array, got " + std::to_string(c.size()) + " rows");
   ConvexShape out;
   return built(shape_from_triangle({c[0], c[1], c[2]}, out), std::move(out), "Shape.triangle");
+}
+
+py::array_t<int> input_index_of(const ConvexShape& s) {
+  const ConvexPolytope& p = s.polytope();
+  py::array_t<int> out(py::ssize_t(p.vertices.size()));
+  int* d = out.mutable_data();
+  for (size_t k = 0; k < p.vertices.size(); ++k) d[k] = p.input_index.size() == p.vertices.size() ? p.input_index[k] : int(k);
+  return out;
 }
 
 py::tuple faces_of(const ConvexShape& s) {
@@ -81,14 +101,15 @@ void register_shapes(py::module_& m) {
           "sphere",
           [](double radius) {
             ConvexShape out;
-            return built(shape_from_sphere(radius, out), std::move(out), "Shape.sphere");
+            return rounded(shape_from_sphere(radius, out), std::move(out), "Shape.sphere", 0, radius, false);
           },
           py::arg("radius"), "A ball of `radius` about the body origin.")
       .def_static(
           "capsule",
           [](double half_length, double radius) {
             ConvexShape out;
-            return built(shape_from_capsule(half_length, radius, out), std::move(out), "Shape.capsule");
+            return rounded(shape_from_capsule(half_length, radius, out), std::move(out), "Shape.capsule", half_length, radius,
+                           false);
           },
           py::arg("half_length"), py::arg("radius"),
           "The segment from (0, 0, -half_length) to (0, 0, half_length) swept by `radius` (FCL's convention);\n"
@@ -97,13 +118,17 @@ void register_shapes(py::module_& m) {
           "with_radius",
           [](const ConvexShape& core, double radius) {
             ConvexShape out;
-            return built(shape_with_radius(core, radius, out), std::move(out), "Shape.with_radius");
+            return rounded(shape_with_radius(core, radius, out), std::move(out), "Shape.with_radius", 0, radius, true);
           },
           py::arg("radius"), "This shape swept by a ball of `radius` (a rounded box, polytope, swept triangle); shares its data.")
       .def_property_readonly("radius", &ConvexShape::radius, "The radius of the ball swept around the core (0: the shape is its core).")
       .def_property_readonly(
           "vertices", [](const ConvexShape& s) { return array_of(s.polytope().vertices.data(), long(s.polytope().vertices.size())); },
           "The core's vertices (n, 3), body frame: the support pairs of sums index them.")
+      .def_property_readonly("input_index", &input_index_of,
+                             "(n,): the row of the points given (from_points, from_mesh) that each vertex is: a sum's\n"
+                             "vertex_pairs and plane_pairs map back to the input through it. A box's corners, a triangle's,\n"
+                             "a sphere's centre and a capsule's ends are numbered as built (0, 1, ...).")
       .def_property_readonly("faces", &faces_of,
                              "The core's faces as (planes (F, 4): normal and offset, loop_start (F + 1,), loop_vertex):\n"
                              "face f's loop is loop_vertex[loop_start[f]:loop_start[f + 1]], counter-clockwise from outside.")

@@ -75,7 +75,7 @@ def test_bad_shapes(make):
     (np.array([[0, 1, 2**40]]), r"outside \[0, 3\)"),
     (np.array([[0, 1, 2.0]]), "expected an integer array"),
     (np.array([0, 1, 2]), r"expected an \(m, 3\) array"),
-    (np.zeros((0, 3), int), "fewer than 3 distinct points"),
+    (np.zeros((0, 3), int), r"Mesh: no triangles \(Mesh.from_points builds a point cloud\)"),
 ])
 def test_bad_meshes(triangles, message):
     with pytest.raises(ValueError, match=message):
@@ -126,3 +126,42 @@ def test_layouts_are_accepted_and_agree():
     for points in [rows, np.asfortranarray(rows.astype(float)), strided[::2, ::2], rows.tolist(), rows.astype(np.float32)]:
         for p in [pose, np.asfortranarray(pose), pose.tolist(), (pose[:3, :3], pose[:3, 3])]:
             assert mk.proximity(mk.Shape.from_points(points), None, mk.Shape.box(), p).distance == expected
+
+
+def test_what_a_new_user_met(tmp_path):
+    # Each line was a crash, a misleading message or an impossible piece of advice (issue
+    # "Trust, part 3"); each now says what it should.
+    box = mk.Shape.box()
+    planes = mk.minkowski_sum(box, None, box, None, parts=mk.SumParts.PLANES)
+    target = tmp_path / "p.off"
+    with pytest.raises(ValueError, match="no facet loops"):  # was a segmentation fault and an empty file
+        mk.write_mesh(target, planes)
+    assert not target.exists()
+    rounded = mk.minkowski_sum(box, None, mk.Shape.sphere(1), None)
+    with pytest.raises(ValueError, match=r"core=True"):
+        mk.write_mesh(target, rounded)
+    mk.write_mesh(target, rounded, core=True)  # the advice can be followed
+    written = mk.read_points(target)  # a pathlib.Path (was TypeError)
+    np.testing.assert_array_equal(np.sort(written, axis=0), np.sort(rounded.vertices, axis=0))
+    with pytest.raises(TypeError, match="a must be a minksum.Shape, not NoneType"):  # was RuntimeError('')
+        mk.proximity(None, None, box, None)
+    with pytest.raises(mk.Error, match=r"radius must be > 0 and finite, got 0\.0"):  # was "negative, NaN or infinite"
+        mk.Shape.sphere(0)
+    with pytest.raises(mk.Error, match=r"half_length must be >= 0 and finite, got -1\.0"):
+        mk.Shape.capsule(-1, 1)
+    with pytest.raises(mk.Error, match="leaf_size must be at least 1, got 0") as caught:  # was "invalid mesh"
+        mk.Mesh(*SHEET, leaf_size=0)
+    assert caught.value.status == mk.Status.INVALID_ARGUMENT
+    sheet, other = mk.Mesh(*SHEET), mk.Mesh(CUBE, np.array([[0, 1, 2], [1, 3, 2]]))
+    with pytest.raises(mk.Error, match="workspace was not made for these meshes") as caught:  # was "invalid mesh"
+        mk.mesh_distance(other, None, other, None, workspace=mk.MeshWorkspace(sheet, sheet))
+    assert caught.value.status == mk.Status.WORKSPACE_MISMATCH
+
+
+def test_a_sums_pairs_map_back_to_the_rows_given(rng):
+    points = rng.normal(size=(40, 3))
+    a, b = mk.Shape.from_points(points), mk.Shape.box()
+    s = mk.minkowski_sum(a, None, b, None)
+    rows = a.input_index[s.vertex_pairs[:, 0]]
+    np.testing.assert_array_equal(s.vertices, points[rows] + b.vertices[s.vertex_pairs[:, 1]])
+    np.testing.assert_array_equal(mk.Shape.box().input_index, np.arange(8))

@@ -65,9 +65,10 @@ def test_sum_batch_is_the_single_sums(rng):
             np.testing.assert_array_equal(s.loop_vertex, one.loop_vertex)
 
 
-def test_long_batches_keep_the_answers_and_the_first_failure(rng):
+def test_long_batches_keep_the_answers_and_every_items_status(rng):
     # Many blocks over two threads, each converting its own poses and storing its own rows: the
-    # answers are the single calls', and the failed item named is the first of two.
+    # answers are the single calls'. Two bad poses: those items say INVALID_POSE and hold NaN,
+    # and every other item keeps its answer (as the C++ batch does), on 1 and 2 threads.
     a, b = mk.Shape.from_points(rng.normal(size=(20, 3))), mk.Shape.sphere(0.4)
     poses = trajectory(rng, 9000)
     batch = mk.proximity_batch(a, None, b, poses, threads=2)
@@ -75,11 +76,18 @@ def test_long_batches_keep_the_answers_and_the_first_failure(rng):
     for k, p in enumerate(poses):
         cache = mk.ProximityCache() if k % BLOCK == 0 else cache
         assert batch.distance[k] == mk.proximity(a, None, b, p, cache=cache).distance, k
+    assert not batch.status.any()
     poses[8500, 0, 3] = np.inf
     poses[8900, 1, 3] = np.nan
     for threads in (1, 2):
-        with pytest.raises(mk.Error, match="item 8500"):
-            mk.proximity_batch(a, None, b, poses, threads=threads)
+        bad = mk.proximity_batch(a, None, b, poses, threads=threads)
+        assert list(np.flatnonzero(bad.status)) == [8500, 8900]
+        assert mk.Status(bad.status[8500]) == mk.Status.INVALID_POSE
+        assert np.isnan(bad.distance[[8500, 8900]]).all() and np.isnan(bad.point_a[8500]).all()
+        good = np.ones(9000, bool)
+        good[[8500, 8900]] = False
+        np.testing.assert_array_equal(bad.distance[:8500], batch.distance[:8500])  # (8500's block starts cold anyway)
+        assert np.isfinite(bad.distance[good]).all()
 
 
 def test_mesh_mesh_batch_is_the_single_calls(rng):
@@ -135,9 +143,9 @@ def test_batch_refusals(rng):
     poses = trajectory(rng, 600)
     poses[400, :3, :3] *= 2  # not rigid
     poses[300, 0, 3] = np.nan
-    with pytest.raises(mk.Error, match="item 300") as caught:
-        mk.proximity_batch(box, None, box, poses)
-    assert caught.value.status == mk.Status.INVALID_POSE
+    answered = mk.proximity_batch(box, None, box, poses)  # (each item's status; no exception)
+    assert list(np.flatnonzero(answered.status)) == [300, 400]
+    assert {mk.Status(s) for s in answered.status[[300, 400]]} == {mk.Status.INVALID_POSE}
     with pytest.raises(ValueError, match="one pose or the same N"):
         mk.proximity_batch(box, poses[:5], box, poses)
     bad_row = poses.copy()
@@ -148,3 +156,59 @@ def test_batch_refusals(rng):
         mk.proximity_batch(box, None, box, np.zeros((3, 3, 3)))
     with pytest.raises(ValueError, match="as many shapes"):
         mk.minkowski_sum_batch([box, box], None, [box], None)
+
+
+def test_empty_batches_are_empty_results():
+    box = mk.Shape.box()
+    none = np.zeros((0, 4, 4))
+    r = mk.proximity_batch(box, None, box, none)
+    assert r.distance.shape == (0,) and r.point_a.shape == (0, 3) and r.status.shape == (0,)
+    assert mk.time_of_impact_batch(box, None, None, box, none, none).time.shape == (0,)
+    assert len(mk.minkowski_sum_batch([], None, [], None)) == 0
+
+
+def test_fields_not_asked_for_and_failed_items_are_nan(rng):
+    # A separated pair's distance at Want.VERDICT was 0.0, a real distance; the batch's
+    # max_distance column was zeros unless asked for.
+    box = mk.Shape.box()
+    poses = trajectory(rng, 300, lift=3)
+    verdict = mk.proximity_batch(box, None, box, poses, want=mk.Want.VERDICT)
+    assert np.isnan(verdict.distance).all() and np.isnan(verdict.point_a).all() and np.isnan(verdict.max_distance).all()
+    distance = mk.proximity_batch(box, None, box, poses, want=mk.Want.DISTANCE)
+    assert np.isfinite(distance.distance).all() and np.isnan(distance.point_b).all()
+    everything = mk.proximity_batch(box, None, box, poses, want=mk.Want.ALL)
+    assert np.isfinite(everything.max_distance).all()
+    np.testing.assert_array_equal(everything.intersecting, verdict.intersecting)
+    motions = trajectory(rng, 40)
+    motions[5, 2, 3] = np.inf
+    toi = mk.time_of_impact_batch(box, None, None, box, motions, motions[::-1].copy())
+    assert mk.Status(toi.status[5]) == mk.Status.INVALID_POSE and np.isnan(toi.time[5]) and not toi.hit[5]
+    assert mk.Status(toi.status[34]) == mk.Status.INVALID_POSE  # (its end pose is item 5's start)
+    sums = mk.minkowski_sum_batch([box] * 3, motions[3:6], [box] * 3, None)
+    assert list(sums.status) == [0, 0, int(mk.Status.INVALID_POSE)] and sums[2].V == 0 and sums[0].V > 0
+
+
+def test_float32_poses_are_projected_onto_rotations(rng):
+    # 0 of 1,000 rotations rounded to float32 passed the 1e-9 check; each within float32
+    # rounding of a rotation is now taken as the nearest rotation, singly and in batches.
+    from scipy.spatial.transform import Rotation
+    box, ball = mk.Shape.box(), mk.Shape.from_points(rng.normal(size=(12, 3)))
+    poses = np.tile(np.eye(4), (1000, 1, 1))
+    poses[:, :3, :3] = Rotation.random(1000, random_state=7).as_matrix()
+    poses[:, :3, 3] = rng.normal(size=(1000, 3)) * 4
+    single = poses.astype(np.float32)
+    assert not any(abs(p[:3, :3].astype(np.float64).T @ p[:3, :3] - np.eye(3)).max() <= 1e-9 for p in single[:50])
+    batch = mk.proximity_batch(box, None, ball, single)
+    assert not batch.status.any()
+    reference = mk.proximity_batch(box, None, ball, poses)  # (the float64 poses they were rounded from)
+    np.testing.assert_allclose(batch.distance, reference.distance, atol=1e-5)
+    for k in range(0, 1000, 97):
+        p = mk.proximity(box, None, ball, single[k])
+        assert p.distance == batch.distance[k]
+        assert mk.proximity(box, None, ball, (single[k, :3, :3], single[k, :3, 3])).distance == p.distance
+    # A float64 rotation off by 1e-6 is no rotation; the message says by how much, and the tolerance.
+    with pytest.raises(mk.Error, match=r"pose_b: not a rigid motion: its rotation is 2\.0\d*e-06 from a rotation .*1e-09"):
+        mk.proximity(box, None, ball, (np.eye(3) * (1 + 1e-6), [3, 0, 0]))
+    # Nor is a float32 matrix scaled by 1e-3: projecting is for rounding, not for repair.
+    with pytest.raises(mk.Error, match="pose_b"):
+        mk.proximity(box, None, ball, (np.eye(3, dtype=np.float32) * np.float32(1.001), [3, 0, 0]))

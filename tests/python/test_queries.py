@@ -72,10 +72,14 @@ def test_cache_gives_the_cold_answer_along_a_path(rng):
     assert cache.warm + cache.cold == 50 and cache.warm > 0
 
 
-def test_want_levels_leave_the_rest_at_defaults():
+def test_want_levels_leave_the_rest_nan():
+    # Not computed is NaN: 0.0 was a real distance (a separated pair's, at Want.VERDICT).
     a, b = mk.Shape.box(), (mk.Shape.box(), (np.eye(3), [3, 0, 0]))
     verdict = mk.proximity(a, None, *b, want=mk.Want.VERDICT)
-    assert not verdict.intersecting and verdict.distance == 0
+    assert not verdict.intersecting and np.isnan(verdict.distance) and np.isnan(verdict.penetration_depth)
+    assert np.isnan(verdict.point_a).all() and np.isnan(verdict.max_distance)
+    distance = mk.proximity(a, None, *b, want=mk.Want.DISTANCE)
+    assert distance.distance == 1 and np.isnan(distance.point_b).all()
     full = mk.proximity(a, None, *b, want=mk.Want.WITNESSES | mk.Want.MAX_DISTANCE)
     assert full.distance == 1 and full.max_distance == pytest.approx(np.sqrt(25 + 4 + 4))  # (-1, -1, -1) to (4, 1, 1)
 
