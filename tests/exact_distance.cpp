@@ -1,5 +1,5 @@
 // The exact triangle-triangle distance, an oracle independent of the library's
-// triangle_distance: every coordinate taken exactly as a GMP rational, the enumeration of the
+// triangle_distance (and the same steps in double, a fast first opinion): every coordinate taken exactly as a GMP rational, the enumeration of the
 // pairs that can hold the closest points (an edge through the other's interior, vertex-face,
 // edge-edge), every sign and every squared distance exact, and one rounding at the end (the
 // square root of the least squared distance).
@@ -14,60 +14,79 @@ namespace minksum::test {
 
 namespace {
 
+// A point or vector with coordinates of type T: GMP's rationals (every step exact) or double
+// (the same steps rounded: the fast oracle).
+template <class T>
 struct Q3 {
-  mpq_class x, y, z;
+  T x, y, z;
 };
 
-Q3 exact(const Eigen::Vector3d& v) { return {mpq_class(v.x()), mpq_class(v.y()), mpq_class(v.z())}; }
-Q3 operator-(const Q3& a, const Q3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-Q3 operator+(const Q3& a, const Q3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-Q3 operator*(const Q3& a, const mpq_class& s) { return {a.x * s, a.y * s, a.z * s}; }
-mpq_class dot(const Q3& a, const Q3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-Q3 cross(const Q3& a, const Q3& b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-bool zero(const Q3& a) { return sgn(a.x) == 0 && sgn(a.y) == 0 && sgn(a.z) == 0; }
+int sgn(double v) { return (v > 0) - (v < 0); }
+double to_double(const mpq_class& v) { return v.get_d(); }
+double to_double(double v) { return v; }
 
-mpq_class clamp01(const mpq_class& t) { return t < 0 ? mpq_class(0) : t > 1 ? mpq_class(1) : t; }
+template <class T>
+Q3<T> exact(const Eigen::Vector3d& v) { return {T(v.x()), T(v.y()), T(v.z())}; }
+template <class T>
+Q3<T> operator-(const Q3<T>& a, const Q3<T>& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+template <class T>
+Q3<T> operator+(const Q3<T>& a, const Q3<T>& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+template <class T>
+Q3<T> operator*(const Q3<T>& a, const T& s) { return {a.x * s, a.y * s, a.z * s}; }
+template <class T>
+T dot(const Q3<T>& a, const Q3<T>& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+template <class T>
+Q3<T> cross(const Q3<T>& a, const Q3<T>& b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+template <class T>
+bool zero(const Q3<T>& a) { return sgn(a.x) == 0 && sgn(a.y) == 0 && sgn(a.z) == 0; }
+
+template <class T>
+T clamp01(const T& t) { return t < 0 ? T(0) : t > 1 ? T(1) : t; }
 
 // Squared distance from p to the segment a-b.
-mpq_class point_segment(const Q3& p, const Q3& a, const Q3& b) {
-  const Q3 d = b - a;
-  const mpq_class len = dot(d, d);
-  const mpq_class t = sgn(len) == 0 ? mpq_class(0) : clamp01(dot(p - a, d) / len);
-  const Q3 r = p - (a + d * t);
+template <class T>
+T point_segment(const Q3<T>& p, const Q3<T>& a, const Q3<T>& b) {
+  const Q3<T> d = b - a;
+  const T len = dot(d, d);
+  const T t = sgn(len) == 0 ? T(0) : clamp01(T(dot(p - a, d) / len));
+  const Q3<T> r = p - (a + d * t);
   return dot(r, r);
 }
 
 // Whether x (in the plane of v, normal n != 0) lies in the closed triangle v.
-bool in_triangle(const Q3& x, const Q3 (&v)[3], const Q3& n) {
+template <class T>
+bool in_triangle(const Q3<T>& x, const Q3<T> (&v)[3], const Q3<T>& n) {
   for (int k = 0; k < 3; ++k)
     if (sgn(dot(cross(v[(k + 1) % 3] - v[k], x - v[k]), n)) < 0) return false;
   return true;
 }
 
 // Squared distance from p to the triangle v.
-mpq_class point_triangle(const Q3& p, const Q3 (&v)[3]) {
-  mpq_class best = point_segment(p, v[0], v[1]);
+template <class T>
+T point_triangle(const Q3<T>& p, const Q3<T> (&v)[3]) {
+  T best = point_segment(p, v[0], v[1]);
   best = std::min(best, point_segment(p, v[1], v[2]));
   best = std::min(best, point_segment(p, v[2], v[0]));
-  const Q3 n = cross(v[1] - v[0], v[2] - v[0]);
+  const Q3<T> n = cross(v[1] - v[0], v[2] - v[0]);
   if (zero(n)) return best;
-  const mpq_class h = dot(n, p - v[0]), n2 = dot(n, n);
-  if (in_triangle(p - n * (h / n2), v, n)) best = std::min(best, mpq_class(h * h / n2));
+  const T h = dot(n, p - v[0]), n2 = dot(n, n);
+  if (in_triangle(p - n * T(h / n2), v, n)) best = std::min(best, T(h * h / n2));
   return best;
 }
 
 // Squared distance between the segments p0-p1 and q0-q1: the convex quadratic's minimum over
 // the unit square, at its interior critical point or on the square's boundary.
-mpq_class segment_segment(const Q3& p0, const Q3& p1, const Q3& q0, const Q3& q1) {
-  mpq_class best = std::min(
+template <class T>
+T segment_segment(const Q3<T>& p0, const Q3<T>& p1, const Q3<T>& q0, const Q3<T>& q1) {
+  T best = std::min(
       {point_segment(p0, q0, q1), point_segment(p1, q0, q1), point_segment(q0, p0, p1), point_segment(q1, p0, p1)});
-  const Q3 d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
-  const mpq_class a = dot(d1, d1), b = dot(d1, d2), c = dot(d1, r), e = dot(d2, d2), f = dot(d2, r);
-  const mpq_class den = a * e - b * b;
+  const Q3<T> d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const T a = dot(d1, d1), b = dot(d1, d2), c = dot(d1, r), e = dot(d2, d2), f = dot(d2, r);
+  const T den = a * e - b * b;
   if (sgn(den) != 0) {
-    const mpq_class s = (b * f - c * e) / den, t = (a * f - b * c) / den;
+    const T s = (b * f - c * e) / den, t = (a * f - b * c) / den;
     if (s >= 0 && s <= 1 && t >= 0 && t <= 1) {
-      const Q3 g = (p0 + d1 * s) - (q0 + d2 * t);
+      const Q3<T> g = (p0 + d1 * s) - (q0 + d2 * t);
       best = std::min(best, dot(g, g));
     }
   }
@@ -76,28 +95,38 @@ mpq_class segment_segment(const Q3& p0, const Q3& p1, const Q3& q0, const Q3& q1
 
 // Whether the segment p-q meets the triangle t with its ends on opposite sides of t's plane
 // (or one end on it): the crossing point lies in t.
-bool crosses(const Q3& p, const Q3& q, const Q3 (&t)[3]) {
-  const Q3 n = cross(t[1] - t[0], t[2] - t[0]);
+template <class T>
+bool crosses(const Q3<T>& p, const Q3<T>& q, const Q3<T> (&t)[3]) {
+  const Q3<T> n = cross(t[1] - t[0], t[2] - t[0]);
   if (zero(n)) return false;
-  const mpq_class dp = dot(n, p - t[0]), dq = dot(n, q - t[0]);
+  const T dp = dot(n, p - t[0]), dq = dot(n, q - t[0]);
   if (sgn(dp) * sgn(dq) > 0 || (sgn(dp) == 0 && sgn(dq) == 0)) return false;  // (in-plane: the other pairs)
-  return in_triangle(p + (q - p) * (dp / (dp - dq)), t, n);
+  return in_triangle(p + (q - p) * T(dp / (dp - dq)), t, n);
 }
 
-}  // namespace
-
-double exact_triangle_distance(const Eigen::Vector3d (&s_in)[3], const Eigen::Vector3d (&t_in)[3]) {
-  const Q3 s[3] = {exact(s_in[0]), exact(s_in[1]), exact(s_in[2])},
-           t[3] = {exact(t_in[0]), exact(t_in[1]), exact(t_in[2])};
+template <class T>
+double triangle_distance(const Eigen::Vector3d (&s_in)[3], const Eigen::Vector3d (&t_in)[3]) {
+  const Q3<T> s[3] = {exact<T>(s_in[0]), exact<T>(s_in[1]), exact<T>(s_in[2])},
+              t[3] = {exact<T>(t_in[0]), exact<T>(t_in[1]), exact<T>(t_in[2])};
   for (int k = 0; k < 3; ++k)
     if (crosses(s[k], s[(k + 1) % 3], t) || crosses(t[k], t[(k + 1) % 3], s)) return 0;
-  mpq_class best = point_triangle(s[0], t);
+  T best = point_triangle(s[0], t);
   for (int k = 0; k < 3; ++k) {
     best = std::min(best, point_triangle(s[k], t));
     best = std::min(best, point_triangle(t[k], s));
     for (int j = 0; j < 3; ++j) best = std::min(best, segment_segment(s[k], s[(k + 1) % 3], t[j], t[(j + 1) % 3]));
   }
-  return std::sqrt(best.get_d());
+  return std::sqrt(to_double(best));
+}
+
+}  // namespace
+
+double exact_triangle_distance(const Eigen::Vector3d (&s)[3], const Eigen::Vector3d (&t)[3]) {
+  return triangle_distance<mpq_class>(s, t);
+}
+
+double rounded_triangle_distance(const Eigen::Vector3d (&s)[3], const Eigen::Vector3d (&t)[3]) {
+  return triangle_distance<double>(s, t);
 }
 
 }  // namespace minksum::test
