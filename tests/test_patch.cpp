@@ -265,6 +265,17 @@ TEST(ContactPatch, BoxPairsEqualBruteForce) {
   const auto place = [&](const Box& box, ConvexShape& s) { ASSERT_EQ(shape_from_box(box, s), Status::Ok); };
   int polygons = 0, segments = 0, points = 0;
   const int rounds = test::scaled(300);
+  {  // An edge resting on a face (B turned 45 degrees about x onto A's top): a segment, whatever
+     // the random draws give (their order is the compiler's: clang and GCC draw other boxes).
+    ConvexShape A, B;
+    place(Box{}, A);
+    place(Box{Vector3d::Zero(), Eigen::Matrix3d::Identity(), Vector3d::Constant(0.5)}, B);
+    const Isometry3d pb(Eigen::Translation3d(0.25, 0, 1 + 0.5 * std::sqrt(2.0)) *
+                        Eigen::AngleAxisd(M_PI / 4, Vector3d::UnitX()));
+    const int n = check_patch(A, Isometry3d::Identity(), B, pb, 0.5, "edge on face");
+    EXPECT_EQ(n, 2);
+    segments += n == 2;
+  }
   for (int k = 0; k < rounds; ++k) {
     ConvexShape A, B;
     // Random: B's centre placed at a random distance from A's along a random direction.

@@ -107,7 +107,7 @@ py::array_t<int> triangle_array(const std::vector<std::array<int, 3>>& t) {
   return out;
 }
 
-void register_results(py::module_& m) {
+void register_mesh_results(py::module_& m) {
   py::class_<MeshDistance>(m, "MeshDistance", "The answer of a mesh distance query.")
       .def_readonly("distance", &MeshDistance::distance, "The exact minimum distance (0 when they meet).")
       .def_property_readonly(
@@ -156,7 +156,7 @@ void register_meshes(py::module_& m) {
       .def_property_readonly(
           "triangles", [](const Octree& o) { return triangle_array(o.triangles); }, "(m, 3) (k, k, k for point k of a cloud).")
       .def_readonly("is_cloud", &Octree::points, "Built from a point cloud.");
-  register_results(m);
+  register_mesh_results(m);
   m.def("mesh_distance", &distance_of<Octree>, py::arg("a"), py::arg("pose_a"), py::arg("b"), py::arg("pose_b"),
         py::arg("workspace") = nullptr, py::arg("cache") = nullptr,
         "The exact minimum distance between two meshes (or clouds), each placed by its pose. Without a workspace,\n"

@@ -16,6 +16,7 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Nef_polyhedron_3.h>
 #include <CGAL/Polyhedron_3.h>
+#include <CGAL/Polyhedron_items_with_id_3.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/convex_hull_3.h>
 #include <CGAL/minkowski_sum_3.h>
@@ -81,57 +82,65 @@ namespace {
 // The structure of the hull of `points` (exact predicates of kernel K on its coordinates):
 // triangles merged where exactly coplanar (union-find over facets); a true vertex touches at
 // least three merged facets. With `facets`, each merged facet's true vertices, sorted.
+// (Facets, halfedges and vertices carry their index (Polyhedron_items_with_id_3): maps and sets
+// keyed by handles were a fifth of the integer-grid suites' time.)
 template <class K>
 ExactCounts hull_structure(const std::vector<typename K::Point_3>& points,
                            std::vector<std::vector<Eigen::Vector3d>>* facets) {
-  CGAL::Polyhedron_3<K> hull;
+  CGAL::Polyhedron_3<K, CGAL::Polyhedron_items_with_id_3> hull;
   CGAL::convex_hull_3(points.begin(), points.end(), hull);
-  using Facet = typename CGAL::Polyhedron_3<K>::Facet_const_handle;
-  std::map<Facet, int> id;
-  for (auto f = hull.facets_begin(); f != hull.facets_end(); ++f) id.emplace(f, int(id.size()));
-  std::vector<int> parent(id.size());
+  CGAL::set_halfedgeds_items_id(hull);
+  std::vector<int> parent(hull.size_of_facets());
   std::iota(parent.begin(), parent.end(), 0);
   auto find = [&](int x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    while (parent[size_t(x)] != x) x = parent[size_t(x)] = parent[size_t(parent[size_t(x)])];
     return x;
   };
+  const auto facet = [](const auto& h) { return int(h->facet()->id()); };
   for (auto h = hull.halfedges_begin(); h != hull.halfedges_end(); ++h) {
     const auto& a = h->vertex()->point();
     const auto& b = h->opposite()->vertex()->point();
     const auto& c = h->next()->vertex()->point();
     const auto& d = h->opposite()->next()->vertex()->point();
-    if (CGAL::coplanar(a, b, c, d)) parent[find(id[h->facet()])] = find(id[h->opposite()->facet()]);
+    if (CGAL::coplanar(a, b, c, d)) parent[size_t(find(facet(h)))] = find(facet(h->opposite()));
   }
-  std::set<int> classes;
-  std::set<std::pair<int, int>> adjacent;
+  std::vector<char> is_class(parent.size(), 0);
+  std::vector<std::pair<int, int>> adjacent;
   for (auto h = hull.halfedges_begin(); h != hull.halfedges_end(); ++h) {
-    const int x = find(id[h->facet()]), y = find(id[h->opposite()->facet()]);
-    classes.insert(x);
-    if (x != y) adjacent.insert({std::min(x, y), std::max(x, y)});
+    const int x = find(facet(h)), y = find(facet(h->opposite()));
+    is_class[size_t(x)] = 1;
+    if (x < y) adjacent.push_back({x, y});
   }
-  std::map<int, std::vector<Eigen::Vector3d>> corners;
+  std::sort(adjacent.begin(), adjacent.end());
+  adjacent.erase(std::unique(adjacent.begin(), adjacent.end()), adjacent.end());
+  std::vector<std::vector<Eigen::Vector3d>> corners(parent.size());
+  std::vector<int> around;
   int V = 0;
   for (auto v = hull.vertices_begin(); v != hull.vertices_end(); ++v) {
-    std::set<int> around;
+    around.clear();
     auto h = v->vertex_begin();
-    do around.insert(find(id[h->facet()]));
+    do around.push_back(find(facet(h)));
     while (++h != v->vertex_begin());
+    std::sort(around.begin(), around.end());
+    around.erase(std::unique(around.begin(), around.end()), around.end());
     if (around.size() < 3) continue;
     ++V;
     const Eigen::Vector3d p(CGAL::to_double(v->point().x()), CGAL::to_double(v->point().y()),
                             CGAL::to_double(v->point().z()));
-    for (int c : around) corners[c].push_back(p);
+    if (facets)
+      for (int c : around) corners[size_t(c)].push_back(p);
   }
   if (facets) {
     facets->clear();
-    for (auto& [c, pts] : corners) {
+    for (auto& pts : corners) {
+      if (pts.empty()) continue;
       std::sort(pts.begin(), pts.end(), [](const Eigen::Vector3d& x, const Eigen::Vector3d& y) {
         return std::lexicographical_compare(x.data(), x.data() + 3, y.data(), y.data() + 3);
       });
       facets->push_back(std::move(pts));
     }
   }
-  return {V, int(adjacent.size()), int(classes.size())};
+  return {V, int(adjacent.size()), int(std::count(is_class.begin(), is_class.end(), 1))};
 }
 
 // The points of x that can be vertices of a sum: the vertices of x's hull by exact predicates
