@@ -212,8 +212,8 @@ class LineCore {
 // triangle_distance, exact), 0 where they cross or a corner lies inside a solid core. The
 // normal at a contact is the separating axis whose planes lie farthest apart (section 4 of
 // Gottschalk, Lin and Manocha's OBBTree, 1996: the triangle's normal, the core's face normals,
-// the crosses of their edges, and the nearest points' direction where they are apart), the
-// tool on its side: a separating plane, or at an overlap the least push apart along those axes.
+// the crosses of their edges, and the nearest points' direction), the tool on its side: a
+// separating plane, or at an overlap the least push apart along those axes.
 // (The triangle's normal alone is no such plane where the tool meets an edge of it from the
 // side: a haptic proxy backed off along it went into the scene.)
 class TriangleAnswers final : public detail::ExactAnswers {
@@ -240,10 +240,15 @@ class TriangleAnswers final : public detail::ExactAnswers {
     out.intersecting = inside || best == 0, out.distance = out.intersecting ? 0.0 : best;
     return std::isfinite(best);
   }
-  bool normal(const Isometry3d& pa, const Isometry3d& pb, double, Vector3d& out) const override {
+  bool normal(const Isometry3d& pa, const Isometry3d& pb, double, const Vector3d& near_a, const Vector3d& near_b,
+              Vector3d& out) const override {
+    // In the tool's frame, where its vertices, faces and edges are as stored: the triangle is
+    // placed there once, and the axis found is turned back.
     const detail::Rigid A(pa), B(pb);
-    const Vector3d t[3] = {A.point(corners_[0]), A.point(corners_[1]), A.point(corners_[2])};
+    Vector3d t[3];
+    for (int k = 0; k < 3; ++k) t[k] = B.body_point(A.point(corners_[k]));
     double best = -std::numeric_limits<double>::infinity();
+    Vector3d axis = Vector3d::Zero();
     // The gap between the planes along axis c (either sign), the tool on the far side.
     const auto consider = [&](const Vector3d& c) {
       const double length = c.norm();
@@ -251,23 +256,26 @@ class TriangleAnswers final : public detail::ExactAnswers {
       const Vector3d u = c / length;
       double lo_t = std::numeric_limits<double>::infinity(), hi_t = -lo_t, lo_b = lo_t, hi_b = -lo_t;
       for (const Vector3d& x : t) lo_t = std::min(lo_t, u.dot(x)), hi_t = std::max(hi_t, u.dot(x));
-      for (const Vector3d& v : tool_.vertices) {
-        const double h = u.dot(B.point(v));
-        lo_b = std::min(lo_b, h), hi_b = std::max(hi_b, h);
-      }
-      if (lo_b - hi_t > best) best = lo_b - hi_t, out = u;
-      if (lo_t - hi_b > best) best = lo_t - hi_b, out = -u;
+      for (const Vector3d& v : tool_.vertices) lo_b = std::min(lo_b, u.dot(v)), hi_b = std::max(hi_b, u.dot(v));
+      if (lo_b - hi_t > best) best = lo_b - hi_t, axis = u;
+      if (lo_t - hi_b > best) best = lo_t - hi_b, axis = -u;
     };
+    // The nearest points' direction and the triangle's normal first: where one of them separates
+    // (it mostly does), the crosses of the edges are not needed (the sweep asks at every step
+    // whose gap the rounding closed).
     const Vector3d edge[3] = {t[1] - t[0], t[2] - t[1], t[0] - t[2]};
+    consider(B.to_body(near_b - near_a));
     consider(edge[0].cross(edge[1]));
-    for (const auto& face : tool_.faces) consider(B.turn(face.normal));
-    const auto crosses = [&](const Vector3d& e) {
-      for (const Vector3d& f : edge) consider(e.cross(f));
-    };
-    for (const Edge& e : tool_.edges) crosses(B.turn(tool_.vertices[size_t(e.v1)] - tool_.vertices[size_t(e.v0)]));
-    if (tool_.edges.empty() && tool_.vertices.size() == 2) crosses(B.turn(tool_.vertices[1] - tool_.vertices[0]));
-    Proximity p;
-    if (query(pa, pb, p) && !p.intersecting) consider(p.point_b - p.point_a);
+    if (!(best >= 0)) {
+      for (const auto& face : tool_.faces) consider(face.normal);
+      const auto crosses = [&](const Vector3d& e) {
+        for (const Vector3d& f : edge) consider(e.cross(f));
+      };
+      for (size_t k = 0; k < tool_.edges.size() && !(best >= 0); ++k)
+        crosses(tool_.vertices[size_t(tool_.edges[k].v1)] - tool_.vertices[size_t(tool_.edges[k].v0)]);
+      if (tool_.edges.empty() && tool_.vertices.size() == 2) crosses(tool_.vertices[1] - tool_.vertices[0]);
+    }
+    out = B.turn(axis);
     return best > -std::numeric_limits<double>::infinity();
   }
 

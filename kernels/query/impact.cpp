@@ -231,7 +231,8 @@ Status advance(const Mover& a, const Mover& b, double tolerance, double reach, d
         // (Unit by its own length: the query's distance and its rounded witnesses' differ, by
         // 1e-9 of it at 4e-10 apart.)
         bound.n = (near_b - near_a).normalized(), g = bound.at(0, &slope, support);
-        if (!(g - radii > 0.5 * tolerance) && exact.normal(pa, pb, apart, bound.n)) g = bound.at(0, &slope, support);
+        if (!(g - radii > 0.5 * tolerance) && exact.normal(pa, pb, apart, near_a, near_b, bound.n))
+          g = bound.at(0, &slope, support);
         if (!(g - radii > 0.5 * tolerance)) {
           const double mu = (a.v - b.v).norm() + a.omega.norm() * a.radius + b.omega.norm() * b.radius;
           if (!(mu > 0)) return Status::Ok;  // still: they stay apart
@@ -249,7 +250,7 @@ Status advance(const Mover& a, const Mover& b, double tolerance, double reach, d
       // the distance (a separating plane within the tolerance of both); at the start or
       // after a step by the distance alone, the certified one of the contact.
       if (t > 0 && !n.isZero()) return out.normal = n, Status::Ok;
-      if (!exact.normal(pa, pb, tolerance + radii, out.normal))
+      if (!exact.normal(pa, pb, tolerance + radii, near_a, near_b, out.normal))
         out.normal = apart > 0 ? Vector3d((near_b - near_a).normalized()) : Vector3d::UnitZ();  // (none better known)
       return Status::Ok;
     }
@@ -284,7 +285,8 @@ class ShapeAnswers final : public detail::ExactAnswers {
     detail::cores_proximity(a_, pa, b_, pb, out);
     return true;
   }
-  bool normal(const Isometry3d& pa, const Isometry3d& pb, double margin, Vector3d& out) const override {
+  bool normal(const Isometry3d& pa, const Isometry3d& pb, double margin, const Vector3d&, const Vector3d&,
+              Vector3d& out) const override {
     ContactPatch patch;  // (a patch past its capacity still has its normal)
     if (check_pose(pa) != Status::Ok || check_pose(pb) != Status::Ok) return false;
     const Status s = detail::cores_patch(a_, pa, b_, pb, margin, patch);

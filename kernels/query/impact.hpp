@@ -37,9 +37,10 @@ class ExactAnswers {
  public:
   /// The exact query at the poses; false if there is none (the advancement stops there).
   virtual bool query(const Eigen::Isometry3d& pa, const Eigen::Isometry3d& pb, Proximity& out) const = 0;
-  /// A certified normal (A towards B) of a contact within `margin` at the poses; false if none.
+  /// A certified normal (A towards B) of a contact within `margin` at the poses, near_a and
+  /// near_b the advancement's nearest points there (a first candidate); false if none.
   virtual bool normal(const Eigen::Isometry3d& pa, const Eigen::Isometry3d& pb, double margin,
-                      Eigen::Vector3d& out) const = 0;
+                      const Eigen::Vector3d& near_a, const Eigen::Vector3d& near_b, Eigen::Vector3d& out) const = 0;
 
  protected:
   ~ExactAnswers() = default;

@@ -177,11 +177,12 @@ int sum_dimension(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const C
     return d->kind == Kind::Point ? 0 : d->kind == Kind::Segment ? 1 : d->polytope_ref->flat ? 2 : 3;
   };
   const int na = dims(a), nb = dims(b);
+  if (na == 3 || nb == 3) return 3;  // (the common case first: a solid core)
+  if (na + nb < 2) return std::max(na, nb);
   const auto axis = [](const Eigen::Isometry3d& pose) { return Vector3d(pose.linear() * Vector3d::UnitZ()); };
   const auto plane = [](const ConvexShape& s, const Eigen::Isometry3d& pose) {
     return Vector3d(pose.linear() * s.polytope().faces[0].normal);
   };
-  if (na == 3 || nb == 3 || na + nb < 2) return std::max({na, nb, 0});
   if (na == 1 && nb == 1) {  // (a capsule's segment runs along its z)
     const Vector3d c = axis(pose_a).cross(axis(pose_b));
     if (c.norm() <= 1e-12) return 1;
