@@ -302,5 +302,33 @@ TEST(Readers, FuzzFindingOffFaceOutOfRange) {
   EXPECT_NE(error.find("a face starts with its vertex count"), std::string::npos) << error;
 }
 
+// The writer writes a whole sum and refuses, writing nothing, what is no mesh: an empty sum (a
+// failed call's; it wrote "OFF 0 0 0" and said true), one without loops (SumParts::Planes: a
+// segmentation fault, and an empty file), and a rounded one unless asked for its core.
+TEST(Readers, TheWriterRefusesWhatIsNoMesh) {
+  ConvexShape box, ball;
+  ASSERT_EQ(shape_from_box(Box{}, box), Status::Ok);
+  ASSERT_EQ(shape_from_sphere(1, ball), Status::Ok);
+  const Eigen::Isometry3d id = Eigen::Isometry3d::Identity();
+  const std::string path = testing::TempDir() + "minksum_writer.off";
+  std::remove(path.c_str());
+  std::string error;
+  MinkowskiSum planes, rounded;
+  ASSERT_EQ(minkowski_sum(box, id, box, id, planes, SumParts::Planes), Status::Ok);
+  EXPECT_FALSE(write_mesh(path, planes, error));
+  EXPECT_NE(error.find("no facet loops"), std::string::npos) << error;
+  EXPECT_FALSE(write_mesh(path, MinkowskiSum{}, error));
+  EXPECT_NE(error.find("empty"), std::string::npos) << error;
+  ASSERT_EQ(minkowski_sum(box, id, ball, id, rounded), Status::Ok);
+  EXPECT_FALSE(write_mesh(path, rounded, error));
+  EXPECT_NE(error.find("core"), std::string::npos) << error;
+  EXPECT_FALSE(std::ifstream(path).good());  // (nothing written)
+  ASSERT_TRUE(write_mesh(path, rounded, error, true)) << error;
+  std::vector<Eigen::Vector3d> read;
+  ASSERT_TRUE(read_points(path, read, error)) << error;
+  EXPECT_EQ(read.size(), 8u);  // the cube (the ball's core is its centre)
+  std::remove(path.c_str());
+}
+
 }  // namespace
 }  // namespace minksum

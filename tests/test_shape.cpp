@@ -256,6 +256,24 @@ TEST(PosedShapes, NonRigidPosesAreRejected) {
   tiny_error.linear() = tools::axis_angle(Vector3d(1, 2, 3), 0.4);
   tiny_error.linear()(0, 0) += 1e-12;  // a rotation to rounding: accepted
   EXPECT_EQ(check_pose(tiny_error), Status::Ok);
+  // How far from a rotation, and the nearest one: R^T R - I's largest entry, exactly where the
+  // tolerance is; the nearest rotation of a rotation rounded to float is within rounding of
+  // the one rounded, and a rotation to double's rounding (check_pose accepts it).
+  EXPECT_NEAR(rotation_deviation(Eigen::Matrix3d::Identity() * (1 + 1e-6)), 2e-6 + 1e-12, 1e-15);
+  EXPECT_EQ(rotation_deviation(Eigen::Matrix3d(Eigen::Vector3d(1, 1, -1).asDiagonal())),
+            std::numeric_limits<double>::infinity());  // (a reflection)
+  EXPECT_EQ(check_pose(bad[6]), Status::InvalidPose);
+  EXPECT_GT(rotation_deviation(bad[6].linear()), kRotationTolerance);
+  const Eigen::Matrix3d exact = tools::axis_angle(Vector3d(-2, 1, 5), 2.1);
+  const Eigen::Matrix3d single = exact.cast<float>().cast<double>();
+  EXPECT_GT(rotation_deviation(single), kRotationTolerance);  // float rounding: refused as it is
+  const Eigen::Matrix3d projected = nearest_rotation(single);
+  EXPECT_LE(rotation_deviation(projected), 1e-15);
+  EXPECT_LT((projected - exact).cwiseAbs().maxCoeff(), 1e-7);
+  Isometry3d from_float = Isometry3d::Identity();
+  from_float.linear() = projected;
+  EXPECT_EQ(check_pose(from_float), Status::Ok);
+  EXPECT_EQ(nearest_rotation(bad[0].linear() * 2), bad[0].linear() * 2);  // far from any: left as it is
 }
 
 // Shapes that failed to build (or were never built) are empty, and a call with one answers

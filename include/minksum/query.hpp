@@ -7,6 +7,8 @@
 namespace minksum {
 
 /// Everything a collision or haptics caller asks of two convex objects A and B.
+/// A field past what the call's Want asked for keeps its default (0, or the zero vector), which
+/// is no answer: read only the fields asked for (the Python module sets them to NaN).
 struct Proximity {
   bool intersecting = false;  ///< A and B share a point (touching counts)
   double distance = 0;        ///< length of the shortest segment between A and B; 0 if intersecting
