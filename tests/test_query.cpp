@@ -10,6 +10,7 @@
 
 #include "simd/box_pair_data.hpp"
 #include "checks.hpp"
+#include "exact_distance.hpp"
 #include "ties.hpp"
 #include "support/shapes.hpp"
 
@@ -403,6 +404,42 @@ TEST(QueryHardCases, SpecksAndHugeBoxes) {
     ASSERT_NEAR(huge.distance / f, small.distance, 1e-12) << "pair " << k;
     ASSERT_NEAR(huge.penetration_depth / f, small.penetration_depth, 1e-12) << "pair " << k;
     ASSERT_NEAR(huge.max_distance / f, small.max_distance, 1e-12) << "pair " << k;
+  }
+}
+
+// A sliver tetrahedron reaching 1e86 and a triangle 250 across, apart by 2.9e76 (2e-10 of the
+// coordinates) by the exact triangle distance over their faces (GMP): apart. Seen along A's
+// face normal they lie within `touching` of one level, and the triangle's point lay in the
+// wedge beyond the sliver face's sharp corner (within the tolerance of both its edges' lines,
+// 2.9e76 from the face): "touching" (ci/fuzz, seed 211248740; the time of impact missed it, as
+// it should).
+TEST(QueryHardCases, ASliverFaceDoesNotReachBeyondItsCorner) {
+  const std::vector<Vector3d> a = {{0, -192.765625, -1.2362992417415827e+86},
+                                   {-2.7854136467034274e+44, -1.3847039131408324e+86, 2.8486404963689082e-306},
+                                   {-192.765625, -2.8777739825156522e+76, -1.0223906992179551e+62},
+                                   {-2.8777739825156522e+76, -1.3847039131046474e+86, -1.091914959381939e-309}};
+  const std::vector<Vector3d> b = {{-256, 0, 0}, {244.953125, 244.953125, 244.953125}, {0, 244.953125, 244.953125}};
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.matrix() << -0.31548058450582195, -0.30510371016843307, 0.89854533933537362, -0.036915471378945415,
+      0.92872050154670116, -0.29366524397983207, 0.22636023167753985, 1.9669144346901535, 0.19480818978346029,
+      0.90590973640850236, 0.37600175355118909, 2.9118735400436537, 0, 0, 0, 1;
+  ConvexShape A, B;
+  ASSERT_EQ(shape_from_points(a, A), Status::Ok);
+  ASSERT_EQ(shape_from_points(b, B), Status::Ok);
+  double exact = std::numeric_limits<double>::infinity();  // the faces' least exact distance
+  for (const Face& f : A.polytope().faces)
+    for (size_t k = 1; k + 1 < f.loop.size(); ++k) {
+      const Vector3d s[3] = {A.polytope().vertices[size_t(f.loop[0])], A.polytope().vertices[size_t(f.loop[k])],
+                             A.polytope().vertices[size_t(f.loop[k + 1])]};
+      const Vector3d t[3] = {pose * b[0], pose * b[1], pose * b[2]};
+      exact = std::min(exact, test::exact_triangle_distance(s, t));
+    }
+  ASSERT_GT(exact, 1e76);
+  for (Want want : {Want::Verdict, Want::Witnesses, Want::Patch}) {
+    Proximity p;
+    ASSERT_EQ(proximity(A, Eigen::Isometry3d::Identity(), B, pose, p, want), Status::Ok);
+    EXPECT_FALSE(p.intersecting) << unsigned(want);
+    if (want != Want::Verdict) EXPECT_NEAR(p.distance, exact, 1e-12 * 1.4e86);
   }
 }
 

@@ -36,13 +36,39 @@ void assign(Patch& y, const Patch& x) {
   std::copy(x.p, x.p + x.size, y.p);
 }
 
+// Whether the convex polygon x has a corner under 30 degrees (its edges' turn there over 150).
+bool sharp_corner(const Patch& x) {
+  for (int k = 0; k < x.size; ++k) {
+    const Eigen::Vector2d in = x.p[k] - x.p[(k + x.size - 1) % x.size], out = x.p[after(x, k)] - x.p[k];
+    const double d = in.dot(out);
+    if (d < 0 && d * d > 0.75 * in.squaredNorm() * out.squaredNorm()) return true;
+  }
+  return false;
+}
+
 // Whether c lies in the convex polygon x (counter-clockwise, 3 or more vertices; within tol).
+// Within tol of every edge's line is not enough where two edges meet at a tiny angle: the
+// wedge beyond that corner lies within tol of both lines as far as tol / sin(angle / 2) (a
+// sliver's face at 1e86 held a point 2.9e76 beyond its corner, and two shapes that far apart
+// touched). Outside a line, c must lie within 4 tol of an edge (4: a right angle's corner
+// region reaches sqrt(2) tol, as it did).
 bool holds(const Patch& x, const Eigen::Vector2d& c, double tol) {
+  bool inside = true;
   for (int k = 0; k < x.size; ++k) {
     const Eigen::Vector2d e = x.p[after(x, k)] - x.p[k];
-    if (cross2(e, c - x.p[k]) < -tol * e.norm()) return false;
+    const double h = cross2(e, c - x.p[k]);
+    if (h < -tol * e.norm()) return false;
+    inside = inside && h >= 0;
   }
-  return true;
+  if (inside) return true;
+  double near2 = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < x.size; ++k) {
+    const Eigen::Vector2d &p = x.p[k], e = x.p[after(x, k)] - p;
+    const double len2 = e.squaredNorm();
+    const Eigen::Vector2d y = p + (len2 > 0 ? std::clamp((c - p).dot(e) / len2, 0.0, 1.0) : 0.0) * e;
+    near2 = std::min(near2, (y - c).squaredNorm());
+  }
+  return near2 <= 16 * tol * tol;
 }
 
 // The point of the set x (a point, a segment or a convex polygon) nearest c.
@@ -116,6 +142,14 @@ void overlap_of(const Patch& small, const Patch& large, double tol, Patch& overl
       from = &to;
     }
     if (from != &overlap) assign(overlap, *from);
+    // (Clipped by the lines within tol, a point may lie in the wedge beyond a sharp corner of
+    // `large` (under 30 degrees: beyond 4 tol), far from it: there only the points that lie
+    // within tol of it (holds) are the overlap.)
+    if (!sharp_corner(large)) return;
+    int kept = 0;
+    for (int k = 0; k < overlap.size; ++k)
+      if (holds(large, overlap.p[k], tol)) overlap.p[kept++] = overlap.p[k];
+    overlap.size = kept;
     return;
   }
   // Two segments: on one line (clipped to each other), or across at a point.
