@@ -44,11 +44,13 @@ std::string slurp(const fs::path& p) {
   return ss.str();
 }
 
-// Runs the CLI with extra environment assignments (e.g. "MINKSUM_ISA=avx2").
+// Runs the CLI with extra environment assignments (e.g. "MINKSUM_ISA=avx2"): this tree's, or
+// the one MINKSUM_CLI_UNDER_TEST names (another build's, to see a test fail on older code).
 CliRun run_env(const std::string& env, const std::string& args) {
   const fs::path dir = scratch();
-  const std::string cmd = "env " + env + " " + std::string(MINKSUM_CLI) + " " + args + " > " + (dir / "out").string() +
-                          " 2> " + (dir / "err").string();
+  const char* other = std::getenv("MINKSUM_CLI_UNDER_TEST");
+  const std::string cmd = "env " + env + " " + std::string(other ? other : MINKSUM_CLI) + " " + args + " > " +
+                          (dir / "out").string() + " 2> " + (dir / "err").string();
   const int status = std::system(cmd.c_str());
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir / "out"), slurp(dir / "err")};
 }
