@@ -1,6 +1,8 @@
 # Bad input from Python: a clear exception naming the argument, never a crash. Arrays that are
 # only laid out differently (Fortran order, strided, integer dtype, lists) are accepted and give
 # the same answer.
+import os
+
 import numpy as np
 import pytest
 
@@ -128,30 +130,54 @@ def test_layouts_are_accepted_and_agree():
             assert mk.proximity(mk.Shape.from_points(points), None, mk.Shape.box(), p).distance == expected
 
 
-def test_what_a_new_user_met(tmp_path):
-    # Each line was a crash, a misleading message or an impossible piece of advice (issue
-    # "Trust, part 3"); each now says what it should.
+# What a new user met (issue "Trust, part 3"): each was a crash, a misleading message or an
+# impossible piece of advice, and each test fails on the code before its fix.
+def test_writing_a_sum_without_loops_is_refused(tmp_path):
     box = mk.Shape.box()
     planes = mk.minkowski_sum(box, None, box, None, parts=mk.SumParts.PLANES)
-    target = tmp_path / "p.off"
+    target = str(tmp_path / "p.off")
     with pytest.raises(ValueError, match="no facet loops"):  # was a segmentation fault and an empty file
         mk.write_mesh(target, planes)
-    assert not target.exists()
+    assert not os.path.exists(target)
+
+
+def test_a_rounded_sums_core_can_be_written(tmp_path):
+    box = mk.Shape.box()
     rounded = mk.minkowski_sum(box, None, mk.Shape.sphere(1), None)
-    with pytest.raises(ValueError, match=r"core=True"):
+    target = str(tmp_path / "r.off")
+    with pytest.raises(ValueError, match=r"core=True"):  # the advice was "set its radius to 0": no setter
         mk.write_mesh(target, rounded)
-    mk.write_mesh(target, rounded, core=True)  # the advice can be followed
-    written = mk.read_points(target)  # a pathlib.Path (was TypeError)
+    mk.write_mesh(target, rounded, core=True)
+    written = mk.read_points(target)
     np.testing.assert_array_equal(np.sort(written, axis=0), np.sort(rounded.vertices, axis=0))
+
+
+def test_paths_may_be_path_objects(tmp_path):
+    f = tmp_path / "t.xyz"  # a pathlib.Path: was TypeError
+    f.write_text("0 0 0\n1 0 0\n0 1 0\n0 0 1\n")
+    assert mk.read_points(f).shape == (4, 3)
+    assert mk.read_mesh(f, cloud_ok=True)[0].shape == (4, 3)
+
+
+def test_a_missing_shape_is_a_type_error():
     with pytest.raises(TypeError, match="a must be a minksum.Shape, not NoneType"):  # was RuntimeError('')
-        mk.proximity(None, None, box, None)
+        mk.proximity(None, None, mk.Shape.box(), None)
+
+
+def test_lengths_say_which_and_what_they_are():
     with pytest.raises(mk.Error, match=r"radius must be > 0 and finite, got 0\.0"):  # was "negative, NaN or infinite"
         mk.Shape.sphere(0)
     with pytest.raises(mk.Error, match=r"half_length must be >= 0 and finite, got -1\.0"):
         mk.Shape.capsule(-1, 1)
+
+
+def test_a_leaf_size_is_no_invalid_mesh():
     with pytest.raises(mk.Error, match="leaf_size must be at least 1, got 0") as caught:  # was "invalid mesh"
         mk.Mesh(*SHEET, leaf_size=0)
     assert caught.value.status == mk.Status.INVALID_ARGUMENT
+
+
+def test_a_foreign_workspace_says_so():
     sheet, other = mk.Mesh(*SHEET), mk.Mesh(CUBE, np.array([[0, 1, 2], [1, 3, 2]]))
     with pytest.raises(mk.Error, match="workspace was not made for these meshes") as caught:  # was "invalid mesh"
         mk.mesh_distance(other, None, other, None, workspace=mk.MeshWorkspace(sheet, sheet))
