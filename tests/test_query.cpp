@@ -820,8 +820,14 @@ void check_fused(Isa isa, unsigned seed) {
   box_box_separation(*A, *B, *sep);
   box_triangle_overlap(*A, *tri, *overlap);
   const double tol = std::is_same_v<T, float> ? 1e-4 : 1e-9;
-  int both[2] = {0, 0}, separated_bounds = 0, tie_lanes = 0;
+  int both[2] = {0, 0}, separated_bounds = 0, tie_lanes = 0, checked = 0;
+  // Every lane checked at full size; under the sanitizers (MINKSUM_TEST_SCALE) the tie lanes
+  // and a sample of the others: the kernels ran on all of them, and the checks' own polytopes
+  // and exact queries were four fifths of the sanitized suite's time here.
+  const int stride = N / test::scaled(N, 64), tie_stride = 8 / test::scaled(8);
   for (int k = 0; k < N; ++k) {
+    if (k % stride != 0 && !(k % 16 == 15 && (k / 16) % tie_stride == 0)) continue;
+    ++checked;
     auto corners = [](const Box& x) {
       std::vector<Vector3d> c;
       for (int q = 0; q < 8; ++q) {
@@ -839,7 +845,7 @@ void check_fused(Isa isa, unsigned seed) {
     ASSERT_EQ(proximity(pa, pb, ab), Status::Ok);
     ASSERT_EQ(proximity(pa, pt, at), Status::Ok);
     const std::string what = std::string(to_string(isa)) + " pair " + std::to_string(k);
-    if (k % 16 == 15) {  // exactly: the verdict of the exact surface gap (and containment)
+    if (k % 16 == 15 && (k / 16) % tie_stride == 0) {  // exactly: the exact surface gap's verdict (and containment)
       EXPECT_EQ(sep->hit[k] != 0, exact_overlap(pa, pb)) << what;
       EXPECT_EQ(hit[k] != 0, exact_overlap(pa, pt)) << what;
       tie_lanes += 2;
@@ -855,10 +861,10 @@ void check_fused(Isa isa, unsigned seed) {
     ++both[ab.intersecting];
     if (testing::Test::HasFailure()) return;
   }
-  EXPECT_GT(both[0], 100);
-  EXPECT_GT(both[1], 100);
-  EXPECT_GT(separated_bounds, 100);
-  EXPECT_EQ(tie_lanes, N / 8);
+  EXPECT_GT(both[0], checked / 10);
+  EXPECT_GT(both[1], checked / 10);
+  EXPECT_GT(separated_bounds, checked / 10);
+  EXPECT_EQ(tie_lanes, N / 8 / tie_stride);
 }
 
 class FusedSat : public testing::TestWithParam<Isa> {
