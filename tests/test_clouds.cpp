@@ -253,6 +253,31 @@ TEST(PointCloud, AgainstAMeshEqualsBruteForce) {
   }
 }
 
+// Meshes and clouds far apart near the end of the range (coordinates up to 1e100 are accepted):
+// a node pair's bound along the centre line squared its gap twice, which overflows past 1e77
+// apart, and the infinite bound pruned every pair (fuzz_readers: a distance of inf for three
+// points reaching 3.3e97).
+TEST(PointCloud, FarApartAtTheEndOfTheRange) {
+  const tools::Mesh box = tools::box_mesh(Vector3d(-1, -1, -1), Vector3d(1, 1, 1), 2);
+  for (double scale : {1e60, 1e80, 1e99}) {
+    tools::Mesh mesh = box, cloud{{Vector3d(0, 0, 0), Vector3d(1, 0, 0.33 * scale), Vector3d(1, 0, 0.25)}, {}};
+    for (auto& v : mesh.vertices) v *= 0.1 * scale;  // (apart from its copy at the pose)
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.linear() = Eigen::AngleAxisd(0.175, Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+    pose.translation() = Vector3d(0.3, -0.2, 0.1) * 2 * scale;
+    for (const tools::Mesh* m : {&mesh, &cloud}) {
+      Octree tree;
+      ASSERT_EQ(tools::build_tree(*m, tree), Status::Ok);
+      MeshWorkspace ws;
+      make_workspace(tree, tree, ws);
+      expect_brute(*m, tree, *m, tree, pose, ws, (m == &cloud ? "cloud at " : "mesh at ") + std::to_string(scale));
+      MeshDistance d;
+      ASSERT_EQ(mesh_distance(tree, Eigen::Isometry3d::Identity(), tree, pose, ws, d), Status::Ok);
+      EXPECT_TRUE(std::isfinite(d.distance) && d.distance > 0);
+    }
+  }
+}
+
 TEST(PointCloud, RejectsBadClouds) {
   Octree t;
   EXPECT_EQ(build_octree(std::vector<Vector3d>{}, t), Status::EmptyMesh);

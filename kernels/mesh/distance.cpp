@@ -82,7 +82,9 @@ class NodeBounds {
     // support, so the gap is (|delta|^2 - reach) / |delta|, reach = |delta| . h_a + |R^T delta| . h_b.
     const double len2 = delta.squaredNorm();
     const double reach = delta.cwiseAbs().dot(na.box_half) + (R.transpose() * delta).cwiseAbs().dot(nb.box_half);
-    const double line = len2 > reach ? (len2 - reach) * (len2 - reach) / len2 : 0.0;
+    // (gap (gap / len2), not gap^2 / len2: gap^2 overflows where the boxes are 1e77 apart,
+    // and an infinite bound pruned every pair: a distance of inf.)
+    const double gap = len2 - reach, line = gap > 0 ? gap * (gap / len2) : 0.0;
     const double cheap = std::max({ga.squaredNorm(), gb.squaredNorm(), sa * sa, sb * sb, line});
     if (cheap >= best2) return cheap;  // pruned already: the cross axes cannot matter
     double gx = 0;
@@ -380,11 +382,12 @@ void Search::triangle_pairs(const Node& na, const Line& line, int near, int pass
       }
       const Vector3d sb[3] = {ws_.near_corners[3 * y], ws_.near_corners[3 * y + 1], ws_.near_corners[3 * y + 2]};
       // Separation along the centre line: a lower bound as tight as the triangles are flat
-      // (squared, so no root: gap >= best |axis|).
+      // (gap >= best |axis|, squared so no root, as gap (gap / |axis|^2) >= best^2: gap^2
+      // overflows for triangles 1e77 from the origin, and inf >= inf skipped the pair).
       const Vector3d axis(ws_.near_x[y] - ca.x(), ws_.near_y[y] - ca.y(), ws_.near_z[y] - ca.z());
       const double hi_a = std::max({axis.dot(sa[0]), axis.dot(sa[1]), axis.dot(sa[2])});
       const double lo_b = std::min({axis.dot(sb[0]), axis.dot(sb[1]), axis.dot(sb[2])});
-      if (lo_b > hi_a && (lo_b - hi_a) * (lo_b - hi_a) >= best_ * best_ * axis.squaredNorm()) continue;
+      if (lo_b > hi_a && (lo_b - hi_a) * ((lo_b - hi_a) / axis.squaredNorm()) >= best_ * best_) continue;
       if (plane_gap(na_unit, sa[0], sb) >= best_) continue;
       if (plane_gap(ws_.near_normal[y], sb[0], sa) >= best_) continue;
       if (ws_.seen_a[ta] != ws_.stamp) ws_.seen_a[ta] = ws_.stamp, ++out_.stats.candidates_a;
