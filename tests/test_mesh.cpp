@@ -322,10 +322,69 @@ TEST(Octree, RejectsBadMeshes) {
   EXPECT_EQ(build_octree(v, {{0, 1, 2}}, o, options), Status::InvalidArgument);  // (the option, not the mesh)
   options.leaf_size = 1, options.max_depth = 25;
   EXPECT_EQ(build_octree(v, {{0, 1, 2}}, o, options), Status::InvalidArgument);
+  // A mesh under kMinExtent in both its size and its place (products underflow) is out of
+  // range; a single point (size 0) is not.
+  EXPECT_EQ(build_octree(tools::scaled(v, 1e-101), {{0, 1, 2}}, o), Status::OutOfRange);
+  EXPECT_EQ(build_octree(std::vector<Vector3d>{Vector3d(0, 0, 0)}, o), Status::Ok);
   // Unused vertices and degenerate triangles are fine.
   auto extra = v;
   extra.emplace_back(5, 5, 5);
   EXPECT_EQ(build_octree(extra, {{0, 1, 2}, {0, 0, 1}}, o), Status::Ok);
+}
+
+// Scaling the scene by 2^k is exact, so every answer scales with it (times stay): mesh-mesh
+// and mesh-shape distances, contact depths and areas, and sweeps, from 2^-330 to 2^330 (about
+// kMinExtent to kMaxCoordinate), against the answers at scale 1 (brute force checks those
+// elsewhere). Before: contact depth 0 from 2^260 (a cross product's squared norm overflowed,
+// so normals and areas vanished), and sweeps hit at once under 2^-80 (the octree's margins
+// were 1e-15 and 1e-12 absolute).
+TEST(MeshQueries, ScaleWithTheSceneByPowersOfTwo) {
+  const tools::Mesh sphere = tools::sphere_mesh(1.0, 6);
+  struct Answers {
+    double mesh, shape[3], depth[3], area[3], time[3];
+  };
+  const auto answers = [&](double s) {
+    Answers x{};
+    std::vector<Vector3d> v = tools::scaled(sphere.vertices, s);
+    Octree T;
+    EXPECT_EQ(build_octree(v, sphere.triangles, T), Status::Ok);
+    MeshWorkspace ws;
+    make_workspace(T, T, ws);
+    Box b;
+    b.half_extents = Vector3d(0.3, 0.2, 0.25) * s;
+    ConvexShape tools_[3];
+    shape_from_box(b, tools_[0]), shape_with_radius(tools_[0], 0.1 * s, tools_[1]), shape_from_sphere(0.4 * s, tools_[2]);
+    Eigen::Isometry3d far = Eigen::Isometry3d::Identity(), near;
+    far.linear() = tools::axis_angle(Vector3d(1, 2, 3), 0.3), near = far;
+    far.translation() = Vector3d(2.5, -0.9, 0.7) * s, near.translation() = Vector3d(0.9, 0.2, 0.1) * s;
+    const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();
+    MeshDistance d;
+    EXPECT_EQ(mesh_distance(T, I, T, far, ws, d), Status::Ok);
+    x.mesh = d.distance / s;
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(mesh_distance(T, I, tools_[k], far, d), Status::Ok);
+      MeshContact c;
+      EXPECT_EQ(mesh_contact(T, I, tools_[k], near, ws, c), Status::Ok);
+      TimeOfImpact t;
+      EXPECT_EQ(time_of_impact(T, I, tools_[k], far, near, t), Status::Ok);
+      x.shape[k] = d.distance / s, x.depth[k] = c.penetration_depth / s, x.area[k] = c.area / s / s, x.time[k] = t.time;
+    }
+    return x;
+  };
+  const Answers one = answers(1);
+  EXPECT_GT(one.mesh, 0);
+  for (int k = 0; k < 3; ++k) EXPECT_TRUE(one.depth[k] > 0 && one.time[k] > 0 && one.time[k] < 1) << k;
+  for (int e : {-330, -200, -80, 80, 200, 260, 330}) {
+    const Answers x = answers(std::ldexp(1.0, e));
+    const auto same = [](double p, double q) { return std::abs(p - q) <= 1e-12 * (1 + std::abs(q)); };
+    EXPECT_TRUE(same(x.mesh, one.mesh)) << "2^" << e << ": mesh distance " << x.mesh << " for " << one.mesh;
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_TRUE(same(x.shape[k], one.shape[k])) << "2^" << e << " tool " << k << ": distance " << x.shape[k];
+      EXPECT_TRUE(same(x.depth[k], one.depth[k])) << "2^" << e << " tool " << k << ": depth " << x.depth[k];
+      EXPECT_TRUE(same(x.area[k], one.area[k])) << "2^" << e << " tool " << k << ": area " << x.area[k];
+      EXPECT_TRUE(same(x.time[k], one.time[k])) << "2^" << e << " tool " << k << ": time " << x.time[k];
+    }
+  }
 }
 
 TEST(Octree, RejectsABadPoseAndAForeignWorkspace) {

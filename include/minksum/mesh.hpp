@@ -61,8 +61,10 @@ struct Octree {
 
 /// Builds the octree of a mesh. Unused vertices, boundary and non-manifold edges and
 /// degenerate triangles are accepted; NaN/Inf coordinates (NonFinite), indices out of range
-/// (InvalidMesh), meshes without triangles (EmptyMesh) and options out of range (a leaf size
-/// under 1, a depth past 24: InvalidArgument) are rejected. A triangle with
+/// (InvalidMesh), meshes without triangles (EmptyMesh), coordinates past kMaxCoordinate or a
+/// mesh both smaller and nearer the origin than kMinExtent, but not a single point (OutOfRange),
+/// and options out of range (a leaf size under 1, a depth past 24: InvalidArgument) are
+/// rejected. Every answer on it scales with the scene in that range. A triangle with
 /// exactly the corners of an earlier one is not listed in the leaves (it cannot be nearer).
 Status build_octree(const std::vector<Eigen::Vector3d>& vertices, const std::vector<std::array<int, 3>>& triangles,
                     Octree& out, const OctreeOptions& options = {});

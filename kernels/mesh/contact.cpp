@@ -147,7 +147,7 @@ int gather_parts(const Octree& a, const ToolPlanes& tool, MeshScratch& ws, int (
       ++hits;
       for (int k = 1; k + 1 < m; ++k) {  // the part as a fan of triangles
         const Vector3d a2 = (poly[k] - poly[0]).cross(poly[k + 1] - poly[0]);
-        const double size = a2.norm() / 2;
+        const double size = detail::norm_of(a2) / 2;
         area += a2 / 2, out.area += size, out.centre += size * (poly[0] + poly[k] + poly[k + 1]) / 3;
       }
     }
@@ -253,7 +253,7 @@ double difference_exit(const PlacedCore& core, const CoreTops& tops, const Vecto
       if (ut[i] + tops.edge[e] + r > best) best = std::max(best, detail::cylinder_exit(t[i] - v[a], t[i] - v[b], u, r));
       if (!(std::max(ut[i], ut[i1]) + tops.edge[e] + r > best)) continue;
       Vector3d m = (t[i1] - t[i]).cross(v[a] - v[b]);
-      const double len = m.norm();
+      const double len = detail::norm_of(m);
       if (!(len > 0)) continue;  // (parallel edges: the cylinders cover their strip)
       m /= len;
       // (t_i - v_a, t_i1 - v_a, t_i1 - v_b, t_i - v_b) turns counter-clockwise about m.
@@ -378,7 +378,8 @@ Status contact_in_a(const Octree& a, const ConvexShape& shape, const detail::Rig
   out.intersecting = true;
   if (out.area > 0) out.centre /= out.area;
   else out.centre = ws.parts[0];  // parts of no area (a corner or an edge grazing the tool)
-  Vector3d u = area.norm() > 0 ? Vector3d(area.normalized()) : Vector3d::Zero();
+  const double len = detail::norm_of(area);
+  Vector3d u = len > 0 ? Vector3d(area / len) : Vector3d::Zero();
   if (u.isZero()) {  // parts facing both ways cancel (a sheet pinched from both sides)
     Vector3d t[3];
     triangle_corners(a, hit[0], t);

@@ -6,6 +6,7 @@
 #include "geometry/rigid.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <vector>
 
 namespace minksum::detail {
@@ -73,10 +74,20 @@ struct PlacedSegment {
   }
 };
 
+/// |v| where its square leaves the doubles: a cross product of coordinates past 1e77 squares
+/// past the largest double (the plain norm is inf), one of edges under 1e-77 below the smallest
+/// (0). The plain norm where it is normal; else |v| scaled by its largest component first.
+inline double norm_of(const Eigen::Vector3d& v) {
+  const double n = v.norm();
+  if (n > 0x1p-500 && n < 0x1p500) return n;
+  const double m = v.cwiseAbs().maxCoeff();
+  return m > 0 && m < std::numeric_limits<double>::infinity() ? m * (v / m).norm() : n;
+}
+
 /// The unit normal of a triangle (zero if it is degenerate).
 inline Eigen::Vector3d unit_normal(const Eigen::Vector3d (&v)[3]) {
   const Eigen::Vector3d n = (v[1] - v[0]).cross(v[2] - v[0]);
-  const double len = n.norm();
+  const double len = norm_of(n);
   return len > 0 ? Eigen::Vector3d(n / len) : Eigen::Vector3d::Zero();
 }
 

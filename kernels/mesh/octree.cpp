@@ -38,7 +38,7 @@ void slab_along(const std::vector<Vector3d>& v, const std::vector<std::array<int
 // benchmark mesh switch, folds such as an ear.) Any unit normal gives a valid slab; both bounds
 // hold the node's triangles whole, so every bound of the search holds for whole triangles.
 void fit_bounds(const std::vector<Vector3d>& v, const std::vector<std::array<int, 3>>& tris,
-                const std::vector<int>& list, Octree::Node& node) {
+                const std::vector<int>& list, double scale, Octree::Node& node) {
   Vector3d lo = Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo, n = Vector3d::Zero();
   Eigen::Matrix3d sheets = Eigen::Matrix3d::Zero();  // sum of area * (unit normal)(unit normal)^T
   for (int t : list) {
@@ -49,7 +49,7 @@ void fit_bounds(const std::vector<Vector3d>& v, const std::vector<std::array<int
     if (const double area = c.norm(); area > 0) sheets += c * c.transpose() / area;
   }
   node.box_center = (lo + hi) / 2;
-  node.box_half = ((hi - lo) / 2).cwiseMax(0.0) * (1 + 1e-12) + Vector3d::Constant(1e-15 * (1 + node.center.norm()));
+  node.box_half = ((hi - lo) / 2).cwiseMax(0.0) * (1 + 1e-12) + Vector3d::Constant(1e-15 * (scale + node.center.norm()));
   node.normal = n.norm() > 0 ? Vector3d(n.normalized()) : Vector3d::UnitZ();
   slab_along(v, tris, list, node.normal, node.slab_lo, node.slab_hi);
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> shell(sheets);
@@ -60,7 +60,7 @@ void fit_bounds(const std::vector<Vector3d>& v, const std::vector<std::array<int
     if (shell_hi - shell_lo < 0.25 * (node.slab_hi - node.slab_lo))
       node.normal = axis, node.slab_lo = shell_lo, node.slab_hi = shell_hi;
   }
-  const double pad = 1e-12 * (std::abs(node.slab_lo) + std::abs(node.slab_hi)) + 1e-15;
+  const double pad = 1e-12 * (std::abs(node.slab_lo) + std::abs(node.slab_hi)) + 1e-15 * scale;
   node.slab_lo -= pad, node.slab_hi += pad;
 }
 
@@ -171,12 +171,16 @@ Status build_octree(const std::vector<Vector3d>& vertices, const std::vector<std
       if (k < 0 || k >= nv) return Status::InvalidMesh;
       lo = lo.cwiseMin(vertices[k]), hi = hi.cwiseMax(vertices[k]);
     }
+  // The root: the bounding cube of the used vertices, a little larger so nothing sits on it.
+  // Every margin is relative to the mesh's scale (its extent or its distance from the origin):
+  // absolute ones (1e-12, 1e-15) made a mesh 1e-30 across a speck in a box 1e-15 wide, whose
+  // sweeps hit at once. Under kMinExtent (but for a single point) products underflow.
+  const Vector3d center = (lo + hi) / 2;
+  const double scale = std::max((hi - lo).maxCoeff(), center.cwiseAbs().maxCoeff());
+  if (scale > 0 && scale < kMinExtent) return Status::OutOfRange;
   out.vertices = vertices, out.triangles = triangles;
   triangle_bounds(out);
-  // The root: the bounding cube of the used vertices, a little larger so nothing sits on it.
-  const Vector3d center = (lo + hi) / 2;
-  const double size = std::max(1.0, center.cwiseAbs().maxCoeff());
-  const double root_half = (hi - lo).maxCoeff() / 2 * (1 + 1e-9) + 1e-12 * size;
+  const double root_half = (hi - lo).maxCoeff() / 2 * (1 + 1e-9) + 1e-12 * scale;
   // Breadth first, so that every node's children are contiguous.
   std::vector<std::vector<int>> lists(1, distinct_triangles(out));
   std::vector<int> level(1, 0);
@@ -185,7 +189,7 @@ Status build_octree(const std::vector<Vector3d>& vertices, const std::vector<std
   for (size_t i = 0; i < out.nodes.size(); ++i) {
     std::vector<int> list = std::move(lists[i]);
     out.depth = std::max(out.depth, level[i]);
-    fit_bounds(vertices, triangles, list, out.nodes[i]);
+    fit_bounds(vertices, triangles, list, scale, out.nodes[i]);
     std::vector<int> sub[8];
     if (int(list.size()) <= options.leaf_size || level[i] >= max_depth || !part(out, i, list, sub)) {
       make_leaf(out, i, list);
