@@ -186,8 +186,9 @@ struct TimeOfImpact {
   double distance = 0;  ///< |point_b - point_a| then (<= tolerance; 0 overlapping): at least the distance
   /// Unit, from A towards B: a separating plane's normal then (the two supporting planes along
   /// it lie between 0 and `distance` apart), or at time 0 the contact patch's. Where it is the
-  /// nearest points' direction, their rounding turns it by about eps reach / distance (reach:
-  /// the scene's largest coordinate), which is all the planes' overlap along it can be.
+  /// nearest points' direction, their rounding turns it by about eps reach / d (reach: the
+  /// scene's largest coordinate; d: their distance, at time 0 the exact one, which `distance`
+  /// bounds from above), which is all the planes' overlap along it can be.
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();
   Eigen::Vector3d point_a = Eigen::Vector3d::Zero();  ///< a point on A then, within the tolerance of B (world frame)
   Eigen::Vector3d point_b = Eigen::Vector3d::Zero();  ///< and on B (overlapping at time 0: the deepest points)

@@ -409,13 +409,16 @@ void impact(const ConvexShape& A, const Octree& surface, const ConvexShape& B, c
   if (toi.hit && (!toi.normal.allFinite() || std::abs(toi.normal.norm() - 1) > 1e-9))
     fail("a time of impact's normal");
   // (A normal from witnesses d apart turns by eps reach / d by their rounding, which moves the
-  // planes along it by eps reach^2 / d (TimeOfImpact::normal); at d = 0 nothing is checked.)
+  // planes along it by eps reach^2 / d (TimeOfImpact::normal); at d = 0 nothing is checked. At
+  // time 0 the normal is the contact patch's, from the exact query's witnesses, which may lie
+  // far nearer than the advancement's distance: that one bounds the distance from above.)
   const double eps = std::numeric_limits<double>::epsilon(), slack = 1e-9 * (1 + reach);
   const auto turned = [&](double d) {
     return d > 0 ? slack + 1024 * eps * reach * std::max(1.0, reach / d) : std::numeric_limits<double>::infinity();
   };
   if (toi.hit && !start.intersecting &&
-      gap_along(A.polytope().vertices, B, pose_at(from, to, turn, toi.time), toi.normal) < -(toi.tolerance + turned(toi.distance)))
+      gap_along(A.polytope().vertices, B, pose_at(from, to, turn, toi.time), toi.normal) <
+          -(toi.tolerance + turned(toi.time == 0 ? std::min(toi.distance, start.distance) : toi.distance)))
     fail("a time of impact's normal is no separating plane");
   for (int k = 0; k < 8 && toi.hit && toi.time > 0; ++k) {
     const Eigen::Isometry3d at = pose_at(from, to, turn, toi.time * k / 8);
