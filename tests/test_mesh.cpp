@@ -326,6 +326,7 @@ TEST(Octree, RejectsBadMeshes) {
   // range; a single point (size 0) is not.
   EXPECT_EQ(build_octree(tools::scaled(v, 1e-101), {{0, 1, 2}}, o), Status::OutOfRange);
   EXPECT_EQ(build_octree(std::vector<Vector3d>{Vector3d(0, 0, 0)}, o), Status::Ok);
+  EXPECT_EQ(build_octree(std::vector<Vector3d>{Vector3d(0, 0, 5.7e-101)}, o), Status::Ok);  // (Hypothesis found it refused)
   // Unused vertices and degenerate triangles are fine.
   auto extra = v;
   extra.emplace_back(5, 5, 5);

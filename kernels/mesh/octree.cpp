@@ -174,10 +174,11 @@ Status build_octree(const std::vector<Vector3d>& vertices, const std::vector<std
   // The root: the bounding cube of the used vertices, a little larger so nothing sits on it.
   // Every margin is relative to the mesh's scale (its extent or its distance from the origin):
   // absolute ones (1e-12, 1e-15) made a mesh 1e-30 across a speck in a box 1e-15 wide, whose
-  // sweeps hit at once. Under kMinExtent (but for a single point) products underflow.
+  // sweeps hit at once. Distinct points all under kMinExtent from the origin: products
+  // underflow. (A single point, however near, has nothing to underflow.)
   const Vector3d center = (lo + hi) / 2;
-  const double scale = std::max((hi - lo).maxCoeff(), center.cwiseAbs().maxCoeff());
-  if (scale > 0 && scale < kMinExtent) return Status::OutOfRange;
+  const double extent = (hi - lo).maxCoeff(), scale = std::max(extent, center.cwiseAbs().maxCoeff());
+  if (extent > 0 && scale < kMinExtent) return Status::OutOfRange;
   out.vertices = vertices, out.triangles = triangles;
   triangle_bounds(out);
   const double root_half = (hi - lo).maxCoeff() / 2 * (1 + 1e-9) + 1e-12 * scale;

@@ -168,6 +168,14 @@ def test_a_rounded_box_against_a_point_is_the_closed_form(half, point, radius):
 
 @given(point_sets(1, 60), point_sets(1, 60), st.tuples(*[st.floats(-50, 50)] * 3))
 def test_point_clouds_meet_kd_trees(a_points, b_points, shift):
+    def under_min_extent(p):  # distinct points all within kMinExtent of the origin: OutOfRange
+        lo, hi = p.min(axis=0), p.max(axis=0)
+        extent = (hi - lo).max()
+        return extent > 0 and max(extent, np.abs((lo + hi) / 2).max()) < 1e-100
+    if under_min_extent(a_points) or under_min_extent(b_points):
+        with pytest.raises(mk.Error, match="under 1e-100"):
+            mk.Mesh.from_points(a_points if under_min_extent(a_points) else b_points)
+        return
     a, b = mk.Mesh.from_points(a_points), mk.Mesh.from_points(b_points)
     d = mk.mesh_distance(a, None, b, (np.eye(3), shift))
     nearest, _ = cKDTree(a_points).query(b_points + np.array(shift))
