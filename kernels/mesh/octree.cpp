@@ -181,7 +181,7 @@ Status build_octree(const std::vector<Vector3d>& vertices, const std::vector<std
   if (extent > 0 && scale < kMinExtent) return Status::OutOfRange;
   out.vertices = vertices, out.triangles = triangles;
   triangle_bounds(out);
-  const double root_half = (hi - lo).maxCoeff() / 2 * (1 + 1e-9) + 1e-12 * scale;
+  const double root_half = extent / 2 * (1 + 1e-9) + 1e-12 * scale;
   // Breadth first, so that every node's children are contiguous.
   std::vector<std::vector<int>> lists(1, distinct_triangles(out));
   std::vector<int> level(1, 0);
