@@ -310,6 +310,32 @@ TEST(RoundedShapes, SumsOfLowerDimensionalCoresAreSolids) {
   EXPECT_GT(outside, 20);
 }
 
+// fuzz_query (seed 71207): a long rounded triangle whose corner lies on a rounded box's face,
+// its far edge 1e-13 inside the face's plane. The difference's core has sliver facets along
+// that face, and rounding put the origin 1.7e-14 beyond one of them while it lies on the face's
+// plane: contains looked only at the facets the origin was beyond, whose polygons are 0.99
+// away, and said that shapes meeting by their radii of 0.75 do not meet.
+TEST(RoundedShapes, ContainsNearSliverFacets) {
+  ConvexShape cube, box, triangle, swept;
+  ASSERT_EQ(shape_from_box(Box{}, cube), Status::Ok);  // (half-size 1)
+  ASSERT_EQ(shape_with_radius(cube, 0.25, box), Status::Ok);
+  ASSERT_EQ(shape_from_triangle({Vector3d(0, 0, 0), Vector3d(2, 0, 2), Vector3d(-503.5, 0, 0)}, triangle), Status::Ok);
+  ASSERT_EQ(shape_with_radius(triangle, 0.5, swept), Status::Ok);
+  Isometry3d a = Isometry3d::Identity(), b = Isometry3d::Identity();
+  a.linear() << 1, 0, 0, 0, -0.99991343864964333, -0.013157325254273969, 0, 0.013157325254273969, -0.99991343864964333;
+  b.linear() << 2.2204460492503131e-16, 0, 0.99999999999999978, 0, -0.99999999999999956, 0, 0.99999999999999978, 0,
+      2.2204460492503131e-16;
+  b.translation() = Vector3d(1, 0, 0);  // the triangle's corner (0, 0, 0) on the box's face x = 1
+  MinkowskiSum m;
+  ASSERT_EQ(minkowski_difference(box, a, swept, b, m), Status::Ok);
+  EXPECT_TRUE(contains(m, Vector3d::Zero()));
+  // The cores meet at the face: the radii's 0.75 along its normal, give or take the 1e-13.
+  EXPECT_NEAR(penetration_along(m, Vector3d::UnitX()), 0.75, 1e-12);
+  Proximity p;
+  ASSERT_EQ(proximity(box, a, swept, b, p), Status::Ok);
+  EXPECT_TRUE(p.intersecting);
+}
+
 TEST(RoundedShapes, EveryPairOfKindsMatchesTheCoresExactDistanceMinusTheRadii) {
   const auto all = shapes();
   std::mt19937_64 rng(56);

@@ -82,15 +82,21 @@ void farthest(const MinkowskiSum& m, const ConvexPolytope& a, const ConvexPolyto
   out.far_b = b.vertices[m.vertices[far].j];
 }
 
-// The squared distance of p from m (Whole: its loops), p outside it: the nearest point lies on
-// a facet whose plane has p beyond it (on an edge or a vertex, on one of its facets'), so the
-// least distance to those facets' polygons.
-double distance2_outside(const MinkowskiSum& m, const Vector3d& p) {
+// The squared distance of p from m (Whole: its loops) where it is at most r, p outside one of
+// m's planes: the least distance to the polygons of the facets whose planes p is beyond (one
+// of them holds its nearest point), and where that is over r, of those whose planes p is less
+// than r inside (a facet farther inside is farther than r). Within rounding of the boundary
+// the planes can put p beyond a sliver facet far from it while the facet that holds its
+// nearest point has p on its plane.
+double distance2_near(const MinkowskiSum& m, const Vector3d& p, double r) {
   double best = std::numeric_limits<double>::infinity();
   if (int(m.loop_start.size()) != m.F + 1) return best;  // (no loops: not a rounded sum the library built)
-  for (int k = 0; k < m.F; ++k)
-    if (m.planes[k].normal.dot(p) > m.planes[k].offset)
-      best = std::min(best, closest_on_facet(m, m.facet(k), m.planes[k].normal, p).dist2);
+  for (int pass = 0; pass < 2 && !(best <= r * r); ++pass)
+    for (int k = 0; k < m.F; ++k) {
+      const double above = m.planes[k].normal.dot(p) - m.planes[k].offset;
+      if (pass == 0 ? above > 0 : above <= 0 && above >= -r)
+        best = std::min(best, closest_on_facet(m, m.facet(k), m.planes[k].normal, p).dist2);
+    }
   return best;
 }
 
@@ -133,7 +139,7 @@ bool contains(const MinkowskiSum& m, const Vector3d& p) {
     if (!(above <= m.radius)) return false;  // (a NaN point is in nothing)
     inside = inside && above <= 0;
   }
-  return inside || distance2_outside(m, p) <= m.radius * m.radius;
+  return inside || distance2_near(m, p, m.radius) <= m.radius * m.radius;
 }
 
 Status proximity(const MinkowskiSum& m, const ConvexPolytope& a, const ConvexPolytope& b, Proximity& out) {

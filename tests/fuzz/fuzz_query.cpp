@@ -622,8 +622,10 @@ void rounded(fuzz::Bytes& in) {
   // core surface is A's distance from those triangles.
   MinkowskiSum m;
   const Status ms = minkowski_difference(a.shape, a.pose, b.shape, b.pose, m);
-  if (ms == Status::Ok && std::abs(least - r) > tol && contains(m, Eigen::Vector3d::Zero()) != (least <= r))
+  if (ms == Status::Ok && std::abs(least - r) > tol && contains(m, Eigen::Vector3d::Zero()) != (least <= r)) {
+    report("rounded difference: contains(origin) %d; cores %.17g apart, radii %.17g\n", int(!(least <= r)), least, r);
     fail("the rounded difference's contains(origin) differs from the cores' exact distance");
+  }
   if (ms == Status::Ok && !(penetration_along(m, Eigen::Vector3d::UnitX()) >= 0))
     fail("a rounded penetration_along is negative or NaN");
   if (ms != Status::Ok && ms != Status::Unsupported && ms != Status::DegenerateResult && ms != Status::HullFailed)
