@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <minksum/minksum.hpp>
 
+#include <array>
 #include <memory>
 #include <random>
 #include <tuple>
@@ -407,39 +408,61 @@ TEST(QueryHardCases, SpecksAndHugeBoxes) {
   }
 }
 
+// The least exact distance (GMP) between the faces of A and of B placed by `pose`, fanned.
+double exact_face_distance(const ConvexShape& A, const ConvexShape& B, const Eigen::Isometry3d& pose) {
+  const auto fans = [](const ConvexPolytope& p, const Eigen::Isometry3d& at) {
+    std::vector<std::array<Vector3d, 3>> t;
+    for (const Face& f : p.faces)
+      for (size_t k = 1; k + 1 < f.loop.size(); ++k)
+        t.push_back({at * p.vertices[size_t(f.loop[0])], at * p.vertices[size_t(f.loop[k])],
+                     at * p.vertices[size_t(f.loop[k + 1])]});
+    return t;
+  };
+  double exact = std::numeric_limits<double>::infinity();
+  for (const auto& s : fans(A.polytope(), Eigen::Isometry3d::Identity()))
+    for (const auto& t : fans(B.polytope(), pose)) {
+      const Vector3d x[3] = {s[0], s[1], s[2]}, y[3] = {t[0], t[1], t[2]};
+      exact = std::min(exact, test::exact_triangle_distance(x, y));
+    }
+  return exact;
+}
+
 // A sliver tetrahedron reaching 1e86 and a triangle 250 across, apart by 2.9e76 (2e-10 of the
-// coordinates) by the exact triangle distance over their faces (GMP): apart. Seen along A's
-// face normal they lie within `touching` of one level, and the triangle's point lay in the
-// wedge beyond the sliver face's sharp corner (within the tolerance of both its edges' lines,
-// 2.9e76 from the face): "touching" (ci/fuzz, seed 211248740; the time of impact missed it, as
-// it should).
+// coordinates) by the exact triangle distance over their faces (GMP): apart. Seen along the
+// sliver face's normal they lie within `touching` of one level, and the triangle's point lies
+// in the wedge beyond the face's corner of 2e-10 rad (within the tolerance of both its edges'
+// lines, 2.9e76 from the face): "touching".
+//  - ci/fuzz, seed 211248740: the point beyond the corner's wedge, outside an edge's line;
+//  - fuzz_query campaign, seed 71207, 925,017 inputs (the tetrahedron posed, the triangle
+//    still): the point's side of both lines is rounding (192 and 6e66 from them, the face's
+//    coordinates 1e86), and both said inside; `holds` counted that as inside the polygon.
 TEST(QueryHardCases, ASliverFaceDoesNotReachBeyondItsCorner) {
-  const std::vector<Vector3d> a = {{0, -192.765625, -1.2362992417415827e+86},
-                                   {-2.7854136467034274e+44, -1.3847039131408324e+86, 2.8486404963689082e-306},
-                                   {-192.765625, -2.8777739825156522e+76, -1.0223906992179551e+62},
-                                   {-2.8777739825156522e+76, -1.3847039131046474e+86, -1.091914959381939e-309}};
+  const std::vector<Vector3d> sliver = {{0, -192.765625, -1.2362992417415827e+86},
+                                        {-2.7854136467034274e+44, -1.3847039131408324e+86, 2.8486404963689082e-306},
+                                        {-192.765625, -2.8777739825156522e+76, -1.0223906992179551e+62},
+                                        {-2.8777739825156522e+76, -1.3847039131046474e+86, -1.091914959381939e-309}};
   const std::vector<Vector3d> b = {{-256, 0, 0}, {244.953125, 244.953125, 244.953125}, {0, 244.953125, 244.953125}};
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  const std::vector<Vector3d> c = {{0, 0, 0}, {0, 252, 0}, {0, 0, 128.9375}};
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity(), from = Eigen::Isometry3d::Identity();
   pose.matrix() << -0.31548058450582195, -0.30510371016843307, 0.89854533933537362, -0.036915471378945415,
       0.92872050154670116, -0.29366524397983207, 0.22636023167753985, 1.9669144346901535, 0.19480818978346029,
       0.90590973640850236, 0.37600175355118909, 2.9118735400436537, 0, 0, 0, 1;
-  ConvexShape A, B;
-  ASSERT_EQ(shape_from_points(a, A), Status::Ok);
+  from.matrix() << -0.099027118238702166, 0.99150742663447367, -0.08430096548689732, 3.328378486852531,
+      -0.99100078990859231, -0.090598703095013153, 0.09853582799190222, 191.23691350153527, 0.090061447100777764,
+      0.093300042476874137, 0.99155637147866105, 161.42958105848732, 0, 0, 0, 1;
+  ConvexShape S, B, C;
+  ASSERT_EQ(shape_from_points(sliver, S), Status::Ok);
   ASSERT_EQ(shape_from_points(b, B), Status::Ok);
-  double exact = std::numeric_limits<double>::infinity();  // the faces' least exact distance
-  for (const Face& f : A.polytope().faces)
-    for (size_t k = 1; k + 1 < f.loop.size(); ++k) {
-      const Vector3d s[3] = {A.polytope().vertices[size_t(f.loop[0])], A.polytope().vertices[size_t(f.loop[k])],
-                             A.polytope().vertices[size_t(f.loop[k + 1])]};
-      const Vector3d t[3] = {pose * b[0], pose * b[1], pose * b[2]};
-      exact = std::min(exact, test::exact_triangle_distance(s, t));
+  ASSERT_EQ(shape_from_points(c, C), Status::Ok);
+  for (const auto& [A, other, at] : {std::tuple{&S, &B, pose}, std::tuple{&C, &S, from}}) {
+    const double exact = exact_face_distance(*A, *other, at);
+    ASSERT_GT(exact, 1e76);
+    for (Want want : {Want::Verdict, Want::Witnesses, Want::Patch}) {
+      Proximity p;
+      ASSERT_EQ(proximity(*A, Eigen::Isometry3d::Identity(), *other, at, p, want), Status::Ok);
+      EXPECT_FALSE(p.intersecting) << unsigned(want);
+      if (want != Want::Verdict) EXPECT_NEAR(p.distance, exact, 1e-12 * 1.4e86);
     }
-  ASSERT_GT(exact, 1e76);
-  for (Want want : {Want::Verdict, Want::Witnesses, Want::Patch}) {
-    Proximity p;
-    ASSERT_EQ(proximity(A, Eigen::Isometry3d::Identity(), B, pose, p, want), Status::Ok);
-    EXPECT_FALSE(p.intersecting) << unsigned(want);
-    if (want != Want::Verdict) EXPECT_NEAR(p.distance, exact, 1e-12 * 1.4e86);
   }
 }
 

@@ -51,14 +51,16 @@ bool sharp_corner(const Patch& x) {
 // wedge beyond that corner lies within tol of both lines as far as tol / sin(angle / 2) (a
 // sliver's face at 1e86 held a point 2.9e76 beyond its corner, and two shapes that far apart
 // touched). Outside a line, c must lie within 4 tol of an edge (4: a right angle's corner
-// region reaches sqrt(2) tol, as it did).
+// region reaches sqrt(2) tol, as it did). Within tol of a line c's side of it is rounding (the
+// same sliver, turned, put a point 2.9e76 beyond that corner inside both its edges' lines by
+// their rounding), so c is inside only where it is more than tol inside every line.
 bool holds(const Patch& x, const Eigen::Vector2d& c, double tol) {
   bool inside = true;
   for (int k = 0; k < x.size; ++k) {
     const Eigen::Vector2d e = x.p[after(x, k)] - x.p[k];
     const double h = cross2(e, c - x.p[k]);
     if (h < -tol * e.norm()) return false;
-    inside = inside && h >= 0;
+    inside = inside && h > tol * e.norm();
   }
   if (inside) return true;
   double near2 = std::numeric_limits<double>::infinity();
