@@ -4,7 +4,6 @@
 #include <gtest/gtest.h>
 #include <minksum/minksum.hpp>
 
-#include <array>
 #include <memory>
 #include <random>
 #include <tuple>
@@ -408,25 +407,6 @@ TEST(QueryHardCases, SpecksAndHugeBoxes) {
   }
 }
 
-// The least exact distance (GMP) between the faces of A and of B placed by `pose`, fanned.
-double exact_face_distance(const ConvexShape& A, const ConvexShape& B, const Eigen::Isometry3d& pose) {
-  const auto fans = [](const ConvexPolytope& p, const Eigen::Isometry3d& at) {
-    std::vector<std::array<Vector3d, 3>> t;
-    for (const Face& f : p.faces)
-      for (size_t k = 1; k + 1 < f.loop.size(); ++k)
-        t.push_back({at * p.vertices[size_t(f.loop[0])], at * p.vertices[size_t(f.loop[k])],
-                     at * p.vertices[size_t(f.loop[k + 1])]});
-    return t;
-  };
-  double exact = std::numeric_limits<double>::infinity();
-  for (const auto& s : fans(A.polytope(), Eigen::Isometry3d::Identity()))
-    for (const auto& t : fans(B.polytope(), pose)) {
-      const Vector3d x[3] = {s[0], s[1], s[2]}, y[3] = {t[0], t[1], t[2]};
-      exact = std::min(exact, test::exact_triangle_distance(x, y));
-    }
-  return exact;
-}
-
 // A sliver tetrahedron reaching 1e86 and a triangle 250 across, apart by 2.9e76 (2e-10 of the
 // coordinates) by the exact triangle distance over their faces (GMP): apart. Seen along the
 // sliver face's normal they lie within `touching` of one level, and the triangle's point lies
@@ -455,7 +435,9 @@ TEST(QueryHardCases, ASliverFaceDoesNotReachBeyondItsCorner) {
   ASSERT_EQ(shape_from_points(b, B), Status::Ok);
   ASSERT_EQ(shape_from_points(c, C), Status::Ok);
   for (const auto& [A, other, at] : {std::tuple{&S, &B, pose}, std::tuple{&C, &S, from}}) {
-    const double exact = exact_face_distance(*A, *other, at);
+    ConvexPolytope placed = other->polytope();  // (the faces' least exact distance: GMP)
+    for (Vector3d& v : placed.vertices) v = at * v;
+    const double exact = test::ties::exact_surface_gap(A->polytope(), placed);
     ASSERT_GT(exact, 1e76);
     for (Want want : {Want::Verdict, Want::Witnesses, Want::Patch}) {
       Proximity p;
