@@ -4,9 +4,12 @@
 #include <gtest/gtest.h>
 #include <minksum/minksum.hpp>
 
+#include <array>
+#include <cmath>
 #include <memory>
 #include <random>
 #include <tuple>
+#include <vector>
 
 #include "simd/box_pair_data.hpp"
 #include "checks.hpp"
@@ -446,6 +449,96 @@ TEST(QueryHardCases, ASliverFaceDoesNotReachBeyondItsCorner) {
       if (want != Want::Verdict) EXPECT_NEAR(p.distance, exact, 1e-12 * 1.4e86);
     }
   }
+}
+
+// The smallest overlap of two boxes over the 15 axes, as an oracle independent of the library's
+// separating axis test: each axis from the boxes' columns as given, the corners' projections
+// in binary128 (the cross of two doubles is exact there), divided by the axis's length at the
+// end, so a nearly parallel edge pair's axis is as accurate as a face's.
+double overlap_of_corners(const Box& a, const Box& b) {
+  using Q = __float128;
+  const auto corners = [](const Box& x, Q (&out)[8][3]) {
+    for (int k = 0; k < 8; ++k)
+      for (int d = 0; d < 3; ++d) {
+        out[k][d] = Q(x.center[d]);
+        for (int i = 0; i < 3; ++i) out[k][d] += Q((k >> i & 1) ? 1 : -1) * Q(x.half_extents[i]) * Q(x.rotation(d, i));
+      }
+  };
+  Q ca[8][3], cb[8][3];
+  corners(a, ca), corners(b, cb);
+  std::vector<std::array<Q, 3>> axes;
+  for (const Box* x : {&a, &b})
+    for (int i = 0; i < 3; ++i) axes.push_back({Q(x->rotation(0, i)), Q(x->rotation(1, i)), Q(x->rotation(2, i))});
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      const auto &u = axes[i], &v = axes[3 + j];
+      axes.push_back({u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]});
+    }
+  long double least = INFINITY;
+  for (const auto& n : axes) {
+    const Q len2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+    if (len2 == 0) continue;
+    Q lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+    for (int s = 0; s < 2; ++s)
+      for (const auto& c : s ? cb : ca) {
+        const Q t = n[0] * c[0] + n[1] * c[1] + n[2] * c[2];
+        lo[s] = t < lo[s] ? t : lo[s], hi[s] = t > hi[s] ? t : hi[s];
+      }
+    const Q overlap = hi[0] - lo[1] < hi[1] - lo[0] ? hi[0] - lo[1] : hi[1] - lo[0];
+    least = std::min(least, static_cast<long double>(overlap) / std::sqrt(static_cast<long double>(len2)));
+  }
+  return static_cast<double>(least);
+}
+
+// fuzz_query campaign, seed 20261208, 415,906 inputs: a slab (470 x 1.8 x 470) and a cube 470
+// on one centre, turned 1e-8 apart. Edge axes of nearly parallel edges (|L| = 4e-11) came from
+// the separating axis test's frame-relative formulas, which err by eps (|c| + sum h) / |L|: one
+// read 471.65596 where no axis is below 471.6562547, and the query answered that depth. Pairs
+// turned 1e-4 ... 1e-10.5 rad about nearly the slab's normal, against the corners' overlaps (binary128); the
+// single-pair query and the batched kernel of every ISA.
+TEST(QueryHardCases, NearlyParallelEdgesDoNotUndercutTheDepth) {
+  std::vector<std::pair<Box, Box>> pairs;
+  Box a, b;
+  a.center = b.center = Vector3d::Constant(469.828125);
+  a.half_extents = {469.828125, 1.828125, 469.828125}, b.half_extents = Vector3d::Constant(469.828125);
+  a.rotation << -0x1.5552d7f8c266cp-2, -0x1.56e8a55477e5dp-1, 0x1.53c0c6a7e94d9p-1, 0x1.53c0c6a7e94d9p-1,
+      0x1.5552d7f8c2668p-2, 0x1.56e8a55477e5dp-1, -0x1.56e8a55477e5dp-1, 0x1.53c0c6a7e94d9p-1, 0x1.5552d7f8c2668p-2;
+  b.rotation << -0x1.5552d7f933f59p-2, -0x1.56e8a51b77bap-1, 0x1.53c0c6e1547d9p-1, 0x1.53c0c6a7afff3p-1,
+      0x1.5552d86bd1d11p-2, 0x1.56e8a5380eddp-1, -0x1.56e8a554946b2p-1, 0x1.53c0c6c48b1dcp-1, 0x1.5552d7864f721p-2;
+  pairs.emplace_back(a, b);
+  std::mt19937_64 rng(20261208);
+  std::uniform_real_distribution<double> unit(-1, 1), size(0.5, 500);
+  for (int k = 0; k < 400; ++k) {
+    Box x = tools::random_box(rng, 1.0), y = x;
+    x.half_extents = {size(rng), k % 2 ? size(rng) : 1.828125, size(rng)};
+    y.half_extents = {size(rng), size(rng), size(rng)};
+    if (k % 4 >= 2) y.center += Vector3d(unit(rng), unit(rng), unit(rng));
+    // About nearly the slab's normal: the crosses of the nearly parallel edges lie near it, so
+    // their overlaps come within rounding of the smallest.
+    const double angle = std::pow(10.0, -4 - 6.5 * (k % 40) / 39.0);
+    const Vector3d axis = Vector3d::UnitY() + 1e-8 * Vector3d(unit(rng), unit(rng), unit(rng));
+    y.rotation = x.rotation * tools::axis_angle(axis, angle);
+    pairs.emplace_back(x, y);
+  }
+  const Isa best = active_isa();
+  for (Isa isa : {Isa::Scalar, Isa::Sse4_2, Isa::Avx2, Isa::Avx512}) {
+    if (!force_isa(isa)) continue;
+    for (size_t k = 0; k < pairs.size(); ++k) {
+      const auto& [x, y] = pairs[k];
+      const double want = overlap_of_corners(x, y), tol = 1e-11 * 2000;
+      ASSERT_GT(want, 0) << k;
+      Proximity p;
+      ASSERT_EQ(proximity(x, y, p), Status::Ok);
+      EXPECT_NEAR(p.penetration_depth, want, tol) << to_string(isa) << " pair " << k;
+      auto X = std::make_unique<BoxBatch<double, kLaneMultiple>>(), Y = std::make_unique<BoxBatch<double, kLaneMultiple>>();
+      auto out = std::make_unique<BoxBoxProximity<double, kLaneMultiple>>();
+      X->set_one(x), Y->set_one(y);
+      box_box_proximity(*X, *Y, *out);
+      EXPECT_NEAR(out->depth[0], want, tol) << to_string(isa) << " batched, pair " << k;
+      if (testing::Test::HasFailure()) break;
+    }
+  }
+  force_isa(best);
 }
 
 TEST(QueryHardCases, CoplanarTriangles) {

@@ -57,6 +57,7 @@ template <class T, class Arch>
 struct BoxPairSat : BoxPairMath<T, Arch> {
   using BoxPairMath<T, Arch>::dot3;
   using BoxPairMath<T, Arch>::cross;
+  using BoxPairMath<T, Arch>::cross_accurate;
 
   // The zonotope A (-) B of boxes a and b, computed from locals and stored once: reading back
   // what was just stored element by element with wider loads stalls (store forwarding fails).
@@ -77,6 +78,16 @@ struct BoxPairSat : BoxPairMath<T, Arch> {
       for (int j = 0; j < 3; ++j) p.C[i][j] = dot3(u[i], u[3 + j]);
   }
 
+  // An edge axis's separation d and |L|^2 from the accurate cross L = u_Ai x u_Bj and the
+  // axes as given, |L . c| - sum_k h_k |L . u_k|, where |L|^2 < kNearParallel2.
+  static void near_parallel_axis(const BoxPair<T>& p, int axis, T& d, T& len2) {
+    T x[3];
+    cross_accurate(p.u[(axis - 6) / 3], p.u[3 + (axis - 6) % 3], x);
+    T r = 0;
+    for (int k = 0; k < 6; ++k) r += p.h[k] * std::abs(dot3(x, p.u[k]));
+    d = std::abs(dot3(x, p.c)) - r, len2 = dot3(x, x);
+  }
+
   // The separating axis test over the 15 axes (SeparatingAxes): the axis with the largest
   // separation (negative: the smallest overlap). Edge crosses closer to parallel than
   // kSliverThreshold are skipped (see box_box_proximity).
@@ -95,8 +106,10 @@ struct BoxPairSat : BoxPairMath<T, Arch> {
           if (d > bd) bd = d, bkey = d * std::abs(d), w = axis;  // (bl is 1 until an edge wins)
         },
         [&](int axis, T d, T len2) {
+          if (!(len2 > sliver2)) return;
+          if (len2 < kNearParallel2<T>) near_parallel_axis(p, axis, d, len2);
           const T key = d * std::abs(d);
-          if (len2 > sliver2 && key * bl > bkey * len2) bd = d, bkey = key, bl = len2, w = axis;
+          if (key * bl > bkey * len2) bd = d, bkey = key, bl = len2, w = axis;
         });
     SatResult<T> out;
     T n[3];
@@ -106,7 +119,10 @@ struct BoxPairSat : BoxPairMath<T, Arch> {
     } else {
       const T* a = p.u[(w - 6) / 3];
       const T* b = p.u[3 + (w - 6) % 3];
-      n[0] = a[1] * b[2] - a[2] * b[1], n[1] = a[2] * b[0] - a[0] * b[2], n[2] = a[0] * b[1] - a[1] * b[0];
+      if (bl < kNearParallel2<T>)
+        cross_accurate(a, b, n);
+      else
+        n[0] = a[1] * b[2] - a[2] * b[1], n[1] = a[2] * b[0] - a[0] * b[2], n[2] = a[0] * b[1] - a[1] * b[0];
       out.free_mask = (1u << (w - 6) / 3) | (8u << (w - 6) % 3);
     }
     const T inv = T(1) / std::sqrt(bl);

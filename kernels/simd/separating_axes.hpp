@@ -2,7 +2,20 @@
 // (box_pair.hpp, one scalar value) and the lane kernels (box_proximity.hpp, one register).
 #pragma once
 
+#include <type_traits>
+
 namespace minksum::detail {
+
+/// Below this |u_Ai x u_Bj|^2 the single-pair query (BoxPairSat) measures an edge axis's
+/// separation again in the world frame, from the accurate cross product and the axes as given.
+/// visit forms it from C = U_A^T U_B, whose entries carry an ulp and whose identities assume
+/// exactly orthonormal axes: d / |L| errs by about eps (|c| + sum h) / |L|, 2.9e-4 of 471 at
+/// |L| = 4e-11 (a fuzz_query finding), and a nearly parallel edge pair undercut the smallest
+/// overlap. Under 1e-4 rad that error passes 1e-12 of the coordinates; such pairs are rare.
+/// (The batched kernels' fast path only picks its facet by visit and proves the facet's own
+/// accurate overlap, else takes all 15.)
+template <class T>
+constexpr T kNearParallel2 = std::is_same_v<T, float> ? T(1e-4) : T(1e-8);
 
 /// The separating axes of two boxes in A's frame (Gottschalk, Lin & Manocha, "OBBTree",
 /// SIGGRAPH 1996). S is the value's operations (Simd<T, X>: abs, fma); Arch tells the copies of
