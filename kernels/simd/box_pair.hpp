@@ -80,7 +80,7 @@ struct BoxPairSat : BoxPairMath<T, Arch> {
 
   // An edge axis's separation d and |L|^2 from the accurate cross L = u_Ai x u_Bj and the
   // axes as given, |L . c| - sum_k h_k |L . u_k|, where |L|^2 < kNearParallel2.
-  static void near_parallel_axis(const BoxPair<T>& p, int axis, T& d, T& len2) {
+  [[gnu::noinline]] static void near_parallel_axis(const BoxPair<T>& p, int axis, T& d, T& len2) {
     T x[3];
     cross_accurate(p.u[(axis - 6) / 3], p.u[3 + (axis - 6) % 3], x);
     T r = 0;
@@ -89,14 +89,13 @@ struct BoxPairSat : BoxPairMath<T, Arch> {
   }
 
   // The separating axis test over the 15 axes (SeparatingAxes): the axis with the largest
-  // separation (negative: the smallest overlap). Edge crosses closer to parallel than
-  // kSliverThreshold are skipped (see box_box_proximity).
+  // separation (negative: the smallest overlap), formed once at the end. Edge crosses closer
+  // to parallel than kSliverThreshold are skipped (see box_box_proximity).
   MINKSUM_SCALAR_CODE static SatResult<T> separating_axis(const BoxPair<T>& p) {
     // Axes are compared without a square root or a division per axis, by the signed square
     // d |d| / len2 of the separation d / sqrt(len2) (monotone in it), cross-multiplied: axis
-    // (d, len2) beats the best (bd, bl) iff d |d| bl > bd |bd| len2. The winner's separation is
-    // formed once at the end. Each is compared where it is computed: arrays of them read back
-    // as vectors stall on store forwarding.
+    // (d, len2) beats the best (bd, bl) iff d |d| bl > bd |bd| len2. Each is compared where it
+    // is computed: arrays of them read back as vectors stall on store forwarding.
     T bd = -std::numeric_limits<T>::infinity(), bkey = bd, bl = 1;
     int w = 0;
     const T sliver2 = kSliverThreshold<T> * kSliverThreshold<T>;
@@ -106,10 +105,10 @@ struct BoxPairSat : BoxPairMath<T, Arch> {
           if (d > bd) bd = d, bkey = d * std::abs(d), w = axis;  // (bl is 1 until an edge wins)
         },
         [&](int axis, T d, T len2) {
-          if (!(len2 > sliver2)) return;
-          if (len2 < kNearParallel2<T>) near_parallel_axis(p, axis, d, len2);
+          if ((len2 < kNearParallel2<T>) & (len2 > sliver2)) [[unlikely]]
+            near_parallel_axis(p, axis, d, len2);
           const T key = d * std::abs(d);
-          if (key * bl > bkey * len2) bd = d, bkey = key, bl = len2, w = axis;
+          if (len2 > sliver2 && key * bl > bkey * len2) bd = d, bkey = key, bl = len2, w = axis;
         });
     SatResult<T> out;
     T n[3];
