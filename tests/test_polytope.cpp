@@ -1,5 +1,7 @@
 // Building polytopes: from points (Qhull), explicit meshes, boxes and triangles; bad input.
 #include <gtest/gtest.h>
+
+#include <algorithm>
 #include <minksum/minksum.hpp>
 
 #include "support/shapes.hpp"
@@ -82,6 +84,22 @@ TEST(Polytope, CoplanarPointsGiveAFlatPolytopeWithTwoSides) {
   EXPECT_NEAR(std::abs(p.faces[0].normal.z()), 1.0, 1e-15);
   EXPECT_EQ(p.faces[0].normal, -p.faces[1].normal);
   EXPECT_EQ(p.edges.size(), 4u);
+  expect_valid(p);
+}
+
+// The Hypothesis campaign of caba389 (seed 1207004): two points 1.2e-7 apart, a third 1000
+// away and a fourth 1 off their line. Flat to kFlatTol (the second point 5.8e-11 of the
+// diagonal off the others' plane), and the planar hull dropped the far corner: its triangle
+// with the two near points has an area of 3e-19, under an area tolerance. "Collinear" for a
+// triangle 1000 long and 1 wide; it is a flat polygon with the far corners as vertices.
+TEST(Polytope, NearlyCoincidentPointsBesideFarCornersAreNotCollinear) {
+  const std::vector<Vector3d> pts = {{0, 0, 0}, {0, -0x1p-23, 0}, {0, -0x1p-24, 1000}, {1, 0, -193}};
+  ConvexPolytope p;
+  ASSERT_EQ(polytope_from_points(pts, p), Status::Ok);
+  EXPECT_TRUE(p.flat);
+  ASSERT_EQ(p.vertices.size(), 3u);
+  for (const int far : {2, 3})
+    EXPECT_NE(std::find(p.input_index.begin(), p.input_index.end(), far), p.input_index.end()) << far;
   expect_valid(p);
 }
 

@@ -37,14 +37,18 @@ std::vector<int> planar_hull(const std::vector<Eigen::Vector3d>& points, const s
   std::sort(q.begin(), q.end(), [](const auto& a, const auto& b) {
     return a.first.x() < b.first.x() || (a.first.x() == b.first.x() && a.first.y() < b.first.y());
   });
-  auto turn = [](const Vector2d& o, const Vector2d& a, const Vector2d& b) {
-    return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
+  q.erase(std::unique(q.begin(), q.end(), [](const auto& a, const auto& b) { return a.first == b.first; }), q.end());
+  // a is dropped between o and b where it lies within eps of their line (or beyond it): a
+  // distance, not an area, so that a far corner is kept beside two points nearly on top of
+  // each other (their small triangle with it dropped it: a 1000-long triangle called collinear).
+  auto flat = [eps](const Vector2d& o, const Vector2d& a, const Vector2d& b) {
+    return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x() <= eps * (b - o).norm();
   };
   std::vector<std::pair<Vector2d, int>> h;
   for (int pass = 0; pass < 2; ++pass) {  // lower chain, then upper chain
     const size_t start = h.size();
     for (const auto& p : q) {
-      while (h.size() >= start + 2 && turn(h[h.size() - 2].first, h.back().first, p.first) <= eps) h.pop_back();
+      while (h.size() >= start + 2 && flat(h[h.size() - 2].first, h.back().first, p.first)) h.pop_back();
       h.push_back(p);
     }
     h.pop_back();  // each chain's last point starts the other chain

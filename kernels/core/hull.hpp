@@ -17,8 +17,9 @@ struct HullFacet {
 bool qhull_facets(const std::vector<Eigen::Vector3d>& points, std::vector<HullFacet>& out);
 
 /// Corners of the convex hull of the points `ids` projected onto the plane of `normal`,
-/// counter-clockwise about it (Andrew's monotone chain). A point whose turn is <= eps (an area)
-/// is not a corner, so collinear and duplicate points are dropped.
+/// counter-clockwise about it (Andrew's monotone chain). A point within eps (a distance) of the
+/// line through its neighbours on the hull is not a corner, so collinear and duplicate points
+/// are dropped.
 std::vector<int> planar_hull(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids,
                              const Eigen::Vector3d& normal, double eps);
 

@@ -107,7 +107,7 @@ Status polytope_from_points(const std::vector<Vector3d>& points, ConvexPolytope&
   if (plane_dist(scaled[farthest(plane_dist)]) <= kFlatTol * D) {
     std::vector<int> all(scaled.size());
     for (int k = 0; k < int(scaled.size()); ++k) all[k] = k;
-    std::vector<int> loop = detail::planar_hull(scaled, all, n, kLineTol * D * D);
+    std::vector<int> loop = detail::planar_hull(scaled, all, n, kLineTol * D);
     if (loop.size() < 3) return Status::Collinear;
     // The polygon's own normal (its loop's exact Newell normal, rounded), not n: n leans on
     // the first point, which may lie off the polygon by the flatness tolerance (a 4e13-long

@@ -94,7 +94,7 @@ void sum_reference(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSu
         if (da[i] + db[j] >= ha + hb - push_tol) extreme.push_back(i * nb + j);
     }
     if (extreme.size() < 3) continue;
-    std::vector<int> corners = planar_hull(V, extreme, n, kLineTol * extent * extent);
+    std::vector<int> corners = planar_hull(V, extreme, n, kLineTol * extent);
     if (corners.size() < 3) continue;
     // Several candidates can find the same facet; keep the plane that fits its corners best.
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
