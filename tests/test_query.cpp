@@ -883,6 +883,17 @@ bool exact_overlap(const ConvexPolytope& a, const ConvexPolytope& b) {
   return test::ties::exact_surface_gap(a, b) == 0 || test::brute_force(a, b).overlap;
 }
 
+// A box's 8 corners, from its centre, axes and half extents (the oracles' own, not the library's).
+std::vector<Vector3d> corners(const Box& x) {
+  std::vector<Vector3d> c;
+  for (int q = 0; q < 8; ++q) {
+    Vector3d p = x.center;
+    for (int d = 0; d < 3; ++d) p += ((q >> d & 1) ? 1.0 : -1.0) * x.half_extents[d] * x.rotation.col(d);
+    c.push_back(p);
+  }
+  return c;
+}
+
 // The fused separating-axis kernels against the exact proximity of the general path, and the
 // bound against the brute-force separating-axis gap (a constant 0 passes the rest).
 template <class T>
@@ -926,15 +937,6 @@ void check_fused(Isa isa, unsigned seed) {
   for (int k = 0; k < N; ++k) {
     if (k % stride != 0 && !(k % 16 == 15 && (k / 16) % tie_stride == 0)) continue;
     ++checked;
-    auto corners = [](const Box& x) {
-      std::vector<Vector3d> c;
-      for (int q = 0; q < 8; ++q) {
-        Vector3d p = x.center;
-        for (int d = 0; d < 3; ++d) p += ((q >> d & 1) ? 1.0 : -1.0) * x.half_extents[d] * x.rotation.col(d);
-        c.push_back(p);
-      }
-      return c;
-    };
     ConvexPolytope pa, pb, pt;
     ASSERT_EQ(polytope_from_points(corners(as[k]), pa), Status::Ok);
     ASSERT_EQ(polytope_from_points(corners(bs[k]), pb), Status::Ok);
@@ -1003,15 +1005,6 @@ TEST_P(FusedSat, NearlyParallelEdgesKeepTheBoundBelowTheDistance) {
   }
   A->count = B->count = N;
   box_box_separation(*A, *B, *sep);
-  const auto corners = [](const Box& x) {
-    std::vector<Vector3d> c;
-    for (int q = 0; q < 8; ++q) {
-      Vector3d p = x.center;
-      for (int d = 0; d < 3; ++d) p += ((q >> d & 1) ? 1.0 : -1.0) * x.half_extents[d] * x.rotation.col(d);
-      c.push_back(p);
-    }
-    return c;
-  };
   for (int k = 0; k < N; k += N / test::scaled(N, 16)) {  // (a sample under the sanitizers)
     ConvexPolytope pa, pb;
     ASSERT_EQ(polytope_from_points(corners(as[size_t(k)]), pa), Status::Ok);

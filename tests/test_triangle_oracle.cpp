@@ -60,6 +60,14 @@ void check_pairs(int n, Make make, Tol tol, const char* what, int* meet = nullpt
   if (meet) *meet = zeros;
 }
 
+// Rounding: eps times the coordinates (L, the largest) times a small factor.
+double rounding(const Vector3d (&s)[3], const Vector3d (&t)[3]) {
+  double L = 0;
+  for (const auto* v : {&s, &t})
+    for (const auto& x : *v) L = std::max(L, x.cwiseAbs().maxCoeff());
+  return 1024 * std::numeric_limits<double>::epsilon() * L;
+}
+
 // Needles: two near corners w apart (w in [1, 100]) and a far one L = 10 to 1e9 times w away, the
 // other triangle a random one of size w within a few w of the near end (the pairs that fail
 // are there). Rounding: eps times the coordinates (L) times a small factor.
@@ -76,12 +84,7 @@ TEST(TriangleOracle, NeedlesEqualTheExactDistance) {
         for (auto& x : t) x = w * Vector3d(u(rng), u(rng), u(rng));
         if (k % 2) std::swap(s, t);  // the needle on either side
       },
-      [](const Vector3d(&s)[3], const Vector3d(&t)[3]) {
-        double L = 0;
-        for (const auto* v : {&s, &t})
-          for (const auto& x : *v) L = std::max(L, x.cwiseAbs().maxCoeff());
-        return 1024 * std::numeric_limits<double>::epsilon() * L;
-      },
+      rounding,
       "needle");
   // The fuzz finding itself: a needle 1.3e10 long against a face of a 40-cube, 24.7 apart
   // (the scalar and the batched paths said 0).
@@ -116,12 +119,7 @@ TEST(TriangleOracle, SliversEqualTheExactDistance) {
         for (auto& x : t) x = at + h * normal + w * Vector3d(u(rng), u(rng), u(rng));
         if (k % 2) std::swap(s, t);  // the sliver on either side
       },
-      [](const Vector3d(&s)[3], const Vector3d(&t)[3]) {
-        double L = 0;
-        for (const auto* v : {&s, &t})
-          for (const auto& x : *v) L = std::max(L, x.cwiseAbs().maxCoeff());
-        return 1024 * std::numeric_limits<double>::epsilon() * L;
-      },
+      rounding,
       "sliver");
   // The fuzz finding (fuzz_query, seed 1207002, 269,868 inputs): a triangle at the origin and a
   // sliver face of 2e-10 rad reaching 1.4e86, 2.52e76 apart; the scalar path said 1.15e76. Also
