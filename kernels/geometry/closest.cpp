@@ -82,20 +82,18 @@ void apex_first(Vector3d (&v)[3]) {
   std::rotate(v, v + k, v + 3);
 }
 
-// The normal (v1 - v0) x (v2 - v0) of triangle v, times shrink^2 (a power of two), to a few
-// ulps of its length however thin the triangle. In doubles the cross product of two nearly
-// parallel edges errs by eps |e1| |e2| against a length of |e1| |e2| sin t, and rounding an
-// edge turns it by eps as well: a sliver's normal turned by eps / sin t, which tilts its plane
-// by that much of its length. (A triangle corner 2.5e76 from a sliver of 2e-10 rad reaching
-// 1.4e86 read 1.1e76 from it: a fuzz_query finding.) Here each edge is exact as a two-term sum
-// (two_diff) and the leading minors are exact (minor2).
-Vector3d accurate_normal(const Vector3d (&v)[3], double shrink) {
+// The normal (v1 - v0) x (v2 - v0) of triangle v to a few ulps of its length, however thin the
+// triangle. In doubles the cross product of two nearly parallel edges errs by eps |e1| |e2|
+// against a length of |e1| |e2| sin t, and rounding an edge turns it by eps as well: a sliver's
+// normal turned by eps / sin t, which tilts its plane by that much of its length. (A triangle
+// corner 2.5e76 from a sliver of 2e-10 rad reaching 1.4e86 read 1.1e76 from it: a fuzz_query
+// finding.) Here each edge is exact as a two-term sum (two_diff) and the leading minors are
+// exact (minor2). It is the normal of v as given (the shifted corners the tests read: the exact
+// normal of the unshifted ones disagreed with them where the shift rounds).
+Vector3d accurate_normal(const Vector3d (&v)[3]) {
   using namespace detail::expansion;
   double h1[3], l1[3], h2[3], l2[3];
-  for (int d = 0; d < 3; ++d) {
-    two_diff(v[1][d], v[0][d], h1[d], l1[d]), two_diff(v[2][d], v[0][d], h2[d], l2[d]);
-    h1[d] *= shrink, l1[d] *= shrink, h2[d] *= shrink, l2[d] *= shrink;
-  }
+  for (int d = 0; d < 3; ++d) two_diff(v[1][d], v[0][d], h1[d], l1[d]), two_diff(v[2][d], v[0][d], h2[d], l2[d]);
   Vector3d n;
   for (int d = 0; d < 3; ++d) {
     const int i = (d + 1) % 3, j = (d + 2) % 3;
@@ -133,11 +131,17 @@ double triangle_distance(const Vector3d (&s_in)[3], const Vector3d (&t_in)[3], V
   for (const Vector3d* v : {&s_in[1], &s_in[2], &t_in[0], &t_in[1], &t_in[2]})
     size = std::max(size, (*v - o).cwiseAbs().maxCoeff());
   const double shrink = detail::scale_to_one(size);
-  Vector3d si[3] = {s_in[0], s_in[1], s_in[2]}, ti[3] = {t_in[0], t_in[1], t_in[2]};
-  apex_first(si), apex_first(ti);
-  Vector3d s[3], t[3];
-  for (int k = 0; k < 3; ++k) s[k] = shrink * (si[k] - o), t[k] = shrink * (ti[k] - o);
-  const Vector3d ns = accurate_normal(si, shrink), nt = accurate_normal(ti, shrink);
+  Vector3d s[3] = {Vector3d::Zero(), shrink * (s_in[1] - o), shrink * (s_in[2] - o)};
+  Vector3d t[3] = {shrink * (t_in[0] - o), shrink * (t_in[1] - o), shrink * (t_in[2] - o)};
+  apex_first(s), apex_first(t);
+  // A sliver's normal (sine under 1e-4, as the batched kernel routes here) from exact edges;
+  // any other's is within rounding already (and a repeated corner's, 0, stays 0: flat).
+  const auto normal = [](const Vector3d(&v)[3]) {
+    const Vector3d e1 = v[1] - v[0], e2 = v[2] - v[0], n = e1.cross(e2);
+    const double n2 = n.squaredNorm();
+    return n2 > 0 && n2 < 1e-8 * e1.squaredNorm() * e2.squaredNorm() ? accurate_normal(v) : n;
+  };
+  const Vector3d ns = normal(s), nt = normal(t);
   // Degenerate (zero-area) triangles have no face region; their edges cover them.
   const auto flat = [](const Vector3d& n, const Vector3d(&v)[3]) {
     const double scale =
