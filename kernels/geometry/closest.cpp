@@ -2,7 +2,6 @@
 // geometry stage: no shape, no sum, no kernel table below it.
 #include <minksum/kernels.hpp>
 
-#include "core/expansion.hpp"
 #include "core/scale.hpp"
 #include "geometry/closest.hpp"
 
@@ -82,28 +81,6 @@ void apex_first(Vector3d (&v)[3]) {
   std::rotate(v, v + k, v + 3);
 }
 
-// The normal (v1 - v0) x (v2 - v0) of triangle v to a few ulps of its length, however thin the
-// triangle. In doubles the cross product of two nearly parallel edges errs by eps |e1| |e2|
-// against a length of |e1| |e2| sin t, and rounding an edge turns it by eps as well: a sliver's
-// normal turned by eps / sin t, which tilts its plane by that much of its length. (A triangle
-// corner 2.5e76 from a sliver of 2e-10 rad reaching 1.4e86 read 1.1e76 from it: a fuzz_query
-// finding.) Here each edge is exact as a two-term sum (two_diff) and the leading minors are
-// exact (minor2). It is the normal of v as given (the shifted corners the tests read: the exact
-// normal of the unshifted ones disagreed with them where the shift rounds).
-Vector3d accurate_normal(const Vector3d (&v)[3]) {
-  using namespace detail::expansion;
-  double h1[3], l1[3], h2[3], l2[3];
-  for (int d = 0; d < 3; ++d) two_diff(v[1][d], v[0][d], h1[d], l1[d]), two_diff(v[2][d], v[0][d], h2[d], l2[d]);
-  Vector3d n;
-  for (int d = 0; d < 3; ++d) {
-    const int i = (d + 1) % 3, j = (d + 2) % 3;
-    double e[4];
-    minor2(h1[i], h2[j], h1[j], h2[i], e);  // h1_i h2_j - h1_j h2_i exactly (smallest term first)
-    n[d] = ((e[0] + e[1]) + e[2]) + e[3] + ((h1[i] * l2[j] + l1[i] * h2[j]) - (h1[j] * l2[i] + l1[j] * h2[i]));
-  }
-  return n;
-}
-
 // Which edges and corners of triangle v to test: all, unless corners repeat (a segment as
 // (p, q, q), a point as (p, p, p): the mesh queries' point and segment cores), where an edge of
 // length 0 or one already listed, and a corner already listed, would only repeat a test.
@@ -134,14 +111,7 @@ double triangle_distance(const Vector3d (&s_in)[3], const Vector3d (&t_in)[3], V
   Vector3d s[3] = {Vector3d::Zero(), shrink * (s_in[1] - o), shrink * (s_in[2] - o)};
   Vector3d t[3] = {shrink * (t_in[0] - o), shrink * (t_in[1] - o), shrink * (t_in[2] - o)};
   apex_first(s), apex_first(t);
-  // A sliver's normal (sine under 1e-4, as the batched kernel routes here) from exact edges;
-  // any other's is within rounding already (and a repeated corner's, 0, stays 0: flat).
-  const auto normal = [](const Vector3d(&v)[3]) {
-    const Vector3d e1 = v[1] - v[0], e2 = v[2] - v[0], n = e1.cross(e2);
-    const double n2 = n.squaredNorm();
-    return n2 > 0 && n2 < 1e-8 * e1.squaredNorm() * e2.squaredNorm() ? accurate_normal(v) : n;
-  };
-  const Vector3d ns = normal(s), nt = normal(t);
+  const Vector3d ns = (s[1] - s[0]).cross(s[2] - s[0]), nt = (t[1] - t[0]).cross(t[2] - t[0]);
   // Degenerate (zero-area) triangles have no face region; their edges cover them.
   const auto flat = [](const Vector3d& n, const Vector3d(&v)[3]) {
     const double scale =
