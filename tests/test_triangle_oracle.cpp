@@ -16,11 +16,22 @@ namespace {
 
 using Eigen::Vector3d;
 
-// Whether x lies on triangle t within `slack`: its exact distance to t (the point as a
-// degenerate triangle; a sliver's normal in doubles is too rounded to judge it).
+// Whether x lies on triangle t within `slack`: within it of t's plane and inside each edge's
+// line (a degenerate triangle: within it of one of its edges' segments).
 bool on_triangle(const Vector3d& x, const Vector3d (&t)[3], double slack) {
-  const Vector3d point[3] = {x, x, x};
-  return test::exact_triangle_distance(point, t) <= slack;
+  const Vector3d n = (t[1] - t[0]).cross(t[2] - t[0]);
+  const auto near_segment = [&](const Vector3d& a, const Vector3d& b) {
+    const double l = (b - a).squaredNorm(), u = l > 0 ? std::clamp((x - a).dot(b - a) / l, 0.0, 1.0) : 0.0;
+    return (a + u * (b - a) - x).norm() <= slack;
+  };
+  if (near_segment(t[0], t[1]) || near_segment(t[1], t[2]) || near_segment(t[2], t[0])) return true;
+  const double area = n.norm();
+  if (!(area > 0)) return false;
+  if (std::abs(n.dot(x - t[0])) / area > slack) return false;
+  for (int e = 0; e < 3; ++e)
+    if ((t[(e + 1) % 3] - t[e]).cross(x - t[e]).dot(n) / (area * (t[(e + 1) % 3] - t[e]).norm()) < -slack)
+      return false;  // (the signed distance from the edge's line, inward positive)
+  return true;
 }
 
 // The scalar path and the batched kernel (16 pairs a call) on n pairs; each distance is
@@ -60,14 +71,6 @@ void check_pairs(int n, Make make, Tol tol, const char* what, int* meet = nullpt
   if (meet) *meet = zeros;
 }
 
-// Rounding: eps times the coordinates (L, the largest) times a small factor.
-double rounding(const Vector3d (&s)[3], const Vector3d (&t)[3]) {
-  double L = 0;
-  for (const auto* v : {&s, &t})
-    for (const auto& x : *v) L = std::max(L, x.cwiseAbs().maxCoeff());
-  return 1024 * std::numeric_limits<double>::epsilon() * L;
-}
-
 // Needles: two near corners w apart (w in [1, 100]) and a far one L = 10 to 1e9 times w away, the
 // other triangle a random one of size w within a few w of the near end (the pairs that fail
 // are there). Rounding: eps times the coordinates (L) times a small factor.
@@ -84,7 +87,12 @@ TEST(TriangleOracle, NeedlesEqualTheExactDistance) {
         for (auto& x : t) x = w * Vector3d(u(rng), u(rng), u(rng));
         if (k % 2) std::swap(s, t);  // the needle on either side
       },
-      rounding,
+      [](const Vector3d(&s)[3], const Vector3d(&t)[3]) {
+        double L = 0;
+        for (const auto* v : {&s, &t})
+          for (const auto& x : *v) L = std::max(L, x.cwiseAbs().maxCoeff());
+        return 1024 * std::numeric_limits<double>::epsilon() * L;
+      },
       "needle");
   // The fuzz finding itself: a needle 1.3e10 long against a face of a 40-cube, 24.7 apart
   // (the scalar and the batched paths said 0).

@@ -25,25 +25,13 @@ struct BoxSeparation : Lanes<T, Arch> {
     }
   };
 
-  // Where `near`, an edge axis's separation d and |L|^2 from the accurate cross L = u x v and
-  // the axes as given: |L . c| - sum_k h_k |L . u_k|.
-  [[gnu::noinline]] static void near_parallel_axis(const V3& u, const V3& v, const V3 (&ua)[3], const V3 (&ub)[3],
-                                                   const B (&ha)[3], const B (&hb)[3], const V3& c,
-                                                   const decltype(B(T(0)) < B(T(0)))& near, B& d, B& len2) {
-    const V3 x = cross_accurate(u, v);
-    B r = ha[0] * S::abs(dot(x, ua[0]));
-    for (int q = 1; q < 3; ++q) r = r + ha[q] * S::abs(dot(x, ua[q]));
-    for (int q = 0; q < 3; ++q) r = r + hb[q] * S::abs(dot(x, ub[q]));
-    d = S::select(near, S::abs(dot(x, c)) - r, d), len2 = S::select(near, dot(x, x), len2);
-  }
-
   // The separating axis test (SeparatingAxes) fused into one pass, no planes written: is the
   // origin inside A (-) B, and a lower bound of the distance (the largest separation over the
   // 15 axes), for octree traversal and broad phases. Edge crosses closer to parallel than
   // kParallelThreshold are skipped.
   static void box_box_separation(BoxLanes<T> a, BoxLanes<T> b, int count, int N, T* bound, CodeOf<T>* hit) {
     const B zero(T(0)), one(T(1));
-    const B parallel2(kParallelThreshold<T> * kParallelThreshold<T>), near2(kNearParallel2<T>);
+    const B parallel2(kParallelThreshold<T> * kParallelThreshold<T>);
     for (int k = 0; k < count; k += S::size) {
       V3 ua[3], ub[3];
       B ha[3], hb[3];
@@ -51,18 +39,13 @@ struct BoxSeparation : Lanes<T, Arch> {
         ua[i] = load3(a.u + 3 * i * N, N, k), ub[i] = load3(b.u + 3 * i * N, N, k);
         ha[i] = S::load(a.h + i * N + k), hb[i] = S::load(b.h + i * N + k);
       }
-      const V3 ca = load3(a.c, N, k), cb = load3(b.c, N, k), c{ca.x - cb.x, ca.y - cb.y, ca.z - cb.z};
-      const InAFrame f(ua, ub, c);
+      const V3 ca = load3(a.c, N, k), cb = load3(b.c, N, k);
+      const InAFrame f(ua, ub, V3{ca.x - cb.x, ca.y - cb.y, ca.z - cb.z});
       B sep(-std::numeric_limits<T>::infinity());
       Axes::visit(
           f.C, f.cA, f.cB, ha, hb, [&](int, const B& d) { sep = S::max(sep, d); },
-          [&](int p, B d, B len2) {
-            const auto valid = len2 > parallel2, near = valid && (len2 < near2);
-            // Nearly parallel edges: A's-frame formulas err by eps (|c| + sum h) / |L| there
-            // (kNearParallel2), which would lift the bound above the distance (3e-8 of the
-            // coordinates at |L| = 1e-8); measured again in the world frame.
-            if (S::any(near)) [[unlikely]]
-              near_parallel_axis(ua[(p - 6) / 3], ub[(p - 6) % 3], ua, ub, ha, hb, c, near, d, len2);
+          [&](int, const B& d, const B& len2) {
+            const auto valid = len2 > parallel2;
             sep = S::max(sep, S::select(valid, d * S::rsqrt(S::select(valid, len2, one)), sep));
           });
       S::store(bound + k, S::max(sep, zero));

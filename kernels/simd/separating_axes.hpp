@@ -6,15 +6,15 @@
 
 namespace minksum::detail {
 
-/// Below this |u_Ai x u_Bj|^2 the single-pair query (BoxPairSat) and the fused bound
-/// (box_box_separation) measure an edge axis's separation again in the world frame, from the
-/// accurate cross product and the axes as given. visit forms it from C = U_A^T U_B, whose
-/// entries carry an ulp and whose identities assume exactly orthonormal axes: d / |L| errs by
-/// about eps (|c| + sum h) / |L|. At |L| = 4e-11 a nearly parallel edge pair undercut the
-/// smallest overlap by 2.9e-4 of 471 (a fuzz_query finding); at 1e-8 the fused bound passed
-/// the distance by 3e-8 of the coordinates. Under 1e-4 rad that error passes 1e-12 of the
-/// coordinates; such pairs are rare. (The batched proximity's fast path only picks its facet
-/// by visit and proves the facet's own accurate overlap, else takes all 15.)
+/// Below this |u_Ai x u_Bj|^2 the single-pair query (BoxPairSat) measures an edge axis's
+/// separation again in the world frame, from the accurate cross product and the axes as given.
+/// visit forms it from C = U_A^T U_B, whose entries carry an ulp and whose identities assume
+/// exactly orthonormal axes: d / |L| errs by about eps (|c| + sum h) / |L|. At |L| = 4e-11 a
+/// nearly parallel edge pair undercut the smallest overlap by 2.9e-4 of 471 (a fuzz_query
+/// finding). Under 1e-4 rad that error passes 1e-12 of the coordinates; such pairs are rare.
+/// (The batched proximity's fast path only picks its facet by visit and proves the facet's own
+/// accurate overlap, else takes all 15. The fused bound, box_box_separation, does not measure
+/// again: at |L| = 1e-8 it can pass the distance by 3e-8 of the coordinates, an open issue.)
 template <class T>
 constexpr T kNearParallel2 = std::is_same_v<T, float> ? T(1e-4) : T(1e-8);
 
