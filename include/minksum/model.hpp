@@ -17,7 +17,7 @@ enum class Status {
   NotConvex,         ///< an explicit mesh is not convex (or a face is not planar)
   InvalidBox,        ///< a box half extent is <= 0 or its rotation is not a rotation
   DegenerateResult,  ///< the sum is not a solid (two coplanar flat operands without a radius)
-  HullFailed,        ///< Qhull reported an error on input that passed validation
+  HullFailed,        ///< the convex hull could not be built from input that passed validation
   OutOfRange,        ///< a coordinate's magnitude exceeds kMaxCoordinate, or a shape is under kMinExtent across
   InvalidPose,       ///< a pose that is not a finite rigid motion (scale, shear, reflection, NaN)
   InvalidArgument,   ///< a number outside its documented range (a negative or NaN margin)
@@ -77,7 +77,7 @@ struct ConvexPolytope {
   bool flat = false;                      ///< true for a polygon (two faces, zero volume)
 };
 
-/// Convex hull of a point set (Qhull, coplanar facets merged). Duplicates are dropped;
+/// The exact convex hull of a point set (exactly coplanar facets merged). Duplicates are dropped;
 /// coplanar points give a flat polytope; < 3 distinct or collinear points are rejected.
 Status polytope_from_points(const std::vector<Eigen::Vector3d>& points, ConvexPolytope& out);
 

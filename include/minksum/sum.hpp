@@ -12,7 +12,7 @@ namespace minksum {
 enum class Method {
   Fast,       ///< separable supports + Gauss-map arc test with exact predicates (default)
   Reference,  ///< the paper as written: push candidate planes over all pairwise sums
-  Hull,       ///< the convex hull method: Qhull on all pairwise sums (the paper's comparator)
+  Hull,       ///< the convex hull method: the exact hull of all pairwise sums (the paper's comparator)
   Kernel,     ///< the box-box kernel (minkowski_sum of two boxes reports it); as a request: Fast
 };
 

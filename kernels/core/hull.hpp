@@ -1,4 +1,5 @@
-// Convex hull of a 3D point set through Qhull, with coplanar facets merged (internal).
+// Convex hulls of point sets (internal): the exact hull in 3D (quickhull on exact orientations,
+// coplanar facets merged), and the planar hull the flat polytopes use.
 #pragma once
 
 #include <Eigen/Core>
@@ -7,14 +8,31 @@
 
 namespace minksum::detail {
 
-/// One merged hull facet: outward unit normal and point indices counter-clockwise from outside.
-struct HullFacet {
-  Eigen::Vector3d normal;
-  std::vector<int> loop;
+/// A hull's merged facets, flat: facet f has the outward unit normal normal[f] and the loop
+/// index[start[f]] ... index[start[f + 1] - 1], point indices counter-clockwise from outside.
+struct HullFacets {
+  std::vector<Eigen::Vector3d> normal;
+  std::vector<int> start, index;
+  /// The number of facets.
+  int count() const { return int(normal.size()); }
 };
 
-/// Hull of `points` (not all coplanar). Returns false when Qhull reports an error.
-bool qhull_facets(const std::vector<Eigen::Vector3d>& points, std::vector<HullFacet>& out);
+/// The sign of det[b - a; c - a; d - a], exactly: +1 where d lies on the side that
+/// (b - a) x (c - a) points to, 0 where the four points are exactly coplanar (Shewchuk's filter,
+/// then expansions; exact where every coordinate is 0 or within [2^-240, 1] in magnitude).
+int orient3d(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c, const Eigen::Vector3d& d);
+
+/// The exact convex hull of `points` (duplicates allowed): its facets, triangles merged where
+/// exactly coplanar, each loop the facet's corners (extreme points only: no point inside an edge
+/// or a facet) counter-clockwise from outside, with the loop's exact Newell normal, normalized.
+/// Exact for the doubles given, but that components below 2^-240 (1e-72) of the largest one
+/// read as zero. False where the points span no volume, are fewer than 4 or are not finite.
+bool convex_hull(const std::vector<Eigen::Vector3d>& points, HullFacets& out);
+
+/// The exact convex hull of the pairwise sums a[i] + b[j] (point i * |b| + j), as convex_hull
+/// gives it: exact for the sums themselves, not for their rounding to doubles.
+bool convex_hull_of_sums(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
+                         HullFacets& out);
 
 /// Corners of the convex hull of the points `ids` projected onto the plane of `normal`,
 /// counter-clockwise about it (Andrew's monotone chain). A point within eps (a distance) of the
@@ -22,8 +40,5 @@ bool qhull_facets(const std::vector<Eigen::Vector3d>& points, std::vector<HullFa
 /// are dropped.
 std::vector<int> planar_hull(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids,
                              const Eigen::Vector3d& normal, double eps);
-
-/// Orders the points `ids` of a planar convex polygon counter-clockwise around `normal`.
-void order_ccw(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& normal, std::vector<int>& ids);
 
 }  // namespace minksum::detail

@@ -34,7 +34,7 @@ const char* to_string(Status s) {
     case Status::DegenerateResult:
       return "the sum is not a solid (two coplanar flat polytopes without a radius)";
     case Status::HullFailed:
-      return "the convex hull (Qhull) failed";
+      return "the convex hull failed";
     case Status::InvalidPose:
       return "the pose is not a rigid motion (a proper rotation, every entry of R^T R - I within 1e-9, and a finite translation within 1e100)";
     case Status::InvalidArgument:

@@ -89,7 +89,7 @@ void register_shapes(py::module_& m) {
                           "swept by a ball of `radius`. Built and checked once; every query places it by a pose.\n"
                           "Copies share the same read-only data.")
       .def_static("from_points", &from_points, py::arg("points"),
-                  "The convex hull of an (n, 3) point array (Qhull; duplicates dropped, coplanar points give a flat shape).")
+                  "The convex hull of an (n, 3) point array (exact; duplicates dropped, coplanar points give a flat shape).")
       .def_static("from_mesh", &from_mesh, py::arg("vertices"), py::arg("faces"),
                   "A shape from an explicit convex mesh: vertices (n, 3) and faces as vertex loops (any orientation),\n"
                   "checked closed, planar and convex.")

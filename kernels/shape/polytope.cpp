@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
 
 #include "core/hull.hpp"
 #include "core/manifold.hpp"
@@ -68,7 +67,7 @@ Status make_flat(const std::vector<Vector3d>& pts, const std::vector<int>& loop_
 Status polytope_from_points(const std::vector<Vector3d>& points, ConvexPolytope& out) {
   out = ConvexPolytope{};
   if (const Status s = check_coordinates(points); s != Status::Ok) return s;
-  // Exact duplicates are dropped, keeping the first index (Qhull would keep an arbitrary one).
+  // Exact duplicates are dropped, keeping the first index.
   std::vector<int> order(points.size());
   for (int k = 0; k < int(points.size()); ++k) order[k] = k;
   auto lex = [&](int a, int b) {
@@ -85,8 +84,8 @@ Status polytope_from_points(const std::vector<Vector3d>& points, ConvexPolytope&
   for (int id : unique_ids) pts.push_back(points[id]);
   const double extent = diagonal(pts);
   if (!(extent >= kMinExtent)) return Status::OutOfRange;  // (1e-200 across: every cross product is 0)
-  // The shape tests and Qhull see the points scaled by a power of two to about 1 across (exact):
-  // Qhull's determinants overflow from coordinates of about 1e77, where 1e100 is accepted.
+  // The shape tests see the points scaled by a power of two to about 1 across (exact), so that
+  // their tolerances are relative.
   const double unit = detail::scale_to_one(extent), D = unit * extent;
   std::vector<Vector3d> scaled;
   for (const Vector3d& p : pts) scaled.push_back(unit * p);
@@ -118,25 +117,26 @@ Status polytope_from_points(const std::vector<Vector3d>& points, ConvexPolytope&
     return make_flat(points, loop, normal, out);
   }
 
-  std::vector<detail::HullFacet> facets;
-  if (!detail::qhull_facets(scaled, facets)) return Status::HullFailed;
-  std::map<int, int> remap;  // index into pts -> vertex index, in input order
-  for (const auto& f : facets)
-    for (int id : f.loop) remap.emplace(id, 0);
-  for (auto& [id, v] : remap) {
-    v = int(out.vertices.size());
-    out.vertices.push_back(pts[id]);
-    out.input_index.push_back(unique_ids[id]);
-  }
-  for (const auto& f : facets) {
-    Face face{{}, f.normal, 0.0};
-    for (int id : f.loop) face.loop.push_back(remap[id]);
-    // Qhull's normal depends on which points built the facet; the exact Newell normal depends
-    // on the face alone, so faces that are exactly parallel stay exactly parallel.
-    const Vector3d newell = detail::exact_newell(out.vertices, face.loop);
-    if (newell.norm() > 0) face.normal = newell.normalized();
-    face.offset = -std::numeric_limits<double>::infinity();
-    for (int v : face.loop) face.offset = std::max(face.offset, f.normal.dot(out.vertices[v]));
+  detail::HullFacets hull;
+  if (!detail::convex_hull(scaled, hull)) return Status::HullFailed;
+  std::vector<int> remap(pts.size(), -1);  // index into pts -> vertex index, in input order
+  for (int id : hull.index) remap[size_t(id)] = 0;
+  for (size_t id = 0; id < pts.size(); ++id)
+    if (remap[id] == 0) {
+      remap[id] = int(out.vertices.size());
+      out.vertices.push_back(pts[id]);
+      out.input_index.push_back(unique_ids[id]);
+    }
+  for (int f = 0; f < hull.count(); ++f) {
+    // (The exact Newell normal: it depends on the face alone, so exactly parallel faces stay
+    // exactly parallel.)
+    const Vector3d& n = hull.normal[size_t(f)];
+    Face face{{}, n, -std::numeric_limits<double>::infinity()};
+    for (int k = hull.start[size_t(f)]; k < hull.start[size_t(f) + 1]; ++k) {
+      const int id = hull.index[size_t(k)];
+      face.loop.push_back(remap[size_t(id)]);
+      face.offset = std::max(face.offset, n.dot(pts[size_t(id)]));
+    }
     out.faces.push_back(std::move(face));
   }
   return edges_from_loops(out) ? Status::Ok : Status::HullFailed;

@@ -252,12 +252,21 @@ Status check_map(ShapeData& s) {
   const MapLayout& m = s.map[0];
   const auto g = [&s](int f) { return s.gauss[f]; };
   s.pole_slack = 0;
+  double local[3][3 * kMaxGaussTerms];
   for (int e = 0; e < s.arcs; ++e) {
-    const Vector3d c = g(m.arc[e].L).cross(g(m.arc[e].R));
+    const int L = m.arc[e].L, R = m.arc[e].R;
+    const Vector3d c = g(L).cross(g(R));
+    // A short arc (faces that nearly coincide: the exact hull of rounded points keeps them
+    // apart) has a rounded pole that is noise: its sign comes from the exact normals, and its
+    // angle to the edge is that rounding (pole_error), not a tolerance of the faces.
+    if (pole_error_bound(g(L), g(R), c) > 1e-8) {
+      if (orient_exact(exact_vector(s.dir[e]), s.exact_normal(L, local[0]), s.exact_normal(R, local[1])) <= 0)
+        return Status::InvalidMesh;
+      continue;
+    }
     if (!(s.dir[e].dot(c) > 0)) return Status::InvalidMesh;
     s.pole_slack = std::max(s.pole_slack, s.dir[e].normalized().cross(c.normalized()).norm());
   }
-  double local[3][3 * kMaxGaussTerms];
   for (int c = 0; c < s.cells; ++c) {
     const int begin = m.cell_start[c], n = m.cell_start[c + 1] - begin;
     for (int k = 0; k < n; ++k) {

@@ -117,8 +117,8 @@ struct ShapeData {
   std::vector<double> ex, ey, ez;  // per arc: its edge p_v - p_u (a prism's zero-length ones: 0)
   double size = 0;                 // largest |coordinate|: the scale of the rounding
   /// The largest sine of the angle between an edge and its arc's pole: rounding (about
-  /// 1e-16 / |G_L x G_R|), or faces planar only to a tolerance (Qhull's merged facets, a
-  /// flat polygon's points within 1e-10 of its plane).
+  /// 1e-16 / |G_L x G_R|), or faces planar only to a tolerance (a flat polygon's points within
+  /// 1e-10 of its plane, a polytope from a mesh).
   double pole_slack = 0;
   /// A bound on what a normal placed on the wrong side of an arc can cost a sum's support
   /// value: per arc, pole_error_bound (large on a sliver whose adjacent faces nearly coincide or

@@ -5,6 +5,7 @@
 
 #include "core/hull.hpp"
 #include "core/manifold.hpp"
+#include "core/scale.hpp"
 
 #include <algorithm>
 #include <limits>
@@ -57,7 +58,7 @@ void assemble(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, st
   });
   for (size_t f = 0; f < facets.size(); ++f) {
     const auto& first = facets[f].loop[0];
-    SumPlane plane{facets[f].normal.normalized(), -std::numeric_limits<double>::infinity(), first.first, first.second};
+    SumPlane plane{unit_vector(facets[f].normal), -std::numeric_limits<double>::infinity(), first.first, first.second};
     // The offset is the largest over the facet's vertices, so no vertex is ever cut off.
     for (int k = out.loop_start[f]; k < out.loop_start[f + 1]; ++k)
       plane.offset = std::max(plane.offset, plane.normal.dot(out.vertices[size_t(out.loop_vertex[size_t(k)])].point));
@@ -71,21 +72,23 @@ void assemble(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, st
 
 Status hull_corrector(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, MinkowskiSum& out) {
   const int nb = int(b.size());
-  std::vector<Vector3d> sums;
-  for (const auto& va : a)
-    for (const auto& vb : b) sums.push_back(va + vb);
-  std::vector<HullFacet> hull;
-  if (!qhull_facets(sums, hull)) return Status::HullFailed;
+  HullFacets hull;
+  if (!convex_hull_of_sums(a, b, hull)) {  // (an empty result, its buffers kept for the next call)
+    out.planes.clear(), out.loop_start.clear(), out.loop_vertex.clear(), out.vertices.clear();
+    out.V = out.E = out.F = 0, out.euler_ok = false, out.radius = 0;
+    return Status::HullFailed;
+  }
   std::vector<FacetLoop> facets;
-  for (const auto& h : hull) {
-    FacetLoop f{h.normal, {}};
-    for (int k : h.loop) f.loop.emplace_back(k / nb, k % nb);
+  for (int h = 0; h < hull.count(); ++h) {
+    FacetLoop f{hull.normal[size_t(h)], {}};
+    for (int k = hull.start[size_t(h)]; k < hull.start[size_t(h) + 1]; ++k)
+      f.loop.emplace_back(hull.index[size_t(k)] / nb, hull.index[size_t(k)] % nb);
     facets.push_back(std::move(f));
   }
   assemble(a, b, facets, out);
   out.corrected = true;
-  // Qhull's facets of a badly scaled input (1e11 next to 1e-304) can fail to close
-  // into a manifold: a clear error rather than an inconsistent "Ok".
+  // (The exact hull always closes; the check guards the assembly all the same: a clear error
+  // rather than an inconsistent "Ok".)
   return out.euler_ok ? Status::Ok : Status::HullFailed;
 }
 

@@ -264,7 +264,7 @@ void low_sum(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const Convex
 }
 
 // The sum of a segment core and another core (not a point): the hull of the pairwise sums of
-// their vertices (Qhull, with index tracking: the segment's two ends against every vertex),
+// their vertices (the exact hull, core/hull.hpp, with index tracking: the segment's two ends against every vertex),
 // whole; the overlay reads Gauss maps, which a segment has not.
 Status segment_sum(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const ConvexShape& b,
                    const Eigen::Isometry3d& pose_b, bool difference, MinkowskiSum& out) {

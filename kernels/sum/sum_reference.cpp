@@ -12,6 +12,7 @@
 #include <map>
 
 #include "core/hull.hpp"
+#include "core/scale.hpp"
 #include "sum/sum_internal.hpp"
 
 namespace minksum::detail {
@@ -54,9 +55,10 @@ void sum_reference(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSu
   const auto ea = edge_directions(a), eb = edge_directions(b);
   for (const auto& da : ea)
     for (const auto& db : eb) {
-      const Vector3d c = da.cross(db);
+      // (Unit edges first: a cross product of edges at 1e100 would overflow its norm.)
+      const Vector3d c = unit_vector(da).cross(unit_vector(db));
       // Parallel edges sweep no facet; their cross product is noise, not a direction.
-      if (c.norm() <= 1e-12 * da.norm() * db.norm()) continue;
+      if (c.norm() <= 1e-12) continue;
       normals.push_back(c.normalized());
       normals.push_back(-c.normalized());
     }
