@@ -91,7 +91,7 @@ const std::vector<Case>& cases(const std::string& set) {
   if (set == "rounded") {  // (no kernel rows: the boxes here are polytopes of rounded corners)
     for (const auto& pair : tools::rounded_pairs()) out.push_back(make_case(pair.a, pair.b));
   } else if (set == "generic") {
-    for (const auto& pair : tools::exact_table1_pairs())
+    for (const auto& pair : tools::table1_pairs())
       out.push_back(pair.name == "cube_rotcube" ? box_case(box({1, 1, 1}), box({1, 1, 1}, R))
                                                 : make_case(pair.a, pair.b));
     std::mt19937_64 rng(5);
@@ -234,7 +234,7 @@ const int kRegistered = [] {
     const std::string base = "SpeedError/" + set + "/";
     benchmark::RegisterBenchmark((base + "osm_reference/double/scalar").c_str(), Osm, set, Method::Reference,
                                  Isa::Scalar);
-    benchmark::RegisterBenchmark((base + "qhull/double/scalar").c_str(), Osm, set, Method::Hull, Isa::Scalar);
+    benchmark::RegisterBenchmark((base + "osm_hull/double/scalar").c_str(), Osm, set, Method::Hull, Isa::Scalar);
     benchmark::RegisterBenchmark((base + "cgal_quickhull/double/scalar").c_str(), CgalQuickhull, set);
     for (Isa isa : {Isa::Scalar, Isa::Sse4_2, Isa::Avx2, Isa::Avx512}) {
       if (!isa_supported(isa)) continue;
@@ -246,7 +246,7 @@ const int kRegistered = [] {
   }
   for (int k = 1; k <= 15; ++k)
     for (auto [name, method] : {std::pair{"osm_fast", Method::Fast}, std::pair{"osm_reference", Method::Reference},
-                                std::pair{"qhull", Method::Hull}})
+                                std::pair{"osm_hull", Method::Hull}})
       benchmark::RegisterBenchmark(("NearParallel/" + std::to_string(k) + "/" + name).c_str(), NearParallel, k, method)
           ->Unit(benchmark::kMicrosecond);
   return 0;

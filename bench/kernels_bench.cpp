@@ -10,7 +10,7 @@
 #include <memory>
 #include <random>
 
-#include "core/hull.hpp"
+#include "support/qhull_peer.hpp"
 #include "isa_rows.hpp"
 #include "support/shapes.hpp"
 
@@ -84,12 +84,12 @@ void BoxBoxQhull(benchmark::State& state) {
   polytope_from_box(a, pa);
   polytope_from_box(b, pb);
   std::vector<Vector3d> sums;
-  std::vector<detail::HullFacet> facets;
+  std::vector<peers::QhullFacet> facets;
   for (auto _ : state) {
     sums.clear();
     for (const auto& p : pa.vertices)
       for (const auto& q : pb.vertices) sums.push_back(p - q);
-    detail::qhull_facets(sums, facets);
+    peers::qhull_facets(sums, facets);
     benchmark::DoNotOptimize(facets.data());
   }
   state.SetItemsProcessed(state.iterations());

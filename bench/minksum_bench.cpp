@@ -44,7 +44,7 @@
 
 #include "support/bullet_peer.hpp"
 #include "support/cgal_peer.hpp"
-#include "core/hull.hpp"
+#include "support/qhull_peer.hpp"
 #include "isa_rows.hpp"
 #include "support/shapes.hpp"
 
@@ -104,8 +104,7 @@ void run_prepared(benchmark::State& state, const PreparedShapes& p, SumParts par
 
 void Table1Prepared(benchmark::State& state, int row, SumParts parts) {
   const auto pair = tools::table1_pairs()[row];
-  const Eigen::Matrix3d R = tools::table1_rotation();
-  run_prepared(state, prepare_shapes(pair.a, tools::rotated(pair.b, R.transpose()), R), parts);
+  run_prepared(state, prepare_shapes(pair.a, pair.b_body, pair.rotation), parts);
 }
 
 void Table1Osm(benchmark::State& state, int row, Method method) {
@@ -158,7 +157,7 @@ void pairwise_sums(const std::vector<Eigen::Vector3d>& a, const std::vector<Eige
 // A hull peer on the pairwise sums (qhull: merged facets with ordered loops; bullet_hull).
 void HullPeer(benchmark::State& state, const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
               double s, bool bullet) {
-  std::vector<detail::HullFacet> facets;
+  std::vector<peers::QhullFacet> facets;
   std::vector<Eigen::Vector3d> sums;
   int count = 0;
   for (auto _ : state) {
@@ -166,7 +165,7 @@ void HullPeer(benchmark::State& state, const std::vector<Eigen::Vector3d>& a, co
     if (bullet) {
       count = peers::bullet_hull(sums);
     } else {
-      detail::qhull_facets(sums, facets);
+      peers::qhull_facets(sums, facets);
       count = int(facets.size());
     }
     benchmark::DoNotOptimize(count);

@@ -549,14 +549,12 @@ int cmd_demo() {
       "median time per full sum (planes, support pairs, vertices, facet loops) on this\n"
       "machine: prepared shapes (built once, B's rotation passed as its pose), the fast\n"
       "path on polytopes (prepared on every call), the reference path (the paper as\n"
-      "written), and the hull method (Qhull on the pairwise sums). The paper (2007): OSM\n"
-      "6.1-82.9 ms, CGAL quickhull 131-277 ms. Google Benchmark runs:\n"
+      "written), and the hull method (the exact quickhull of the pairwise sums). The paper\n"
+      "(2007): OSM 6.1-82.9 ms, CGAL quickhull 131-277 ms. Google Benchmark runs:\n"
       "build/bench/minksum_bench.\n\n");
   std::printf("%-14s %4s %4s %4s  %13s %10s %14s %10s  %13s\n", "pair", "V", "E", "F", "prepared [us]", "fast [us]",
               "reference [us]", "hull [us]", "hull/prepared");
-  const Eigen::Matrix3d R = tools::table1_rotation();
   Eigen::Isometry3d pose_b = Eigen::Isometry3d::Identity();
-  pose_b.linear() = R;
   const Eigen::Isometry3d identity = Eigen::Isometry3d::Identity();
   double hull_cubes = 0;
   for (const auto& pair : tools::table1_pairs()) {
@@ -564,8 +562,9 @@ int cmd_demo() {
     ConvexShape SA, SB;
     if (polytope_from_points(pair.a, A) != Status::Ok || polytope_from_points(pair.b, B) != Status::Ok ||
         shape_from_points(pair.a, SA) != Status::Ok ||
-        shape_from_points(tools::rotated(pair.b, R.transpose()), SB) != Status::Ok)
+        shape_from_points(pair.b_body, SB) != Status::Ok)
       return 1;
+    pose_b.linear() = pair.rotation;
     MinkowskiSum m;
     double t[4];
     t[0] = time_us([&] { minkowski_sum(SA, identity, SB, pose_b, m); });

@@ -74,9 +74,12 @@ void box_pairs() {
 // Table 1's icosahedron about its dodecahedron (prepared shapes), in and out of contact.
 void convex_pairs() {
   ConvexShape A, B;
-  shape_from_points(tools::dodecahedron_points(), A), shape_from_points(tools::icosahedron_points(), B);
+  // (The pyritohedron of integer coordinates near unit size: a regular dodecahedron's rounded
+  // corners are not coplanar, and their exact hull has triangles.)
+  shape_from_points(tools::scaled(tools::exact_dodecahedron_points(), 1.0 / 1024), A);
+  shape_from_points(tools::icosahedron_points(), B);
   const Isometry3d pose_a(Eigen::Translation3d(0.3, -0.2, 0.1) * Eigen::AngleAxisd(0.4, Vector3d::UnitY()));
-  const double r = std::sqrt(3.0) + std::sqrt(1 + 1.618034 * 1.618034);
+  const double r = 1156.0 / 1024 * std::sqrt(3.0) + std::sqrt(1 + 1.618034 * 1.618034);  // (the two radii)
   const auto path = tools::trajectory(11, 1000, 0.85 * r, 1.5 * r, 0.02 * std::sqrt(3.0));
   Proximity p;
   const int n = int(path.size());
@@ -282,15 +285,14 @@ void sums() {
   // The same pairs in the report's pose (B turned: no tie, so the small overlay's tables answer),
   // the whole polytope, the vertices level and the planes level.
   std::vector<std::pair<ConvexShape, ConvexShape>> turned;
-  const Eigen::Matrix3d R = tools::table1_rotation();
+  Isometry3d pose_b = I;
   for (const auto& t : tools::table1_pairs()) {
     turned.emplace_back();
     if (shape_from_points(t.a, turned.back().first) != Status::Ok ||
-        shape_from_points(tools::rotated(t.b, R.transpose()), turned.back().second) != Status::Ok)
+        shape_from_points(t.b_body, turned.back().second) != Status::Ok)
       g_ok = false;
+    pose_b.linear() = t.rotation;  // (one turn for every pair)
   }
-  Isometry3d pose_b = I;
-  pose_b.linear() = R;
   for (const SumParts parts : {SumParts::Whole, SumParts::Vertices, SumParts::Planes}) {
     for (const auto& [a, b] : turned) minkowski_sum(a, I, b, pose_b, m, parts);
     const char* name = parts == SumParts::Whole      ? "sum.table1.turned"
@@ -302,13 +304,22 @@ void sums() {
               return minkowski_sum(a, I, b, pose_b, m, parts) == Status::Ok;
             });
   }
-  // The same shapes in one frame: B is a rounded copy of its body (its points turned by R and
-  // back), so where A and B are one solid (icosa_icosa, dodeca_dodeca) every face of B lies
-  // within rounding of A's: each sign near a face is a near-tie (the double-double stage of
-  // orient_exact decides them).
-  for (const auto& [a, b] : turned) minkowski_sum(a, I, b, I, m);
-  measure("sum.table1.turned_back", int(turned.size()), [&](int k) {
-    const auto& [a, b] = turned[size_t(k)];
+  // The same pairs in one frame, B a rounded copy of its body (its points turned by
+  // table1_rotation() and back), so where A and B are one solid (icosa_icosa, dodeca_dodeca)
+  // every face of B lies within rounding of A's (split into triangles where its rounded corners
+  // left it): each sign near a face is a near-tie (the double-double stage of orient_exact
+  // decides them).
+  const Eigen::Matrix3d R = tools::table1_rotation();
+  std::vector<std::pair<ConvexShape, ConvexShape>> back;
+  for (const auto& t : tools::table1_pairs()) {
+    back.emplace_back();
+    if (shape_from_points(t.a, back.back().first) != Status::Ok ||
+        shape_from_points(tools::rotated(tools::rotated(t.b_body, R), R.transpose()), back.back().second) != Status::Ok)
+      g_ok = false;
+  }
+  for (const auto& [a, b] : back) minkowski_sum(a, I, b, I, m);
+  measure("sum.table1.turned_back", int(back.size()), [&](int k) {
+    const auto& [a, b] = back[size_t(k)];
     return minkowski_sum(a, I, b, I, m) == Status::Ok;
   });
   // Aligned cos/sin prisms of 64 sides (rounded coordinates: their parallel sides are ties the
@@ -347,6 +358,15 @@ void sums() {
 
 }  // namespace
 
+// The hull step of shapes from points: polytope_from_points on the Table 1 operands (cube,
+// icosahedron, dodecahedron), per operand.
+void hulls() {
+  const auto pairs = tools::table1_pairs();
+  const std::vector<Vector3d> operands[] = {pairs[0].a, pairs[1].b, pairs[4].b};
+  ConvexPolytope P;
+  measure("hull.table1", 3, [&](int k) { return polytope_from_points(operands[k], P) == Status::Ok; });
+}
+
 int main() {
   if (!force_isa(Isa::Avx2)) {
     std::fprintf(stderr, "budgets: this CPU has no AVX2 (the budgets are counted at AVX2)\n");
@@ -360,5 +380,6 @@ int main() {
   meshes();
   haptics_loop();
   sums();
+  hulls();
   return g_ok ? 0 : 1;
 }

@@ -61,7 +61,7 @@ testing::AssertionResult valid_sum(const std::vector<Eigen::Vector3d>& a_pts, co
 testing::AssertionResult same_sum(const MinkowskiSum& x, const MinkowskiSum& y, double tol);
 
 /// A facet of the exact hull of the pairwise sums a + s b (CGAL's exact kernel, an oracle
-/// independent of the library and of its Qhull wrapper).
+/// independent of the library and of its own hull).
 struct ExactFacet {
   Eigen::Vector3d normal;               ///< outward, unit (from the vertices, rounded)
   double offset = 0;                    ///< normal . x = offset on the facet

@@ -123,7 +123,7 @@ void expect_exact_sum(const std::string& json, const std::vector<Vector3d>& a, c
 
 TEST(Cli, SumJsonAgreesWithTheExactHullOnTheTable1Pairs) {
   int format = 0;
-  for (const auto& pair : tools::exact_table1_pairs()) {  // (exact coordinates: planar faces)
+  for (const auto& pair : tools::table1_pairs()) {
     SCOPED_TRACE(pair.name);
     for (const char* diff : {"", " --diff"}) {
       const std::string a = write_points(pair.name + "_a", pair.a, format++ % 4);

@@ -873,7 +873,10 @@ void check_general_instantiate(const std::vector<Vector3d>& pair_a, const std::v
     ASSERT_EQ(int(t.nx.size()), m.F);
     for (int k = 0; k <= 12; ++k) {
       const double sa = std::ldexp(1.0, -k), sb = 1.5;
+      // (Offsets on a grid of 2^-10, so that the moved points are exact: rounded, a face's
+      // corners would leave its plane, and the exact hull would split it.)
       Vector3d ta(u(rng), u(rng), u(rng)), tb(u(rng), u(rng), u(rng));
+      ta = (1024 * ta).array().round() / 1024, tb = (1024 * tb).array().round() / 1024;
       if (lattice) ta = test::ties::lattice_point(rng, 10, 4), tb = test::ties::lattice_point(rng, 10, 4);
       std::vector<Vector3d> pa, pb;
       for (const auto& p : pair_a) pa.push_back(sa * p + ta);

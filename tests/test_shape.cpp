@@ -141,11 +141,10 @@ TEST(PosedShapes, EqualTheSumOfTheTransformedPolytopes) {
 // The Table 1 pairs as shapes in their body frames, B turned by the pose: the same polytope as
 // the pre-rotated pairs, and no corrector.
 TEST(PosedShapes, Table1PairsWithTheirRotationAsAPose) {
-  const Eigen::Matrix3d R = tools::table1_rotation();
   for (const auto& pair : tools::table1_pairs()) {
     SCOPED_TRACE(pair.name);
-    std::vector<Vector3d> body_b;
-    for (const auto& p : pair.b) body_b.push_back(R.transpose() * p);
+    const Eigen::Matrix3d& R = pair.rotation;
+    const std::vector<Vector3d>& body_b = pair.b_body;
     ConvexShape A, B;
     ASSERT_EQ(shape_from_points(pair.a, A), Status::Ok);
     ASSERT_EQ(shape_from_points(body_b, B), Status::Ok);

@@ -37,8 +37,10 @@ void check_planes(const MinkowskiSum& m, const std::vector<Eigen::Vector3d>& a, 
     if (!fuzz::finite(v.point)) fuzz::fail("non-finite vertex");
     size = std::max(size, v.point.cwiseAbs().maxCoeff());
   }
-  for (const auto& p : m.planes)
+  for (const auto& p : m.planes) {
     if (!fuzz::finite(p.normal) || !std::isfinite(p.offset)) fuzz::fail("non-finite plane");
+    if (std::abs(p.normal.norm() - 1) > 1e-12) fuzz::fail("a plane's normal is not a unit vector");
+  }
   const double tol = 1e-9 * size;
   const int na = int(a.size()), nb = int(b.size());
   for (const auto& v : m.vertices) {

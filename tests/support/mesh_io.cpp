@@ -65,6 +65,18 @@ bool read_demo_archive(const std::string& name, Mesh& mesh) {
 
 }  // namespace
 
+bool cgal_demo_points(const std::string& name, std::vector<Eigen::Vector3d>& points) {
+  Mesh mesh;
+  if (!read_demo_archive(name, mesh)) return false;
+  points = std::move(mesh.vertices);
+  return true;
+}
+
+std::vector<std::string> cad_parts() {
+  return {"anchor.off", "blade.off",  "couplingdown.off", "fandisk.off", "joint.off",
+          "part.off",   "pinion.off", "rotor.off",        "spool.off",   "turbine.off"};
+}
+
 bool cgal_demo_mesh(const std::string& name, Mesh& mesh) {
   if (!read_demo_archive(name, mesh)) return false;
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;

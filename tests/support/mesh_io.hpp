@@ -37,6 +37,14 @@ Mesh bumpy_sphere(int rings);
 /// the package or the member is absent.
 bool cgal_demo_mesh(const std::string& name, Mesh& mesh);
 
+/// The vertex list of libcgal-demo's data/meshes/`name`, as given (what a user's
+/// `Shape.from_points` or the CLI would read from it); false if the package or the member is absent.
+bool cgal_demo_points(const std::string& name, std::vector<Eigen::Vector3d>& points);
+
+/// Ten CAD parts of libcgal-demo (anchor.off ... turbine.off): machined shapes, whose flat faces
+/// and cylinders put many points exactly or nearly on one plane.
+std::vector<std::string> cad_parts();
+
 /// Seeded poses of mesh B against mesh A in three bands of `size` (say the smaller mesh's
 /// bounding-box diagonal): the first third intersect (up to 5 % deep), the second are apart by
 /// less than 5 %, the rest by 5-50 %. Each has a random rotation and direction; B is moved along

@@ -22,6 +22,17 @@ void add_cyclic(std::vector<Vector3d>& out, double x, double y, double z) {
     }
   }
 }
+
+// The rotation of the unit quaternion (4, 1, 2, 3)/sqrt(30), times 30: an integer matrix.
+Eigen::Matrix3d exact_rotation_times_30() {
+  const double w = 4, x = 1, y = 2, z = 3;
+  Eigen::Matrix3d M;
+  M << w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y), 2 * (x * y + w * z),
+      w * w - x * x + y * y - z * z, 2 * (y * z - w * x), 2 * (x * z - w * y), 2 * (y * z + w * x),
+      w * w - x * x - y * y + z * z;
+  return M;
+}
+
 }  // namespace
 
 std::vector<Vector3d> cube_points() {
@@ -81,14 +92,6 @@ std::vector<Vector3d> rotated(const std::vector<Vector3d>& pts, const Eigen::Mat
   return out;
 }
 
-std::vector<Table1Pair> table1_pairs() {
-  const auto R = table1_rotation();
-  const auto cube = cube_points(), ico = icosahedron_points(), dod = dodecahedron_points();
-  return {{"cube_rotcube", cube, rotated(cube, R)}, {"cube_icosa", cube, rotated(ico, R)},
-          {"icosa_icosa", ico, rotated(ico, R)},    {"cube_dodeca", cube, rotated(dod, R)},
-          {"dodeca_dodeca", dod, rotated(dod, R)},  {"icosa_dodeca", ico, rotated(dod, R)}};
-}
-
 std::vector<Vector3d> exact_icosahedron_points() {
   std::vector<Vector3d> p;
   for (int s = 0; s < 4; ++s) {
@@ -108,11 +111,7 @@ std::vector<Vector3d> exact_dodecahedron_points() {
 }
 
 std::vector<Vector3d> exact_rotated(const std::vector<Vector3d>& pts) {
-  const double w = 4, x = 1, y = 2, z = 3;
-  Eigen::Matrix3d M;
-  M << w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y), 2 * (x * y + w * z),
-      w * w - x * x + y * y - z * z, 2 * (y * z - w * x), 2 * (x * z - w * y), 2 * (y * z + w * x),
-      w * w - x * x - y * y + z * z;
+  const Eigen::Matrix3d M = exact_rotation_times_30();
   std::vector<Vector3d> out;
   for (const auto& p : pts) out.push_back(M * p);
   return out;
@@ -123,12 +122,17 @@ std::vector<Vector3d> scaled(std::vector<Vector3d> pts, double s) {
   return pts;
 }
 
-std::vector<Table1Pair> exact_table1_pairs() {
-  const auto cube = scaled(cube_points(), 30 * 7), ico = scaled(exact_icosahedron_points(), 30);
-  const auto dod = scaled(exact_dodecahedron_points(), 30);
-  return {{"cube_rotcube", cube, exact_rotated(cube)}, {"cube_icosa", cube, exact_rotated(ico)},
-          {"icosa_icosa", ico, exact_rotated(ico)},    {"cube_dodeca", cube, exact_rotated(dod)},
-          {"dodeca_dodeca", dod, exact_rotated(dod)},  {"icosa_dodeca", ico, exact_rotated(dod)}};
+std::vector<Table1Pair> table1_pairs() {
+  // Each solid's integer points times 30 (B's before the turn: exact_rotated's scale) and a
+  // power of two that brings it near unit size; every step is exact.
+  const auto cube = scaled(cube_points(), 7.0 / 128), ico = scaled(exact_icosahedron_points(), 1.0 / 2048),
+             dod = scaled(exact_dodecahedron_points(), 1.0 / 32768);
+  const Eigen::Matrix3d R = exact_rotation_times_30() / 30;
+  const auto pair = [&](const char* name, const std::vector<Vector3d>& a, const std::vector<Vector3d>& b) {
+    return Table1Pair{name, scaled(a, 30), exact_rotated(b), scaled(b, 30), R};
+  };
+  return {pair("cube_rotcube", cube, cube), pair("cube_icosa", cube, ico),  pair("icosa_icosa", ico, ico),
+          pair("cube_dodeca", cube, dod),   pair("dodeca_dodeca", dod, dod), pair("icosa_dodeca", ico, dod)};
 }
 
 std::vector<Vector3d> sphere_points(int n, unsigned seed) {

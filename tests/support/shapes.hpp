@@ -26,10 +26,15 @@ Eigen::Matrix3d table1_rotation();
 /// One row of the paper's Table 1: operand names and point sets (B already rotated).
 struct Table1Pair {
   std::string name;                   ///< e.g. "cube_rotcube"
-  std::vector<Eigen::Vector3d> a, b;  ///< vertex sets
+  std::vector<Eigen::Vector3d> a, b;  ///< vertex sets, exact: every face exactly planar
+  std::vector<Eigen::Vector3d> b_body;  ///< B before its turn (b is rotation * b_body, exactly in reals)
+  Eigen::Matrix3d rotation;             ///< B's turn, rounded to doubles: pass it as B's pose
 };
 
-/// The six pairs of Table 1, in the paper's order.
+/// The six pairs of Table 1, in the paper's order, in exact coordinates: the cube, the
+/// icosahedron and the pyritohedron of exact_*_points(), near unit size, B turned by the
+/// integer matrix of exact_rotated(). Points rounded from an irrational rotation would not be
+/// coplanar, and their exact hull would split each face into triangles.
 std::vector<Table1Pair> table1_pairs();
 
 /// A rotation about a unit axis by an angle (radians).
@@ -67,10 +72,6 @@ std::vector<Eigen::Vector3d> exact_rotated(const std::vector<Eigen::Vector3d>& p
 
 /// Every point times s.
 std::vector<Eigen::Vector3d> scaled(std::vector<Eigen::Vector3d> pts, double s);
-
-/// The six Table 1 pairs in exact coordinates: the cube times 210, the exact icosahedron and
-/// dodecahedron times 30, B turned by exact_rotated (the same structures as table1_pairs()).
-std::vector<Table1Pair> exact_table1_pairs();
 
 /// One pair of a degenerate family: integer coordinates, so that every tie of the family
 /// (parallel faces and edges, a face on a face) is exact, and a sum or a difference.
