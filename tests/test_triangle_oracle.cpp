@@ -16,22 +16,11 @@ namespace {
 
 using Eigen::Vector3d;
 
-// Whether x lies on triangle t within `slack`: within it of t's plane and inside each edge's
-// line (a degenerate triangle: within it of one of its edges' segments).
+// Whether x lies on triangle t within `slack`: its exact distance to t (the point as a
+// degenerate triangle; a sliver's normal in doubles is too rounded to judge it).
 bool on_triangle(const Vector3d& x, const Vector3d (&t)[3], double slack) {
-  const Vector3d n = (t[1] - t[0]).cross(t[2] - t[0]);
-  const auto near_segment = [&](const Vector3d& a, const Vector3d& b) {
-    const double l = (b - a).squaredNorm(), u = l > 0 ? std::clamp((x - a).dot(b - a) / l, 0.0, 1.0) : 0.0;
-    return (a + u * (b - a) - x).norm() <= slack;
-  };
-  if (near_segment(t[0], t[1]) || near_segment(t[1], t[2]) || near_segment(t[2], t[0])) return true;
-  const double area = n.norm();
-  if (!(area > 0)) return false;
-  if (std::abs(n.dot(x - t[0])) / area > slack) return false;
-  for (int e = 0; e < 3; ++e)
-    if ((t[(e + 1) % 3] - t[e]).cross(x - t[e]).dot(n) / (area * (t[(e + 1) % 3] - t[e]).norm()) < -slack)
-      return false;  // (the signed distance from the edge's line, inward positive)
-  return true;
+  const Vector3d point[3] = {x, x, x};
+  return test::exact_triangle_distance(point, t) <= slack;
 }
 
 // The scalar path and the batched kernel (16 pairs a call) on n pairs; each distance is
@@ -71,6 +60,14 @@ void check_pairs(int n, Make make, Tol tol, const char* what, int* meet = nullpt
   if (meet) *meet = zeros;
 }
 
+// Rounding: eps times the coordinates (L, the largest) times a small factor.
+double rounding(const Vector3d (&s)[3], const Vector3d (&t)[3]) {
+  double L = 0;
+  for (const auto* v : {&s, &t})
+    for (const auto& x : *v) L = std::max(L, x.cwiseAbs().maxCoeff());
+  return 1024 * std::numeric_limits<double>::epsilon() * L;
+}
+
 // Needles: two near corners w apart (w in [1, 100]) and a far one L = 10 to 1e9 times w away, the
 // other triangle a random one of size w within a few w of the near end (the pairs that fail
 // are there). Rounding: eps times the coordinates (L) times a small factor.
@@ -87,12 +84,7 @@ TEST(TriangleOracle, NeedlesEqualTheExactDistance) {
         for (auto& x : t) x = w * Vector3d(u(rng), u(rng), u(rng));
         if (k % 2) std::swap(s, t);  // the needle on either side
       },
-      [](const Vector3d(&s)[3], const Vector3d(&t)[3]) {
-        double L = 0;
-        for (const auto* v : {&s, &t})
-          for (const auto& x : *v) L = std::max(L, x.cwiseAbs().maxCoeff());
-        return 1024 * std::numeric_limits<double>::epsilon() * L;
-      },
+      rounding,
       "needle");
   // The fuzz finding itself: a needle 1.3e10 long against a face of a 40-cube, 24.7 apart
   // (the scalar and the batched paths said 0).
@@ -103,6 +95,62 @@ TEST(TriangleOracle, NeedlesEqualTheExactDistance) {
   Vector3d p, q;
   EXPECT_NEAR(test::exact_triangle_distance(face, needle), 24.698489451961752, 1e-12);
   EXPECT_NEAR(triangle_distance(face, needle, p, q), 24.698489451961752, 1e-5);
+}
+
+// Slivers: corners nearly on one line (sin t from 1e-12 to 1e-4 at the corner between its two
+// shortest edges, the far corner beside or beyond the others), the other triangle a small one
+// within a few widths of the sliver's plane, anywhere along it. The normal of a sliver in
+// doubles turns by eps / sin t, which moved its plane by that much of its length; rounding:
+// eps times the coordinates times a small factor, as for needles.
+TEST(TriangleOracle, SliversEqualTheExactDistance) {
+  std::mt19937_64 rng(45);
+  std::uniform_real_distribution<double> u(-1, 1), e(0, 1);
+  const auto unit = [&] { return Vector3d(u(rng), u(rng), u(rng)).normalized(); };
+  check_pairs(
+      test::scaled(5000),
+      [&](int k, Vector3d(&s)[3], Vector3d(&t)[3]) {
+        const double L = std::pow(10.0, 6 * e(rng)), sine = std::pow(10.0, -12 + 8 * e(rng));
+        const Vector3d along = unit(), side = along.cross(unit()).normalized();
+        const double lambda = -0.5 + 2 * e(rng);  // the third corner's place along the first two's line
+        s[0] = L * Vector3d(u(rng), u(rng), u(rng)), s[1] = s[0] + L * along;
+        s[2] = s[0] + lambda * L * along + sine * L * side;
+        const Vector3d normal = along.cross(side), at = s[0] + e(rng) * L * along;
+        const double w = sine * L * std::pow(10.0, 2 * u(rng)), h = sine * L * 4 * u(rng);
+        for (auto& x : t) x = at + h * normal + w * Vector3d(u(rng), u(rng), u(rng));
+        if (k % 2) std::swap(s, t);  // the sliver on either side
+      },
+      rounding,
+      "sliver");
+  // The fuzz finding (fuzz_query, seed 1207002, 269,868 inputs): a triangle at the origin and a
+  // sliver face of 2e-10 rad reaching 1.4e86, 2.52e76 apart; the scalar path said 1.15e76. Also
+  // scaled by powers of two (exact), where the batched kernel takes it.
+  const Vector3d tri[3] = {{0, 0, 0}, {0, 0x1.f8p+7, 0}, {0, 0, 0x1.01ep+7}};
+  const Vector3d sliver[3] = {{0x1.f97f18557863dp+285, 0x1.79d8b89749a8p+279, 0x1.e2582a930f36dp+282},
+                              {0x1.1b168678cae25p+286, 0x1.a733fb0d8f75cp+279, 0x1.0e1f54127f365p+283},
+                              {0x1.b9d39b5743b86p+253, 0x1.4a413de98907ep+247, 0x1.a5973485f348p+250}};
+  for (const int k : {0, -200, -250, -285}) {
+    Vector3d s[3], t[3];
+    for (int i = 0; i < 3; ++i) s[i] = std::ldexp(1.0, k) * tri[i], t[i] = std::ldexp(1.0, k) * sliver[i];
+    check_pairs(
+        1, [&](int, Vector3d(&a)[3], Vector3d(&b)[3]) { std::copy(s, s + 3, a), std::copy(t, t + 3, b); },
+        [&](const Vector3d(&)[3], const Vector3d(&)[3]) { return 1e-12 * std::ldexp(1.4e86, k); }, "finding");
+  }
+  // What the accurate normal exposed (fuzz_query, seed 1207006, 820 inputs), each corner order:
+  // the same small triangle on the plane of another sliver (as triangle_distance scales them),
+  // 2.0e-10 beyond its sharp corner. The edge tests at that corner read it as inside (distance
+  // 0), and a sliver's edge in doubles "crossed" the small triangle.
+  const Vector3d small[3] = {{0, 0, 0}, {0, 0x1.f8p-279, 0}, {0, 0, 0x1.01ep-279}};
+  const Vector3d thin[3] = {{0x1.34c00a437c9fap-1, 0x1.3ea98d3e5e2ecp-2, 0x1.74224d394771p-1},
+                            {0x1.59cff661b4139p-1, 0x1.64ea13514f852p-2, 0x1.a0ce03efca0b4p-1},
+                            {0x1.0ddc8a85314e2p-33, 0x1.168670ab2a11bp-34, 0x1.4543058c93d9fp-33}};
+  for (int r = 0; r < 3; ++r)
+    check_pairs(
+        2,
+        [&](int k, Vector3d(&a)[3], Vector3d(&b)[3]) {
+          for (int i = 0; i < 3; ++i) a[i] = small[(i + r) % 3], b[i] = thin[(i + r) % 3];
+          if (k % 2) std::swap(a, b);
+        },
+        rounding, "on a sliver's plane");  // (2.3e-13 against a distance of 2.0e-10: 0 before)
 }
 
 // Lattice triangles in [-3, 3]^3 (and the same scaled by 2^-20 and moved by 2^20: exact too):

@@ -2,6 +2,9 @@
 // geometry stage: no shape, no sum, no kernel table below it.
 #include <minksum/kernels.hpp>
 
+#include "core/expansion.hpp"
+#include "core/hull.hpp"
+#include "core/predicates.hpp"
 #include "core/scale.hpp"
 #include "geometry/closest.hpp"
 
@@ -48,25 +51,84 @@ double detail::segment_segment(const Vector3d& p0, const Vector3d& p1, const Vec
 
 namespace {
 
-// The projection of p onto the plane of triangle v (normal n, not flat; inv = 1 / |n|^2), if it
-// lies inside:
-// edge tests against the normal. Elsewhere an edge of v holds p's closest point, which the
-// edge pairs of triangle_distance cover. (Ericson's barycentric region tests, section 5.1.5,
-// cancel on slivers: they put a vertex lying in a 0.06-wide, 700-long triangle 9e-7 away.)
-bool onto_face(const Vector3d& p, const Vector3d (&v)[3], const Vector3d& n, double inv, Vector3d& q) {
-  q = p - n * (n.dot(p - v[0]) * inv);
-  return (v[1] - v[0]).cross(q - v[0]).dot(n) >= 0 && (v[2] - v[1]).cross(q - v[1]).dot(n) >= 0 &&
-         (v[0] - v[2]).cross(q - v[2]).dot(n) >= 0;
+// The plane of a triangle v: its normal n = (v1 - v0) x (v2 - v0); for a sliver (sine under
+// 1e-4, as the batched kernel routes here) that normal computed accurately (accurate_normal),
+// |n|_1 and the largest coordinate of an edge, which bound the rounding of its face test.
+struct Plane {
+  Vector3d n;
+  bool flat = false, sliver = false;  // (flat: zero area, or within rounding of it)
+  double n1 = 0, reach = 0;
+};
+
+// The exact sign of det[b - a; p - a; n] for n as given: the side of the plane through the
+// edge a-b along n on which p lies (the differences as two_diff leaves them, and expansions).
+int beside_exact(const Vector3d& a, const Vector3d& b, const Vector3d& p, const Vector3d& n) {
+  double terms[2][3][2];
+  detail::ExactVector x[3];
+  const Vector3d* to[2] = {&b, &p};
+  for (int r = 0; r < 2; ++r) {
+    for (int k = 0; k < 3; ++k) {
+      double hi, lo;
+      detail::expansion::two_diff((*to[r])[k], a[k], hi, lo);
+      int m = 0;  // (increasing magnitude, zeros dropped)
+      if (lo != 0) terms[r][k][m++] = lo;
+      if (hi != 0) terms[r][k][m++] = hi;
+      x[r].terms[k] = terms[r][k], x[r].count[k] = m;
+    }
+    x[r].sign = 1;
+  }
+  x[2] = detail::exact_vector(n);
+  return detail::orient_exact(x[0], x[1], x[2]);
 }
 
-// Where the segment p-q crosses the interior of triangle t (normal n, not degenerate), if it
-// does with its endpoints strictly on opposite sides of the plane.
-bool pierces(const Vector3d& p, const Vector3d& q, const Vector3d (&t)[3], const Vector3d& n, Vector3d& x) {
-  const double dp = n.dot(p - t[0]), dq = n.dot(q - t[0]);
-  if (!((dp > 0 && dq < 0) || (dp < 0 && dq > 0))) return false;
-  x = p + dp / (dp - dq) * (q - p);
-  for (int k = 0; k < 3; ++k)
-    if ((t[(k + 1) % 3] - t[k]).cross(x - t[k]).dot(n) < 0) return false;
+// The projection q of p onto the plane of triangle v (not flat; inv = 1 / |n|^2), if it lies
+// inside: edge tests against the normal. Elsewhere an edge of v holds p's closest point, which
+// the edge pairs of triangle_distance cover. (Ericson's barycentric region tests, section 5.1.5,
+// cancel on slivers: they put a vertex lying in a 0.06-wide, 700-long triangle 9e-7 away.) A
+// sliver's edge tests are ill-conditioned too (a point 2e-10 beyond its sharp corner, on its
+// plane, read as inside: distance 0), so there they are exact where their rounding bound (a
+// few eps |n|_1 |e| |p - v_k|; 1e-14 of it, taken once) cannot tell; they read p, not q (q - p
+// is along n).
+bool onto_face(const Vector3d& p, const Vector3d (&v)[3], const Plane& plane, double inv, Vector3d& q) {
+  const Vector3d& n = plane.n;
+  q = p - n * (n.dot(p - v[0]) * inv);
+  if (!plane.sliver)
+    return (v[1] - v[0]).cross(q - v[0]).dot(n) >= 0 && (v[2] - v[1]).cross(q - v[1]).dot(n) >= 0 &&
+           (v[0] - v[2]).cross(q - v[2]).dot(n) >= 0;
+  const double slack = 1e-14 * plane.n1 * plane.reach * ((p - v[0]).cwiseAbs().maxCoeff() + plane.reach);
+  for (int k = 0; k < 3; ++k) {
+    const Vector3d &a = v[k], &b = v[(k + 1) % 3];
+    const double d = (b - a).cross(p - a).dot(n);
+    if (d < -slack || (d <= slack && beside_exact(a, b, p, n) < 0)) return false;
+  }
+  return true;
+}
+
+
+
+// Where the segment p-q crosses triangle t (not degenerate), if it does with its endpoints
+// strictly on opposite sides of the plane. Decided exactly: the segment's line passes every
+// edge of t on one side (orient3d). A crossing point computed in doubles carries eps |q - p|
+// of rounding, which can dwarf a small triangle: a sliver's edge at 1e86 "crossed" one 252
+// across. The point is then computed, as the witness.
+bool pierces(const Vector3d& p, const Vector3d& q, const Vector3d (&t)[3], const Plane& plane, Vector3d& x) {
+  // The sides of t's plane, exactly for the doubles given (a plane 1e86 long read in doubles put
+  // a triangle 252 across on both of its sides): n . (p - t0) where it clears its rounding (the
+  // normal's, at most 4 eps |e1| |e2| a component, the difference's and the sum's), else orient3d.
+  const double dp = plane.n.dot(p - t[0]), dq = plane.n.dot(q - t[0]);
+  const double err = 2e-14 * (t[1] - t[0]).cwiseAbs().maxCoeff() * (t[2] - t[0]).cwiseAbs().maxCoeff();
+  const auto side = [&](double d, const Vector3d& a) {
+    return std::abs(d) > err * (a - t[0]).cwiseAbs().maxCoeff() ? (d > 0 ? 1 : -1) : detail::orient3d(t[0], t[1], t[2], a);
+  };
+  const int sp = side(dp, p), sq = side(dq, q);
+  if (sp == 0 || sq == 0 || sp == sq) return false;
+  int pos = 0, neg = 0;
+  for (int k = 0; k < 3; ++k) {
+    const int o = detail::orient3d(p, q, t[k], t[(k + 1) % 3]);
+    pos += o > 0, neg += o < 0;
+  }
+  if (pos > 0 && neg > 0) return false;
+  x = p + (dp != dq ? std::clamp(dp / (dp - dq), 0.0, 1.0) : 0.5) * (q - p);
   return true;
 }
 
@@ -79,6 +141,42 @@ void apex_first(Vector3d (&v)[3]) {
   const double e[3] = {(v[1] - v[0]).squaredNorm(), (v[2] - v[1]).squaredNorm(), (v[0] - v[2]).squaredNorm()};
   const int k = e[1] >= e[0] && e[1] >= e[2] ? 0 : e[2] >= e[0] ? 1 : 2;  // e[1] is opposite v0
   std::rotate(v, v + k, v + 3);
+}
+
+// The normal (v1 - v0) x (v2 - v0) of triangle v to a few ulps of its length, however thin the
+// triangle. In doubles the cross product of two nearly parallel edges errs by eps |e1| |e2|
+// against a length of |e1| |e2| sin t, and rounding an edge turns it by eps as well: a sliver's
+// normal turned by eps / sin t, which tilts its plane by that much of its length. (A triangle
+// corner 2.5e76 from a sliver of 2e-10 rad reaching 1.4e86 read 1.1e76 from it: a fuzz_query
+// finding.) Here each edge is exact as a two-term sum (two_diff) and the leading minors are
+// exact (minor2). It is the normal of v as given: the shifted corners every test reads.
+Vector3d accurate_normal(const Vector3d (&v)[3]) {
+  using namespace detail::expansion;
+  double h1[3], l1[3], h2[3], l2[3];
+  for (int d = 0; d < 3; ++d) two_diff(v[1][d], v[0][d], h1[d], l1[d]), two_diff(v[2][d], v[0][d], h2[d], l2[d]);
+  Vector3d n;
+  for (int d = 0; d < 3; ++d) {
+    const int i = (d + 1) % 3, j = (d + 2) % 3;
+    double e[4];
+    minor2(h1[i], h2[j], h1[j], h2[i], e);  // h1_i h2_j - h1_j h2_i exactly (smallest term first)
+    n[d] = ((e[0] + e[1]) + e[2]) + e[3] + ((h1[i] * l2[j] + l1[i] * h2[j]) - (h1[j] * l2[i] + l1[j] * h2[i]));
+  }
+  return n;
+}
+
+// v's plane: a sliver's normal (sine under 1e-4, as the batched kernel routes here) accurate,
+// any other's within rounding already (and a repeated corner's, 0, stays 0: flat).
+// Flat: |n|^2 within 1e-24 of the longest edge's to the fourth (v2 - v1, apex_first's).
+Plane plane_of(const Vector3d (&v)[3]) {
+  const Vector3d e1 = v[1] - v[0], e2 = v[2] - v[0], n = e1.cross(e2);
+  const double n2 = n.squaredNorm(), l1 = e1.squaredNorm(), l2 = e2.squaredNorm();
+  const double longest = std::max({l1, l2, (v[2] - v[1]).squaredNorm()});
+  Plane plane{n};
+  plane.flat = !(n2 > 1e-24 * longest * longest);
+  if (plane.flat || !(n2 < 1e-8 * l1 * l2)) return plane;
+  plane.n = accurate_normal(v), plane.sliver = true, plane.n1 = plane.n.cwiseAbs().sum();
+  plane.reach = std::max({e1.cwiseAbs().maxCoeff(), e2.cwiseAbs().maxCoeff(), (v[2] - v[1]).cwiseAbs().maxCoeff()});
+  return plane;
 }
 
 // Which edges and corners of triangle v to test: all, unless corners repeat (a segment as
@@ -111,20 +209,18 @@ double triangle_distance(const Vector3d (&s_in)[3], const Vector3d (&t_in)[3], V
   Vector3d s[3] = {Vector3d::Zero(), shrink * (s_in[1] - o), shrink * (s_in[2] - o)};
   Vector3d t[3] = {shrink * (t_in[0] - o), shrink * (t_in[1] - o), shrink * (t_in[2] - o)};
   apex_first(s), apex_first(t);
-  const Vector3d ns = (s[1] - s[0]).cross(s[2] - s[0]), nt = (t[1] - t[0]).cross(t[2] - t[0]);
+  const Plane s_plane = plane_of(s), t_plane = plane_of(t);
+  const Vector3d &ns = s_plane.n, &nt = t_plane.n;
   // Degenerate (zero-area) triangles have no face region; their edges cover them.
-  const auto flat = [](const Vector3d& n, const Vector3d(&v)[3]) {
-    const double scale =
-        std::max({(v[1] - v[0]).squaredNorm(), (v[2] - v[0]).squaredNorm(), (v[2] - v[1]).squaredNorm()});
-    return !(n.squaredNorm() > 1e-24 * scale * scale);
-  };
-  const bool s_flat = flat(ns, s), t_flat = flat(nt, t);
+  const bool s_flat = s_plane.flat, t_flat = t_plane.flat;
   bool s_edge[3] = {true, true, true}, t_edge[3] = {true, true, true};
   bool s_corner[3] = {true, true, true}, t_corner[3] = {true, true, true};
   if (s_flat) distinct_parts(s, s_edge, s_corner);
   if (t_flat) distinct_parts(t, t_edge, t_corner);
   // Intersecting, not coplanar: an edge of one crosses the other's interior. Impossible if
   // either triangle lies strictly on one side of the other's plane (the common case).
+  // (In doubles: a shortcut only. Where rounding calls a pair apart that touches, the distance
+  // below is within rounding of 0; the other way, the piercing tests are exact.)
   const auto one_side = [](const Vector3d& n, const Vector3d& p, const Vector3d(&q)[3]) {
     const double d0 = n.dot(q[0] - p), d1 = n.dot(q[1] - p), d2 = n.dot(q[2] - p);
     return (d0 > 0 && d1 > 0 && d2 > 0) || (d0 < 0 && d1 < 0 && d2 < 0);
@@ -133,11 +229,11 @@ double triangle_distance(const Vector3d (&s_in)[3], const Vector3d (&t_in)[3], V
   const bool apart = (!s_flat && one_side(ns, s[0], t)) || (!t_flat && one_side(nt, t[0], s));
   Vector3d x;
   for (int k = 0; k < 3 && !apart; ++k) {
-    if (!t_flat && s_edge[k] && pierces(s[k], s[(k + 1) % 3], t, nt, x)) {
+    if (!t_flat && s_edge[k] && pierces(s[k], s[(k + 1) % 3], t, t_plane, x)) {
       ps = pt = x / shrink + o;
       return 0;
     }
-    if (!s_flat && t_edge[k] && pierces(t[k], t[(k + 1) % 3], s, ns, x)) {
+    if (!s_flat && t_edge[k] && pierces(t[k], t[(k + 1) % 3], s, s_plane, x)) {
       ps = pt = x / shrink + o;
       return 0;
     }
@@ -153,9 +249,9 @@ double triangle_distance(const Vector3d (&s_in)[3], const Vector3d (&t_in)[3], V
     }
   const double inv_s = s_flat ? 0.0 : 1 / ns.squaredNorm(), inv_t = t_flat ? 0.0 : 1 / nt.squaredNorm();
   for (int k = 0; k < 3; ++k) {
-    if (!t_flat && s_corner[k] && onto_face(s[k], t, nt, inv_t, cq))
+    if (!t_flat && s_corner[k] && onto_face(s[k], t, t_plane, inv_t, cq))
       if (const double d2 = (s[k] - cq).squaredNorm(); d2 < best) best = d2, bs = s[k], bt = cq;
-    if (!s_flat && t_corner[k] && onto_face(t[k], s, ns, inv_s, cp))
+    if (!s_flat && t_corner[k] && onto_face(t[k], s, s_plane, inv_s, cp))
       if (const double d2 = (t[k] - cp).squaredNorm(); d2 < best) best = d2, bs = cp, bt = t[k];
   }
   ps = bs / shrink + o, pt = bt / shrink + o;

@@ -18,7 +18,8 @@ struct TriangleDistanceKernels : Lanes<T, Arch> {
   // vertex projects into the other (non-flat) triangle, and 0 where an edge pierces the other
   // triangle's interior. Coordinates relative to the first corner of s; a lane whose span is
   // outside [kTriLow, kTriHigh] (products of four coordinates, the most any step takes, would
-  // leave the float type's range) or not finite gets NaN, for the caller's scalar path.
+  // leave the float type's range), not finite, or with a sliver gets NaN, for the caller's
+  // scalar path.
   static constexpr T kTriLow = std::is_same_v<T, float> ? T(1e-6) : T(1e-60);
   static constexpr T kTriHigh = std::is_same_v<T, float> ? T(1e6) : T(1e60);
 
@@ -110,18 +111,23 @@ struct TriangleDistanceKernels : Lanes<T, Arch> {
       B span = zero;
       for (const V3* v : {&a[1], &a[2], &b[0], &b[1], &b[2]})
         span = S::max(span, S::max(S::abs(v->x), S::max(S::abs(v->y), S::abs(v->z))));
-      const auto usable = (span == zero) || ((span >= B(kTriLow)) && (span <= B(kTriHigh)));
+      auto usable = (span == zero) || ((span >= B(kTriLow)) && (span <= B(kTriHigh)));
       Closest best{inf, a[0], b[0]};
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) segment_pair(a[i], a[(i + 1) % 3], b[j], b[(j + 1) % 3], best);
       // Flat (zero-area) triangles have no face region; their edges cover them (as the scalar
       // path: |n|^2 against 1e-24 of the longest edge's to the fourth).
+      // A sliver (solid, but its corner's sine under 1e-4, float 1e-2) goes to the scalar path
+      // (NaN): its normal here turns by eps / sin t, which tilts its plane by that much of its
+      // length; the scalar path's normal is accurate (closest.cpp, accurate_normal).
+      const B thin(std::is_same_v<T, float> ? T(1e-4) : T(1e-8));
       const auto normal = [&](const V3(&v)[3], B& n2, decltype(B(T(0)) < B(T(0)))& solid) {
-        const V3 n = cross(sub(v[1], v[0]), sub(v[2], v[0]));
-        n2 = dot(n, n);
         const V3 e0 = sub(v[1], v[0]), e1 = sub(v[2], v[0]), e2 = sub(v[2], v[1]);
-        const B longest = S::max(dot(e0, e0), S::max(dot(e1, e1), dot(e2, e2)));
+        const V3 n = cross(e0, e1);
+        n2 = dot(n, n);
+        const B l0 = dot(e0, e0), l1 = dot(e1, e1), longest = S::max(l0, S::max(l1, dot(e2, e2)));
         solid = n2 > B(std::is_same_v<T, float> ? T(1e-12) : T(1e-24)) * longest * longest;
+        usable = usable && !(solid && (n2 < thin * l0 * l1));
         return n;
       };
       B na2, nb2;
