@@ -485,6 +485,22 @@ TEST(HardCases, SliverWithNearlyOpposedFaces) {
              false);
 }
 
+// The reference and hull paths at mixed scales: a facet of the exact sums whose rounded
+// corners cannot carry a plane (a point of 1e2 plus one of 1e81 rounds to the latter) may make
+// them answer with a status, and then an empty result; an Ok is a valid sum.
+void check_hull_paths(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b) {
+  const Operands o = make(a, b);
+  for (double s : {1.0, -1.0})
+    for (Method method : {Method::Reference, Method::Hull}) {
+      MinkowskiSum m;
+      const Status st = s > 0 ? minkowski_sum(o.A, o.B, m, method) : minkowski_difference(o.A, o.B, m, method);
+      if (st == Status::Ok)
+        EXPECT_TRUE(valid_sum(o.a, o.b, s, o.A, o.B, m, 1e-12, 1e-12, 300)) << "sign " << s;
+      else
+        EXPECT_EQ(m.F + m.V + int(m.planes.size() + m.loop_vertex.size()), 0) << to_string(st);
+    }
+}
+
 // Fuzz finding (fuzz_sum, seed 1207001, after 415,919 inputs): a sliver reaching 4.3e71 among
 // small points, whose hull has two facets 1.6e-8 rad apart. Qhull merged them into one
 // 4-vertex facet that was planar only to 1e-8 rad, and the fast sum's facet built on it stood
@@ -513,19 +529,33 @@ TEST(HardCases, FacetsOfASliverNotCoplanarStayApart) {
                                    {-X, -0x1.0d0d0d0d0d0cep+270, -Y},
                                    {-Y, -Y, -Y}};
   check_fast(a, b, false);
-  // The reference and hull paths: some facets of the exact sums have rounded corners that span
-  // no plane here (a point of 1e2 plus one of 1e81 rounds to the latter), so they may answer
-  // with a status, and then an empty result; never a facet without a plane.
-  const Operands o = make(a, b);
-  for (double s : {1.0, -1.0})
-    for (Method method : {Method::Reference, Method::Hull}) {
-      MinkowskiSum m;
-      const Status st = s > 0 ? minkowski_sum(o.A, o.B, m, method) : minkowski_difference(o.A, o.B, m, method);
-      if (st == Status::Ok)
-        EXPECT_TRUE(valid_sum(o.a, o.b, s, o.A, o.B, m, 1e-12, 1e-12, 300)) << "sign " << s;
-      else
-        EXPECT_EQ(m.F + m.V + int(m.planes.size() + m.loop_vertex.size()), 0) << to_string(st);
-    }
+  check_hull_paths(a, b);
+}
+
+// Fuzz finding (fuzz_sum, seed 1207008, after 390 inputs): points at 1e71 beside small ones,
+// whose fast sum the hull corrector rebuilds. The corrector's hull is the exact hull of the
+// exact pairwise sums, but its facets' normals were the Newell normals of their rounded corners,
+// another polygon where a sum of 1e2 and 1e71 rounds to the latter: a pairwise sum stood 4.3e71
+// (half the size) outside a plane. The normals now come from the exact sums (to 106 bits).
+TEST(HardCases, CorrectorPlanesOfSumsThatRound) {
+  const double X = 0x1.ececececececep+237, Y = -0x1.797cp+8;
+  const std::vector<Vector3d> a = {{0, 0x1.8p-5, 0x1.48p+7},
+                                   {0, 0, 0},
+                                   {256, 0, 0x1.0008p+8},
+                                   {1.5, 0, -0x1p-6},
+                                   {-0x1.ece00000000ffp+237, -X, 0x1.131313132cecep-236},
+                                   {-0x1.8ec8p+7, -X, -X},
+                                   {-X, -X, 0x1.133cecece3fcep-236},
+                                   {0x1.8988p+7, 0x0.0000000000001p-1022, -X},
+                                   {Y, Y, Y}};
+  const std::vector<Vector3d> b = {{-0x1.8af8p+7, -X, -X}, {-X, 0x0.000000000004p-1022, 0}, {0, 0, 0}};
+  const Operands o = make(a, b);  // (as polytopes: shape_from_points declines A's slivers)
+  for (double s : {1.0, -1.0}) {
+    MinkowskiSum m;
+    ASSERT_EQ(s > 0 ? minkowski_sum(o.A, o.B, m) : minkowski_difference(o.A, o.B, m), Status::Ok);
+    EXPECT_TRUE(valid_sum(a, b, s, o.A, o.B, m, 1e-12, 1e-12, 300)) << "sign " << s;
+  }
+  check_hull_paths(a, b);
 }
 
 // Fuzz finding (fuzz_sum, seed 53102, after 313,889 inputs): 20 points flat to 4e-12 of their

@@ -313,6 +313,49 @@ double flushed(double x) { return std::abs(x) < 0x1p-240 ? 0.0 : x; }
 
 // The hull of points (scaled to at most 1), exact where lo (if given) completes them: the
 // quickhull, then its triangles merged into facets.
+// A number to about 106 bits, hi + lo (double-double), and the three operations the normal of
+// a facet of exact sums takes.
+struct Twice {
+  double hi = 0, lo = 0;
+};
+Twice normalized(double hi, double lo) {
+  Twice r;
+  expansion::two_sum(hi, lo, r.hi, r.lo);
+  return r;
+}
+Twice operator+(Twice a, Twice b) {
+  double s, e;
+  expansion::two_sum(a.hi, b.hi, s, e);
+  return normalized(s, e + (a.lo + b.lo));
+}
+Twice operator-(Twice a, Twice b) { return a + Twice{-b.hi, -b.lo}; }
+Twice operator*(Twice a, Twice b) {
+  double p, e;
+  expansion::two_product(a.hi, b.hi, p, e);
+  return normalized(p, e + (a.hi * b.lo + a.lo * b.hi));
+}
+
+// The normal of a facet of the exact sums hi + lo (its loop's corners exactly coplanar):
+// the fan of cross products of the corners less the first, each difference and product to
+// about 106 bits. The Newell normal of the rounded corners is no normal of the facet: where
+// a sum of a point at 1e2 and one at 1e71 rounds to the latter, the rounded loop is another
+// polygon, and a pairwise sum stood 4e71 (half the size) outside its plane (fuzz_sum, seed
+// 1207008).
+Vector3d sum_normal(const std::vector<Vector3d>& hi, const std::vector<Vector3d>& lo, const std::vector<int>& loop) {
+  const auto at = [&](int i, int d) {
+    const Vector3d &a = hi[size_t(loop[size_t(i)])], &b = hi[size_t(loop[0])];
+    const Vector3d &al = lo[size_t(loop[size_t(i)])], &bl = lo[size_t(loop[0])];
+    return Twice{a[d], al[d]} - Twice{b[d], bl[d]};
+  };
+  Twice n[3];
+  for (size_t i = 1; i + 1 < loop.size(); ++i)
+    for (int d = 0; d < 3; ++d) {
+      const int j = (d + 1) % 3, k = (d + 2) % 3;
+      n[d] = n[d] + (at(int(i), j) * at(int(i + 1), k) - at(int(i), k) * at(int(i + 1), j));
+    }
+  return Vector3d(n[0].hi + n[0].lo, n[1].hi + n[1].lo, n[2].hi + n[2].lo);
+}
+
 bool hull_of(const std::vector<Vector3d>& points, const std::vector<Vector3d>* lo, HullFacets& out) {
   out.normal.clear(), out.index.clear(), out.start.assign(1, 0);
   Quickhull q(points, lo);
@@ -372,9 +415,9 @@ bool hull_of(const std::vector<Vector3d>& points, const std::vector<Vector3d>* l
         g = h, e = j;
       }
       const std::vector<int> loop(out.index.begin() + out.start.back(), out.index.end());
-      // (Zero only for sums: a facet of the exact sums whose rounded corners span no plane.
-      // No plane can stand for it; the caller answers with a status.)
-      const Vector3d normal = exact_newell(points, loop);
+      // (Zero only where rounding to doubles underflows it: no plane can stand for the facet;
+      // the caller answers with a status.)
+      const Vector3d normal = lo ? sum_normal(points, *lo, loop) : exact_newell(points, loop);
       if (normal == Vector3d::Zero()) return false;
       out.normal.push_back(unit_vector(normal));
       out.start.push_back(int(out.index.size()));
