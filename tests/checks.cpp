@@ -442,6 +442,16 @@ Eigen::Isometry3d random_pose(std::mt19937_64& rng, double reach) {
   return p;
 }
 
+bool sums_are_doubles(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, double s) {
+  for (const auto& p : a)
+    for (const auto& q : b)
+      for (int d = 0; d < 3; ++d) {
+        const double x = p[d], y = s * q[d], sum = x + y, yv = sum - x, xv = sum - yv;
+        if ((x - xv) + (y - yv) != 0) return false;
+      }
+  return true;
+}
+
 int scaled(int n, int at_least) {
   const char* s = std::getenv("MINKSUM_TEST_SCALE");
   const double f = s ? std::atof(s) : 1.0;

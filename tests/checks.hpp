@@ -73,6 +73,11 @@ struct ExactFacet {
 std::vector<ExactFacet> exact_hull(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
                                    double s, peers::ExactCounts* counts = nullptr);
 
+/// Whether every a_i + s b_j is a double exactly (Knuth's two-sum leaves no error): where
+/// it is not, the hull method's result (the exact hull of the sums as doubles) may differ
+/// from the exact hull of the exact sums.
+bool sums_are_doubles(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b, double s);
+
 /// m is the exact hull of the pairwise sums a + s b: the same V, E, F as CGAL's exact hull, and
 /// facet by facet the same vertices, equal within tol * size (tol = 0: exactly, for sums that are
 /// doubles).

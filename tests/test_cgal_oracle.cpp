@@ -574,7 +574,8 @@ TEST_P(Stability, EveryPathIsValidAndExactWhereDefined) {
       ASSERT_EQ(st, c.sum_status) << to_string(st);
       if (st != Status::Ok) continue;
       EXPECT_TRUE(test::valid_sum(c.a, c.b, s, A, B, m, c.tol, 1e-12, 300));
-      if (c.exact) {
+      // (The hull method's, and the corrector's, is the exact hull of the sums as doubles.)
+      if (c.exact && ((method != Method::Hull && !m.corrected) || test::sums_are_doubles(c.a, c.b, s))) {
         EXPECT_EQ(m.F, exact.F);
         EXPECT_EQ(m.E, exact.E);
         EXPECT_EQ(m.V, exact.V);

@@ -48,53 +48,16 @@ int orient3d(const Vector3d& a, const Vector3d& b, const Vector3d& c, const Vect
 
 namespace {
 
-// orient3d of points hi[k] + lo[k] (each exactly a sum of two doubles, lo the rounding that
-// two_sum leaves): the rounded determinant of the hi parts decides where its error bound,
-// widened by what the lo parts can move it, allows; else the expansions of the exact
-// differences (hi and lo differences summed, up to four terms a component).
-int orient3d_sums(const Vector3d* const hi[4], const Vector3d* const lo[4]) {
-  const Vector3d u = *hi[1] - *hi[0], v = *hi[2] - *hi[0], w = *hi[3] - *hi[0];
-  const double det = u.dot(v.cross(w));
-  const double perm = std::abs(u.x()) * (std::abs(v.y() * w.z()) + std::abs(v.z() * w.y())) +
-                      std::abs(u.y()) * (std::abs(v.z() * w.x()) + std::abs(v.x() * w.z())) +
-                      std::abs(u.z()) * (std::abs(v.x() * w.y()) + std::abs(v.y() * w.x()));
-  // Each row's components move by at most e: the determinant by at most
-  // e (|v||w| + |u||w| + |u||v|) + 3 e^2 (|u| + |v| + |w|) + 9 e^3 (1-norms).
-  double e = 0;
-  for (int k = 0; k < 4; ++k) e = std::max(e, lo[k]->cwiseAbs().maxCoeff());
-  e *= 2;
-  const double a = u.lpNorm<1>(), b = v.lpNorm<1>(), c = w.lpNorm<1>();
-  const double moved = e * (b * c + a * c + a * b) + 3 * e * e * (a + b + c) + 9 * e * e * e;
-  if (std::abs(det) > 1e-15 * perm + 1.01 * moved) return det > 0 ? 1 : -1;
-  double terms[3][3][4];
-  ExactVector x[3];
-  for (int r = 0; r < 3; ++r) {
-    for (int k = 0; k < 3; ++k) {
-      double h[2], l[2];
-      expansion::two_diff((*hi[r + 1])[k], (*hi[0])[k], h[1], h[0]);
-      expansion::two_diff((*lo[r + 1])[k], (*lo[0])[k], l[1], l[0]);
-      int n = expansion::sum(2, h, 2, l, terms[r][k]);
-      if (n == 1 && terms[r][k][0] == 0) n = 0;
-      x[r].terms[k] = terms[r][k], x[r].count[k] = n;
-    }
-    x[r].sign = 1;
-  }
-  return orient_exact(x[0], x[1], x[2]);
-}
-
 // The hull under construction: triangles in flat arrays, each with its three corners (counter-
 // clockwise from outside), the triangle across each edge (edge k runs from corner k to k + 1),
 // and the points still outside it (a list through next_: no allocation per triangle).
 class Quickhull {
  public:
-  Quickhull(const std::vector<Vector3d>& p, const std::vector<Vector3d>* lo) : p_(p), lo_(lo), next_(p.size(), -1) {}
+  explicit Quickhull(const std::vector<Vector3d>& p) : p_(p), next_(p.size(), -1) {}
 
-  /// The orientation of points i, j, k, l (orient3d), exact for the points the lo parts complete.
+  /// The orientation of points i, j, k, l (orient3d: exact).
   int side(int i, int j, int k, int l) const {
-    if (!lo_) return orient3d(p_[size_t(i)], p_[size_t(j)], p_[size_t(k)], p_[size_t(l)]);
-    const Vector3d* const hi[4] = {&p_[size_t(i)], &p_[size_t(j)], &p_[size_t(k)], &p_[size_t(l)]};
-    const Vector3d* const lo[4] = {&(*lo_)[size_t(i)], &(*lo_)[size_t(j)], &(*lo_)[size_t(k)], &(*lo_)[size_t(l)]};
-    return orient3d_sums(hi, lo);
+    return orient3d(p_[size_t(i)], p_[size_t(j)], p_[size_t(k)], p_[size_t(l)]);
   }
 
   bool run() {
@@ -261,7 +224,6 @@ class Quickhull {
     int from, to, beyond;
   };
   const std::vector<Vector3d>& p_;
-  const std::vector<Vector3d>* lo_;  // (nullptr: the points are exact as they are)
   std::vector<std::array<int, 3>> corner_, across_;
   std::vector<char> alive_;
   std::vector<unsigned> mark_;  // per triangle: the step that saw it visible (even) or on the rim
@@ -311,54 +273,11 @@ namespace {
 // rounding errors: above 2^-1022).
 double flushed(double x) { return std::abs(x) < 0x1p-240 ? 0.0 : x; }
 
-// The hull of points (scaled to at most 1), exact where lo (if given) completes them: the
+// The hull of points (scaled to at most 1), exact: the
 // quickhull, then its triangles merged into facets.
-// A number to about 106 bits, hi + lo (double-double), and the three operations the normal of
-// a facet of exact sums takes.
-struct Twice {
-  double hi = 0, lo = 0;
-};
-Twice normalized(double hi, double lo) {
-  Twice r;
-  expansion::two_sum(hi, lo, r.hi, r.lo);
-  return r;
-}
-Twice operator+(Twice a, Twice b) {
-  double s, e;
-  expansion::two_sum(a.hi, b.hi, s, e);
-  return normalized(s, e + (a.lo + b.lo));
-}
-Twice operator-(Twice a, Twice b) { return a + Twice{-b.hi, -b.lo}; }
-Twice operator*(Twice a, Twice b) {
-  double p, e;
-  expansion::two_product(a.hi, b.hi, p, e);
-  return normalized(p, e + (a.hi * b.lo + a.lo * b.hi));
-}
-
-// The normal of a facet of the exact sums hi + lo (its loop's corners exactly coplanar):
-// the fan of cross products of the corners less the first, each difference and product to
-// about 106 bits. The Newell normal of the rounded corners is no normal of the facet: where
-// a sum of a point at 1e2 and one at 1e71 rounds to the latter, the rounded loop is another
-// polygon, and a pairwise sum stood 4e71 (half the size) outside its plane (fuzz_sum, seed
-// 1207008).
-Vector3d sum_normal(const std::vector<Vector3d>& hi, const std::vector<Vector3d>& lo, const std::vector<int>& loop) {
-  const auto at = [&](int i, int d) {
-    const Vector3d &a = hi[size_t(loop[size_t(i)])], &b = hi[size_t(loop[0])];
-    const Vector3d &al = lo[size_t(loop[size_t(i)])], &bl = lo[size_t(loop[0])];
-    return Twice{a[d], al[d]} - Twice{b[d], bl[d]};
-  };
-  Twice n[3];
-  for (size_t i = 1; i + 1 < loop.size(); ++i)
-    for (int d = 0; d < 3; ++d) {
-      const int j = (d + 1) % 3, k = (d + 2) % 3;
-      n[d] = n[d] + (at(int(i), j) * at(int(i + 1), k) - at(int(i), k) * at(int(i + 1), j));
-    }
-  return Vector3d(n[0].hi + n[0].lo, n[1].hi + n[1].lo, n[2].hi + n[2].lo);
-}
-
-bool hull_of(const std::vector<Vector3d>& points, const std::vector<Vector3d>* lo, HullFacets& out) {
+bool hull_of(const std::vector<Vector3d>& points, HullFacets& out) {
   out.normal.clear(), out.index.clear(), out.start.assign(1, 0);
-  Quickhull q(points, lo);
+  Quickhull q(points);
   if (!q.run()) return false;
   // Merge triangles across edges whose far corner lies exactly in their plane (union-find).
   const int n = q.triangles();
@@ -415,9 +334,8 @@ bool hull_of(const std::vector<Vector3d>& points, const std::vector<Vector3d>* l
         g = h, e = j;
       }
       const std::vector<int> loop(out.index.begin() + out.start.back(), out.index.end());
-      // (Zero only where rounding to doubles underflows it: no plane can stand for the facet;
-      // the caller answers with a status.)
-      const Vector3d normal = lo ? sum_normal(points, *lo, loop) : exact_newell(points, loop);
+      // (Never zero for a facet of exact points: a guard, the caller answers with a status.)
+      const Vector3d normal = exact_newell(points, loop);
       if (normal == Vector3d::Zero()) return false;
       out.normal.push_back(unit_vector(normal));
       out.start.push_back(int(out.index.size()));
@@ -439,25 +357,16 @@ bool convex_hull(const std::vector<Vector3d>& input, HullFacets& out) {
   std::vector<Vector3d> points(input.size());
   for (size_t k = 0; k < input.size(); ++k)
     for (int d = 0; d < 3; ++d) points[k][d] = flushed(unit * input[k][d]);
-  return hull_of(points, nullptr, out);
+  return hull_of(points, out);
 }
 
 bool convex_hull_of_sums(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b, HullFacets& out) {
-  out.normal.clear(), out.index.clear(), out.start.assign(1, 0);
-  const size_t nb = b.size(), n = a.size() * nb;
-  if (n < 4) return false;
-  // Each sum as two_sum leaves it, fl(a + b) and its rounding: exactly a + b.
-  std::vector<Vector3d> hi(n), lo(n);
-  double size = 0;
-  for (size_t k = 0; k < n; ++k) {
-    for (int d = 0; d < 3; ++d) expansion::two_sum(a[k / nb][d], b[k % nb][d], hi[k][d], lo[k][d]);
-    size = std::max(size, hi[k].cwiseAbs().maxCoeff());
-  }
-  if (!std::isfinite(size)) return false;
-  const double unit = scale_to_one(size);
-  for (size_t k = 0; k < n; ++k)
-    for (int d = 0; d < 3; ++d) hi[k][d] = flushed(unit * hi[k][d]), lo[k][d] = flushed(unit * lo[k][d]);
-  return hull_of(hi, &lo, out);
+  // The sums as doubles, the points the result's vertices are: the hull of the exact sums has
+  // facets that their rounding does not keep planar (a sum of 1e2 and 1e71 rounds to the
+  // latter), so that no double plane would hold every rounded sum.
+  std::vector<Vector3d> sums(a.size() * b.size());
+  for (size_t k = 0; k < sums.size(); ++k) sums[k] = a[k / b.size()] + b[k % b.size()];
+  return convex_hull(sums, out);
 }
 
 }  // namespace minksum::detail

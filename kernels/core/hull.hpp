@@ -29,8 +29,8 @@ int orient3d(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Ve
 /// read as zero. False where the points span no volume, are fewer than 4 or are not finite.
 bool convex_hull(const std::vector<Eigen::Vector3d>& points, HullFacets& out);
 
-/// The exact convex hull of the pairwise sums a[i] + b[j] (point i * |b| + j), as convex_hull
-/// gives it: exact for the sums themselves, not for their rounding to doubles.
+/// The exact convex hull of the pairwise sums a[i] + b[j] (point i * |b| + j) as doubles, the
+/// points a result's vertices are (as convex_hull gives it).
 bool convex_hull_of_sums(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
                          HullFacets& out);
 
