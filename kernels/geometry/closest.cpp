@@ -104,8 +104,6 @@ bool onto_face(const Vector3d& p, const Vector3d (&v)[3], const Plane& plane, do
   return true;
 }
 
-
-
 // Where the segment p-q crosses triangle t (not degenerate), if it does with its endpoints
 // strictly on opposite sides of the plane. Decided exactly: the segment's line passes every
 // edge of t on one side (orient3d). A crossing point computed in doubles carries eps |q - p|
