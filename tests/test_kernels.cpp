@@ -308,6 +308,49 @@ TEST_P(Kernels, DegenerateTrianglesAreFlaggedNotNaN) {
   }
 }
 
+// A triangle with an edge under 1e-19 beside edges of 237 (fuzz_kernels, the CI smoke of
+// 6793a52): the float squares of that edge are subnormal or 0, and the hardware rsqrt
+// estimate read a subnormal squared cross length as 0, so the triangle's normal and its
+// offsets were NaN on every SIMD ISA. Every plane must be finite, and every valid one a support
+// plane of the box and the triangle (brute force over the corners).
+TEST_P(Kernels, AnEdgeBelowFloatRangeGivesFinitePlanes) {
+  ASSERT_TRUE(force_isa(GetParam()));
+  auto A = std::make_unique<BoxBatch<float, 16>>();
+  auto tri = std::make_unique<TriangleBatch<float, 16>>();
+  auto out = std::make_unique<BoxTrianglePlanes<float, 16>>();
+  Box box;
+  box.center = box.half_extents = Eigen::Vector3d::Constant(237.5);
+  box.rotation << 0, 0, 1, 1, 0, 0, 0, 1, 0;
+  const double tiny[4] = {0x1.bp-76, 1e-20, 1e-30, 1e-40};
+  Triangle t[12];
+  A->count = tri->count = 12;
+  for (int k = 0; k < 12; ++k) {
+    Eigen::Vector3d edge = Eigen::Vector3d::Zero();
+    edge[k % 3] = tiny[k / 3];
+    t[k] = Triangle{Eigen::Vector3d::Zero(), edge, Eigen::Vector3d(237.5, 237.5 - k, 237.5 + k)};
+    A->set(k, box), tri->set(k, t[k]);
+  }
+  A->pad(), tri->pad();
+  box_triangle_planes(*A, *tri, false, *out);
+  // 8 float ulps of the operands' size, as fuzz_kernels allows (the edges' float rounding).
+  const double bound = 8 * std::numeric_limits<float>::epsilon() * 3 * 712.5;
+  for (int k = 0; k < 12; ++k) {
+    const Eigen::Vector3d v[3] = {t[k].a.cast<float>().cast<double>(), t[k].b.cast<float>().cast<double>(),
+                                  t[k].c.cast<float>().cast<double>()};
+    for (int p = 0; p < 26; ++p) {
+      const int axis = p % 13;
+      const Eigen::Vector3d n =
+          (p < 13 ? 1.0 : -1.0) * Eigen::Vector3d(out->n[axis][0][k], out->n[axis][1][k], out->n[axis][2][k]);
+      ASSERT_TRUE(std::isfinite(out->offset[p][k]) && n.allFinite()) << "lane " << k << " plane " << p;
+      if (out->valid[k] >> 30 & 1 || !(out->valid[k] >> axis & 1)) continue;
+      EXPECT_NEAR(n.norm(), 1, 1e-6) << "lane " << k << " plane " << p;
+      int code;
+      const double top = detail::box_support_brute(box, n, &code) + std::max({n.dot(v[0]), n.dot(v[1]), n.dot(v[2])});
+      EXPECT_NEAR(out->offset[p][k], top, bound) << "lane " << k << " plane " << p;
+    }
+  }
+}
+
 template <class T>
 void check_support(Isa isa) {
   ASSERT_TRUE(force_isa(isa));

@@ -42,10 +42,13 @@ struct Lanes {
     S::store(p + 2 * stride + k, v.z);
   }
   // 1 / |c| for the cross product c of two edges, or 0 (and the valid bit clear) when
-  // |c|^2 <= tau^2 * scale2: nearly parallel edges give no reliable direction.
+  // |c|^2 <= tau^2 * scale2: nearly parallel edges give no reliable direction. Nor does a
+  // subnormal |c|^2 (edges under 1e-19 in float, where scale2 underflows to 0): its bits are
+  // gone, and the hardware's rsqrt estimate reads it as 0 (inf, then NaN planes).
   static B inv_len_or_zero(const V3& c, const B& scale2, B& valid_bit, T bit) {
     const B len2 = dot(c, c);
-    return inv_len_where(len2 > B(kTau2) * scale2, len2, valid_bit, bit);
+    const B floor = S::max(B(kTau2) * scale2, B(std::numeric_limits<T>::min()));
+    return inv_len_where(len2 > floor, len2, valid_bit, bit);
   }
   // The same from |c|^2, for the cross of two unit edge directions (scale 1).
   static B inv_len_or_zero(const B& len2, B& valid_bit, T bit) {
