@@ -590,6 +590,39 @@ TEST(HardCases, ReferenceCorrectorPlaneOfSumsThatRound) {
   check_hull_paths(a, b);
 }
 
+// Fuzz finding (fuzz_sum, seed 1207011, after 71,786 inputs): edges at 4e71 and 1.3e84, whose
+// cross product (5e155) and the product of their squared lengths overflow when squared. The
+// overlay's crossing facets took the infinite c2 for a length and scaled their normals by
+// 1 / sqrt(inf): three zero normals, which pass every other check (no point is outside a plane
+// of normal 0 and offset 0). Polytopes and posed shapes (the fuzzer's), both signs.
+TEST(HardCases, CrossingNormalsOfEdgesWhoseCrossOverflows) {
+  const double X = 0x1.ececececececep+237, S = 0x1.4544p+8;
+  const std::vector<Vector3d> a = {{S, S, S},
+                                   {-0x1.ecececece2fcep+237, -X, -X},
+                                   {S, S, -X},
+                                   {-0x1.acecececececep+236, 0x1.0506p+9, -0x1.ececececece31p+237}};
+  const std::vector<Vector3d> b = {{-X, -X, -0x1.ececececeeecep+237}, {2 * S, S, 0x1.1515151ff5bffp+278}, {S, S, S}};
+  const Operands o = make(a, b);
+  ConvexShape SA, SB;
+  ASSERT_EQ(shape_from_points(a, SA), Status::Ok);
+  ASSERT_EQ(shape_from_points(b, SB), Status::Ok);
+  Eigen::Isometry3d turn = Eigen::Isometry3d::Identity();  // a quarter turn about z: exact
+  turn.linear() << 0, -1, 0, 1, 0, 0, 0, 0, 1;
+  std::vector<Vector3d> ta, tb;
+  for (const Vector3d& p : a) ta.push_back(turn * p);
+  for (const Vector3d& p : b) tb.push_back(turn * p);
+  const Operands t = make(ta, tb);
+  for (double s : {1.0, -1.0}) {
+    MinkowskiSum m, posed;
+    ASSERT_EQ(s > 0 ? minkowski_sum(o.A, o.B, m, Method::Fast) : minkowski_difference(o.A, o.B, m, Method::Fast),
+              Status::Ok);
+    EXPECT_TRUE(valid_sum(a, b, s, o.A, o.B, m, 1e-12, 1e-12, 300)) << "sign " << s;
+    ASSERT_EQ(s > 0 ? minkowski_sum(SA, turn, SB, turn, posed) : minkowski_difference(SA, turn, SB, turn, posed),
+              Status::Ok);
+    EXPECT_TRUE(valid_sum(ta, tb, s, t.A, t.B, posed, 1e-12, 1e-12, 300)) << "posed, sign " << s;
+  }
+}
+
 // Fuzz finding (fuzz_sum, seed 53102, after 313,889 inputs): 20 points flat to 4e-12 of their
 // size, a triangle 4.1e13 across, turned, on a small polytope whose top edge is level to
 // 6.5e-12 rad. The triangle's normal leaned on a point 246 off its plane (1.2e-11 rad), which

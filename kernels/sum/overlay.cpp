@@ -44,6 +44,7 @@
 
 #include "sum/overlay.hpp"
 #include "core/predicates.hpp"
+#include "core/scale.hpp"
 #include "sum/sum_internal.hpp"
 
 namespace minksum::detail {
@@ -747,9 +748,16 @@ int crossing_pairs(const Placed& A, const Placed& B, const Crossing& x, int (&pa
   const double slack = crossing_slack;
   const bool certain = crossing_certain;
   const double poles = certain ? 0.0 : pole_error(A, x.ea) + pole_error(B, x.eb);
-  const Vector3d da = map_normals ? A.pole(x.ea) : A.edge(x.ea), db = map_normals ? B.pole(x.eb) : B.edge(x.eb);
-  const Vector3d c = da.cross(db);
-  const double c2 = c.squaredNorm(), edges = std::max(1e-4, 4 * (poles + slack));
+  Vector3d da = map_normals ? A.pole(x.ea) : A.edge(x.ea), db = map_normals ? B.pole(x.eb) : B.edge(x.eb);
+  Vector3d c = da.cross(db);
+  double c2 = c.squaredNorm();
+  if (!(c2 >= 0x1p-900 && c2 <= 0x1p900)) [[unlikely]] {
+    // Edges at 1e71 and 1e84: c2 and |da|^2 |db|^2 overflow (a zero normal once scaled by
+    // 1 / sqrt(inf)). Scaled by powers of two (exact), the same test and direction.
+    da *= scale_to_one(da.cwiseAbs().maxCoeff()), db *= scale_to_one(db.cwiseAbs().maxCoeff());
+    c = da.cross(db), c2 = c.squaredNorm();
+  }
+  const double edges = std::max(1e-4, 4 * (poles + slack));
   if (c2 > edges * edges * da.squaredNorm() * db.squaredNorm()) {
     Vector3d n = x.up ? -c : c;
     if (map_normals) n = A.world.turn(n);
