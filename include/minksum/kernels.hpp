@@ -120,7 +120,10 @@ struct alignas(64) BoxBoxPlanes {
 /// then the 9 crosses u[i] x e_j with e_j = v[(j+1)%3] - v[j], axis 4 + 3 i + j), plane p
 /// and p + 13 on opposite sides. code[p] = box corner | triangle vertex << 3 per plane
 /// (ties between triangle vertices go to the lowest index). valid bit p: axis p is valid;
-/// bit 30: the triangle is degenerate (the whole lane is invalid).
+/// bit 30: the triangle is degenerate (the whole lane is invalid): its edges within
+/// kParallelThreshold of parallel, or twice its area under the square root of T's smallest
+/// normal number (1.1e-19 in float), whose direction T cannot hold. An edge-cross axis whose
+/// cross product is that short is invalid too (conservative, as for parallel edges).
 template <class T, int N>
 struct alignas(64) BoxTrianglePlanes {
   alignas(64) T n[13][3][kRow<N>];          ///< axis p, component d of lane k

@@ -89,11 +89,11 @@ void check_box_triangle(const BoxTrianglePlanes<float, N>& out, int k, const Box
   const double tri_len = e[0].cross(e[1]).norm() / (e[0].norm() * e[1].norm());
   const bool degenerate = out.valid[k] >> 30 & 1;
   // The kernel tests each axis in float, its squared cross length against tau^2 times squared
-  // edge lengths. Where that product leaves float's normal range the test reads rounding or
-  // underflow, where the reference in double still finds an axis (a corner 4e-34 off the edge
-  // of a 0.05 triangle; an edge 2.2e-23 long beside edges of 237). Either is right: such an
-  // edge is under 4e-16 long, and the planes it decides move the sum by less than that, far
-  // below the float rounding of boxes over 1e-3.
+  // edge lengths, and no squared cross length under float's smallest normal number holds a
+  // direction (kernels.hpp). Where tau^2 times the squared lengths is under that, the reference
+  // in double may still find an axis the kernel drops (a corner 4e-34 off the edge of a 0.05
+  // triangle; an edge 2.2e-23 long beside edges of 237): either is right, as a dropped axis
+  // leaves the planes conservative. The kernel's valid planes are still checked.
   const double e2[3] = {e[0].squaredNorm(), e[1].squaredNorm(), e[2].squaredNorm()};
   const auto underflows = [](double scale2) { return kTau * kTau * scale2 < std::numeric_limits<float>::min(); };
   const bool lane_either = underflows(e2[0] * e2[1]) || underflows(std::min({e2[0], e2[1], e2[2]}));
