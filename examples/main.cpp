@@ -186,11 +186,18 @@ bool load(const std::string& path, ConvexShape& p) {
   }
   const Status s = shape_from_points(pts, p);
   if (s != Status::Ok) {
-    // OutOfRange within the coordinates' range: the shape is too small, not too large.
+    // OutOfRange within the coordinates' range: the shape too small, or its coordinates spanning
+    // more than 2^300 (shape_from_points).
     bool large = false;
-    for (const auto& x : pts) large = large || !(x.cwiseAbs().maxCoeff() <= kMaxCoordinate);
-    if (s == Status::OutOfRange && !large)
+    Eigen::AlignedBox3d box;
+    for (const auto& x : pts) large = large || !(x.cwiseAbs().maxCoeff() <= kMaxCoordinate), box.extend(x);
+    if (s == Status::OutOfRange && !large && !(box.diagonal().norm() >= kMinExtent))
       std::fprintf(stderr, "minksum: %s: the shape is under 1e-100 across, too small for double precision\n",
+                   path.c_str());
+    else if (s == Status::OutOfRange && !large)
+      std::fprintf(stderr,
+                   "minksum: %s: its coordinates span more than 2^300 (a nonzero one under 5e-91 of the largest), "
+                   "beyond the exact predicates' range\n",
                    path.c_str());
     else
       std::fprintf(stderr, "minksum: %s: %s\n", path.c_str(), to_string(s));

@@ -236,6 +236,8 @@ TEST(Cli, MessagesNameTheFlagOrFileAndTheRealProblem) {
   const std::string cube = write_points("mcube", tools::cube_points(), 0);
   const std::string tiny = write("tiny.txt", "0 0 0\n1e-200 0 0\n0 1e-200 0\n0 0 1e-200\n");
   expect_rejected("sum " + tiny + " " + cube, "tiny.txt: the shape is under 1e-100 across");
+  const std::string span = write("span.txt", "0 0 -2\n0 2.77555756e-17 0\n1 1 0\n-1 0 0\n0 2.36610437e-271 -1\n");
+  expect_rejected("sum " + span + " " + cube, "span.txt: its coordinates span more than 2^300");
   expect_rejected("sum " + scratch().string() + " " + cube, ": is a directory, not a file");
   expect_rejected("distance " + cube_off("dcube.off", "", -1) + " " + scratch().string(), ": is a directory, not a file");
   expect_rejected("query " + cube + " " + cube + " --pose-b \"1 0 0 0 1e300 0 0\"",

@@ -316,4 +316,27 @@ TEST(PosedShapes, BadShapesGetAStatus) {
                         transformed(t2.polytope(), out_of_plane), m, 1e-12, 1e-12, 300));
 }
 
+// Hypothesis campaign (seed 1207016): points whose coordinates span more than 2^300, e.g. a
+// corner at (0, 2.4e-271, -1) beside (0, 2.8e-17, 0) (the campaign's three, as it printed them). The exact hull keeps faces 1e-17 rad
+// apart, the prepared Gauss map flushes the components under 2^-300 that tell them apart, and
+// the map's check found three normals around a vertex coplanar: "invalid mesh" for valid
+// points. It is now OutOfRange, which says why; the same points with those coordinates 0 build.
+TEST(PosedShapes, CoordinatesSpanningMoreThanThePredicatesRangeAreOutOfRange) {
+  const std::vector<std::vector<Vector3d>> sets = {
+      {{0, 0, 0}, {0, 0, 1}, {1, 0, 0}, {1, 2.84217094e-14, 0}, {4.94065646e-324, 257, 2.01584521e-265}},
+      {{0, 0, -2}, {0, 2.77555756e-17, 0}, {1, 1, 0}, {-1, 0, 0}, {0, 2.36610437e-271, -1}},
+      {{0, 0, 0}, {0, 1, 0}, {0, 1.70495788e-254, -1}, {-1, 1, 1}, {-1.38777878e-17, 0, 0}}};
+  for (std::vector<Vector3d> points : sets) {
+    ConvexPolytope p;
+    ConvexShape s;
+    EXPECT_EQ(polytope_from_points(points, p), Status::Ok);
+    EXPECT_EQ(shape_from_points(points, s), Status::OutOfRange) << points.back().transpose();
+    EXPECT_TRUE(s.empty());
+    for (Vector3d& x : points)
+      for (int d = 0; d < 3; ++d)
+        if (std::abs(x[d]) < 1e-200) x[d] = 0;
+    EXPECT_EQ(shape_from_points(points, s), Status::Ok);
+  }
+}
+
 }  // namespace

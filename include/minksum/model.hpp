@@ -18,7 +18,7 @@ enum class Status {
   InvalidBox,        ///< a box half extent is <= 0 or its rotation is not a rotation
   DegenerateResult,  ///< the sum is not a solid (two coplanar flat operands without a radius)
   HullFailed,        ///< the convex hull could not be built from input that passed validation
-  OutOfRange,        ///< a coordinate's magnitude exceeds kMaxCoordinate, or a shape is under kMinExtent across
+  OutOfRange,        ///< a coordinate's magnitude exceeds kMaxCoordinate, a shape is under kMinExtent across, or (prepared shapes) its coordinates span more than 2^300 where that matters
   InvalidPose,       ///< a pose that is not a finite rigid motion (scale, shear, reflection, NaN)
   InvalidArgument,   ///< a number outside its documented range (a negative or NaN margin)
   CapacityExceeded,  ///< a result larger than its fixed capacity (a contact patch's 128 points)

@@ -39,6 +39,8 @@ class ConvexShape {
 };
 
 /// The convex hull of a point set (polytope_from_points, then validated and prepared).
+/// OutOfRange where a nonzero coordinate under 2^-300 (5e-91) of the largest leaves nearly
+/// coplanar faces (kept apart by the exact hull) that the prepared Gauss map cannot tell apart.
 Status shape_from_points(const std::vector<Eigen::Vector3d>& points, ConvexShape& out);
 
 /// A shape from an explicit convex mesh (polytope_from_mesh's checks).

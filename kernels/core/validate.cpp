@@ -20,7 +20,7 @@ const char* to_string(Status s) {
     case Status::NonFinite:
       return "a coordinate is NaN or Inf";
     case Status::OutOfRange:
-      return "a coordinate's magnitude exceeds 1e100, or the shape is under 1e-100 across (its products would overflow or underflow)";
+      return "a coordinate's magnitude exceeds 1e100, the shape is under 1e-100 across, or its coordinates span more than 2^300 (products would overflow or underflow)";
     case Status::TooFewPoints:
       return "fewer than 3 distinct points";
     case Status::Collinear:

@@ -34,6 +34,15 @@ bool take_vertices(const ConvexPolytope& p, ShapeData& s, double& extent) {
   return true;
 }
 
+// Whether a nonzero coordinate is under kTinyComponent (2^-300) of the largest magnitude.
+bool tiny_coordinates(const ShapeData& s) {
+  const double floor = detail::kTinyComponent * s.size;
+  for (const std::vector<double>* c : {&s.px, &s.py, &s.pz})
+    for (double x : *c)
+      if (x != 0 && std::abs(x) < floor) return true;
+  return false;
+}
+
 bool unit(const Vector3d& n) { return n.allFinite() && std::abs(n.squaredNorm() - 1) <= 1e-12; }
 
 // What prepare builds a layout from: the arcs (u, v; faces found from the loops) and each
@@ -302,7 +311,10 @@ Status prepare(const ConvexPolytope& p, ShapeData& s, bool negated_layout) {
     for (int e = 0; e < s.arcs; ++e)
       if (s.map[0].arc[e].L != p.edges[e].left || s.map[0].arc[e].R != p.edges[e].right) return Status::InvalidMesh;
   s.any_rounded = std::any_of(s.gauss_kind.begin(), s.gauss_kind.end(), [](GaussKind k) { return k != GaussKind::Exact; });
-  if (check_map(s) != Status::Ok) return Status::InvalidMesh;
+  // (A map that fails where a coordinate is under kTinyComponent of the largest: its Gauss
+  // normals flushed components that the exact hull kept, so nearly coplanar faces read as
+  // coplanar. Beyond the exact predicates' range, not an invalid mesh.)
+  if (check_map(s) != Status::Ok) return tiny_coordinates(s) ? Status::OutOfRange : Status::InvalidMesh;
   // Per face, where its loop has its smallest vertex: the sums' loops start there.
   for (int r = 0; r < 1 + negated_layout; ++r)
     for (int f = 0; f < s.faces; ++f) {

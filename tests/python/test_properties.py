@@ -44,6 +44,23 @@ def solid(points):
         return None
 
 
+def spans_beyond_exact_range(points):
+    """A nonzero coordinate under 2^-300 of the largest: Shape.from_points may refuse the set as
+    OUT_OF_RANGE (nearly coplanar faces its Gauss map cannot tell apart; shape.hpp)."""
+    a = np.abs(np.asarray(points, float))
+    return bool(((a > 0) & (a < 2.0**-300 * a.max(initial=0))).any())
+
+
+def shape_of(points):
+    """Shape.from_points, the example rejected only where the documented refusal applies."""
+    try:
+        return mk.Shape.from_points(points)
+    except mk.Error as e:
+        if e.status == mk.Status.OUT_OF_RANGE and spans_beyond_exact_range(points):
+            assume(False)
+        raise
+
+
 @st.composite
 def rotations(draw):
     q = np.array(draw(st.tuples(*[st.floats(-1, 1)] * 4)))
@@ -98,7 +115,7 @@ def expect_extreme_points(vertices, planes, points, hull):
 def test_every_layout_and_dtype_builds_the_same_shape(points):
     hull = solid(points)
     assume(hull is not None)
-    shape = mk.Shape.from_points(points)
+    shape = shape_of(points)
     expect_extreme_points(shape.vertices, shape.faces[0], points, hull)
     # input_index maps the vertices back to the rows given.
     np.testing.assert_array_equal(points[shape.input_index], shape.vertices)
@@ -110,7 +127,7 @@ def test_every_layout_and_dtype_builds_the_same_shape(points):
 @given(point_sets(), point_sets(), poses(), st.sampled_from(["sum", "difference"]))
 def test_sums_are_the_hull_of_the_pairwise_sums(a_points, b_points, pose_b, op):
     assume(solid(a_points) is not None and solid(b_points) is not None)
-    a, b = mk.Shape.from_points(a_points), mk.Shape.from_points(b_points)
+    a, b = shape_of(a_points), shape_of(b_points)
     sign = 1 if op == "sum" else -1
     call = mk.minkowski_sum if op == "sum" else mk.minkowski_difference
     s = call(a, None, b, pose_b)
@@ -131,7 +148,7 @@ def test_sums_are_the_hull_of_the_pairwise_sums(a_points, b_points, pose_b, op):
 @given(point_sets(), point_sets(), poses(), st.sampled_from(range(5)))
 def test_proximity_is_the_distance_of_the_difference_to_the_origin(a_points, b_points, pose_b, form):
     assume(solid(a_points) is not None and solid(b_points) is not None)
-    a, b = mk.Shape.from_points(a_points), mk.Shape.from_points(b_points)
+    a, b = shape_of(a_points), shape_of(b_points)
     p = mk.proximity(a, None, b, pose_forms(pose_b)[form])
     difference = (a_points[:, None, :] - placed(b_points, pose_b)[None, :, :]).reshape(-1, 3)
     expected = hull_distance_to_origin(difference)
