@@ -623,6 +623,44 @@ TEST(HardCases, CrossingNormalsOfEdgesWhoseCrossOverflows) {
   }
 }
 
+// Fuzz finding (fuzz_sum, seed 1207014, after 547,940 inputs): A has two faces whose unit
+// normals round to the same double (the exact hull keeps them apart), so one of its Gauss-map
+// arcs is a point. A crossing there fell to near_parallel_normal, which built a circle from the
+// arc's two ends: a zero frame, and a normal 6e-17 long.
+TEST(HardCases, CrossingAnArcOfFacesWhoseNormalsRoundAlike) {
+  const double X = 0x1.ececececececep+237, T = 0x1.5555555555555p-1, U = -0x1.5555555555554p-2;
+  const std::vector<Vector3d> a = {{0x1.48p-1, 256, 0},
+                                   {0, 1, 0x1.ccp+8},
+                                   {0x1.00ccp+8, 1.5, 0},
+                                   {-X, -0x1.ececece39cecep+237, -X},
+                                   {-X, -X, -0x1.ecece3fcececep+237},
+                                   {0, 0x1.88p+7, -0x1.8ec8p+7}};
+  const std::vector<Vector3d> b = {{0, 0, 0}, {0x1.88p+7, 0x1.5018p+7, -20}, {0x1.ececececececep-211, 0x1.d988p+7, 0}};
+  Eigen::Isometry3d pb = Eigen::Isometry3d::Identity();  // (the fuzzer's pose: a turn about (1, 1, 1))
+  pb.linear() << U, T, T, T, U, T, T, T, U;
+  pb.translation() = Vector3d(-X, 0x0.000cececece3fp-1022, 0);
+  ConvexShape SA, SB;
+  ASSERT_EQ(shape_from_points(a, SA), Status::Ok);
+  ASSERT_EQ(shape_from_points(b, SB), Status::Ok);
+  std::vector<Vector3d> wb;
+  for (const Vector3d& q : SB.polytope().vertices) wb.push_back(pb * q);
+  // (The posed sum rounds its vertices otherwise than a + s (pb b): checked to 1e-9 of the size,
+  // as fuzz_sum does, with unit normals.)
+  for (double s : {1.0, -1.0}) {
+    MinkowskiSum m;
+    const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();
+    ASSERT_EQ(s > 0 ? minkowski_sum(SA, I, SB, pb, m) : minkowski_difference(SA, I, SB, pb, m), Status::Ok);
+    const double tol = 1e-9 * 2 * X;
+    for (int f = 0; f < m.F; ++f) {
+      const SumPlane& pl = m.planes[size_t(f)];
+      EXPECT_NEAR(pl.normal.norm(), 1, 1e-12) << "sign " << s << " facet " << f;
+      for (const Vector3d& p : SA.polytope().vertices)
+        for (const Vector3d& q : wb) EXPECT_LE(pl.normal.dot(p + s * q), pl.offset + tol) << "facet " << f;
+      for (int v : m.facet(f)) EXPECT_NEAR(pl.normal.dot(m.vertices[size_t(v)].point), pl.offset, tol);
+    }
+  }
+}
+
 // Fuzz finding (fuzz_sum, seed 53102, after 313,889 inputs): 20 points flat to 4e-12 of their
 // size, a triangle 4.1e13 across, turned, on a small polytope whose top edge is level to
 // 6.5e-12 rad. The triangle's normal leaned on a point 246 off its plane (1.2e-11 rad), which

@@ -344,6 +344,9 @@ bool walk(const Placed& A, const Placed& B, int ea, int from, const Loc& start, 
 // to rounding the two circles coincide and the crossing point is noise, but any normal in both
 // arcs supports both edges, so the clamp keeps the plane a support plane of A and of B.
 Vector3d near_parallel_normal(const Vector3d& a1, const Vector3d& a2, const Vector3d& b1, const Vector3d& b2) {
+  // A's arc a point (two faces whose unit normals round alike, kept apart by the exact hull):
+  // the crossing is there, and no circle through it can be formed.
+  if (!(a1.cross(a2).squaredNorm() > 0)) return a1;
   const Vector3d u = a1, w = a1.cross(a2).normalized().cross(a1).normalized();
   const auto angle = [&](const Vector3d& x) { return std::atan2(x.dot(w), x.dot(u)); };  // along A's circle
   const double alpha = angle(a2), kTwoPi = 2 * M_PI;
