@@ -90,18 +90,38 @@ TEST(Polytope, CoplanarPointsGiveAFlatPolytopeWithTwoSides) {
 }
 
 // The Hypothesis campaign of caba389 (seed 1207004): two points 1.2e-7 apart, a third 1000
-// away and a fourth 1 off their line. Flat to kFlatTol (the second point 5.8e-11 of the
-// diagonal off the others' plane), and the planar hull dropped the far corner: its triangle
-// with the two near points has an area of 3e-19, under an area tolerance. "Collinear" for a
-// triangle 1000 long and 1 wide; it is a flat polygon with the far corners as vertices.
+// away and a fourth 1 off their line. Flat to 1e-10 (the second point 5.8e-11 of the diagonal
+// off the others' plane), and the planar hull dropped the far corner: its triangle with the two
+// near points has an area of 3e-19, under an area tolerance. "Collinear" for a triangle 1000
+// long and 1 wide. The points span a volume: every one is a corner of their hull.
 TEST(Polytope, NearlyCoincidentPointsBesideFarCornersAreNotCollinear) {
   const std::vector<Vector3d> pts = {{0, 0, 0}, {0, -0x1p-23, 0}, {0, -0x1p-24, 1000}, {1, 0, -193}};
   ConvexPolytope p;
   ASSERT_EQ(polytope_from_points(pts, p), Status::Ok);
+  EXPECT_FALSE(p.flat);
+  ASSERT_EQ(p.vertices.size(), 4u);
+  expect_valid(p);
+  // The same corners exactly in a plane (x = 0): a flat polygon, the far corners on it.
+  const std::vector<Vector3d> flat = {{0, 0, 0}, {0, -0x1p-23, 0}, {0, -0x1p-24, 1000}, {0, 1, -193}};
+  ASSERT_EQ(polytope_from_points(flat, p), Status::Ok);
   EXPECT_TRUE(p.flat);
-  ASSERT_EQ(p.vertices.size(), 3u);
   for (const int far : {2, 3})
     EXPECT_NE(std::find(p.input_index.begin(), p.input_index.end(), far), p.input_index.end()) << far;
+  expect_valid(p);
+}
+
+// A polygon exactly in a tilted plane keeps a corner that lies 1e-14 of its size off the line
+// through its neighbours (the planar hull dropped points within 1e-12 of that line), and drops
+// a point exactly on an edge: corners are decided exactly. Points on x + 2y + 4z = 8.
+TEST(Polytope, APolygonsCornersAreExactlyItsExtremePoints) {
+  const double t = 0x1p-46;  // (the bent corner: 1.4e-14 off the chord)
+  const std::vector<Vector3d> pts = {{8, 0, 0}, {0, 4, 0}, {0, 0, 2}, {4, 0, 1}, {4 + 4 * t, -2 * t, 1}, {0, 2, 1}};
+  ConvexPolytope p;
+  ASSERT_EQ(polytope_from_points(pts, p), Status::Ok);
+  ASSERT_TRUE(p.flat);
+  std::vector<int> corners = p.input_index;
+  std::sort(corners.begin(), corners.end());
+  EXPECT_EQ(corners, (std::vector<int>{0, 1, 2, 4}));  // (3 and 5 lie on edges: 2-0 and 1-2)
   expect_valid(p);
 }
 

@@ -552,6 +552,27 @@ TEST(QueryHardCases, CoplanarTriangles) {
   EXPECT_TRUE(p.intersecting);
 }
 
+// Hypothesis campaign of 51d5905 (seed 1207016): a sliver tetrahedron, flat to 1e-10 of its
+// size (its three points at x = -1 lie 2^-24 off a line). Flattened to a triangle, it lost the
+// corner (-1, 0, 0), which its pose puts on the unit tetrahedron's corner (1, 0, 0): "2.7e-5
+// apart" for shapes that share a point. A shape's vertices are the exact extreme points.
+TEST(QueryHardCases, ASliverFlatOnlyToAToleranceKeepsItsCorners) {
+  const std::vector<Vector3d> sliver = {{0, -1, -2}, {-1, 0, 0}, {-1, 0, 0x1p-14}, {-1, 0x1p-24, 1}};
+  ConvexShape A, B;
+  ASSERT_EQ(shape_from_points({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, A), Status::Ok);
+  ASSERT_EQ(shape_from_points(sliver, B), Status::Ok);
+  EXPECT_FALSE(B.polytope().flat);
+  EXPECT_EQ(B.polytope().vertices.size(), 4u);
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = Vector3d(-1, 1, -1).asDiagonal();  // (-1, 0, 0) to (1, 0, 0), A's corner
+  for (Want want : {Want::Verdict, Want::Witnesses, Want::All}) {
+    Proximity p;
+    ASSERT_EQ(proximity(A, Eigen::Isometry3d::Identity(), B, pose, p, want), Status::Ok);
+    EXPECT_TRUE(p.intersecting) << unsigned(want);
+    if (want != Want::Verdict) EXPECT_EQ(p.distance, 0.0) << unsigned(want);
+  }
+}
+
 TEST(Query, BadInputGetsAStatus) {
   Proximity p;
   Box bad;

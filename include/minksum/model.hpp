@@ -78,7 +78,8 @@ struct ConvexPolytope {
 };
 
 /// The exact convex hull of a point set (exactly coplanar facets merged). Duplicates are dropped;
-/// coplanar points give a flat polytope; < 3 distinct or collinear points are rejected.
+/// exactly coplanar points give a flat polytope (nearly coplanar ones a thin solid); fewer than
+/// 3 distinct or collinear points are rejected.
 Status polytope_from_points(const std::vector<Eigen::Vector3d>& points, ConvexPolytope& out);
 
 /// A convex polytope from an explicit mesh (faces as vertex loops, any orientation).

@@ -48,6 +48,11 @@ int orient3d(const Vector3d& a, const Vector3d& b, const Vector3d& c, const Vect
 
 namespace {
 
+// Components below 2^-240 (of the largest, 1 after scaling) read as zero: then every product
+// the exact orientation forms stays normal (three factors of 2^-292 or more, and their
+// rounding errors: above 2^-1022).
+double flushed(double x) { return std::abs(x) < 0x1p-240 ? 0.0 : x; }
+
 // The hull under construction: triangles in flat arrays, each with its three corners (counter-
 // clockwise from outside), the triangle across each edge (edge k runs from corner k to k + 1),
 // and the points still outside it (a list through next_: no allocation per triangle).
@@ -235,43 +240,47 @@ class Quickhull {
 
 }  // namespace
 
-std::vector<int> planar_hull(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids,
-                             const Eigen::Vector3d& normal, double eps) {
-  using Eigen::Vector2d;
-  const Eigen::Vector3d u = normal.unitOrthogonal(), w = normal.cross(u);
-  std::vector<std::pair<Vector2d, int>> q;
-  for (int k : ids) q.push_back({Vector2d(points[k].dot(u), points[k].dot(w)), k});
+std::vector<int> planar_hull(const std::vector<Vector3d>& points, const std::vector<int>& ids, const Vector3d& normal) {
+  // Projected along the normal's largest axis k: dropping a coordinate is exact, and keeps every
+  // orientation of coplanar points (the plane is not parallel to axis k). Andrew's monotone
+  // chain (Inf. Proc. Letters 9(5), 1979) on exact orientations: a point on the line through
+  // its neighbours, or a duplicate, is no corner.
+  int k = 0;
+  for (int d = 1; d < 3; ++d)
+    if (std::abs(normal[d]) > std::abs(normal[k])) k = d;
+  const int i = (k + 1) % 3, j = (k + 2) % 3;  // (i, j, k) cyclic: counter-clockwise about +axis k
+  double size = 0;
+  for (int id : ids) size = std::max({size, std::abs(points[size_t(id)][i]), std::abs(points[size_t(id)][j])});
+  const double unit = std::isfinite(size) && size > 0 ? scale_to_one(size) : 1.0;
+  std::vector<std::pair<Vector3d, int>> q;  // (x, y, 0) and the id
+  q.reserve(ids.size());
+  for (int id : ids) q.push_back({Vector3d(flushed(unit * points[size_t(id)][i]), flushed(unit * points[size_t(id)][j]), 0), id});
   std::sort(q.begin(), q.end(), [](const auto& a, const auto& b) {
     return a.first.x() < b.first.x() || (a.first.x() == b.first.x() && a.first.y() < b.first.y());
   });
   q.erase(std::unique(q.begin(), q.end(), [](const auto& a, const auto& b) { return a.first == b.first; }), q.end());
-  // a is dropped between o and b where it lies within eps of their line (or beyond it): a
-  // distance, not an area, so that a far corner is kept beside two points nearly on top of
-  // each other (their small triangle with it dropped it: a 1000-long triangle called collinear).
-  auto flat = [eps](const Vector2d& o, const Vector2d& a, const Vector2d& b) {
-    return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x() <= eps * (b - o).norm();
+  // b turns left of o -> a where det[a - o; b - o; (0, 0, 1)] > 0: orient3d with o lifted by 1.
+  const auto left = [](const Vector3d& o, const Vector3d& a, const Vector3d& b) {
+    return orient3d(o, a, b, Vector3d(o.x(), o.y(), 1)) > 0;
   };
-  std::vector<std::pair<Vector2d, int>> h;
-  for (int pass = 0; pass < 2; ++pass) {  // lower chain, then upper chain
+  std::vector<std::pair<Vector3d, int>> h;
+  for (int pass = 0; pass < 2 && q.size() >= 2; ++pass) {  // lower chain, then upper chain
     const size_t start = h.size();
     for (const auto& p : q) {
-      while (h.size() >= start + 2 && flat(h[h.size() - 2].first, h.back().first, p.first)) h.pop_back();
+      while (h.size() >= start + 2 && !left(h[h.size() - 2].first, h.back().first, p.first)) h.pop_back();
       h.push_back(p);
     }
     h.pop_back();  // each chain's last point starts the other chain
     std::reverse(q.begin(), q.end());
   }
+  if (h.empty() && !q.empty()) h.push_back(q.front());
   std::vector<int> corners;
   for (const auto& p : h) corners.push_back(p.second);
+  if (normal[k] < 0) std::reverse(corners.begin(), corners.end());
   return corners;
 }
 
 namespace {
-
-// Components below 2^-240 (of the largest, 1 after scaling) read as zero: then every product
-// the exact orientation forms stays normal (three factors of 2^-292 or more, and their
-// rounding errors: above 2^-1022).
-double flushed(double x) { return std::abs(x) < 0x1p-240 ? 0.0 : x; }
 
 // The hull of points (scaled to at most 1), exact: the
 // quickhull, then its triangles merged into facets.

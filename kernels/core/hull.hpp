@@ -34,11 +34,12 @@ bool convex_hull(const std::vector<Eigen::Vector3d>& points, HullFacets& out);
 bool convex_hull_of_sums(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
                          HullFacets& out);
 
-/// Corners of the convex hull of the points `ids` projected onto the plane of `normal`,
-/// counter-clockwise about it (Andrew's monotone chain). A point within eps (a distance) of the
-/// line through its neighbours on the hull is not a corner, so collinear and duplicate points
-/// are dropped.
+/// Corners of the convex hull of the points `ids` projected along the largest axis of `normal`
+/// (exactly: that coordinate dropped), counter-clockwise about `normal`, decided by exact
+/// orientations: a point on the line through its neighbours, or a duplicate, is no corner. For
+/// coplanar points it is their polygon's exact hull (components under 2^-240 of the largest
+/// read as zero, as in convex_hull).
 std::vector<int> planar_hull(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids,
-                             const Eigen::Vector3d& normal, double eps);
+                             const Eigen::Vector3d& normal);
 
 }  // namespace minksum::detail

@@ -233,7 +233,7 @@ void low_sum(const ConvexShape& a, const Eigen::Isometry3d& pose_a, const Convex
   } else {
     std::vector<int> all(sums.size());
     for (size_t k = 0; k < all.size(); ++k) all[k] = int(k);
-    corners = detail::planar_hull(sums, all, normal, 0);
+    corners = detail::planar_hull(sums, all, normal);
   }
   // The vertices sorted by their pairs, as every sum's are.
   std::vector<int> order = corners;

@@ -21,10 +21,9 @@ using Eigen::Vector3d;
 
 namespace {
 
-// Relative tolerances, in units of the sum's extent: a vertex within kPushTol of the pushed
-// plane is extreme; a point within kLineTol (area units) of a hull edge is not a corner.
+// Relative tolerance, in units of the sum's extent: a vertex within kPushTol of the pushed
+// plane is extreme (its corners are then those of the extremes' planar hull).
 constexpr double kPushTol = 1e-9;
-constexpr double kLineTol = 1e-9;
 
 // Edge directions of a polytope, one per edge.
 std::vector<Vector3d> edge_directions(const ConvexPolytope& p) {
@@ -96,7 +95,7 @@ void sum_reference(const ConvexPolytope& a, const ConvexPolytope& b, MinkowskiSu
         if (da[i] + db[j] >= ha + hb - push_tol) extreme.push_back(i * nb + j);
     }
     if (extreme.size() < 3) continue;
-    std::vector<int> corners = planar_hull(V, extreme, n, kLineTol * extent);
+    std::vector<int> corners = planar_hull(V, extreme, n);
     if (corners.size() < 3) continue;
     // Several candidates can find the same facet; keep the plane that fits its corners best.
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
