@@ -125,6 +125,29 @@ TEST(Polytope, APolygonsCornersAreExactlyItsExtremePoints) {
   expect_valid(p);
 }
 
+// fuzz_sum campaign of 67d1226 (seed 1207019, 69,037 inputs): five points 2e52 across whose
+// fifth lies 256 (1e-50 of the size) off the others' plane. Kept as that thin solid, its posed
+// sum with a triangle had crossing facets 2.3e71 off their vertices. Within 64 eps of the size
+// (the queries' rounding tolerance) points are flat; farther off, a solid of every corner.
+TEST(Polytope, PointsWithin64EpsOfAPlaneAreFlatAndFartherOffASolid) {
+  const std::vector<Vector3d> thin = {{0, 0.046875, 164},
+                                      {0, 0, 0},
+                                      {256, 0, -215.96875},
+                                      {-2.0048271934734512e+52, -2.0048271934734512e+52, -2.0048271934734512e+52},
+                                      {-1.9578390561264172e+49, -2.0048271934734512e+52, 7.6306574086370347e-305}};
+  ConvexPolytope p;
+  ASSERT_EQ(polytope_from_points(thin, p), Status::Ok);
+  EXPECT_TRUE(p.flat);
+  // A unit square whose corner is lifted by h: flat at h = 2^-50 (9e-16 of the size), a
+  // tetrahedron of all four corners at 2^-40 (9e-13).
+  for (const double h : {0x1p-50, 0x1p-40}) {
+    ASSERT_EQ(polytope_from_points({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, h}}, p), Status::Ok);
+    EXPECT_EQ(p.flat, h < 0x1p-45) << h;
+    EXPECT_EQ(p.vertices.size(), 4u) << h;
+    expect_valid(p);
+  }
+}
+
 TEST(Polytope, TooFewOrCollinearPointsAreRejected) {
   ConvexPolytope p;
   EXPECT_EQ(polytope_from_points({}, p), Status::TooFewPoints);

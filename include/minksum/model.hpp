@@ -78,8 +78,8 @@ struct ConvexPolytope {
 };
 
 /// The exact convex hull of a point set (exactly coplanar facets merged). Duplicates are dropped;
-/// exactly coplanar points give a flat polytope (nearly coplanar ones a thin solid); fewer than
-/// 3 distinct or collinear points are rejected.
+/// points within 64 eps of the size of a plane give a flat polytope (farther off, a thin solid);
+/// fewer than 3 distinct or collinear points are rejected.
 Status polytope_from_points(const std::vector<Eigen::Vector3d>& points, ConvexPolytope& out);
 
 /// A convex polytope from an explicit mesh (faces as vertex loops, any orientation).

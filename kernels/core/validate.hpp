@@ -9,8 +9,9 @@
 namespace minksum::detail {
 
 /// Relative thresholds, in units of the input's bounding-box diagonal D. Points closer than
-/// kFlatTol * D to a plane make the input flat; closer than kLineTol * D to a line, collinear.
-constexpr double kFlatTol = 1e-10;
+/// kFlatTol * D (64 eps: the queries' rounding tolerance) to a plane make the input flat; closer
+/// than kLineTol * D to a line, collinear.
+constexpr double kFlatTol = 64 * 0x1p-52;
 constexpr double kLineTol = 1e-12;
 
 /// NonFinite for a NaN or Inf coordinate, OutOfRange beyond kMaxCoordinate, else Ok.

@@ -103,13 +103,10 @@ Status polytope_from_points(const std::vector<Vector3d>& points, ConvexPolytope&
   if (line_dist(scaled[p2]) <= kLineTol * D) return Status::Collinear;
   const Vector3d n = axis.cross(scaled[p2] - scaled[0]).normalized();
   auto plane_dist = [&](const Vector3d& p) { return std::abs(n.dot(p - scaled[0])); };
-  // The exact hull, whose vertices are exactly the extreme points: points flat only to a
-  // tolerance stay a solid (a pentagon 900 off its plane at 8.5e12, flattened, put queries'
-  // witnesses 200 away). Points exactly coplanar (as the hull reads them) span no volume: a
-  // flat polygon. (The tolerance only guards that fallback against a hull that fails otherwise.)
-  detail::HullFacets hull;
-  if (!detail::convex_hull(scaled, hull)) {
-    if (plane_dist(scaled[farthest(plane_dist)]) > kFlatTol * D) return Status::HullFailed;
+  // Flat within 64 eps of the size: flattening moves no corner farther than the queries' own
+  // rounding tolerance (64 eps of the reach). Farther off, the exact hull keeps a thin solid (a
+  // pentagon 900 off its plane at 8.5e12, flattened to 1e-10, put queries' witnesses 200 away).
+  if (plane_dist(scaled[farthest(plane_dist)]) <= kFlatTol * D) {
     std::vector<int> all(scaled.size());
     for (int k = 0; k < int(scaled.size()); ++k) all[k] = k;
     std::vector<int> loop = detail::planar_hull(scaled, all, n);
@@ -121,6 +118,8 @@ Status polytope_from_points(const std::vector<Vector3d>& points, ConvexPolytope&
     for (int& id : loop) id = unique_ids[id];
     return make_flat(points, loop, normal, out);
   }
+  detail::HullFacets hull;
+  if (!detail::convex_hull(scaled, hull)) return Status::HullFailed;
   std::vector<int> remap(pts.size(), -1);  // index into pts -> vertex index, in input order
   for (int id : hull.index) remap[size_t(id)] = 0;
   for (size_t id = 0; id < pts.size(); ++id)
