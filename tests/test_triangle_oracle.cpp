@@ -97,6 +97,46 @@ TEST(TriangleOracle, NeedlesEqualTheExactDistance) {
   EXPECT_NEAR(triangle_distance(face, needle, p, q), 24.698489451961752, 1e-5);
 }
 
+// Needles pointing at the other triangle: the sharp apex near (at each place in the corner
+// order), the two far corners L = 1e4 to 1e12 times their width w away, the other triangle
+// beyond the apex on (or just off) the needle's plane, D = 1e-9 w to 100 w from it. The angle
+// between the two shortest edges is near a right one: only the smallest angle marks such a
+// needle as a sliver, whose edge tests are exact. The fuzz finding (fuzz_query campaign of
+// 67d1226, seed 1207020, 126,519 inputs): a corner 2.9e76 beyond the apex of a needle 1.4e86
+// long, read 2.5e72 from it (its far corners' rounding is the apex edges' offset there). The
+// random pairs passed before the fix too; the finding did not.
+TEST(TriangleOracle, PointsBeyondANeedlesApexEqualTheExactDistance) {
+  std::mt19937_64 rng(47);
+  std::uniform_real_distribution<double> u(-1, 1), e(0, 1);
+  const auto unit = [&] { return Vector3d(u(rng), u(rng), u(rng)).normalized(); };
+  check_pairs(
+      test::scaled(5000),
+      [&](int k, Vector3d(&s)[3], Vector3d(&t)[3]) {
+        const double w = std::pow(10.0, 4 * u(rng)), L = w * std::pow(10.0, 4 + 8 * e(rng));
+        const double D = w * std::pow(10.0, -9 + 11 * e(rng));
+        const Vector3d along = unit(), side = along.cross(unit()).normalized(), normal = along.cross(side);
+        const Vector3d apex = 3 * w * Vector3d(u(rng), u(rng), u(rng));
+        s[k % 3] = apex, s[(k + 1) % 3] = apex + L * along + 0.5 * w * side;  // (the apex at each place)
+        s[(k + 2) % 3] = apex + L * along - 0.5 * w * side;
+        const Vector3d at = apex - D * along + D * u(rng) * side + D * 1e-3 * u(rng) * normal;
+        for (auto& x : t) x = at + 0.4 * D * Vector3d(u(rng), u(rng), u(rng));
+        if (k % 2) std::swap(s, t);  // the needle on either side
+      },
+      rounding,
+      "beyond a needle's apex");
+  const Vector3d corner[3] = {{0, 0x0.00000000001ffp-1022, -0x1.88p+7}, {0, 0, 0}, {0x1p-6, 0, 0x1.e5dp+7}};
+  const Vector3d needle[3] = {{0x1.003221d959c5ep+285, 0x1.384b565dab58cp+285, -0x1.927c864a975dep+285},
+                              {0x1.c95d1a2ea4af9p+252, 0x1.16c1719a31119p+253, -0x1.6742fb78510fbp+253},
+                              {0x1.003204fc8506ap+285, 0x1.384b332ed555fp+285, -0x1.927c58ef711edp+285}};
+  check_pairs(
+      2,
+      [&](int k, Vector3d(&a)[3], Vector3d(&b)[3]) {
+        std::copy(corner, corner + 3, a), std::copy(needle, needle + 3, b);
+        if (k % 2) std::swap(a, b);
+      },
+      rounding, "finding");  // (3e73 against the 2.9e76 it was off)
+}
+
 // Slivers: corners nearly on one line (sin t from 1e-12 to 1e-4 at the corner between its two
 // shortest edges, the far corner beside or beyond the others), the other triangle a small one
 // within a few widths of the sliver's plane, anywhere along it. The normal of a sliver in

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace minksum {
 
@@ -60,9 +61,59 @@ struct Plane {
   double n1 = 0, reach = 0;
 };
 
-// The exact sign of det[b - a; p - a; n] for n as given: the side of the plane through the
-// edge a-b along n on which p lies (the differences as two_diff leaves them, and expansions).
-int beside_exact(const Vector3d& a, const Vector3d& b, const Vector3d& p, const Vector3d& n) {
+// The exact normal (v1 - v0) x (v2 - v0) of the doubles v, each component an expansion of at
+// most 16 terms (the edges as two_diff leaves them, their products exact). A rounded normal
+// (accurate_normal: a few ulps) tilts the plane through a sliver's edge along it by ulps of the
+// sliver's length: more than a point beyond its sharp corner lies off that edge (a corner
+// 2.9e76 beyond a needle's apex, 1.4e86 long, read as inside it: 2.5e72 apart).
+struct ExactNormal {
+  double terms[3][16];
+  detail::ExactVector n;
+  explicit ExactNormal(const Vector3d (&v)[3]) {
+    using namespace detail::expansion;
+    double e[2][3][2];  // edge r (v_{r+1} - v0), component d: (lo, hi), zeros dropped
+    int len[2][3];
+    for (int r = 0; r < 2; ++r)
+      for (int d = 0; d < 3; ++d) {
+        double hi, lo;
+        two_diff(v[r + 1][d], v[0][d], hi, lo);
+        len[r][d] = 0;
+        if (lo != 0) e[r][d][len[r][d]++] = lo;
+        if (hi != 0) e[r][d][len[r][d]++] = hi;
+      }
+    // x * y exactly (x, y expansions of up to 2 terms): up to 8 terms.
+    const auto product = [](const double* x, int nx, const double* y, int ny, double* out) -> int {
+      if (nx == 0 || ny == 0) return 0;
+      double a[4], b[4];
+      const int na = scale(nx, x, y[0], a);
+      if (ny == 1) return int(std::copy(a, a + na, out) - out);
+      const int nb = scale(nx, x, y[1], b);
+      return sum(na, a, nb, b, out);
+    };
+    for (int d = 0; d < 3; ++d) {
+      const int i = (d + 1) % 3, j = (d + 2) % 3;
+      double plus[8], minus[8];
+      const int np = product(e[0][i], len[0][i], e[1][j], len[1][j], plus);
+      const int nm = product(e[0][j], len[0][j], e[1][i], len[1][i], minus);
+      for (int k = 0; k < nm; ++k) minus[k] = -minus[k];
+      int m = 0;
+      if (np > 0 && nm > 0)
+        m = sum(np, plus, nm, minus, terms[d]);
+      else if (np > 0)
+        m = int(std::copy(plus, plus + np, terms[d]) - terms[d]);
+      else if (nm > 0)
+        m = int(std::copy(minus, minus + nm, terms[d]) - terms[d]);
+      n.terms[d] = terms[d], n.count[d] = m == 1 && terms[d][0] == 0 ? 0 : m;
+    }
+    n.sign = 1;
+  }
+  ExactNormal(const ExactNormal&) = delete;  // (n points into terms)
+  ExactNormal& operator=(const ExactNormal&) = delete;
+};
+
+// The exact sign of det[b - a; p - a; n]: the side of the plane through the edge a-b along n on
+// which p lies (the differences as two_diff leaves them, and expansions).
+int beside_exact(const Vector3d& a, const Vector3d& b, const Vector3d& p, const detail::ExactVector& n) {
   double terms[2][3][2];
   detail::ExactVector x[3];
   const Vector3d* to[2] = {&b, &p};
@@ -77,7 +128,7 @@ int beside_exact(const Vector3d& a, const Vector3d& b, const Vector3d& p, const 
     }
     x[r].sign = 1;
   }
-  x[2] = detail::exact_vector(n);
+  x[2] = n;
   return detail::orient_exact(x[0], x[1], x[2]);
 }
 
@@ -96,10 +147,15 @@ bool onto_face(const Vector3d& p, const Vector3d (&v)[3], const Plane& plane, do
     return (v[1] - v[0]).cross(q - v[0]).dot(n) >= 0 && (v[2] - v[1]).cross(q - v[1]).dot(n) >= 0 &&
            (v[0] - v[2]).cross(q - v[2]).dot(n) >= 0;
   const double slack = 1e-14 * plane.n1 * plane.reach * ((p - v[0]).cwiseAbs().maxCoeff() + plane.reach);
+  std::optional<ExactNormal> exact;
   for (int k = 0; k < 3; ++k) {
     const Vector3d &a = v[k], &b = v[(k + 1) % 3];
     const double d = (b - a).cross(p - a).dot(n);
-    if (d < -slack || (d <= slack && beside_exact(a, b, p, n) < 0)) return false;
+    if (d < -slack) return false;
+    if (d <= slack) {  // (the exact normal, once: rare)
+      if (!exact) exact.emplace(v);
+      if (beside_exact(a, b, p, exact->n) < 0) return false;
+    }
   }
   return true;
 }
@@ -162,8 +218,11 @@ Vector3d accurate_normal(const Vector3d (&v)[3]) {
   return n;
 }
 
-// v's plane: a sliver's normal (sine under 1e-4, as the batched kernel routes here) accurate,
-// any other's within rounding already (and a repeated corner's, 0, stays 0: flat).
+// v's plane: a sliver's normal (its smallest angle's sine under 1e-4, as the batched kernel
+// routes here) accurate, any other's within rounding already (and a repeated corner's, 0, stays
+// 0: flat). The smallest angle, not the one at v0: a needle's is at its apex, where its two long
+// edges meet, and only the exact edge tests tell a point just beyond that apex from one inside
+// (a corner 2.9e76 beyond the apex of a needle 1.4e86 long read 2.5e72 from it).
 // Flat: |n|^2 within 1e-24 of the longest edge's to the fourth (v2 - v1, apex_first's).
 Plane plane_of(const Vector3d (&v)[3]) {
   const Vector3d e1 = v[1] - v[0], e2 = v[2] - v[0], n = e1.cross(e2);
@@ -171,7 +230,7 @@ Plane plane_of(const Vector3d (&v)[3]) {
   const double longest = std::max({l1, l2, (v[2] - v[1]).squaredNorm()});
   Plane plane{n};
   plane.flat = !(n2 > 1e-24 * longest * longest);
-  if (plane.flat || !(n2 < 1e-8 * l1 * l2)) return plane;
+  if (plane.flat || !(n2 < 1e-8 * longest * std::max(l1, l2))) return plane;
   plane.n = accurate_normal(v), plane.sliver = true, plane.n1 = plane.n.cwiseAbs().sum();
   plane.reach = std::max({e1.cwiseAbs().maxCoeff(), e2.cwiseAbs().maxCoeff(), (v[2] - v[1]).cwiseAbs().maxCoeff()});
   return plane;

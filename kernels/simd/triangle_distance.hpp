@@ -117,9 +117,10 @@ struct TriangleDistanceKernels : Lanes<T, Arch> {
         for (int j = 0; j < 3; ++j) segment_pair(a[i], a[(i + 1) % 3], b[j], b[(j + 1) % 3], best);
       // Flat (zero-area) triangles have no face region; their edges cover them (as the scalar
       // path: |n|^2 against 1e-24 of the longest edge's to the fourth).
-      // A sliver (solid, but its corner's sine under 1e-4, float 1e-2) goes to the scalar path
-      // (NaN): its normal here turns by eps / sin t, which tilts its plane by that much of its
-      // length; the scalar path's normal is accurate (closest.cpp, accurate_normal).
+      // A sliver (solid, but its smallest angle's sine under 1e-4, float 1e-2) goes to the scalar
+      // path (NaN): its normal here turns by eps / sin t, which tilts its plane by that much of
+      // its length, and a needle's edge tests cannot tell a point just beyond its apex from one
+      // inside; the scalar path's normal is accurate and its edge tests exact (closest.cpp).
       const B thin(std::is_same_v<T, float> ? T(1e-4) : T(1e-8));
       const auto normal = [&](const V3(&v)[3], B& n2, decltype(B(T(0)) < B(T(0)))& solid) {
         const V3 e0 = sub(v[1], v[0]), e1 = sub(v[2], v[0]), e2 = sub(v[2], v[1]);
@@ -127,7 +128,7 @@ struct TriangleDistanceKernels : Lanes<T, Arch> {
         n2 = dot(n, n);
         const B l0 = dot(e0, e0), l1 = dot(e1, e1), longest = S::max(l0, S::max(l1, dot(e2, e2)));
         solid = n2 > B(std::is_same_v<T, float> ? T(1e-12) : T(1e-24)) * longest * longest;
-        usable = usable && !(solid && (n2 < thin * l0 * l1));
+        usable = usable && !(solid && (n2 < thin * longest * S::max(l0, l1)));
         return n;
       };
       B na2, nb2;
