@@ -105,8 +105,10 @@ Status polytope_from_points(const std::vector<Vector3d>& points, ConvexPolytope&
   auto plane_dist = [&](const Vector3d& p) { return std::abs(n.dot(p - scaled[0])); };
   // Flat within 64 eps of the size: flattening moves no corner farther than the queries' own
   // rounding tolerance (64 eps of the reach). Farther off, the exact hull keeps a thin solid (a
-  // pentagon 900 off its plane at 8.5e12, flattened to 1e-10, put queries' witnesses 200 away).
-  if (plane_dist(scaled[farthest(plane_dist)]) <= kFlatTol * D) {
+  // pentagon 900 off its plane at 8.5e12, flattened to 1e-10, put queries' witnesses 200 away),
+  // unless it finds the points exactly coplanar (their plane read in doubles can be farther).
+  detail::HullFacets hull;
+  if (plane_dist(scaled[farthest(plane_dist)]) <= kFlatTol * D || !detail::convex_hull(scaled, hull)) {
     std::vector<int> all(scaled.size());
     for (int k = 0; k < int(scaled.size()); ++k) all[k] = k;
     std::vector<int> loop = detail::planar_hull(scaled, all, n);
@@ -118,8 +120,6 @@ Status polytope_from_points(const std::vector<Vector3d>& points, ConvexPolytope&
     for (int& id : loop) id = unique_ids[id];
     return make_flat(points, loop, normal, out);
   }
-  detail::HullFacets hull;
-  if (!detail::convex_hull(scaled, hull)) return Status::HullFailed;
   std::vector<int> remap(pts.size(), -1);  // index into pts -> vertex index, in input order
   for (int id : hull.index) remap[size_t(id)] = 0;
   for (size_t id = 0; id < pts.size(); ++id)
