@@ -254,7 +254,8 @@ std::vector<int> planar_hull(const std::vector<Vector3d>& points, const std::vec
   const double unit = std::isfinite(size) && size > 0 ? scale_to_one(size) : 1.0;
   std::vector<std::pair<Vector3d, int>> q;  // (x, y, 0) and the id
   q.reserve(ids.size());
-  for (int id : ids) q.push_back({Vector3d(flushed(unit * points[size_t(id)][i]), flushed(unit * points[size_t(id)][j]), 0), id});
+  for (int id : ids)
+    q.push_back({Vector3d(flushed(unit * points[size_t(id)][i]), flushed(unit * points[size_t(id)][j]), 0), id});
   std::sort(q.begin(), q.end(), [](const auto& a, const auto& b) {
     return a.first.x() < b.first.x() || (a.first.x() == b.first.x() && a.first.y() < b.first.y());
   });
